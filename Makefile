@@ -1,0 +1,41 @@
+# Two commands for a fresh clone (see README): `make demo` and `make test`.
+# Both create .venv and install everything themselves.
+PYTHON ?= python3
+VENV   ?= .venv
+PY      = $(VENV)/bin/python
+PIP     = $(PY) -m pip
+
+.PHONY: demo test test-fast bench lint install clean
+
+$(VENV)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PIP) install --quiet --upgrade pip
+	$(PIP) install --quiet -e '.[test,dev]'
+	touch $@
+
+# torch is optional for users; the test target installs it so the torch tests run.
+# Pinned: 2.13.0 is the CPU wheel on this machine, an unpinned torch pulls a CUDA build.
+$(VENV)/.torch: $(VENV)/.installed
+	$(PIP) install --quiet torch==2.13.0
+	touch $@
+
+install: $(VENV)/.installed
+
+demo: $(VENV)/.installed
+	$(VENV)/bin/gaitml demo --out demo-out
+
+test: $(VENV)/.torch
+	$(PY) -m pytest -q
+
+test-fast: $(VENV)/.installed
+	$(PY) -m pytest -q -m "not slow"
+
+bench: $(VENV)/.installed
+	$(VENV)/bin/gaitml bench --out bench-out
+
+lint: $(VENV)/.installed
+	$(VENV)/bin/ruff check gaitml tests
+	$(VENV)/bin/ruff format --check gaitml tests
+
+clean:
+	rm -rf $(VENV) demo-out bench-out runs .pytest_cache

@@ -1,0 +1,1 @@
+"""gaitml.bench (see DESIGN sec. 1)."""

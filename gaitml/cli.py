@@ -1,0 +1,156 @@
+"""The ``gaitml`` command: argument parsing only; the work is done by library code.
+
+Every subcommand of DESIGN sec. 5 is registered here; its handler lives in
+``gaitml/commands/<name>.py`` as ``run(args) -> int``. Exit status: 0 success,
+2 bad input or arguments (one line on stderr naming the problem and the fix,
+no traceback), 1 internal error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+import traceback
+
+from gaitml.errors import GaitmlError
+
+__all__ = ["main", "build_parser"]
+
+STEP_DETECTORS = ("single-peak", "ifsm", "ifsm-literal", "adfsm", "autocorr", "fsm-selflearn", "zupt-magnitude", "adaptive")
+ZUPT_DETECTORS = ("pseudo-std", "magnitude", "method1", "method2", "shoe")
+
+
+class _UsageError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error (exit 2) instead of usage + message."""
+
+    def error(self, message: str) -> None:  # noqa: D102
+        raise _UsageError(f"{message}; see '{self.prog} --help'.")
+
+
+def _input_options(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("input")
+    g.add_argument("--format", choices=("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap"), help="input format (default: detected from the content)")
+    g.add_argument("--sensor", choices=("left", "right"), default="left", help="foot of a two-sensor gaitmap file (default: left)")
+    g.add_argument("--sampling-rate-hz", type=float, help="resample to this uniform rate (Oxford default 100 Hz), or the rate of a file without a time base")
+    g.add_argument("--acc-unit", choices=("m/s^2", "g"), default="m/s^2", help="unit of a gaitml-csv's acc columns (default m/s^2)")
+    g.add_argument("--gyr-unit", choices=("rad/s", "deg/s"), default="rad/s", help="unit of a gaitml-csv's gyr columns (default rad/s)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full argument parser (used by ``main`` and by the docs tests)."""
+    from gaitml import __version__
+
+    parser = _Parser(prog="gaitml", description="Smartphone gait, motion-mode recognition and PDR.")
+    parser.add_argument("--version", action="version", version=f"gaitml {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+
+    p = sub.add_parser("info", help="describe a recording or data set")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    _input_options(p)
+
+    p = sub.add_parser("simulate", help="simulate recordings with full ground truth")
+    p.add_argument("out_dir", metavar="OUT_DIR")
+    p.add_argument("--subjects", type=int, default=4)
+    p.add_argument("--duration-s", type=float, default=120.0)
+    p.add_argument("--modes", default="walk,run,side_left,side_right,backward", help="comma-separated motion modes")
+    p.add_argument("--route", default="straight", help="straight | rectangle | arc | random")
+    p.add_argument("--sampling-rate-hz", type=float, default=None)
+    p.add_argument("--seed", type=int, default=0)
+
+    p = sub.add_parser("steps", help="detect steps")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--detector", choices=STEP_DETECTORS, default="single-peak")
+    p.add_argument("--out", metavar="FILE", help="write the step table as CSV")
+    p.add_argument("--json", action="store_true")
+    _input_options(p)
+
+    p = sub.add_parser("zupt", help="detect zero-velocity intervals")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--detector", choices=ZUPT_DETECTORS, default="pseudo-std")
+    p.add_argument("--threshold-rads", type=float, help="detector threshold in rad/s (pseudo-std)")
+    p.add_argument("--out", metavar="FILE", help="write the interval table as CSV")
+    p.add_argument("--json", action="store_true")
+    _input_options(p)
+
+    p = sub.add_parser("features", help="extract windowed features")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--window-s", type=float, default=1.5)
+    p.add_argument("--overlap", type=float, default=0.5)
+    p.add_argument("--subset", default="all52", help="all52 | paper34 | all52+gyro (alias: all = all52)")
+    p.add_argument("--out", metavar="FILE", help="write the feature table as CSV")
+    _input_options(p)
+
+    p = sub.add_parser("train", help="train a model from an experiment config")
+    p.add_argument("config", metavar="CONFIG")
+    p.add_argument("--out", metavar="MODEL_DIR")
+
+    p = sub.add_parser("evaluate", help="cross-validate an experiment config")
+    p.add_argument("config", metavar="CONFIG")
+    p.add_argument("--out", metavar="RUN_DIR")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--backend", default="joblib", help="joblib | dask")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (with --backend dask)")
+
+    p = sub.add_parser("predict", help="predict motion modes with a saved model")
+    p.add_argument("model_dir", metavar="MODEL_DIR")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--out", metavar="FILE")
+    p.add_argument("--no-correction", action="store_true", help="skip the adjacent-window correction")
+    p.add_argument("--json", action="store_true")
+    _input_options(p)
+
+    p = sub.add_parser("pdr", help="pedestrian dead reckoning trajectory")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--model", metavar="MODEL_DIR")
+    p.add_argument("--out", metavar="FILE")
+    p.add_argument("--plot", metavar="PNG")
+    p.add_argument("--json", action="store_true")
+    _input_options(p)
+
+    p = sub.add_parser("demo", help="the main job end to end on simulated data")
+    p.add_argument("--out", metavar="DIR", default="demo-out")
+
+    p = sub.add_parser("bench", help="throughput benchmarks against reference implementations")
+    p.add_argument("--out", metavar="DIR", default="bench-out")
+    p.add_argument("--quick", action="store_true", help="smaller inputs (a smoke run)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help(sys.stderr)
+            return 2
+        module = importlib.import_module(f"gaitml.commands.{args.command}")
+        return int(module.run(args) or 0)
+    except _UsageError as exc:
+        print(f"gaitml: error: {exc}", file=sys.stderr)
+        return 2
+    except GaitmlError as exc:
+        msg = " ".join(str(exc).split())
+        print(f"gaitml: error: {msg}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("gaitml: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+    except Exception as exc:  # an internal error: a bug to report
+        if os.environ.get("GAITML_DEBUG"):
+            traceback.print_exc()
+        print(f"gaitml: internal error: {type(exc).__name__}: {exc} (set GAITML_DEBUG=1 for the traceback; please report it)", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

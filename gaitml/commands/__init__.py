@@ -1,0 +1,1 @@
+"""One module per CLI subcommand: ``run(args) -> int`` (see :mod:`gaitml.cli`)."""

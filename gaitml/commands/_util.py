@@ -1,0 +1,33 @@
+"""Small helpers shared by the command handlers."""
+
+from __future__ import annotations
+
+import json
+import sys
+from typing import Any
+
+from gaitml.io import read_recording
+from gaitml.io._atomic import _json_default
+
+
+def load_input(args) -> Any:
+    """Read ``args.input`` with the common input options."""
+    return read_recording(
+        args.input,
+        format=getattr(args, "format", None),
+        sensor=getattr(args, "sensor", "left"),
+        sampling_rate_hz=getattr(args, "sampling_rate_hz", None),
+        acc_unit=getattr(args, "acc_unit", "m/s^2"),
+        gyr_unit=getattr(args, "gyr_unit", "rad/s"),
+    )
+
+
+def emit_json(obj: Any) -> None:
+    """Print exactly one JSON object on stdout."""
+    sys.stdout.write(json.dumps(obj, default=_json_default, allow_nan=False) + "\n")
+    sys.stdout.flush()
+
+
+def log(msg: str) -> None:
+    """Progress and notes go to stderr, never stdout."""
+    print(msg, file=sys.stderr, flush=True)

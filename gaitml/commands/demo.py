@@ -1,0 +1,7 @@
+"""`gaitml demo`: not built yet (exits 2 rather than pretending)."""
+
+from gaitml.errors import NotAvailableError
+
+
+def run(args) -> int:
+    raise NotAvailableError("'gaitml demo' is not available yet in this version; see the README for what works.")

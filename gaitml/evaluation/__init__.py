@@ -1,0 +1,1 @@
+"""gaitml.evaluation (see DESIGN sec. 1)."""

@@ -1,0 +1,1 @@
+"""gaitml.experiments (see DESIGN sec. 1)."""

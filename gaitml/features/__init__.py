@@ -1,0 +1,1 @@
+"""gaitml.features (see DESIGN sec. 1)."""

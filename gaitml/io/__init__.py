@@ -1,0 +1,30 @@
+"""Readers and writers: gaitml-csv and the shared real data sets' native formats."""
+
+from gaitml.io._atomic import atomic_dir, atomic_path, write_csv, write_json, write_text
+from gaitml.io._detect import FORMATS, detect_format, list_dataset, read_dataset, read_recording
+from gaitml.io.gaitmap import read_gaitmap_csv, read_gaitmap_table
+from gaitml.io.gaitml_csv import read_gaitml_csv, read_gaitml_folder, write_gaitml_csv, write_manifest
+from gaitml.io.ifsm import read_ifsm_xlsx
+from gaitml.io.oxford import OXFORD_RATE_HZ, read_oxford_folder
+
+__all__ = [
+    "FORMATS",
+    "OXFORD_RATE_HZ",
+    "atomic_dir",
+    "atomic_path",
+    "detect_format",
+    "list_dataset",
+    "read_dataset",
+    "read_gaitmap_csv",
+    "read_gaitmap_table",
+    "read_gaitml_csv",
+    "read_gaitml_folder",
+    "read_ifsm_xlsx",
+    "read_oxford_folder",
+    "read_recording",
+    "write_csv",
+    "write_gaitml_csv",
+    "write_json",
+    "write_manifest",
+    "write_text",
+]

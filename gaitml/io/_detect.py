@@ -1,0 +1,166 @@
+"""Format detection and the two entry points: :func:`read_recording`, :func:`read_dataset`."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from gaitml.errors import InputError
+from gaitml.io._common import head_bytes, head_lines, require_file
+from gaitml.io.gaitmap import GAITMAP_TABLES, is_gaitmap_header, read_gaitmap_csv
+from gaitml.io.gaitml_csv import is_gaitml_header, list_gaitml_files, read_gaitml_csv, read_gaitml_folder
+from gaitml.io.ifsm import is_xlsx, read_ifsm_xlsx
+from gaitml.io.oxford import is_oxford_folder, list_oxford_folders, read_oxford_folder
+from gaitml.recording import Recording
+
+__all__ = ["FORMATS", "detect_format", "read_recording", "read_dataset", "list_dataset"]
+
+#: Names accepted by ``--format``.
+FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap")
+
+_EXPECTED = (
+    "expected a gaitml-csv (t, acc_x, acc_y, acc_z[, gyr_*][, label]), an IFSM xlsx, "
+    "an Oxford recording folder (accelerometer.csv + stepcounter.csv) or a gaitmap IMU CSV"
+)
+
+
+def detect_format(path: str | os.PathLike) -> str:
+    """Name the format of a recording file or folder from its content.
+
+    Returns one of :data:`FORMATS`, ``'gaitml-folder'``/``'oxford-set'``/
+    ``'mixed-folder'`` for data set folders, or ``'gaitmap-table'`` for gaitmap
+    annotation tables.
+    """
+    p = require_file(path)
+    if p.is_dir():
+        if is_oxford_folder(p):
+            return "oxford"
+        if (p / "manifest.csv").exists() or list_gaitml_files_safe(p):
+            return "gaitml-folder"
+        if list_oxford_folders(p):
+            return "oxford-set"
+        if any(True for _ in _recording_entries(p)):
+            return "mixed-folder"
+        raise InputError(f"{p} holds no recordings gaitml can read; {_EXPECTED}.")
+    if p.name.startswith("accelerometer.csv") and (p.parent / "stepcounter.csv").exists():
+        return "oxford"
+    head = head_bytes(p, 8)
+    if head[:2] == b"PK":
+        if is_xlsx(p):
+            return "ifsm-xlsx"
+        raise InputError(f"{p.name} is a zip archive but not an Excel workbook; {_EXPECTED}.")
+    lines = head_lines(p, 2)
+    if not lines:
+        raise InputError(f"the file is empty: {p}; record or export the data again.")
+    if is_gaitml_header(lines[0].split(",")):
+        return "gaitml-csv"
+    if is_gaitmap_header(lines):
+        return "gaitmap"
+    if p.name.split(".")[0] in GAITMAP_TABLES:
+        return "gaitmap-table"
+    cols = lines[0].strip()[:80]
+    raise InputError(f"unknown format for {p.name} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
+
+
+def list_gaitml_files_safe(p: Path) -> list[Path]:
+    out = []
+    for f in list_gaitml_files(p):
+        try:
+            lines = head_lines(f, 1)
+        except InputError:
+            continue
+        if lines and is_gaitml_header(lines[0].split(",")):
+            out.append(f)
+    return out
+
+
+def read_recording(
+    path: str | os.PathLike,
+    *,
+    format: str | None = None,
+    sensor: str = "left",
+    sampling_rate_hz: float | None = None,
+    acc_unit: str = "m/s^2",
+    gyr_unit: str = "rad/s",
+) -> Recording:
+    """Read one recording, detecting its format unless ``format`` is given.
+
+    Parameters
+    ----------
+    path : file or folder
+    format : one of :data:`FORMATS`, optional
+    sensor : 'left' | 'right'
+        Which foot of a two-sensor gaitmap file.
+    sampling_rate_hz : float, optional
+        Target uniform rate (resampling irregular data) or, for files without a
+        time base, the rate they were recorded at. Oxford default: 100 Hz.
+    acc_unit, gyr_unit : units of a gaitml-csv's columns, converted to SI.
+    """
+    if format is not None and format not in FORMATS:
+        raise InputError(f"unknown --format {format!r}; choose one of {', '.join(FORMATS)}.")
+    p = require_file(path)
+    fmt = format or detect_format(p)
+    if fmt == "gaitml-csv":
+        if p.is_dir():
+            raise InputError(f"{p} is a folder; pass one .csv recording of it.")
+        return read_gaitml_csv(p, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit)
+    if fmt == "ifsm-xlsx":
+        return read_ifsm_xlsx(p) if sampling_rate_hz is None else read_ifsm_xlsx(p, sampling_rate_hz=sampling_rate_hz)
+    if fmt == "oxford":
+        folder = p if p.is_dir() else p.parent
+        return read_oxford_folder(folder) if sampling_rate_hz is None else read_oxford_folder(folder, sampling_rate_hz=sampling_rate_hz)
+    if fmt == "gaitmap":
+        return read_gaitmap_csv(p, sensor=sensor, sampling_rate_hz=sampling_rate_hz)
+    if fmt == "gaitmap-table":
+        raise InputError(f"{p.name} is a gaitmap annotation table, not a recording; pass the imu_sample*.csv.gz file beside it.")
+    n = len(list_dataset(p))
+    raise InputError(f"{p} is a data set of {n} recordings; pass one recording file or folder of it.")
+
+
+def _recording_entries(folder: Path):
+    for f in sorted(folder.iterdir()):
+        if f.name.startswith(".") or f.name.lower().startswith(("readme", "license")):
+            continue
+        if f.is_dir():
+            if is_oxford_folder(f):
+                yield f, "oxford"
+            continue
+        try:
+            fmt = detect_format(f)
+        except InputError:
+            continue
+        if fmt in FORMATS:
+            yield f, fmt
+
+
+def list_dataset(path: str | os.PathLike) -> list[tuple[Path, str]]:
+    """The recordings of a file or folder as ``(path, format)`` pairs, without reading them."""
+    p = require_file(path)
+    fmt = detect_format(p)
+    if fmt in FORMATS:
+        return [(p, fmt)]
+    if fmt == "gaitml-folder":
+        return [(p, fmt)]
+    if fmt == "oxford-set":
+        return [(d, "oxford") for d in list_oxford_folders(p)]
+    if fmt == "mixed-folder":
+        return list(_recording_entries(p))
+    raise InputError(f"{p} is not a recording or data set; {_EXPECTED}.")
+
+
+def read_dataset(path: str | os.PathLike, **kwargs) -> list[Recording]:
+    """Read every recording of a file or data set folder.
+
+    gaitml-csv folders (with or without ``manifest.csv``), Oxford data set roots
+    (``optimisation/``, its ``data/`` or any folder of recording folders), and
+    folders mixing supported files are all accepted.
+    """
+    p = require_file(path)
+    out: list[Recording] = []
+    for f, fmt in list_dataset(p):
+        if fmt == "gaitml-folder":
+            keep = {k: v for k, v in kwargs.items() if k in ("sampling_rate_hz", "acc_unit", "gyr_unit")}
+            out.extend(read_gaitml_folder(f, **keep))
+        else:
+            out.append(read_recording(f, format=fmt, **kwargs))
+    return out

@@ -1,0 +1,217 @@
+"""gaitml-csv v1: the package's own recording format (DESIGN sec. 3).
+
+One CSV per recording with a header row: ``t`` (s, increasing, may be
+irregular), ``acc_x, acc_y, acc_z`` (m/s^2, gravity included), optional
+``gyr_x, gyr_y, gyr_z`` (rad/s) and optional ``label``. Other columns are not
+read; their names are listed in ``meta['ignored_columns']``.
+
+Sidecar files written by the simulator are read as ground truth when they sit
+beside the recording: ``<stem>.steps.csv`` (true steps; ``reference['steps_t_s']``
+and ``reference['steps']``) and ``<stem>.trajectory.csv``
+(``reference['trajectory']``).
+
+A data set is a folder of such files plus an optional ``manifest.csv`` with
+columns ``file, subject, session`` and any free columns, which become each
+recording's ``meta``. Without a manifest, subject and session are the file stem.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gaitml.consts import ACC_COLS, GYR_COLS, LABEL_COL, TIME_COL
+from gaitml.errors import InputError
+from gaitml.io._atomic import write_csv
+from gaitml.io._common import require_file
+from gaitml.recording import Recording
+
+__all__ = [
+    "read_gaitml_csv",
+    "write_gaitml_csv",
+    "read_gaitml_folder",
+    "write_manifest",
+    "SIDECAR_SUFFIXES",
+    "is_gaitml_header",
+]
+
+#: Files with these endings beside a recording are ground truth, not recordings.
+SIDECAR_SUFFIXES = (".steps.csv", ".trajectory.csv", ".windows.csv", ".pred.csv")
+REQUIRED = (TIME_COL, *ACC_COLS)
+
+
+def is_gaitml_header(columns: list[str]) -> bool:
+    """Whether a header row has the gaitml-csv required columns."""
+    cols = [c.strip() for c in columns]
+    return all(c in cols for c in REQUIRED)
+
+
+def read_gaitml_csv(
+    path: str | os.PathLike,
+    *,
+    sampling_rate_hz: float | None = None,
+    acc_unit: str = "m/s^2",
+    gyr_unit: str = "rad/s",
+    meta: dict | None = None,
+) -> Recording:
+    """Read one gaitml-csv file into a :class:`Recording`.
+
+    Uniform timestamps are kept; irregular ones are resampled by linear
+    interpolation (see :meth:`Recording.from_timestamps`) to ``sampling_rate_hz``
+    or, if not given, to the median rate, and the resampling is reported in
+    ``meta``.
+    """
+    p = require_file(path)
+    try:
+        df = pd.read_csv(p, skipinitialspace=True)
+    except pd.errors.EmptyDataError as exc:
+        raise InputError(f"the file is empty: {p}; record or export the data again.") from exc
+    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot parse {p} as CSV ({str(exc).splitlines()[0]}); check the file is a gaitml-csv.") from exc
+    df.columns = [str(c).strip() for c in df.columns]
+    missing = [c for c in REQUIRED if c not in df.columns]
+    if missing:
+        raise InputError(
+            f"{p.name} is not a gaitml-csv: missing columns {missing} (found {list(df.columns)[:8]}); "
+            f"expected {', '.join(REQUIRED)} [, {', '.join(GYR_COLS)}] [, {LABEL_COL}]."
+        )
+    if len(df) == 0:
+        raise InputError(f"{p.name} has a header but no samples; record or export the data again.")
+    has_gyr = [c for c in GYR_COLS if c in df.columns]
+    if has_gyr and len(has_gyr) != 3:
+        raise InputError(f"{p.name} has only {has_gyr} of the gyro columns; give all of {', '.join(GYR_COLS)} or none.")
+    num_cols = [*REQUIRED, *has_gyr]
+    for c in num_cols:
+        if not pd.api.types.is_numeric_dtype(df[c]):
+            bad = pd.to_numeric(df[c], errors="coerce").isna() & df[c].notna()
+            row = int(np.flatnonzero(bad.to_numpy())[0]) + 2 if bad.any() else -1
+            raise InputError(f"{p.name}: column {c!r} has a non-numeric value at line {row}; fix or remove that row.")
+    nan_rows = df[num_cols].isna().any(axis=1).to_numpy() | ~np.isfinite(df[num_cols].to_numpy(dtype=float)).all(axis=1)
+    if nan_rows.any():
+        first = int(np.flatnonzero(nan_rows)[0])
+        raise InputError(
+            f"{p.name}: {int(nan_rows.sum())} rows with NaN/inf values (first at line {first + 2}); "
+            "remove or interpolate them before loading."
+        )
+    labels = None
+    if LABEL_COL in df.columns:
+        if df[LABEL_COL].isna().any():
+            first = int(np.flatnonzero(df[LABEL_COL].isna().to_numpy())[0])
+            raise InputError(f"{p.name}: empty label at line {first + 2}; label every sample or drop the label column.")
+        labels = df[LABEL_COL].astype(str).to_numpy()
+    ignored = [c for c in df.columns if c not in (*num_cols, LABEL_COL)]
+    m = {"source": str(p), "format": "gaitml-csv", "id": p.stem, "subject": p.stem, "session": p.stem}
+    if ignored:
+        m["ignored_columns"] = ignored
+    m.update(meta or {})
+    reference = _read_sidecars(p)
+    return Recording.from_timestamps(
+        df[TIME_COL].to_numpy(dtype=float),
+        df[list(ACC_COLS)].to_numpy(dtype=float),
+        gyr=df[list(GYR_COLS)].to_numpy(dtype=float) if has_gyr else None,
+        labels=labels,
+        sampling_rate_hz=sampling_rate_hz,
+        meta=m,
+        reference=reference,
+        acc_unit=acc_unit,
+        gyr_unit=gyr_unit,
+    )
+
+
+def _stem(path: Path) -> str:
+    name = path.name
+    for ext in (".csv.gz", ".csv"):
+        if name.endswith(ext):
+            return name[: -len(ext)]
+    return path.stem
+
+
+def _read_sidecars(p: Path) -> dict:
+    ref: dict = {}
+    stem = _stem(p)
+    steps = p.with_name(f"{stem}.steps.csv")
+    if steps.exists():
+        tab = pd.read_csv(steps)
+        if "t_s" not in tab.columns:
+            raise InputError(f"{steps.name} has no 't_s' column; a steps sidecar needs t_s (s) per true step.")
+        ref["steps"] = tab
+        ref["steps_t_s"] = tab["t_s"].to_numpy(dtype=float)
+    traj = p.with_name(f"{stem}.trajectory.csv")
+    if traj.exists():
+        ref["trajectory"] = pd.read_csv(traj)
+    return ref
+
+
+def write_gaitml_csv(recording: Recording, path: str | os.PathLike) -> Path:
+    """Write a recording as gaitml-csv v1, atomically.
+
+    Times are ``k / sampling_rate_hz`` from 0; values are written with full
+    (round-trip) precision, so reading the file back gives the same arrays.
+    """
+    cols: dict[str, np.ndarray] = {TIME_COL: recording.t_s}
+    for j, c in enumerate(ACC_COLS):
+        cols[c] = recording.acc[:, j]
+    if recording.gyr is not None:
+        for j, c in enumerate(GYR_COLS):
+            cols[c] = recording.gyr[:, j]
+    if recording.labels is not None:
+        cols[LABEL_COL] = recording.labels
+    return write_csv(path, pd.DataFrame(cols))
+
+
+def write_manifest(rows: list[dict], folder: str | os.PathLike) -> Path:
+    """Write ``manifest.csv`` (``file, subject, session`` first, then free columns)."""
+    df = pd.DataFrame(rows)
+    for c in ("file", "subject", "session"):
+        if c not in df.columns:
+            raise InputError(f"manifest rows need a {c!r} entry.")
+    first = ["file", "subject", "session"]
+    df = df[first + [c for c in df.columns if c not in first]]
+    return write_csv(Path(folder) / "manifest.csv", df)
+
+
+def list_gaitml_files(folder: Path) -> list[Path]:
+    """The recording files of a folder (CSV files that are not sidecars or the manifest)."""
+    out = []
+    for f in sorted(folder.iterdir()):
+        if not f.is_file() or f.name == "manifest.csv" or f.name.startswith("."):
+            continue
+        if not (f.name.endswith(".csv") or f.name.endswith(".csv.gz")):
+            continue
+        if any(f.name.endswith(s) for s in SIDECAR_SUFFIXES):
+            continue
+        out.append(f)
+    return out
+
+
+def read_gaitml_folder(folder: str | os.PathLike, **kwargs) -> list[Recording]:
+    """Read a gaitml-csv data set folder (with or without ``manifest.csv``)."""
+    d = require_file(folder)
+    if not d.is_dir():
+        raise InputError(f"{d} is not a folder; pass the data set folder.")
+    manifest = d / "manifest.csv"
+    recs = []
+    if manifest.exists():
+        man = pd.read_csv(manifest, skipinitialspace=True)
+        for c in ("file", "subject", "session"):
+            if c not in man.columns:
+                raise InputError(f"{manifest} has no {c!r} column; a manifest needs file, subject, session.")
+        for row in man.to_dict("records"):
+            f = d / str(row["file"])
+            if not f.exists():
+                raise InputError(f"{manifest.name} names a missing file: {row['file']}; add the file or remove its row.")
+            meta = {k: (v.item() if hasattr(v, "item") else v) for k, v in row.items() if k != "file"}
+            meta["subject"] = str(meta["subject"])
+            meta["session"] = str(meta["session"])
+            recs.append(read_gaitml_csv(f, meta=meta, **kwargs))
+    else:
+        files = list_gaitml_files(d)
+        if not files:
+            raise InputError(f"{d} holds no gaitml-csv recordings; add <name>.csv files with t, acc_x, acc_y, acc_z.")
+        recs = [read_gaitml_csv(f, **kwargs) for f in files]
+    return recs
+
+

@@ -1,0 +1,1 @@
+"""gaitml.models (see DESIGN sec. 1)."""

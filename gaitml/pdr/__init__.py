@@ -1,0 +1,1 @@
+"""gaitml.pdr (see DESIGN sec. 1)."""

@@ -1,0 +1,1 @@
+"""gaitml.simulate (see DESIGN sec. 1)."""

@@ -1,0 +1,1 @@
+"""gaitml.zupt (see DESIGN sec. 1)."""

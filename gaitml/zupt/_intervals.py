@@ -1,0 +1,94 @@
+"""Shared helpers of the zero-velocity detectors: centred window sums and run tables.
+
+All of these are vectorised (cumulative sums, ``np.diff`` on the mask); nothing
+loops over samples.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from gaitml.consts import ZUPT_COLUMNS
+from gaitml.errors import InputError
+
+__all__ = [
+    "centered_sums",
+    "half_window_samples",
+    "intervals_table",
+    "intervals_to_mask",
+    "mask_runs",
+    "remove_short_runs",
+]
+
+
+def half_window_samples(half_window_s: float, sampling_rate_hz: float, *, what: str = "half_window_s") -> int:
+    """Half-window ``s`` in samples: ``round(half_window_s * sampling_rate_hz)``, at least 1.
+
+    The window ``[i - s, i + s]`` then spans ``2 s + 1`` samples, about
+    ``2 * half_window_s`` seconds at any rate.
+    """
+    if not np.isfinite(half_window_s) or half_window_s <= 0:
+        raise InputError(f"`{what}` must be a positive number of seconds, got {half_window_s!r}.")
+    return max(1, int(round(float(half_window_s) * float(sampling_rate_hz))))
+
+
+def centered_sums(x: np.ndarray, half: int) -> tuple[np.ndarray, np.ndarray]:
+    """Sums of ``x`` over ``[i - half, i + half]`` along axis 0 and the window counts.
+
+    At the edges the window is truncated to the samples that exist (count < 2 half + 1).
+    Computed from one cumulative sum (O(n)).
+
+    Returns
+    -------
+    sums : ndarray, same shape as ``x``
+    counts : ndarray, shape (n,), int
+    """
+    arr = np.asarray(x, dtype=float)
+    n = arr.shape[0]
+    c = np.empty((n + 1,) + arr.shape[1:])
+    c[0] = 0.0
+    np.cumsum(arr, axis=0, out=c[1:])
+    idx = np.arange(n)
+    lo = np.maximum(idx - half, 0)
+    hi = np.minimum(idx + half + 1, n)
+    return c[hi] - c[lo], hi - lo
+
+
+def mask_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Starts and (exclusive) ends of the runs of True in a boolean mask."""
+    m = np.asarray(mask, dtype=bool)
+    if m.ndim != 1:
+        raise InputError(f"a zero-velocity mask must be 1-D, got shape {m.shape}.")
+    d = np.diff(np.concatenate(([False], m, [False])).astype(np.int8))
+    return np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+
+
+def intervals_to_mask(start: np.ndarray, end: np.ndarray, n_samples: int) -> np.ndarray:
+    """Boolean mask of length ``n_samples`` that is True on every ``[start, end)``."""
+    start = np.clip(np.asarray(start, dtype=np.int64), 0, n_samples)
+    end = np.clip(np.asarray(end, dtype=np.int64), 0, n_samples)
+    d = np.zeros(n_samples + 1, dtype=np.int64)
+    np.add.at(d, start, 1)
+    np.add.at(d, end, -1)
+    return np.cumsum(d[:-1]) > 0
+
+
+def remove_short_runs(mask: np.ndarray, min_samples: int) -> np.ndarray:
+    """Set runs of True shorter than ``min_samples`` to False (returns a new mask)."""
+    m = np.asarray(mask, dtype=bool)
+    if min_samples <= 1:
+        return m.copy()
+    s, e = mask_runs(m)
+    keep = (e - s) >= min_samples
+    return intervals_to_mask(s[keep], e[keep], len(m))
+
+
+def intervals_table(mask: np.ndarray, sampling_rate_hz: float) -> pd.DataFrame:
+    """The zero-velocity interval table of DESIGN sec. 2: ``start``, ``end`` (exclusive), times in s."""
+    s, e = mask_runs(mask)
+    fs = float(sampling_rate_hz)
+    table = pd.DataFrame({"start": s.astype(np.int64), "end": e.astype(np.int64), "t_start_s": s / fs, "t_end_s": e / fs})
+    assert tuple(table.columns) == ZUPT_COLUMNS
+    table.attrs["sampling_rate_hz"] = fs
+    return table

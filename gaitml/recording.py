@@ -27,6 +27,8 @@ __all__ = ["Recording", "check_acc_unit", "resample_uniform"]
 
 #: A median |acc| between these bounds (m/s^2 read as-is) means the data is in g.
 _G_UNIT_BAND = (0.5, 2.0)
+#: A median |acc| above this cannot be m/s^2 with gravity (milli-g, raw counts...).
+_MAX_MEDIAN_ACC_MS2 = 50.0
 #: A 99th-percentile |gyr| above this (read as rad/s) means the data is in deg/s.
 _DEG_S_SUSPECT_RADS = 40.0
 #: A sampling interval more than this many times the median counts as a gap.
@@ -46,6 +48,11 @@ def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
         raise InputError(
             f"{what} looks like it is in g, not m/s^2 (median |acc| = {med:.2f}); "
             "pass acc_unit='g' (CLI: --acc-unit g) or convert to m/s^2."
+        )
+    if med > _MAX_MEDIAN_ACC_MS2:
+        raise InputError(
+            f"{what} is implausibly large for m/s^2 with gravity (median |acc| = {med:.4g}; milli-g would give ~1000); "
+            "convert it to m/s^2."
         )
 
 

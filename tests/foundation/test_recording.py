@@ -63,6 +63,11 @@ def test_acc_in_g_is_refused_with_hint_and_converted_on_request():
     assert rec.meta["converted"] == ["acc from g"]
 
 
+def test_acc_in_milli_g_is_refused():
+    with pytest.raises(InputError, match="implausibly large"):
+        Recording(acc=_acc(50) * 1000 / GRAVITY_MS2, sampling_rate_hz=50)
+
+
 def test_gyro_in_deg_s_is_refused_and_converted_on_request():
     g = np.random.default_rng(1).normal(0, 200, (200, 3))
     with pytest.raises(InputError, match="deg/s"):

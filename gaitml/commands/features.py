@@ -1,7 +1,59 @@
-"""`gaitml features`: not built yet (exits 2 rather than pretending)."""
+"""`gaitml features INPUT [--window-s S] [--overlap F] [--subset NAME] [--out FILE]`.
 
-from gaitml.errors import NotAvailableError
+Writes the feature table (window columns ``start, end, t_start_s, t_end_s`` and,
+when the recording is labelled, ``label, label_fraction``, then the features in
+catalogue order) as CSV atomically, or prints a summary to stdout without ``--out``.
+Every window is kept (``min_label_fraction = 0``).
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from gaitml.commands._util import load_input, log
+from gaitml.features import CATALOGUE, GYRO_CATALOGUE, extract_features, make_windows, resolve_subset
+from gaitml.io import write_csv
+
+_CODES = {s.name: s.code for s in CATALOGUE + GYRO_CATALOGUE}
+
+
+def feature_table(recording, *, window_s: float = 1.5, overlap: float = 0.5, subset: str = "all52") -> pd.DataFrame:
+    """Window columns followed by the feature columns (what ``--out`` writes)."""
+    key = resolve_subset(subset)
+    if key == "all52+gyro":
+        recording.require_gyr("feature subset 'all52+gyro'")
+    windows = make_windows(recording, window_s, overlap, min_label_fraction=0.0)
+    feats = extract_features(recording, windows, subset=key)
+    table = pd.concat([windows, feats], axis=1)
+    table.attrs.update(windows.attrs, subset=key)
+    return table
+
+
+def summary_text(table: pd.DataFrame, recording) -> str:
+    """A readable summary: windows, labels and per-feature mean / std / min / max."""
+    a = table.attrs
+    lines = [
+        f"recording: {recording.name} ({recording.n_samples} samples, {recording.sampling_rate_hz:g} Hz, {recording.duration_s:.2f} s)",
+        f"windows: {len(table)} of {a['length_samples']} samples ({a['length_s']:g} s), hop {a['hop_samples']} samples (overlap {a['overlap']:g})",
+        f"subset: {a['subset']}",
+    ]
+    if "label" in table:
+        counts = table["label"].value_counts().sort_index()
+        lines.append("labels (window majority): " + ", ".join(f"{k} {v}" for k, v in counts.items()))
+    feat_cols = [c for c in table.columns if "__" in c]
+    lines.append(f"{'F':>4}  {'feature':<20} {'mean':>12} {'std':>12} {'min':>12} {'max':>12}")
+    for c in feat_cols:
+        col = table[c]
+        lines.append(f"{_CODES[c]:>4}  {c:<20} {col.mean():12.5g} {col.std(ddof=0):12.5g} {col.min():12.5g} {col.max():12.5g}")
+    return "\n".join(lines)
 
 
 def run(args) -> int:
-    raise NotAvailableError("'gaitml features' is not available yet in this version; see the README for what works.")
+    recording = load_input(args)
+    table = feature_table(recording, window_s=args.window_s, overlap=args.overlap, subset=args.subset)
+    if args.out:
+        write_csv(args.out, table)
+        log(f"wrote {len(table)} windows x {sum('__' in c for c in table.columns)} features to {args.out}")
+    else:
+        print(summary_text(table, recording))
+    return 0

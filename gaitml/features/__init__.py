@@ -1,1 +1,38 @@
-"""gaitml.features (see DESIGN sec. 1)."""
+"""Windowing and the 52 time-domain features of paper 003 sec. 3.2 (DESIGN sec. 2, 4).
+
+- :func:`make_windows`: windows by length/overlap in s, majority labels, dropping weak ones;
+- :func:`extract_features` / :func:`features_from_arrays`: vectorised feature matrix;
+- :class:`StreamingFeatureExtractor`: the same rows from samples pushed as they arrive;
+- :data:`CATALOGUE`, :data:`FEATURE_SETS`, :func:`feature_names`: the catalogue and subsets.
+"""
+
+from gaitml.features._catalogue import (
+    CATALOGUE,
+    FEATURE_SETS,
+    GYRO_CATALOGUE,
+    PAPER34_NUMBERS,
+    FeatureSpec,
+    catalogue_markdown,
+    feature_names,
+    feature_specs,
+    resolve_subset,
+)
+from gaitml.features._extract import extract_features, features_from_arrays
+from gaitml.features._streaming import StreamingFeatureExtractor
+from gaitml.features._windows import make_windows
+
+__all__ = [
+    "CATALOGUE",
+    "FEATURE_SETS",
+    "GYRO_CATALOGUE",
+    "PAPER34_NUMBERS",
+    "FeatureSpec",
+    "StreamingFeatureExtractor",
+    "catalogue_markdown",
+    "extract_features",
+    "feature_names",
+    "feature_specs",
+    "features_from_arrays",
+    "make_windows",
+    "resolve_subset",
+]

@@ -10,7 +10,7 @@ PIP     = $(PY) -m pip
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install --quiet --upgrade pip
-	$(PIP) install --quiet -e '.[test,dev]'
+	$(PIP) install --quiet -e '.[test,dev,dask]'
 	touch $@
 
 # torch is optional for users; the test target installs it so the torch tests run.

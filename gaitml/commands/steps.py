@@ -1,7 +1,65 @@
-"""`gaitml steps`: not built yet (exits 2 rather than pretending)."""
+"""`gaitml steps INPUT [--detector NAME] [--out FILE] [--json]` (DESIGN sec. 5)."""
 
-from gaitml.errors import NotAvailableError
+from __future__ import annotations
+
+import numpy as np
+
+from gaitml.commands._util import emit_json, load_input, log
+from gaitml.evaluation.steps import evaluate_steps, step_times
+from gaitml.io import write_csv
+from gaitml.steps import get_detector
+
+
+def _evaluation(rec, steps) -> dict | None:
+    ref = rec.reference
+    true_s = ref.get("steps_t_s")
+    n_true = ref.get("n_steps_true")
+    if true_s is None and not n_true:
+        return None
+    if true_s is not None:
+        true_s = np.asarray(true_s, dtype=float)
+    return evaluate_steps(steps, true_s, n_true=int(n_true) if n_true else None)
 
 
 def run(args) -> int:
-    raise NotAvailableError("'gaitml steps' is not available yet in this version; see the README for what works.")
+    """Detect steps, print a summary or the JSON contract, optionally write the table."""
+    rec = load_input(args)
+    det = get_detector(args.detector).detect(rec)
+    steps = det.steps_
+    if args.out:
+        write_csv(args.out, steps)
+    ev = _evaluation(rec, steps)
+    t = step_times(steps)
+    if args.json:
+        obj = {
+            "detector": args.detector,
+            "sampling_rate_hz": float(rec.sampling_rate_hz),
+            "n_steps": int(len(steps)),
+            "steps": [{"t_s": float(a), "period_s": float(b)} for a, b in zip(t, steps["period_s"].to_numpy(), strict=True)],
+        }
+        if ev is not None:
+            obj["n_steps_true"] = ev["n_true"]
+            obj["evaluation"] = ev
+        emit_json(obj)
+        return 0
+    period = steps["period_s"].to_numpy()
+    lines = [
+        f"{rec.name}: {len(steps)} steps ({args.detector}, event {steps.attrs.get('event')}) in {rec.duration_s:.1f} s at {rec.sampling_rate_hz:g} Hz",
+    ]
+    if len(steps):
+        lines.append(
+            f"  step period: median {np.median(period):.3f} s, mean {np.mean(period):.3f} s; cadence {len(steps) / rec.duration_s * 60:.1f} steps/min"
+        )
+    if ev is not None:
+        s = f"  reference: {ev['n_true']} steps, count accuracy {100 * ev['count_accuracy']:.2f} %"
+        if "f1" in ev:
+            s += f", F1 {ev['f1']:.3f} at {ev['tolerance_s']:g} s (precision {ev['precision']:.3f}, recall {ev['recall']:.3f})"
+            if ev.get("timing_offset_s") is not None:
+                s += f", timing offset {ev['timing_offset_s']:+.3f} s"
+        lines.append(s)
+    if args.out:
+        lines.append(f"  step table written to {args.out}")
+    print("\n".join(lines))
+    if not len(steps):
+        log("note: no steps found; check the recording contains walking and the detector suits the sensor position.")
+    return 0

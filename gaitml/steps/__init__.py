@@ -1,5 +1,27 @@
-"""Step detectors (one algorithm per module) and the step table."""
+"""Step detectors (one algorithm per module), their registry and the step table.
 
+``DETECTORS`` maps the CLI names of DESIGN sec. 5 to classes; every class takes
+its parameters in ``__init__`` and has ``detect(recording) -> self`` leaving the
+DESIGN step table in ``steps_``.
+"""
+
+from gaitml.steps._registry import DETECTORS, detect_steps, detector_names, get_detector
 from gaitml.steps._table import empty_step_table, make_step_table
+from gaitml.steps.adfsm import ADFSMStepDetector
+from gaitml.steps.autocorr import AutocorrStepDetector
+from gaitml.steps.ifsm import IFSMLiteralStepDetector, IFSMStepDetector
+from gaitml.steps.single_peak import SinglePeakStepDetector
 
-__all__ = ["empty_step_table", "make_step_table"]
+__all__ = [
+    "DETECTORS",
+    "ADFSMStepDetector",
+    "AutocorrStepDetector",
+    "IFSMLiteralStepDetector",
+    "IFSMStepDetector",
+    "SinglePeakStepDetector",
+    "detect_steps",
+    "detector_names",
+    "empty_step_table",
+    "get_detector",
+    "make_step_table",
+]

@@ -19,7 +19,9 @@ from gaitml.zupt.magnitude import DEFAULT_T_MAX_MS2, DEFAULT_T_MIN_MS2, MIN_RUN_
 __all__ = ["ZuptMagnitudeStepDetector", "steps_from_zupts"]
 
 
-def steps_from_zupts(zupts: pd.DataFrame, sampling_rate_hz: float, *, n_samples: int | None = None, count_leading: bool = False) -> pd.DataFrame:
+def steps_from_zupts(
+    zupts: pd.DataFrame, sampling_rate_hz: float, *, n_samples: int | None = None, count_leading: bool = False
+) -> pd.DataFrame:
     """One step per zero-velocity interval (paper 004 sec. 2.2 step 3).
 
     Parameters
@@ -91,7 +93,14 @@ class ZuptMagnitudeStepDetector:
     Paper 004 (Chen & Yang, 2017), sec. 2.2, Fig. 6.
     """
 
-    def __init__(self, *, t_min_ms2: float = DEFAULT_T_MIN_MS2, t_max_ms2: float = DEFAULT_T_MAX_MS2, min_run_fraction: float = MIN_RUN_FRACTION_OF_FS, count_leading: bool = False):
+    def __init__(
+        self,
+        *,
+        t_min_ms2: float = DEFAULT_T_MIN_MS2,
+        t_max_ms2: float = DEFAULT_T_MAX_MS2,
+        min_run_fraction: float = MIN_RUN_FRACTION_OF_FS,
+        count_leading: bool = False,
+    ):
         self.t_min_ms2 = t_min_ms2
         self.t_max_ms2 = t_max_ms2
         self.min_run_fraction = min_run_fraction
@@ -101,8 +110,12 @@ class ZuptMagnitudeStepDetector:
         """Detect steps; sets ``steps_`` and ``zupts_`` and returns ``self``."""
         if not isinstance(recording, Recording):
             raise InputError(f"detect needs a gaitml Recording, got {type(recording).__name__}.")
-        det = MagnitudeZuptDetector(t_min_ms2=self.t_min_ms2, t_max_ms2=self.t_max_ms2, min_run_fraction=self.min_run_fraction).detect(recording)
+        det = MagnitudeZuptDetector(t_min_ms2=self.t_min_ms2, t_max_ms2=self.t_max_ms2, min_run_fraction=self.min_run_fraction).detect(
+            recording
+        )
         self.zupts_ = det.zupts_
         self.per_sample_zupts_ = det.per_sample_zupts_
-        self.steps_ = steps_from_zupts(det.zupts_, recording.sampling_rate_hz, n_samples=recording.n_samples, count_leading=self.count_leading)
+        self.steps_ = steps_from_zupts(
+            det.zupts_, recording.sampling_rate_hz, n_samples=recording.n_samples, count_leading=self.count_leading
+        )
         return self

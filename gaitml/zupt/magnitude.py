@@ -26,7 +26,14 @@ DEFAULT_T_MAX_MS2 = 11.0
 MIN_RUN_FRACTION_OF_FS = 0.10
 
 
-def magnitude_zupts(acc_mag_ms2: np.ndarray, sampling_rate_hz: float, *, t_min_ms2: float = DEFAULT_T_MIN_MS2, t_max_ms2: float = DEFAULT_T_MAX_MS2, min_run_fraction: float = MIN_RUN_FRACTION_OF_FS) -> np.ndarray:
+def magnitude_zupts(
+    acc_mag_ms2: np.ndarray,
+    sampling_rate_hz: float,
+    *,
+    t_min_ms2: float = DEFAULT_T_MIN_MS2,
+    t_max_ms2: float = DEFAULT_T_MAX_MS2,
+    min_run_fraction: float = MIN_RUN_FRACTION_OF_FS,
+) -> np.ndarray:
     """``C(k) = t_min < |a(k)| < t_max`` (paper 004 eq. 3) with short runs removed.
 
     Runs of ``C = 1`` shorter than ``min_run_fraction * sampling_rate_hz`` samples
@@ -80,7 +87,14 @@ class MagnitudeZuptDetector(BaseZuptDetector):
 
     name = "magnitude"
 
-    def __init__(self, *, t_min_ms2: float = DEFAULT_T_MIN_MS2, t_max_ms2: float = DEFAULT_T_MAX_MS2, min_run_fraction: float = MIN_RUN_FRACTION_OF_FS, eps: float = 0.002):
+    def __init__(
+        self,
+        *,
+        t_min_ms2: float = DEFAULT_T_MIN_MS2,
+        t_max_ms2: float = DEFAULT_T_MAX_MS2,
+        min_run_fraction: float = MIN_RUN_FRACTION_OF_FS,
+        eps: float = 0.002,
+    ):
         self.t_min_ms2 = t_min_ms2
         self.t_max_ms2 = t_max_ms2
         self.min_run_fraction = min_run_fraction

@@ -161,7 +161,14 @@ class PseudoStdZuptDetector(BaseZuptDetector):
 
     name = "pseudo-std"
 
-    def __init__(self, *, threshold_rads: float | None = None, half_window_s: float = DEFAULT_HALF_WINDOW_S, eps: float = PAPER_EPS, form: str = "exact"):
+    def __init__(
+        self,
+        *,
+        threshold_rads: float | None = None,
+        half_window_s: float = DEFAULT_HALF_WINDOW_S,
+        eps: float = PAPER_EPS,
+        form: str = "exact",
+    ):
         self.threshold_rads = threshold_rads
         self.half_window_s = half_window_s
         self.eps = eps

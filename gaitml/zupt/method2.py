@@ -1,0 +1,130 @@
+"""Paper 001's baseline "method 2": four conditions on acc and gyro magnitude and std.
+
+Paper 001 (Dai et al., 2018), introduction and sec. 3, citing its ref. [11]
+(Huang et al., 2017): "acc magnitude + acc standard deviation + gyro magnitude +
+gyro standard deviation", each compared with a fixed threshold; all four must
+hold (a multi-condition AND, as in Jimenez et al. 2009's C1-C3).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gaitml.errors import InputError
+from gaitml.recording import Recording
+from gaitml.signal import magnitude
+from gaitml.zupt._base import BaseZuptDetector
+from gaitml.zupt._intervals import centered_sums, half_window_samples
+
+__all__ = ["Method2ZuptDetector", "method2_zupts"]
+
+#: |a| band (m/s^2): Jimenez et al. 2009 condition C1, 9 < |a| < 11 (paper 001 prints no values).
+DEFAULT_ACC_MIN_MS2 = 9.0
+DEFAULT_ACC_MAX_MS2 = 11.0
+#: Window std of |a| below 1.0 m/s^2 (our choice).
+DEFAULT_ACC_STD_MS2 = 1.0
+#: |w| below 50 deg/s = 0.873 rad/s: Jimenez et al. 2009 condition C3.
+DEFAULT_GYR_MAX_RADS = 50.0 * np.pi / 180.0
+#: Window std of |w| below 0.3 rad/s (our choice).
+DEFAULT_GYR_STD_RADS = 0.3
+#: Half-window (s), the same 0.05 s as the pseudo-std detector.
+DEFAULT_HALF_WINDOW_S = 0.05
+
+
+def _window_std(x: np.ndarray, half: int) -> np.ndarray:
+    sums, counts = centered_sums(np.column_stack([x, x * x]), half)
+    mean = sums[:, 0] / counts
+    return np.sqrt(np.maximum(sums[:, 1] / counts - mean * mean, 0.0))
+
+
+def method2_zupts(
+    acc_ms2: np.ndarray,
+    gyr_rads: np.ndarray,
+    half_window_samples: int,
+    *,
+    acc_min_ms2: float = DEFAULT_ACC_MIN_MS2,
+    acc_max_ms2: float = DEFAULT_ACC_MAX_MS2,
+    acc_std_ms2: float = DEFAULT_ACC_STD_MS2,
+    gyr_max_rads: float = DEFAULT_GYR_MAX_RADS,
+    gyr_std_rads: float = DEFAULT_GYR_STD_RADS,
+) -> np.ndarray:
+    """Zero velocity where all four conditions hold at sample i.
+
+    ``acc_min < |a(i)| < acc_max`` and ``std(|a|) < acc_std`` and ``|w(i)| < gyr_max``
+    and ``std(|w|) < gyr_std``, the stds over the centred window ``[i - s, i + s]``
+    (truncated at the edges).
+    """
+    a = np.asarray(acc_ms2, dtype=float)
+    w = np.asarray(gyr_rads, dtype=float)
+    if a.ndim != 2 or a.shape[1] != 3 or w.shape != a.shape:
+        raise InputError(f"acc and gyr must both have shape (n, 3), got {a.shape} and {w.shape}.")
+    s = int(half_window_samples)
+    if s < 1:
+        raise InputError(f"`half_window_samples` must be >= 1, got {half_window_samples}.")
+    am = magnitude(a)
+    wm = magnitude(w)
+    return (
+        (am > acc_min_ms2)
+        & (am < acc_max_ms2)
+        & (_window_std(am, s) < acc_std_ms2)
+        & (wm < gyr_max_rads)
+        & (_window_std(wm, s) < gyr_std_rads)
+    )
+
+
+class Method2ZuptDetector(BaseZuptDetector):
+    """Paper 001's method 2 (four fixed-threshold conditions, AND).
+
+    Parameters
+    ----------
+    acc_min_ms2, acc_max_ms2 : float
+        |a| band (default 9-11 m/s^2, Jimenez et al. 2009 C1).
+    acc_std_ms2 : float
+        Window std of |a| (default 1.0 m/s^2).
+    gyr_max_rads : float
+        |w| bound (default 50 deg/s, Jimenez et al. 2009 C3).
+    gyr_std_rads : float
+        Window std of |w| (default 0.3 rad/s).
+    half_window_s : float
+        Half-window in seconds (default 0.05 s).
+
+    Notes
+    -----
+    Paper 001 does not print the thresholds of its ref. [11]; the defaults are
+    stated above (two from Jimenez et al. 2009, two ours). ``statistic_`` is |w|.
+    No ``fit`` (fixed thresholds, as compared in paper 001 Table 1).
+    """
+
+    name = "method2"
+
+    def __init__(
+        self,
+        *,
+        acc_min_ms2: float = DEFAULT_ACC_MIN_MS2,
+        acc_max_ms2: float = DEFAULT_ACC_MAX_MS2,
+        acc_std_ms2: float = DEFAULT_ACC_STD_MS2,
+        gyr_max_rads: float = DEFAULT_GYR_MAX_RADS,
+        gyr_std_rads: float = DEFAULT_GYR_STD_RADS,
+        half_window_s: float = DEFAULT_HALF_WINDOW_S,
+    ):
+        self.acc_min_ms2 = acc_min_ms2
+        self.acc_max_ms2 = acc_max_ms2
+        self.acc_std_ms2 = acc_std_ms2
+        self.gyr_max_rads = gyr_max_rads
+        self.gyr_std_rads = gyr_std_rads
+        self.half_window_s = half_window_s
+
+    def _mask(self, recording: Recording):
+        gyr = recording.require_gyr("method 2 (acc/gyro magnitude and std, paper 001)")
+        s = half_window_samples(self.half_window_s, recording.sampling_rate_hz)
+        mask = method2_zupts(
+            recording.acc,
+            gyr,
+            s,
+            acc_min_ms2=self.acc_min_ms2,
+            acc_max_ms2=self.acc_max_ms2,
+            acc_std_ms2=self.acc_std_ms2,
+            gyr_max_rads=self.gyr_max_rads,
+            gyr_std_rads=self.gyr_std_rads,
+        )
+        return mask, magnitude(gyr)

@@ -1,1 +1,45 @@
-"""gaitml.pdr (see DESIGN sec. 1)."""
+"""Pedestrian dead reckoning (paper 003 sec. 4, paper 002 sec. 3; DESIGN sec. 4).
+
+- :mod:`~gaitml.pdr.step_length`: linear and Weinberg step length models per mode.
+- :mod:`~gaitml.pdr.attitude`: quaternion gyro integration, heading of the phone's forward axis.
+- :mod:`~gaitml.pdr.hde`: buffered heuristic drift elimination.
+- :mod:`~gaitml.pdr.dwpca`: dynamic-window PCA step direction.
+- :mod:`~gaitml.pdr.update`: multi-state and forward-only position updates.
+- :mod:`~gaitml.pdr.pipeline`: :func:`run_pdr`, recording -> trajectory.
+"""
+
+from gaitml.pdr.attitude import AttitudeEstimator, compass_heading, initial_attitude, integrate_gyro, step_headings, wrap_angle
+from gaitml.pdr.dwpca import DwPcaHeading, dwpca_check_and_average, pca_step_directions
+from gaitml.pdr.hde import HeuristicDriftElimination, hde_correct
+from gaitml.pdr.pipeline import HEADING_SOURCES, MODE_SOURCES, PdrResult, modes_from_labels, modes_from_windows, run_pdr
+from gaitml.pdr.step_length import StepLengthModel, linear_step_length, step_length_features, weinberg_step_length
+from gaitml.pdr.update import MODE_OFFSET_RAD, dead_reckon, forward_update, mode_offsets_rad, multi_state_update
+
+__all__ = [
+    "HEADING_SOURCES",
+    "MODE_OFFSET_RAD",
+    "MODE_SOURCES",
+    "AttitudeEstimator",
+    "DwPcaHeading",
+    "HeuristicDriftElimination",
+    "PdrResult",
+    "StepLengthModel",
+    "compass_heading",
+    "dead_reckon",
+    "dwpca_check_and_average",
+    "forward_update",
+    "hde_correct",
+    "initial_attitude",
+    "integrate_gyro",
+    "linear_step_length",
+    "mode_offsets_rad",
+    "modes_from_labels",
+    "modes_from_windows",
+    "multi_state_update",
+    "pca_step_directions",
+    "run_pdr",
+    "step_headings",
+    "step_length_features",
+    "weinberg_step_length",
+    "wrap_angle",
+]

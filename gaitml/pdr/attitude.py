@@ -1,0 +1,275 @@
+"""Phone attitude by quaternion integration of the gyroscope, and the heading it implies.
+
+Paper 003 sec. 4.2 computes the attitude with the quaternion method (eqs. 14-15), maps
+the angular rate to the navigation frame with C_b^n and integrates it to a heading.
+Here the body-to-navigation rotation is propagated with the body angular rate,
+``q_k = q_{k-1} (x) exp(omega dt / 2)`` (trapezoidal rate), starting from the tilt given
+by gravity (mean of the first ``init_window_s`` of acc) and a chosen initial heading.
+The heading is the compass yaw of the phone's forward axis projected on the horizontal
+plane (DESIGN sec. 2: x east, y north, clockwise from north).
+
+Navigation frame: x east, y north, z up. Phone frame: x right, y forward (top of the
+phone), z out of the screen (up when the phone lies flat), as in
+:func:`gaitml.signal.tilt_angles`.
+
+Pure integration lets gyro bias tip the estimated vertical over time, which then
+leaks into the heading. ``gravity_gain_hz > 0`` adds a complementary (Mahony-style)
+correction toward the low-passed gravity direction: the body rate is augmented by
+``gain * (up_measured x up_estimated)``. ``gravity_gain_hz = 0`` is the literal
+paper method (vectorised as a parallel prefix product of the per-sample rotations).
+
+References
+----------
+Paper 003 sec. 4.2, eqs. (14)-(15).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from gaitml.errors import InputError
+from gaitml.signal import gravity_direction
+
+__all__ = [
+    "AttitudeEstimator",
+    "compass_heading",
+    "initial_attitude",
+    "integrate_gyro",
+    "integrate_gyro_gravity",
+    "step_headings",
+    "wrap_angle",
+]
+
+#: Phone axis that points where the person faces when the phone is held in front (body +y).
+FORWARD_AXIS_BODY = (0.0, 1.0, 0.0)
+
+
+def wrap_angle(a):
+    """Wrap angles to [-pi, pi)."""
+    return (np.asarray(a, dtype=float) + np.pi) % (2 * np.pi) - np.pi
+
+
+def compass_heading(vec_nav: np.ndarray) -> np.ndarray:
+    """Compass heading (clockwise from north, rad) of navigation-frame vectors (..., 3)."""
+    v = np.asarray(vec_nav, dtype=float)
+    return np.arctan2(v[..., 0], v[..., 1])
+
+
+def initial_attitude(up_body, *, heading_rad: float = 0.0, forward_axis_body=FORWARD_AXIS_BODY) -> Rotation:
+    """Body-to-navigation rotation with the given gravity ("up") direction and heading.
+
+    Parameters
+    ----------
+    up_body : (3,) unit vector of "up" in the phone frame (a resting accelerometer reads +g up).
+    heading_rad : compass heading of the projected forward axis.
+    forward_axis_body : (3,) the phone axis that points forward.
+
+    Notes
+    -----
+    When the forward axis is (nearly) vertical the projection is undefined; the phone's
+    -z axis (the back of a phone held upright, screen toward the user) is used instead.
+    """
+    up = np.asarray(up_body, dtype=float)
+    up = up / np.linalg.norm(up)
+    fwd = np.asarray(forward_axis_body, dtype=float)
+    f = fwd - (fwd @ up) * up
+    if np.linalg.norm(f) < 0.2:
+        alt = np.array([0.0, 0.0, -1.0])
+        f = alt - (alt @ up) * up
+    north = f / np.linalg.norm(f)
+    east = np.cross(north, up)
+    level = Rotation.from_matrix(np.vstack([east, north, up]))  # rows: nav axes in body -> body to nav
+    return Rotation.from_euler("z", -heading_rad) * level
+
+
+def _qmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product of scalar-last quaternions, vectorised over leading axes."""
+    ax, ay, az, aw = np.moveaxis(a, -1, 0)
+    bx, by, bz, bw = np.moveaxis(b, -1, 0)
+    return np.stack(
+        [
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz,
+        ],
+        axis=-1,
+    )
+
+
+def _rate_increments(gyr_rads: np.ndarray, sampling_rate_hz: float) -> np.ndarray:
+    """Per-sample body rotation quaternions (trapezoidal rate), shape (n, 4); the first is identity."""
+    w = np.asarray(gyr_rads, dtype=float)
+    dt = 1.0 / sampling_rate_hz
+    mid = np.empty_like(w)
+    mid[0] = 0.0
+    mid[1:] = 0.5 * (w[1:] + w[:-1])
+    return Rotation.from_rotvec(mid * dt).as_quat()
+
+
+def integrate_gyro(gyr_rads: np.ndarray, sampling_rate_hz: float, initial: Rotation) -> Rotation:
+    """Pure quaternion integration of body rates from ``initial`` (paper 003 sec. 4.2).
+
+    Vectorised as an inclusive prefix product (Hillis-Steele scan, log2(n) numpy passes)
+    of the per-sample increments: rotation composition is associative.
+
+    Returns a stacked :class:`~scipy.spatial.transform.Rotation` of n body-to-nav attitudes.
+    """
+    q = _rate_increments(gyr_rads, sampling_rate_hz)
+    q[0] = initial.as_quat()
+    d = 1
+    n = len(q)
+    while d < n:
+        q[d:] = _qmul(q[:-d], q[d:])
+        q[d:] /= np.linalg.norm(q[d:], axis=1, keepdims=True)
+        d *= 2
+    return Rotation.from_quat(q)
+
+
+def integrate_gyro_gravity(
+    gyr_rads: np.ndarray, up_body: np.ndarray, sampling_rate_hz: float, initial: Rotation, gain_hz: float
+) -> Rotation:
+    """Quaternion integration with a complementary pull of the vertical toward ``up_body``.
+
+    Parameters
+    ----------
+    gyr_rads : (n, 3) body rates.
+    up_body : (n, 3) measured unit up direction in the phone frame (low-passed acc).
+    gain_hz : correction gain (1/s); the tilt error decays with time constant 1 / gain.
+
+    Notes
+    -----
+    A sequential loop over samples on plain floats (the feedback makes it inherently
+    sequential); yaw about the true vertical is not observed by gravity and is left to
+    the gyro.
+    """
+    w = np.asarray(gyr_rads, dtype=float)
+    up = np.asarray(up_body, dtype=float)
+    dt = 1.0 / sampling_rate_hz
+    n = len(w)
+    out = np.empty((n, 4))
+    x, y, z, s = initial.as_quat()
+    out[0] = (x, y, z, s)
+    wl = w.tolist()
+    ul = up.tolist()
+    k = float(gain_hz)
+    for i in range(1, n):
+        # estimated up in body = R^T e_z (third row of R)
+        ex = 2.0 * (x * z - s * y)
+        ey = 2.0 * (y * z + s * x)
+        ez = 1.0 - 2.0 * (x * x + y * y)
+        mx, my, mz = ul[i]
+        # omega_c = k (measured x estimated)
+        cx = k * (my * ez - mz * ey)
+        cy = k * (mz * ex - mx * ez)
+        cz = k * (mx * ey - my * ex)
+        a, b = wl[i - 1], wl[i]
+        ox = 0.5 * (a[0] + b[0]) + cx
+        oy = 0.5 * (a[1] + b[1]) + cy
+        oz = 0.5 * (a[2] + b[2]) + cz
+        ang = math.sqrt(ox * ox + oy * oy + oz * oz) * dt
+        if ang > 1e-12:
+            h = 0.5 * ang
+            sc = math.sin(h) / (ang / dt)
+            dx, dy, dz, dw = ox * sc, oy * sc, oz * sc, math.cos(h)
+        else:
+            dx, dy, dz, dw = 0.5 * ox * dt, 0.5 * oy * dt, 0.5 * oz * dt, 1.0
+        # q = q (x) d
+        x, y, z, s = (
+            s * dx + x * dw + y * dz - z * dy,
+            s * dy - x * dz + y * dw + z * dx,
+            s * dz + x * dy - y * dx + z * dw,
+            s * dw - x * dx - y * dy - z * dz,
+        )
+        nrm = math.sqrt(x * x + y * y + z * z + s * s)
+        x, y, z, s = x / nrm, y / nrm, z / nrm, s / nrm
+        out[i] = (x, y, z, s)
+    return Rotation.from_quat(out)
+
+
+def step_headings(heading_rad: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """Mean heading over each step window ``[start, end)`` (on the unwrapped angle), wrapped.
+
+    Vectorised with a cumulative sum of the unwrapped per-sample heading.
+    """
+    h = np.unwrap(np.asarray(heading_rad, dtype=float))
+    start = np.asarray(start, dtype=np.int64)
+    end = np.asarray(end, dtype=np.int64)
+    if len(start) == 0:
+        return np.zeros(0)
+    if (end <= start).any() or start.min() < 0 or end.max() > len(h):
+        raise InputError(f"step windows must satisfy 0 <= start < end <= {len(h)}; check the step table matches the recording.")
+    c = np.concatenate([[0.0], np.cumsum(h)])
+    return wrap_angle((c[end] - c[start]) / (end - start))
+
+
+class AttitudeEstimator:
+    """Attitude and heading of a hand-held phone from acc + gyro.
+
+    Parameters
+    ----------
+    initial_heading_rad : float
+        Compass heading of the phone's forward axis at the first sample. Without a
+        magnetometer it is unobservable; 0 means "the first direction is north", which
+        suits heuristic drift elimination when the walk starts along a corridor.
+    init_window_s : float
+        Length of the initial segment whose mean acc gives the initial tilt.
+    gravity_gain_hz : float
+        Complementary tilt correction toward the low-passed gravity (0 = pure
+        integration as in paper 003). Default 0.5 1/s (time constant 2 s).
+    gravity_cutoff_hz : float
+        Low-pass cutoff of the measured gravity direction.
+    forward_axis_body : (3,) phone axis taken as forward.
+
+    Attributes
+    ----------
+    rotation_ : scipy Rotation, n body-to-navigation attitudes.
+    heading_rad_ : (n,) compass heading of the projected forward axis, wrapped to [-pi, pi).
+    """
+
+    def __init__(
+        self,
+        *,
+        initial_heading_rad: float = 0.0,
+        init_window_s: float = 1.0,
+        gravity_gain_hz: float = 0.5,
+        gravity_cutoff_hz: float = 0.3,
+        forward_axis_body=FORWARD_AXIS_BODY,
+    ):
+        self.initial_heading_rad = initial_heading_rad
+        self.init_window_s = init_window_s
+        self.gravity_gain_hz = gravity_gain_hz
+        self.gravity_cutoff_hz = gravity_cutoff_hz
+        self.forward_axis_body = forward_axis_body
+
+    def estimate(self, recording) -> AttitudeEstimator:
+        gyr = recording.require_gyr("gyro heading (attitude integration)")
+        fs = recording.sampling_rate_hz
+        if self.gravity_gain_hz < 0:
+            raise InputError(f"`gravity_gain_hz` must be >= 0, got {self.gravity_gain_hz}.")
+        if self.init_window_s <= 0:
+            raise InputError(f"`init_window_s` must be > 0, got {self.init_window_s}.")
+        recording.require_samples(2, "attitude integration")
+        n0 = max(1, min(recording.n_samples, int(round(self.init_window_s * fs))))
+        up0 = gravity_direction(recording.acc[:n0])
+        r0 = initial_attitude(up0, heading_rad=self.initial_heading_rad, forward_axis_body=self.forward_axis_body)
+        if self.gravity_gain_hz == 0:
+            rot = integrate_gyro(gyr, fs, r0)
+        else:
+            up = gravity_direction(recording.acc, fs, cutoff_hz=self.gravity_cutoff_hz)
+            rot = integrate_gyro_gravity(gyr, up, fs, r0, self.gravity_gain_hz)
+        self.rotation_ = rot
+        fwd = rot.apply(np.asarray(self.forward_axis_body, dtype=float))
+        self.heading_rad_ = compass_heading(fwd)
+        return self
+
+    def linear_acc_nav(self, recording) -> np.ndarray:
+        """Acceleration in the navigation frame with gravity removed (n, 3), m/s^2."""
+        from gaitml.consts import GRAVITY_MS2
+
+        a = self.rotation_.apply(np.array(recording.acc, dtype=float))
+        a[:, 2] -= GRAVITY_MS2
+        return a

@@ -1,0 +1,180 @@
+"""Dynamic-window PCA (DW-PCA) step direction (paper 002 sec. 3).
+
+For each step window (the FSM's S2..S6 segment, paper 002 sec. 3.1 and Fig. 10; or the
+step detector's [start, end) window) the horizontal linear acceleration in the
+navigation frame is analysed with PCA2d (sec. 3.2): its first principal axis is the
+motion axis. The 180 deg ambiguity (sec. 3.3) is resolved from the shape of the
+acceleration projected on that axis: within one step the forward acceleration first
+decreases then increases (convex), so if the projection is convex the eigenvector points
+along the motion, otherwise opposite. Convexity is the sign of the quadratic coefficient
+of a least-squares parabola through the projection over the window.
+
+Gyro check and adjacent averaging (sec. 3.4, Algorithm 3): when two consecutive
+directions differ by more than 30 deg, the gyro is consulted. Algorithm 3 sets
+``heading_i = heading_{i-1} + gyro_step_i`` when the gyro also turned more than 30 deg
+and says nothing for the other case; our reading: if the gyro turned less, the jump is
+an ambiguity error, so the direction is flipped by 180 deg when that brings it within
+30 deg of the previous one, and otherwise propagated with the gyro
+(``heading_{i-1} + gyro_step_i``). ``gyro_step_i`` is the change of the gyro heading
+between the two steps (difference of their mean gyro headings). Finally adjacent
+measurements are averaged (circular mean of step i-1 and i, non-recursive: "the average
+of two adjacent measurements"), except across a turn (the two differ by more than the
+30 deg check threshold), where averaging would only add lag: the averaging is meant to
+cancel the opposite left/right-foot biases within a straight leg.
+
+PCA measures the direction of *motion*. For the multi-state update the facing heading
+is needed: ``facing = motion - offset(mode)`` (backward pi, side_left -pi/2,
+side_right +pi/2). Checks and averaging run on the facing heading so that a change of
+mode (a 90 deg jump of the motion direction) is not taken for a turn.
+
+References
+----------
+Zhu et al., "Dynamic-Window PCA Algorithm for Step Direction Estimation", J. Software
+(paper 002), sec. 3.1-3.4, Algorithm 3.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gaitml.errors import InputError
+from gaitml.pdr.attitude import wrap_angle
+
+__all__ = ["DwPcaHeading", "dwpca_check_and_average", "pca_step_directions"]
+
+#: paper 002 sec. 3.4: left/right foot directions differ by less than 30 deg.
+GYRO_CHECK_RAD = np.deg2rad(30.0)
+MIN_WINDOW_SAMPLES = 3
+
+
+def pca_step_directions(lin_acc_h: np.ndarray, start, end) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """PCA2d motion direction of each step window with 180-degree disambiguation.
+
+    Parameters
+    ----------
+    lin_acc_h : array (n, 2), horizontal linear acceleration (east, north), m/s^2.
+    start, end : int arrays (m,), windows ``[start, end)``.
+
+    Returns
+    -------
+    direction_rad : (m,) compass direction of motion after disambiguation.
+    axis_rad : (m,) compass direction of the raw first eigenvector (before disambiguation).
+    explained : (m,) fraction of horizontal variance along the first axis (NaN for a
+        window shorter than 3 samples, whose direction is NaN too).
+    """
+    a = np.asarray(lin_acc_h, dtype=float)
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise InputError(f"`lin_acc_h` must have shape (n, 2) (east, north), got {a.shape}.")
+    start = np.asarray(start, dtype=np.int64)
+    end = np.asarray(end, dtype=np.int64)
+    if len(start) and (start.min() < 0 or end.max() > len(a) or (end < start).any()):
+        raise InputError(f"step windows must satisfy 0 <= start <= end <= {len(a)}; check the windows match the recording.")
+    m = len(start)
+    direction = np.full(m, np.nan)
+    axis = np.full(m, np.nan)
+    explained = np.full(m, np.nan)
+    for i in range(m):
+        x = a[start[i] : end[i]]
+        if len(x) < MIN_WINDOW_SAMPLES:
+            continue
+        xc = x - x.mean(axis=0)
+        w, v = np.linalg.eigh(xc.T @ xc)
+        e = v[:, 1]  # largest eigenvalue last
+        tot = w.sum()
+        explained[i] = w[1] / tot if tot > 0 else np.nan
+        axis[i] = np.arctan2(e[0], e[1])
+        p = xc @ e
+        t = np.linspace(-1.0, 1.0, len(p))
+        c2 = np.polyfit(t, p, 2)[0]
+        if c2 < 0:  # concave: the eigenvector points against the motion
+            e = -e
+        direction[i] = np.arctan2(e[0], e[1])
+    return direction, axis, explained
+
+
+def dwpca_check_and_average(
+    direction_rad, gyro_heading_rad, *, check_rad: float = GYRO_CHECK_RAD, average: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
+    """Gyro check and adjacent averaging of paper 002 Algorithm 3 (see module doc).
+
+    Parameters
+    ----------
+    direction_rad : (m,) per-step direction (facing heading), NaN where PCA failed
+        (replaced by the gyro-propagated previous value).
+    gyro_heading_rad : (m,) per-step gyro heading (its differences are the gyro turns).
+
+    Returns
+    -------
+    heading : (m,) checked (and averaged) headings.
+    gyro_fixed : (m,) bool, steps changed by the gyro check.
+    """
+    h = np.asarray(direction_rad, dtype=float).reshape(-1).copy()
+    g = np.asarray(gyro_heading_rad, dtype=float).reshape(-1)
+    if h.shape != g.shape:
+        raise InputError(f"`direction_rad` and `gyro_heading_rad` must have the same length, got {h.shape[0]} and {g.shape[0]}.")
+    m = len(h)
+    fixed = np.zeros(m, dtype=bool)
+    if m == 0:
+        return h, fixed
+    if np.isnan(h[0]):
+        h[0] = g[0]
+        fixed[0] = True
+    dg = wrap_angle(np.diff(g))
+    for i in range(1, m):
+        if np.isnan(h[i]):
+            h[i] = h[i - 1] + dg[i - 1]
+            fixed[i] = True
+            continue
+        d = wrap_angle(h[i] - h[i - 1])
+        if abs(d) <= check_rad:
+            continue
+        fixed[i] = True
+        if abs(dg[i - 1]) > check_rad:
+            h[i] = h[i - 1] + dg[i - 1]
+        elif abs(wrap_angle(h[i] + np.pi - h[i - 1])) <= check_rad:
+            h[i] = h[i] + np.pi
+        else:
+            h[i] = h[i - 1] + dg[i - 1]
+    h = wrap_angle(h)
+    if average and m > 1:
+        out = h.copy()
+        pair = np.arctan2(np.sin(h[1:]) + np.sin(h[:-1]), np.cos(h[1:]) + np.cos(h[:-1]))
+        same_leg = np.abs(wrap_angle(h[1:] - h[:-1])) <= check_rad
+        out[1:] = np.where(same_leg, pair, h[1:])
+        h = out
+    return h, fixed
+
+
+class DwPcaHeading:
+    """DW-PCA facing heading per step (paper 002 sec. 3) for the multi-state update.
+
+    Parameters
+    ----------
+    check_rad : gyro check threshold (paper 002: 30 deg).
+    average : adjacent averaging (paper 002 sec. 3.4).
+
+    Attributes
+    ----------
+    motion_rad_ : (m,) PCA motion direction after 180-degree disambiguation.
+    axis_rad_ : (m,) raw first-eigenvector direction.
+    heading_rad_ : (m,) facing heading after mode offset, gyro check and averaging.
+    gyro_fixed_ : (m,) bool.
+    """
+
+    def __init__(self, *, check_rad: float = GYRO_CHECK_RAD, average: bool = True):
+        self.check_rad = check_rad
+        self.average = average
+
+    def estimate(self, lin_acc_h, start, end, gyro_step_heading_rad, mode_offset_rad=None) -> DwPcaHeading:
+        motion, axis, expl = pca_step_directions(lin_acc_h, start, end)
+        off = np.zeros(len(motion)) if mode_offset_rad is None else np.asarray(mode_offset_rad, dtype=float)
+        if off.shape != motion.shape:
+            raise InputError(f"`mode_offset_rad` must have one value per step ({len(motion)}), got {off.shape[0]}.")
+        facing = wrap_angle(motion - off)
+        self.motion_rad_ = motion
+        self.axis_rad_ = axis
+        self.explained_ = expl
+        self.heading_rad_, self.gyro_fixed_ = dwpca_check_and_average(
+            facing, gyro_step_heading_rad, check_rad=self.check_rad, average=self.average
+        )
+        return self

@@ -1,0 +1,317 @@
+"""The PDR pipeline: recording -> steps -> mode per step -> length -> heading -> positions.
+
+Paper 003 sec. 4 (with paper 002 sec. 3 as an alternative heading source), DESIGN sec. 4-5.
+
+- Steps: a registered step detector (``single-peak`` by default, paper 003 sec. 2.2), or a
+  step table given by the caller.
+- Mode per step: from a saved model's window predictions (the window containing the step
+  time; with overlapping windows the one whose centre is nearest), from the recording's
+  true per-sample labels (majority over the step window), or ``forward`` (no recognition:
+  every step is a walk step and the traditional update is used, the baseline of paper
+  003 sec. 4.3).
+- Length: :class:`~gaitml.pdr.step_length.StepLengthModel` by mode.
+- Heading: gyro attitude (:mod:`gaitml.pdr.attitude`) per step; corrected by buffered HDE
+  (``hde``), or DW-PCA step direction (``dwpca``), or raw (``gyro``).
+- Update: multi-state (paper 003 eq. 11, physical reading) or forward-only (eq. 10).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gaitml.errors import InputError
+from gaitml.pdr.attitude import AttitudeEstimator, step_headings, wrap_angle
+from gaitml.pdr.dwpca import DwPcaHeading
+from gaitml.pdr.hde import HeuristicDriftElimination
+from gaitml.pdr.step_length import StepLengthModel, step_length_features
+from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
+from gaitml.recording import Recording
+
+__all__ = ["HEADING_SOURCES", "MODE_SOURCES", "PdrResult", "modes_from_labels", "modes_from_windows", "run_pdr"]
+
+HEADING_SOURCES = ("hde", "dwpca", "gyro")
+MODE_SOURCES = ("model", "true", "forward")
+TRAJECTORY_COLUMNS = ("t_s", "x_m", "y_m", "heading_rad", "mode", "step_length_m")
+
+
+@dataclass
+class PdrResult:
+    """Output of :func:`run_pdr`.
+
+    Attributes
+    ----------
+    trajectory : DataFrame, one row per step preceded by the start point: ``t_s``, ``x_m``,
+        ``y_m``, ``heading_rad`` (facing heading of the step; the start row has the
+        initial heading), ``mode`` (``start`` for the first row), ``step_length_m`` (0 at
+        the start).
+    steps : DataFrame, the step table with the per-step ``mode``, ``step_length_m``,
+        ``heading_rad``, ``gyro_heading_rad`` and step-length features.
+    distance_m : float, sum of the step lengths.
+    end_xy_m : (x, y) of the last position.
+    info : dict, how it was computed (detector, heading and mode sources, notes).
+    """
+
+    trajectory: pd.DataFrame
+    steps: pd.DataFrame
+    distance_m: float
+    end_xy_m: tuple[float, float]
+    info: dict = field(default_factory=dict)
+
+    @property
+    def n_steps(self) -> int:
+        return len(self.steps)
+
+    def to_json_dict(self) -> dict:
+        """The ``gaitml pdr --json`` object (DESIGN sec. 5)."""
+        traj = self.trajectory
+        rows = [
+            {"t_s": float(t), "x_m": float(x), "y_m": float(y), "heading_rad": float(h), "mode": str(m)}
+            for t, x, y, h, m in zip(traj["t_s"], traj["x_m"], traj["y_m"], traj["heading_rad"], traj["mode"])
+        ]
+        return {
+            "n_steps": int(self.n_steps),
+            "distance_m": float(self.distance_m),
+            "end_xy_m": [float(self.end_xy_m[0]), float(self.end_xy_m[1])],
+            "trajectory": rows,
+        }
+
+
+def modes_from_labels(labels: np.ndarray, start, end) -> np.ndarray:
+    """Majority per-sample label over each step window ``[start, end)``."""
+    lab = np.asarray(labels).astype(str)
+    start = np.asarray(start, dtype=np.int64)
+    end = np.asarray(end, dtype=np.int64)
+    classes, codes = np.unique(lab, return_inverse=True)
+    # per-class cumulative counts: majority per window without a Python loop over samples
+    onehot = np.zeros((len(lab) + 1, len(classes)), dtype=np.int64)
+    onehot[1 + np.arange(len(lab)), codes] = 1
+    cum = np.cumsum(onehot, axis=0)
+    counts = cum[end] - cum[start]
+    return classes[np.argmax(counts, axis=1)]
+
+
+def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:
+    """Mode of the window containing each step time (nearest window centre).
+
+    Parameters
+    ----------
+    windows : DataFrame with ``t_start_s``, ``t_end_s``, ``mode`` (model predictions).
+    step_t_s : (m,) step times.
+
+    Notes
+    -----
+    With overlapping windows a step lies in two; the window whose centre is nearest to
+    the step time is used (it sees the step best). Steps before the first or after the
+    last window take the nearest window.
+    """
+    for c in ("t_start_s", "t_end_s", "mode"):
+        if c not in windows:
+            raise InputError(f"the window table has no `{c}` column; pass gaitml.models.predict_recording output.")
+    t = np.asarray(step_t_s, dtype=float)
+    if len(windows) == 0:
+        raise InputError("the model predicted no windows (recording shorter than one window); use --modes true or forward.")
+    centre = 0.5 * (windows["t_start_s"].to_numpy(float) + windows["t_end_s"].to_numpy(float))
+    order = np.argsort(centre)
+    centre = centre[order]
+    modes = windows["mode"].to_numpy().astype(str)[order]
+    j = np.searchsorted(centre, t)
+    lo = np.clip(j - 1, 0, len(centre) - 1)
+    hi = np.clip(j, 0, len(centre) - 1)
+    pick = np.where(np.abs(t - centre[lo]) <= np.abs(centre[hi] - t), lo, hi)
+    return modes[pick]
+
+
+def _detect(recording: Recording, detector):
+    from gaitml.steps import get_detector
+
+    det = get_detector(detector) if isinstance(detector, str) else detector
+    det.detect(recording)
+    return det.steps_, getattr(det, "segments_", None)
+
+
+def _resolve_step_length(step_length) -> tuple[StepLengthModel | None, str]:
+    if step_length is None:
+        return StepLengthModel(), "defaults (uncalibrated)"
+    if isinstance(step_length, StepLengthModel):
+        return step_length, "given model"
+    if isinstance(step_length, (str, Path)) and str(step_length) == "reference":
+        return None, "reference"
+    if isinstance(step_length, (str, Path)):
+        return StepLengthModel.load(step_length), f"file {step_length}"
+    raise InputError(f"`step_length` must be None, a StepLengthModel, a JSON path or 'reference', got {type(step_length).__name__}.")
+
+
+def reference_step_lengths(recording: Recording, step_t_s) -> np.ndarray:
+    """True length of the nearest reference step (diagnostics: isolates step-length error)."""
+    ref = recording.reference.get("steps")
+    if ref is None or "step_length_m" not in ref:
+        raise InputError("step_length='reference' needs reference['steps'] with step_length_m (a simulated recording).")
+    rt = ref["t_s"].to_numpy(float)
+    order = np.argsort(rt)
+    rt = rt[order]
+    rl = ref["step_length_m"].to_numpy(float)[order]
+    t = np.asarray(step_t_s, dtype=float)
+    j = np.clip(np.searchsorted(rt, t), 1, len(rt) - 1) if len(rt) > 1 else np.zeros(len(t), dtype=int)
+    if len(rt) > 1:
+        j = np.where(np.abs(t - rt[j - 1]) <= np.abs(rt[j] - t), j - 1, j)
+    return rl[j]
+
+
+def run_pdr(
+    recording: Recording,
+    *,
+    model=None,
+    detector="single-peak",
+    steps: pd.DataFrame | None = None,
+    heading: str = "hde",
+    modes: str = "model",
+    step_length=None,
+    update: str | None = None,
+    initial_heading_rad: float = 0.0,
+    start_xy_m=(0.0, 0.0),
+    attitude: AttitudeEstimator | None = None,
+    hde: HeuristicDriftElimination | None = None,
+    dwpca: DwPcaHeading | None = None,
+) -> PdrResult:
+    """Dead-reckon a recording into a 2-D trajectory.
+
+    Parameters
+    ----------
+    recording : Recording with acc and gyro.
+    model : TrainedModel, optional (needed for ``modes='model'``).
+    detector : str or detector object (``detect(rec).steps_``); default ``single-peak``.
+    steps : DataFrame, optional; a step table to use instead of running a detector.
+    heading : {'hde', 'dwpca', 'gyro'}
+    modes : {'model', 'true', 'forward'}
+        ``model`` requires ``model``; ``true`` requires per-sample labels; ``forward``
+        treats every step as a walk step (traditional PDR).
+    step_length : None (stated defaults), StepLengthModel, JSON path, or ``'reference'``
+        (nearest true step length from ``reference['steps']``, for diagnostics only).
+    update : {'multi', 'forward'}, default ``'forward'`` when ``modes='forward'`` else ``'multi'``.
+    initial_heading_rad : compass heading at the first sample (no magnetometer).
+    start_xy_m : start position.
+    attitude, hde, dwpca : configured estimators (defaults otherwise).
+
+    Returns
+    -------
+    PdrResult
+    """
+    if not isinstance(recording, Recording):
+        raise InputError(f"`recording` must be a gaitml Recording, got {type(recording).__name__}.")
+    if heading not in HEADING_SOURCES:
+        raise InputError(f"unknown heading source {heading!r}; use one of {', '.join(HEADING_SOURCES)}.")
+    if modes not in MODE_SOURCES:
+        raise InputError(f"unknown mode source {modes!r}; use one of {', '.join(MODE_SOURCES)}.")
+    update = update or ("forward" if modes == "forward" else "multi")
+    if update not in ("multi", "forward"):
+        raise InputError(f"`update` must be 'multi' or 'forward', got {update!r}.")
+    recording.require_gyr("PDR heading")
+    fs = recording.sampling_rate_hz
+    notes: list[str] = []
+
+    segments = None
+    if steps is None:
+        steps, segments = _detect(recording, detector)
+        det_name = detector if isinstance(detector, str) else type(detector).__name__
+    else:
+        det_name = "given"
+    steps = steps.reset_index(drop=True).copy()
+    event = steps.attrs.get("event", "t_peak_s")
+    if event not in steps:
+        event = "t_peak_s"
+    t_step = steps[event].to_numpy(float)
+    start = steps["start"].to_numpy(np.int64)
+    end = steps["end"].to_numpy(np.int64)
+    n = len(steps)
+
+    # ---- modes per step
+    if modes == "true":
+        if recording.labels is None:
+            raise InputError("modes='true' needs per-sample labels in the recording; use modes='model' with a model, or 'forward'.")
+        step_modes = modes_from_labels(recording.labels, start, np.maximum(end, start + 1)) if n else np.zeros(0, dtype=str)
+    elif modes == "model":
+        if model is None:
+            raise InputError("modes='model' needs a model (--model MODEL_DIR); use modes='true' with labels or 'forward'.")
+        from gaitml.models import predict_recording
+
+        windows = predict_recording(model, recording, correction=True)
+        step_modes = modes_from_windows(windows, t_step) if n else np.zeros(0, dtype=str)
+    else:
+        step_modes = np.full(n, "walk", dtype=object)
+    step_modes = np.asarray(step_modes).astype(str)
+    offsets = mode_offsets_rad(step_modes, unknown="forward")
+    unknown = sorted(set(step_modes) - {"walk", "run", "side_left", "side_right", "backward", "forward"})
+    if unknown:
+        notes.append(f"modes {unknown} are not motion modes of paper 003; moved along the heading")
+
+    # ---- step length
+    slm, sl_source = _resolve_step_length(step_length)
+    feats = step_length_features(recording.acc, steps, fs)
+    if slm is None:
+        lengths = reference_step_lengths(recording, t_step)
+    else:
+        lengths = slm.predict(feats, step_modes)
+    lengths = np.where(np.isfinite(lengths), lengths, 0.0)
+
+    # ---- heading
+    att = attitude or AttitudeEstimator(initial_heading_rad=initial_heading_rad)
+    att.estimate(recording)
+    gyro_h = step_headings(att.heading_rad_, start, np.maximum(end, start + 1)) if n else np.zeros(0)
+    dur = np.maximum(end - start, 1) / fs
+    if heading == "gyro":
+        theta = gyro_h
+    elif heading == "hde":
+        h = hde or HeuristicDriftElimination(reference_rad=initial_heading_rad)
+        theta = h.correct(gyro_h, dur).heading_rad_ if n else np.zeros(0)
+    else:
+        d = dwpca or DwPcaHeading()
+        win_start, win_end = start, np.maximum(end, start + 1)
+        if segments is not None and len(segments) == n and {"start", "end"} <= set(segments.columns):
+            win_start = segments["start"].to_numpy(np.int64)
+            win_end = segments["end"].to_numpy(np.int64)
+            notes.append("DW-PCA windows: the detector's S2..S6 segments")
+        lin = att.linear_acc_nav(recording)[:, :2]
+        pca_offsets = offsets if update == "multi" else np.zeros(n)
+        theta = d.estimate(lin, win_start, win_end, gyro_h, pca_offsets).heading_rad_ if n else np.zeros(0)
+
+    # ---- positions
+    if update == "multi":
+        xy = multi_state_update(lengths, theta, step_modes, start_xy_m=start_xy_m, unknown="forward")
+    else:
+        xy = forward_update(lengths, theta, start_xy_m=start_xy_m)
+
+    traj = pd.DataFrame(
+        {
+            "t_s": np.concatenate([[0.0], t_step]),
+            "x_m": xy[:, 0],
+            "y_m": xy[:, 1],
+            "heading_rad": np.concatenate([[wrap_angle(initial_heading_rad)], wrap_angle(theta)]),
+            "mode": np.concatenate([["start"], step_modes]).astype(object),
+            "step_length_m": np.concatenate([[0.0], lengths]),
+        }
+    )
+    steps = pd.concat([steps, feats], axis=1)
+    steps["mode"] = step_modes
+    steps["step_length_m"] = lengths
+    steps["gyro_heading_rad"] = gyro_h
+    steps["heading_rad"] = wrap_angle(theta)
+    info = {
+        "detector": det_name,
+        "heading": heading,
+        "modes": modes,
+        "update": update,
+        "step_length": sl_source,
+        "initial_heading_rad": float(initial_heading_rad),
+        "notes": notes,
+    }
+    return PdrResult(
+        trajectory=traj,
+        steps=steps,
+        distance_m=float(lengths.sum()),
+        end_xy_m=(float(xy[-1, 0]), float(xy[-1, 1])),
+        info=info,
+    )

@@ -1,7 +1,31 @@
-"""`gaitml evaluate`: not built yet (exits 2 rather than pretending)."""
+"""`gaitml evaluate CONFIG [--out RUN_DIR] [--json]`: cross-validate a config and write its run folder."""
 
-from gaitml.errors import NotAvailableError
+from __future__ import annotations
+
+from gaitml.commands._util import emit_json, log
 
 
 def run(args) -> int:
-    raise NotAvailableError("'gaitml evaluate' is not available yet in this version; see the README for what works.")
+    from gaitml.experiments import evaluate_config, load_config
+    from gaitml.parallel import parallel_backend
+
+    cfg = load_config(args.config)
+    backend = getattr(args, "backend", "joblib") or "joblib"
+    with parallel_backend(backend, getattr(args, "scheduler", None)) as info:
+        n_jobs = -1 if info["backend"] == "dask" else None
+        result = evaluate_config(cfg, out_dir=args.out, n_jobs=n_jobs)
+    result["backend"] = info
+    if args.json:
+        emit_json(result)
+    else:
+        log(
+            f"gaitml evaluate {cfg.name}: accuracy {result['accuracy_before_correction']:.4f} before / "
+            f"{result['accuracy_after_correction']:.4f} after correction, macro-F1 {result['macro_f1']:.4f} "
+            f"({result['scheme']}, {len(result['folds'])} folds, {result['n_windows']} windows)"
+        )
+        if "sweep" in result:
+            for row in result["sweep"]:
+                keys = [k for k in cfg.sweep]
+                log("  " + ", ".join(f"{k}={row[k]}" for k in keys) + f": {row['accuracy_before']:.4f} / {row['accuracy_after']:.4f}")
+        log(f"gaitml evaluate: run folder {result['run_dir']}")
+    return 0

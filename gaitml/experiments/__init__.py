@@ -1,1 +1,11 @@
-"""gaitml.experiments (see DESIGN sec. 1)."""
+"""Experiment configs (TOML), cross-validation runs, sweeps, training and run reports.
+
+- :func:`load_config` / :func:`parse_config`: validated :class:`ExperimentConfig`;
+- :func:`evaluate_config`: cross-validate (every ``[sweep]`` point), write the run folder;
+- :func:`train_config`: fit on all windows and save a model artifact.
+"""
+
+from gaitml.experiments.config import ExperimentConfig, load_config, parse_config, sweep_grid
+from gaitml.experiments.runner import build_dataset, evaluate_config, prepare_data, train_config
+
+__all__ = ["ExperimentConfig", "build_dataset", "evaluate_config", "load_config", "parse_config", "prepare_data", "sweep_grid", "train_config"]

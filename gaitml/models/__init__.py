@@ -1,1 +1,43 @@
-"""gaitml.models (see DESIGN sec. 1)."""
+"""Motion-mode classifiers behind one scikit-learn interface, and model artifacts.
+
+- ``linear-ovo-svm``: :class:`LinearOVOSVM`, standardised features, linear SVM,
+  one-vs-one (paper 003 sec. 3.1, 3.3).
+- ``mlp``, ``cnn1d``: small torch baselines (optional extra ``gaitml[torch]``).
+- :func:`make_model` builds one by kind; :func:`save_model` / :func:`load_model`
+  write and check the artifact folder (DESIGN sec. 3); :func:`predict_recording`
+  gives per-window modes of a recording. Model files are pickles: load them only
+  from trusted sources.
+"""
+
+from gaitml.models._dataset import WindowDataset, build_window_dataset, raw_window_channels, raw_windows, resample_recording
+from gaitml.models._persist import TrainedModel, library_versions, load_model, save_model, sha256_file
+from gaitml.models._predict import model_inputs, predict_recording
+from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS, make_model, model_class, model_param_names
+from gaitml.models._svm import LinearOVOSVM, ovo_vote
+from gaitml.models._torch import TorchCNN1DClassifier, TorchMLPClassifier, require_torch, torch_available
+
+__all__ = [
+    "MODEL_KINDS",
+    "TORCH_KINDS",
+    "LinearOVOSVM",
+    "TorchCNN1DClassifier",
+    "TorchMLPClassifier",
+    "TrainedModel",
+    "WindowDataset",
+    "build_window_dataset",
+    "library_versions",
+    "load_model",
+    "make_model",
+    "model_class",
+    "model_inputs",
+    "model_param_names",
+    "ovo_vote",
+    "predict_recording",
+    "raw_window_channels",
+    "raw_windows",
+    "require_torch",
+    "resample_recording",
+    "save_model",
+    "sha256_file",
+    "torch_available",
+]

@@ -1,0 +1,359 @@
+"""Experiment configs: TOML (``tomllib``) validated into dataclasses (DESIGN sec. 3).
+
+Every key is checked against a schema before any work starts: unknown keys,
+wrong types and values outside the allowed set raise :class:`ConfigError`
+naming the key, the bad value and what is allowed. Paths are relative to the
+config file. Checks that need the data (label present, enough groups) are done
+by :func:`gaitml.experiments.runner.prepare_data`, still before any training.
+
+Keys (defaults in brackets)::
+
+    name = "..."                     # required; run folder runs/<name>/<timestamp>/
+    seed = 0
+    description = ""
+    [data]
+    source = "simulated"             # "simulated" | "folder"
+    path = "../data/set"             # "folder": any data set the readers understand
+    label = "label"                  # per-sample label, or a meta/manifest column (one label per recording)
+    group = "subject"                # meta/manifest column: cross-validation groups
+    labels = []                      # keep only these labels (others dropped and reported)
+    resample_hz = 50.0               # every recording is resampled to this rate
+    where = {}                       # keep recordings whose meta matches, e.g. { surface = "Hard" }
+    [data.simulated]
+    subjects = 8
+    duration_s = 120.0
+    modes = ["walk", "run", "side_left", "side_right", "backward"]
+    [windows]
+    length_s = 1.5
+    overlap = 0.5
+    min_label_fraction = 0.5
+    [features]
+    set = "all52"                    # "all52" | "paper34" | "all52+gyro"
+    [model]
+    kind = "linear-ovo-svm"          # | "mlp" | "cnn1d"
+    params = {}                      # constructor parameters of the kind, e.g. { C = 1.0 }
+    [cv]
+    scheme = "leave-one-group-out"   # | "train-one-test-rest" | "group-kfold"
+    n_splits = 5
+    n_jobs = 1
+    [postprocess]
+    adjacent_correction = true
+    [train]
+    model_dir = ""                   # where `gaitml train` writes the model (default models/<name>)
+    cross_validate = true            # record CV scores in model.json
+    [sweep]
+    "windows.length_s" = [0.5, 1.0]  # grid: every combination of the listed values
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import itertools
+import os
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from gaitml.consts import MOTION_MODES
+from gaitml.errors import ConfigError, GaitmlError
+
+__all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "FEATURE_SET_NAMES"]
+
+SOURCES = ("simulated", "folder")
+FEATURE_SET_NAMES = ("all52", "paper34", "all52+gyro")
+CV_SCHEMES = ("train-one-test-rest", "leave-one-group-out", "group-kfold")
+MODEL_KIND_NAMES = ("linear-ovo-svm", "mlp", "cnn1d")
+
+
+@dataclasses.dataclass(frozen=True)
+class _Leaf:
+    types: tuple
+    default: Any
+    allowed: tuple | None = None
+    check: Any = None  # callable(value) -> error text or None
+    item_type: type | None = None  # for lists
+
+
+def _pos(v):
+    return None if v > 0 else "must be > 0"
+
+
+def _nonneg_int(v):
+    return None if v >= 0 else "must be >= 0"
+
+
+def _overlap(v):
+    return None if 0 <= v < 1 else "must be in [0, 1)"
+
+
+def _fraction(v):
+    return None if 0 <= v <= 1 else "must be in [0, 1]"
+
+
+def _n_jobs(v):
+    return None if v >= 1 or v == -1 else "must be >= 1, or -1 for all cores"
+
+
+def _min2(v):
+    return None if v >= 2 else "must be >= 2"
+
+
+_NUM = (int, float)
+SCHEMA: dict[str, Any] = {
+    "name": _Leaf((str,), None, check=lambda v: None if v.strip() and "/" not in v else "must be a non-empty name without '/'"),
+    "seed": _Leaf((int,), 0, check=_nonneg_int),
+    "description": _Leaf((str,), ""),
+    "data": {
+        "source": _Leaf((str,), "simulated", allowed=SOURCES),
+        "path": _Leaf((str,), ""),
+        "label": _Leaf((str,), "label"),
+        "group": _Leaf((str,), "subject"),
+        "labels": _Leaf((list,), [], item_type=str),
+        "resample_hz": _Leaf(_NUM, 50.0, check=_pos),
+        "where": _Leaf((dict,), {}),
+        "simulated": {
+            "subjects": _Leaf((int,), 8, check=_pos),
+            "duration_s": _Leaf(_NUM, 120.0, check=_pos),
+            "modes": _Leaf((list,), list(MOTION_MODES), item_type=str),
+        },
+    },
+    "windows": {
+        "length_s": _Leaf(_NUM, 1.5, check=_pos),
+        "overlap": _Leaf(_NUM, 0.5, check=_overlap),
+        "min_label_fraction": _Leaf(_NUM, 0.5, check=_fraction),
+    },
+    "features": {"set": _Leaf((str,), "all52", allowed=FEATURE_SET_NAMES)},
+    "model": {
+        "kind": _Leaf((str,), "linear-ovo-svm", allowed=MODEL_KIND_NAMES),
+        "params": _Leaf((dict,), {}),
+    },
+    "cv": {
+        "scheme": _Leaf((str,), "leave-one-group-out", allowed=CV_SCHEMES),
+        "n_splits": _Leaf((int,), 5, check=_min2),
+        "n_jobs": _Leaf((int,), 1, check=_n_jobs),
+    },
+    "postprocess": {"adjacent_correction": _Leaf((bool,), True)},
+    "train": {
+        "model_dir": _Leaf((str,), ""),
+        "cross_validate": _Leaf((bool,), True),
+    },
+}
+
+
+def _type_ok(v, types) -> bool:
+    if isinstance(v, bool) and bool not in types:
+        return False
+    return isinstance(v, types)
+
+
+def _type_names(types) -> str:
+    names = {int: "integer", float: "number", str: "string", bool: "boolean", list: "array", dict: "table"}
+    return " or ".join(names.get(t, t.__name__) for t in types)
+
+
+def _check_leaf(key: str, leaf: _Leaf, v):
+    if not _type_ok(v, leaf.types):
+        raise ConfigError(f"{key} = {v!r} has the wrong type ({type(v).__name__}); expected a {_type_names(leaf.types)}.")
+    if leaf.allowed is not None and v not in leaf.allowed:
+        raise ConfigError(f"{key} = {v!r} is not allowed; allowed: {', '.join(map(repr, leaf.allowed))}.")
+    if leaf.item_type is not None:
+        bad = [x for x in v if not isinstance(x, leaf.item_type)]
+        if bad:
+            raise ConfigError(f"{key} = {v!r} must list {_type_names((leaf.item_type,))}s; {bad[0]!r} is not one.")
+    if leaf.check is not None:
+        msg = leaf.check(v)
+        if msg:
+            raise ConfigError(f"{key} = {v!r} {msg}.")
+    if float in leaf.types and isinstance(v, int) and not isinstance(v, bool):
+        v = float(v)
+    return copy.deepcopy(v)
+
+
+def _fill(raw: dict, schema: dict, prefix: str) -> dict:
+    if not isinstance(raw, dict):
+        raise ConfigError(f"{prefix.rstrip('.')} must be a table, got {raw!r}.")
+    out: dict = {}
+    for k in raw:
+        if k not in schema:
+            where = f"[{prefix.rstrip('.')}]" if prefix else "the top level"
+            raise ConfigError(f"unknown key {prefix}{k} in {where}; allowed keys: {', '.join(schema)}.")
+    for k, spec in schema.items():
+        key = prefix + k
+        if isinstance(spec, dict):
+            out[k] = _fill(raw.get(k, {}), spec, key + ".")
+        elif k in raw:
+            out[k] = _check_leaf(key, spec, raw[k])
+        else:
+            if spec.default is None:
+                raise ConfigError(f"the config has no {key}; add e.g. {key} = \"my-experiment\".")
+            out[k] = copy.deepcopy(spec.default)
+    return out
+
+
+def _leaf_at(path: str):
+    node: Any = SCHEMA
+    for part in path.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return None
+        node = node[part]
+    return node if isinstance(node, _Leaf) else None
+
+
+@dataclasses.dataclass(frozen=True)
+class ExperimentConfig:
+    """A validated experiment config (``values`` holds every key, defaults filled in).
+
+    Attributes
+    ----------
+    values : dict
+        The resolved config (nested dicts as in the TOML, without ``[sweep]``).
+    sweep : dict
+        Dotted key -> list of values (may be empty).
+    base_dir : Path
+        Folder of the config file: relative paths are resolved against it.
+    source : Path or None
+        The config file.
+    """
+
+    values: dict
+    sweep: dict
+    base_dir: Path
+    source: Path | None = None
+
+    # convenient views
+    @property
+    def name(self) -> str:
+        return self.values["name"]
+
+    @property
+    def seed(self) -> int:
+        return self.values["seed"]
+
+    def __getitem__(self, section: str):
+        return self.values[section]
+
+    @property
+    def data_path(self) -> Path | None:
+        p = self.values["data"]["path"]
+        return (self.base_dir / p).resolve() if p else None
+
+    @property
+    def model_dir(self) -> Path | None:
+        p = self.values["train"]["model_dir"]
+        return (self.base_dir / p).resolve() if p else None
+
+    def resolved(self) -> dict:
+        """The resolved config as a plain dict (for the run folder and model.json)."""
+        d = copy.deepcopy(self.values)
+        if self.data_path is not None:
+            d["data"]["path_resolved"] = str(self.data_path)
+        if self.sweep:
+            d["sweep"] = copy.deepcopy(self.sweep)
+        return d
+
+    def with_values(self, overrides: dict[str, Any]) -> ExperimentConfig:
+        """A copy with dotted keys set (validated again), without the sweep."""
+        raw = copy.deepcopy(self.values)
+        for path, v in overrides.items():
+            node = raw
+            parts = path.split(".")
+            for p in parts[:-1]:
+                node = node.setdefault(p, {})
+            node[parts[-1]] = v
+        return parse_config(raw, base_dir=self.base_dir, source=self.source, check_paths=False)
+
+
+def sweep_grid(cfg: ExperimentConfig) -> list[dict[str, Any]]:
+    """Every combination of the ``[sweep]`` values (one empty dict without a sweep)."""
+    if not cfg.sweep:
+        return [{}]
+    keys = list(cfg.sweep)
+    return [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*(cfg.sweep[k] for k in keys))]
+
+
+def _check_sweep(raw_sweep, values: dict) -> dict:
+    if not isinstance(raw_sweep, dict):
+        raise ConfigError(f"[sweep] must be a table of dotted keys to lists, got {raw_sweep!r}.")
+    out = {}
+    for path, vals in raw_sweep.items():
+        if path.startswith("model.params."):
+            leaf = None
+        else:
+            leaf = _leaf_at(path)
+            if leaf is None or path in ("name",):
+                raise ConfigError(f"sweep key {path!r} is not a config key; use a dotted key such as 'windows.length_s', 'features.set' or 'model.params.C'.")
+        if not isinstance(vals, list) or not vals:
+            raise ConfigError(f"sweep.{path!r} = {vals!r} must be a non-empty array of values.")
+        out[path] = [_check_leaf(f"sweep.{path!r}", leaf, v) if leaf else v for v in vals]
+    return out
+
+
+def _check_model(values: dict) -> None:
+    from gaitml.models import make_model
+
+    kind = values["model"]["kind"]
+    try:
+        make_model(kind, values["model"]["params"], seed=values["seed"])
+    except ConfigError:
+        raise
+    except GaitmlError:
+        raise
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"model.params = {values['model']['params']!r} is not valid for {kind!r}: {exc}.") from exc
+
+
+def parse_config(raw: dict, *, base_dir: str | os.PathLike = ".", source: str | os.PathLike | None = None, check_paths: bool = True) -> ExperimentConfig:
+    """Validate a config dict (as read from TOML) into an :class:`ExperimentConfig`.
+
+    Raises
+    ------
+    ConfigError
+        Unknown key, wrong type, a value outside the allowed set, a missing
+        ``name``, a bad sweep, ``data.path`` missing for source 'folder' or not
+        existing (when ``check_paths``), a model parameter the kind does not take.
+    ModelError
+        A torch model kind without torch installed.
+    """
+    raw = dict(raw)
+    raw_sweep = raw.pop("sweep", {})
+    values = _fill(raw, SCHEMA, "")
+    sweep = _check_sweep(raw_sweep, values)
+    base = Path(base_dir)
+    cfg = ExperimentConfig(values=values, sweep=sweep, base_dir=base, source=None if source is None else Path(source))
+    d = values["data"]
+    if d["source"] == "folder":
+        if not d["path"]:
+            raise ConfigError("data.source = 'folder' needs data.path (a data set folder, relative to the config file).")
+        if check_paths and not cfg.data_path.exists():
+            raise ConfigError(f"data.path = {d['path']!r} does not exist (resolved to {cfg.data_path}); fix the path (it is relative to the config file).")
+    else:
+        bad = [m for m in d["simulated"]["modes"] if m not in MOTION_MODES]
+        if bad:
+            raise ConfigError(f"data.simulated.modes has {bad[0]!r}, not a simulated mode; allowed: {', '.join(MOTION_MODES)}.")
+        if d["group"] not in ("subject", "session"):
+            raise ConfigError(f"data.group = {d['group']!r} is not a column of simulated data; allowed: 'subject', 'session'.")
+        if d["label"] != "label":
+            raise ConfigError(f"data.label = {d['label']!r} is not a column of simulated data; allowed: 'label'.")
+        bad = [x for x in d["labels"] if x not in d["simulated"]["modes"]]
+        if bad:
+            raise ConfigError(f"data.labels has {bad[0]!r}, which is not in data.simulated.modes {d['simulated']['modes']}.")
+    _check_model(values)
+    for point in sweep_grid(cfg):
+        if point and any(k.startswith("model.") or k.startswith("data.") for k in point):
+            cfg.with_values(point)  # validates each grid point's model / data settings
+    return cfg
+
+
+def load_config(path: str | os.PathLike) -> ExperimentConfig:
+    """Read and validate a TOML experiment config (paths relative to its folder)."""
+    p = Path(path)
+    if not p.is_file():
+        raise ConfigError(f"config file not found: {p}; pass a TOML file such as experiments/paper-svm.toml.")
+    try:
+        raw = tomllib.loads(p.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{p.name} is not valid TOML: {exc}; fix the syntax.") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"cannot read config {p}: {exc}.") from exc
+    return parse_config(raw, base_dir=p.resolve().parent, source=p.resolve())

@@ -1,0 +1,326 @@
+"""Run experiment configs: load data, window, cross-validate, sweep, train, write run folders.
+
+:func:`evaluate_config` is what ``gaitml evaluate`` calls; :func:`train_config`
+is ``gaitml train``. Both validate everything that needs the data
+(:func:`prepare_data`: label present, groups, enough groups for the scheme)
+before any feature is computed or model trained.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gaitml.errors import ConfigError, InputError
+from gaitml.experiments.config import ExperimentConfig, sweep_grid
+
+__all__ = ["PreparedData", "prepare_data", "build_dataset", "evaluate_config", "train_config", "default_run_dir"]
+
+_DATA_CACHE: dict[str, Any] = {}
+_DS_CACHE: dict[str, Any] = {}
+
+
+class PreparedData:
+    """Recordings at the experiment rate with labels set, their groups, and notes for the report."""
+
+    def __init__(self, recordings, groups, notes):
+        self.recordings = recordings
+        self.groups = groups
+        self.notes = notes
+
+
+def _data_key(cfg: ExperimentConfig) -> str:
+    d = dict(cfg["data"])
+    return json.dumps({"data": d, "seed": cfg.seed, "base": str(cfg.base_dir)}, sort_keys=True, default=str)
+
+
+def _meta_columns(recs) -> list[str]:
+    keys = set()
+    for r in recs:
+        keys |= {k for k, v in r.meta.items() if isinstance(v, str | int | float) and not isinstance(v, bool)}
+    return sorted(keys)
+
+
+def _load_recordings(cfg: ExperimentConfig):
+    d = cfg["data"]
+    fs = float(d["resample_hz"])
+    notes: list[str] = []
+    if d["source"] == "simulated":
+        from gaitml.simulate import simulate_dataset
+
+        s = d["simulated"]
+        recs = simulate_dataset(n_subjects=s["subjects"], duration_s=s["duration_s"], modes=tuple(s["modes"]), sampling_rate_hz=fs, seed=cfg.seed)
+        notes.append(f"simulated: {s['subjects']} subjects, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}")
+        return list(recs), notes
+    from gaitml.io import read_dataset
+    from gaitml.models import resample_recording
+
+    try:
+        recs = read_dataset(cfg.data_path)
+    except InputError as exc:
+        raise ConfigError(f"data.path = {d['path']!r}: {exc}") from exc
+    notes.append(f"folder {cfg.data_path}: {len(recs)} recordings read")
+    where = d["where"]
+    if where:
+        cols = _meta_columns(recs)
+        for k in where:
+            if k not in cols:
+                raise ConfigError(f"data.where key {k!r} is not a meta/manifest column of the data; columns: {', '.join(cols)}.")
+        kept = [r for r in recs if all(str(r.meta.get(k)).lower() == str(v).lower() for k, v in where.items())]
+        notes.append(f"data.where {where}: kept {len(kept)} of {len(recs)} recordings")
+        if not kept:
+            values = {k: sorted({str(r.meta.get(k)) for r in recs}) for k in where}
+            raise ConfigError(f"data.where = {where} matches no recording; values present: {values}.")
+        recs = kept
+    rates = sorted({round(r.sampling_rate_hz, 3) for r in recs})
+    out = [resample_recording(r, fs) for r in recs]
+    if any(abs(r - fs) > 1e-6 for r in rates):
+        notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
+    return out, notes
+
+
+def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedData:
+    """Load the recordings of ``cfg`` and check label, labels and group against them.
+
+    Raises
+    ------
+    ConfigError
+        The label is neither a per-sample label nor a meta/manifest column; a
+        ``data.labels`` entry does not occur; the group column is missing; too
+        few groups for ``cv.scheme``.
+    """
+    from gaitml.evaluation.cv import check_groups
+
+    key = _data_key(cfg)
+    if use_cache and key in _DATA_CACHE:
+        recs, notes = _DATA_CACHE[key]
+    else:
+        recs, notes = _load_recordings(cfg)
+        if use_cache:
+            _DATA_CACHE.clear()
+            _DATA_CACHE[key] = (recs, notes)
+    notes = list(notes)
+    d = cfg["data"]
+    label, group = d["label"], d["group"]
+    cols = _meta_columns(recs)
+    per_sample = label == "label" and all(r.labels is not None for r in recs)
+    labelled = []
+    if per_sample:
+        labelled = list(recs)
+    elif all(label in r.meta for r in recs):
+        labelled = [r.replace(labels=np.full(r.n_samples, str(r.meta[label]), dtype=object), check_units=False) for r in recs]
+        notes.append(f"label: meta column {label!r} (one label per recording)")
+    else:
+        have = "per-sample 'label', " if all(r.labels is not None for r in recs) else ""
+        raise ConfigError(f"data.label = {label!r} is not in the data: neither per-sample labels nor a meta/manifest column; available: {have}{', '.join(cols)}.")
+    present = sorted({str(x) for r in labelled for x in np.unique(r.labels)})
+    for x in d["labels"]:
+        if x not in present:
+            raise ConfigError(f"data.labels has {x!r}, which is not a label of the data; labels present: {', '.join(present)}.")
+    missing = [r.name for r in recs if group not in r.meta]
+    if missing:
+        raise ConfigError(f"data.group = {group!r} is not a meta/manifest column of recording {missing[0]!r}; columns: {', '.join(cols)}.")
+    groups = [str(r.meta[group]) for r in recs]
+    c = cfg["cv"]
+    check_groups(c["scheme"], groups, c["n_splits"], group_key=group)
+    return PreparedData(labelled, groups, notes)
+
+
+def build_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool | None = None, need_features: bool | None = None, use_cache: bool = True):
+    """Window the prepared recordings with the config's window and feature settings."""
+    from gaitml.models import build_window_dataset, model_class
+
+    input_kind = model_class(cfg["model"]["kind"]).input_kind
+    need_raw = input_kind == "raw" if need_raw is None else need_raw
+    need_features = input_kind == "features" if need_features is None else need_features
+    w = cfg["windows"]
+    key = json.dumps([_data_key(cfg), w, cfg["features"]["set"], need_raw, need_features], sort_keys=True, default=str)
+    if use_cache and key in _DS_CACHE:
+        return _DS_CACHE[key]
+    ds = build_window_dataset(
+        data.recordings, groups=data.groups, length_s=w["length_s"], overlap=w["overlap"], min_label_fraction=w["min_label_fraction"],
+        feature_set=cfg["features"]["set"], keep_labels=cfg["data"]["labels"] or None, need_features=need_features, need_raw=need_raw,
+    )
+    if use_cache:
+        if len(_DS_CACHE) > 4:
+            _DS_CACHE.clear()
+        _DS_CACHE[key] = ds
+    return ds
+
+
+def default_run_dir(cfg: ExperimentConfig) -> Path:
+    """``runs/<name>/<UTC timestamp>/`` below the current folder."""
+    stamp = _dt.datetime.now(_dt.UTC).strftime("%Y%m%dT%H%M%SZ")
+    return Path("runs") / cfg.name / stamp
+
+
+def _point_label(point: dict) -> str:
+    return ", ".join(f"{k}={v}" for k, v in point.items()) or "(base)"
+
+
+def _evaluate_point(cfg: ExperimentConfig, data: PreparedData, progress: bool, desc: str) -> dict:
+    from gaitml.evaluation.cv import cross_validate
+
+    t0 = time.perf_counter()
+    ds = build_dataset(cfg, data)
+    t_ds = time.perf_counter() - t0
+    labels = cfg["data"]["labels"] or None
+    if labels is None and cfg["data"]["source"] == "simulated":
+        modes = cfg["data"]["simulated"]["modes"]
+        labels = [m for m in modes if m in set(ds.y)]
+    c = cfg["cv"]
+    t1 = time.perf_counter()
+    res = cross_validate(ds, cfg["model"]["kind"], cfg["model"]["params"], scheme=c["scheme"], n_splits=c["n_splits"], n_jobs=c["n_jobs"],
+                         seed=cfg.seed, labels=labels, progress=progress, description=desc)
+    return {"dataset": ds, "cv": res, "dataset_s": t_ds, "cv_s": time.perf_counter() - t1}
+
+
+def _headline(cfg: ExperimentConfig, res) -> dict:
+    use_after = cfg["postprocess"]["adjacent_correction"]
+    final = res.after if use_after else res.before
+    return {
+        "accuracy": final["accuracy"],
+        "macro_f1": final["macro_f1"],
+        "accuracy_before_correction": res.before["accuracy"],
+        "macro_f1_before_correction": res.before["macro_f1"],
+        "accuracy_after_correction": res.after["accuracy"],
+        "macro_f1_after_correction": res.after["macro_f1"],
+        "correction_applied": bool(use_after),
+        "per_class": final["per_class"],
+        "labels": final["labels"],
+        "confusion": final["confusion"],
+        "confusion_before_correction": res.before["confusion"],
+    }
+
+
+def evaluate_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, progress: bool = True, write: bool = True, n_jobs: int | None = None) -> dict:
+    """Cross-validate a config (every sweep point) and write its run folder.
+
+    Returns
+    -------
+    dict
+        The ``gaitml evaluate --json`` object: ``accuracy``, ``macro_f1`` (after
+        the correction when ``postprocess.adjacent_correction``), the values
+        before/after the correction, ``per_class``, ``confusion``, ``folds``,
+        window counts, ``run_dir``; with a sweep also ``sweep`` (one row per grid
+        point) and ``best`` (the grid point with the highest accuracy, whose
+        numbers are the headline).
+
+    ``n_jobs`` overrides ``cv.n_jobs`` (the Dask backend uses -1).
+    """
+    from gaitml.experiments.report import write_run
+
+    if n_jobs is not None:
+        cfg = cfg.with_values({"cv.n_jobs": n_jobs}) if not cfg.sweep else _with_sweep(cfg, {"cv.n_jobs": n_jobs})
+
+    data = prepare_data(cfg)
+    grid = sweep_grid(cfg)
+    points = []
+    for i, point in enumerate(grid):
+        pcfg = cfg.with_values(point) if point else cfg
+        desc = f"{cfg.name} {i + 1}/{len(grid)}" if len(grid) > 1 else cfg.name
+        r = _evaluate_point(pcfg, data, progress, desc)
+        r["point"] = point
+        r["cfg"] = pcfg
+        points.append(r)
+    rows = []
+    for r in points:
+        ds, res = r["dataset"], r["cv"]
+        s = res.summary()
+        rows.append({**{k: v for k, v in r["point"].items()}, "accuracy_before": s["accuracy_before"], "accuracy_after": s["accuracy_after"],
+                     "macro_f1_before": s["macro_f1_before"], "macro_f1_after": s["macro_f1_after"],
+                     "fold_accuracy_mean_before": s["fold_accuracy_mean_before"], "fold_accuracy_std_before": s["fold_accuracy_std_before"],
+                     "fold_accuracy_mean_after": s["fold_accuracy_mean_after"], "n_windows": len(ds), "n_dropped": ds.n_dropped_fraction + ds.n_dropped_label,
+                     "n_features": len(ds.feature_names), "cv_s": round(r["cv_s"], 3)})
+    key = "accuracy_after" if cfg["postprocess"]["adjacent_correction"] else "accuracy_before"
+    best_i = int(np.argmax([row[key] for row in rows]))
+    best = points[best_i]
+    res, ds = best["cv"], best["dataset"]
+    result = {
+        "name": cfg.name,
+        **_headline(best["cfg"], res),
+        "folds": res.folds.to_dict(orient="records"),
+        "scheme": cfg["cv"]["scheme"],
+        "model_kind": best["cfg"]["model"]["kind"],
+        "feature_set": best["cfg"]["features"]["set"],
+        "window_length_s": best["cfg"]["windows"]["length_s"],
+        "n_windows": len(ds),
+        "n_windows_total": ds.n_total,
+        "n_dropped_label_fraction": ds.n_dropped_fraction,
+        "n_dropped_other_labels": ds.n_dropped_label,
+        "dropped_labels": ds.dropped_labels,
+        "n_recordings": len(data.recordings),
+        "n_groups": len(set(data.groups)),
+        "notes": data.notes,
+    }
+    if cfg.sweep:
+        result["sweep"] = rows
+        result["best"] = best["point"]
+    if write:
+        run_dir = Path(out_dir) if out_dir is not None else default_run_dir(cfg)
+        write_run(run_dir, cfg, result, points, rows)
+        result["run_dir"] = str(run_dir)
+    return result
+
+
+def _with_sweep(cfg: ExperimentConfig, overrides: dict) -> ExperimentConfig:
+    import dataclasses
+
+    return dataclasses.replace(cfg.with_values(overrides), sweep=cfg.sweep)
+
+
+def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, progress: bool = True):
+    """Train the config's model on all its windows and save the artifact.
+
+    The model folder is ``out_dir``, else ``train.model_dir`` (relative to the
+    config), else ``models/<name>``. With ``train.cross_validate`` the config's
+    cross-validation runs first and its scores go into ``model.json``.
+
+    Returns
+    -------
+    TrainedModel
+    """
+    from gaitml.features import feature_names
+    from gaitml.models import make_model, save_model
+
+    if cfg.sweep:
+        raise ConfigError(f"gaitml train takes one setting but the config has a [sweep] over {', '.join(cfg.sweep)}; remove [sweep] or pick one value.")
+    data = prepare_data(cfg)
+    target = Path(out_dir) if out_dir is not None else (cfg.model_dir or Path("models") / cfg.name)
+    cv_scores = None
+    if cfg["train"]["cross_validate"]:
+        r = _evaluate_point(cfg, data, progress, f"{cfg.name} cv")
+        s = r["cv"].summary()
+        cv_scores = {"scheme": cfg["cv"]["scheme"], **s, "folds": r["cv"].folds.to_dict(orient="records")}
+    ds = build_dataset(cfg, data)
+    kind = cfg["model"]["kind"]
+    model = make_model(kind, cfg["model"]["params"], seed=cfg.seed)
+    t0 = time.perf_counter()
+    model.fit(ds.inputs(model.input_kind), ds.y)
+    fit_s = time.perf_counter() - t0
+    fset = cfg["features"]["set"]
+    info = {
+        "name": cfg.name,
+        "model_kind": kind,
+        "model_params": cfg["model"]["params"],
+        "input_kind": model.input_kind,
+        "feature_set": fset,
+        "feature_names": list(feature_names(fset)) if model.input_kind == "features" else [],
+        "raw_channels": list(ds.raw_channels) if model.input_kind == "raw" else [],
+        "window": {k: cfg["windows"][k] for k in ("length_s", "overlap", "min_label_fraction")},
+        "sampling_rate_hz": ds.sampling_rate_hz,
+        "labels": [str(x) for x in model.classes_],
+        "postprocess": cfg["postprocess"],
+        "training_config": cfg.resolved(),
+        "training_data": {"n_windows": len(ds), "n_recordings": len(data.recordings), "groups": sorted(set(data.groups)), "notes": data.notes},
+        "fit_s": round(fit_s, 3),
+        "cv_scores": cv_scores,
+    }
+    if model.input_kind == "features" and list(ds.feature_names) != info["feature_names"]:
+        raise InputError(f"the feature table columns differ from feature_names({fset!r}); this is a bug in the feature set definition.")
+    return save_model(target, model, info)

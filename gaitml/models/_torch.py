@@ -1,0 +1,239 @@
+"""Optional torch baselines: a small MLP on the features and a small 1-D CNN on raw windows.
+
+These are not in paper 003; they are baselines to put the linear OVO SVM of
+sec. 3.3 in context. torch is imported only when one of them is built or
+fitted, and its absence raises :class:`~gaitml.errors.ModelError` naming the
+extra to install (``pip install 'gaitml[torch]'``).
+
+Determinism: ``fit`` seeds torch with ``random_state``, switches torch to
+deterministic algorithms, uses ``n_threads`` CPU threads (default 1, so that
+cross-validation folds running in parallel do not oversubscribe the cores) and
+shuffles mini-batches with a seeded generator; the same data and seed give the
+same weights and predictions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.utils.validation import check_is_fitted
+
+from gaitml.errors import InputError, ModelError
+
+__all__ = ["TorchMLPClassifier", "TorchCNN1DClassifier", "require_torch", "torch_available"]
+
+TORCH_HINT = "install the optional extra: pip install 'gaitml[torch]'"
+
+
+def torch_available() -> bool:
+    """Whether torch can be imported."""
+    try:
+        import torch  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def require_torch(what: str):
+    """Import and return torch, or raise ModelError naming the extra."""
+    try:
+        import torch
+    except ImportError as exc:
+        raise ModelError(f"{what} needs torch, which is not installed; {TORCH_HINT}.") from exc
+    return torch
+
+
+class _TorchClassifier(ClassifierMixin, BaseEstimator):
+    """Common fit/predict loop (Adam, cross-entropy, mini-batches)."""
+
+    input_kind = "features"
+
+    def _build(self, torch, n_in: int, n_classes: int):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _prepare(self, X, fitting: bool) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def fit(self, X, y):
+        """Train the network; returns self."""
+        torch = require_torch(f"model kind {self._kind!r}")
+        for name in ("epochs", "batch_size", "n_threads"):
+            v = getattr(self, name)
+            if not isinstance(v, int) or v < 1:
+                raise InputError(f"`{name}` must be a positive integer, got {v!r}.")
+        if not (self.learning_rate > 0):
+            raise InputError(f"`learning_rate` must be > 0, got {self.learning_rate!r}.")
+        y = np.asarray(y).astype(str)
+        self.classes_ = np.unique(y)
+        if len(self.classes_) < 2:
+            raise InputError(f"need at least 2 classes to train a classifier, got {list(self.classes_)}.")
+        Xp = self._prepare(X, fitting=True)
+        if len(Xp) != len(y):
+            raise InputError(f"X has {len(Xp)} rows but y has {len(y)} labels; they must match.")
+        codes = np.searchsorted(self.classes_, y)
+        torch.manual_seed(self.random_state)
+        prev_det = torch.are_deterministic_algorithms_enabled()
+        prev_threads = torch.get_num_threads()
+        torch.use_deterministic_algorithms(True)
+        torch.set_num_threads(self.n_threads)
+        try:
+            net = self._build(torch, Xp, len(self.classes_))
+            opt = torch.optim.Adam(net.parameters(), lr=self.learning_rate, weight_decay=self.weight_decay)
+            loss_fn = torch.nn.CrossEntropyLoss()
+            xt = torch.as_tensor(Xp, dtype=torch.float32)
+            yt = torch.as_tensor(codes, dtype=torch.long)
+            gen = torch.Generator().manual_seed(self.random_state)
+            n = len(xt)
+            self.loss_curve_ = []
+            net.train()
+            for _ in range(self.epochs):
+                perm = torch.randperm(n, generator=gen)
+                total = 0.0
+                for s in range(0, n, self.batch_size):
+                    idx = perm[s : s + self.batch_size]
+                    opt.zero_grad()
+                    loss = loss_fn(net(xt[idx]), yt[idx])
+                    loss.backward()
+                    opt.step()
+                    total += float(loss.detach()) * len(idx)
+                self.loss_curve_.append(total / n)
+            net.eval()
+        finally:
+            torch.use_deterministic_algorithms(prev_det)
+            torch.set_num_threads(prev_threads)
+        self.net_ = net
+        return self
+
+    def predict_proba(self, X) -> np.ndarray:
+        """Class probabilities, shape (n, n_classes), columns in ``classes_`` order."""
+        check_is_fitted(self, "net_")
+        torch = require_torch(f"model kind {self._kind!r}")
+        Xp = self._prepare(X, fitting=False)
+        with torch.no_grad():
+            logits = self.net_(torch.as_tensor(Xp, dtype=torch.float32))
+            return torch.softmax(logits, dim=1).numpy().astype(float)
+
+    def predict(self, X) -> np.ndarray:
+        """Most probable class of every row."""
+        return self.classes_[np.argmax(self.predict_proba(X), axis=1)]
+
+
+class TorchMLPClassifier(_TorchClassifier):
+    """Small multilayer perceptron on standardised window features.
+
+    Parameters
+    ----------
+    hidden : tuple of int, default (64, 32)
+        Sizes of the hidden layers (ReLU).
+    dropout : float, default 0.1
+    epochs : int, default 40
+    batch_size : int, default 128
+    learning_rate : float, default 1e-3
+    weight_decay : float, default 1e-4
+    random_state : int, default 0
+    n_threads : int, default 1
+    """
+
+    _kind = "mlp"
+    input_kind = "features"
+
+    def __init__(self, hidden=(64, 32), *, dropout: float = 0.1, epochs: int = 40, batch_size: int = 128, learning_rate: float = 1e-3,
+                 weight_decay: float = 1e-4, random_state: int = 0, n_threads: int = 1):
+        self.hidden = hidden
+        self.dropout = dropout
+        self.epochs = epochs
+        self.batch_size = batch_size
+        self.learning_rate = learning_rate
+        self.weight_decay = weight_decay
+        self.random_state = random_state
+        self.n_threads = n_threads
+
+    def _prepare(self, X, fitting: bool) -> np.ndarray:
+        arr = np.asarray(X, dtype=float)
+        if arr.ndim != 2:
+            raise InputError(f"the MLP needs a 2-D feature matrix (windows x features), got shape {arr.shape}.")
+        if fitting:
+            self.n_features_in_ = arr.shape[1]
+            self.mean_ = arr.mean(axis=0)
+            s = arr.std(axis=0)
+            s[s == 0] = 1.0
+            self.scale_ = s
+        elif arr.shape[1] != self.n_features_in_:
+            raise InputError(f"the model expects {self.n_features_in_} features per window, got {arr.shape[1]}.")
+        return (arr - self.mean_) / self.scale_
+
+    def _build(self, torch, Xp, n_classes):
+        nn = torch.nn
+        layers, n_in = [], Xp.shape[1]
+        for h in tuple(self.hidden):
+            layers += [nn.Linear(n_in, int(h)), nn.ReLU(), nn.Dropout(self.dropout)]
+            n_in = int(h)
+        layers.append(nn.Linear(n_in, n_classes))
+        return nn.Sequential(*layers)
+
+
+class TorchCNN1DClassifier(_TorchClassifier):
+    """Small 1-D convolutional network on the raw window samples.
+
+    Input: raw windows of shape (n, length_samples, n_channels) (acc x, y, z and
+    the gravity-free magnitude; see :func:`gaitml.models.raw_window_channels`),
+    standardised per channel with the training mean and std.
+
+    Architecture: two Conv1d (kernel 5, ReLU, ``channels`` filters each), max
+    pooling by 2 after the first, global average pooling, a linear layer.
+
+    Parameters
+    ----------
+    channels : tuple of int, default (16, 32)
+    kernel_size : int, default 5
+    epochs : int, default 30
+    batch_size : int, default 64
+    learning_rate : float, default 2e-3
+    weight_decay : float, default 1e-4
+    random_state : int, default 0
+    n_threads : int, default 1
+    """
+
+    _kind = "cnn1d"
+    input_kind = "raw"
+
+    def __init__(self, channels=(16, 32), *, kernel_size: int = 5, epochs: int = 30, batch_size: int = 64, learning_rate: float = 2e-3,
+                 weight_decay: float = 1e-4, random_state: int = 0, n_threads: int = 1):
+        self.channels = channels
+        self.kernel_size = kernel_size
+        self.epochs = epochs
+        self.batch_size = batch_size
+        self.learning_rate = learning_rate
+        self.weight_decay = weight_decay
+        self.random_state = random_state
+        self.n_threads = n_threads
+
+    def _prepare(self, X, fitting: bool) -> np.ndarray:
+        arr = np.asarray(X, dtype=float)
+        if arr.ndim != 3:
+            raise InputError(f"the 1-D CNN needs raw windows of shape (n, length, channels), got shape {arr.shape}.")
+        if fitting:
+            self.window_shape_ = arr.shape[1:]
+            self.mean_ = arr.mean(axis=(0, 1))
+            s = arr.std(axis=(0, 1))
+            s[s == 0] = 1.0
+            self.scale_ = s
+        elif arr.shape[1:] != tuple(self.window_shape_):
+            raise InputError(f"the model expects raw windows of shape {tuple(self.window_shape_)}, got {arr.shape[1:]}; use its window length and rate.")
+        z = (arr - self.mean_) / self.scale_
+        return np.ascontiguousarray(np.transpose(z, (0, 2, 1)))  # torch wants (n, channels, length)
+
+    def _build(self, torch, Xp, n_classes):
+        nn = torch.nn
+        c1, c2 = (int(c) for c in self.channels)
+        k = int(self.kernel_size)
+        return nn.Sequential(
+            nn.Conv1d(Xp.shape[1], c1, k, padding=k // 2),
+            nn.ReLU(),
+            nn.MaxPool1d(2),
+            nn.Conv1d(c1, c2, k, padding=k // 2),
+            nn.ReLU(),
+            nn.AdaptiveAvgPool1d(1),
+            nn.Flatten(),
+            nn.Linear(c2, n_classes),
+        )

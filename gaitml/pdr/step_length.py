@@ -227,7 +227,9 @@ class StepLengthModel:
     @classmethod
     def from_dict(cls, d: dict) -> StepLengthModel:
         if not isinstance(d, dict) or d.get("format") != "gaitml-step-length-v1":
-            raise InputError("not a gaitml step length model (expected format 'gaitml-step-length-v1'); save one with StepLengthModel.save.")
+            raise InputError(
+                "not a gaitml step length model (expected format 'gaitml-step-length-v1'); save one with StepLengthModel.save."
+            )
         model = cls({m: (c["kind"], tuple(c["params"])) for m, c in d["coefficients"].items()})
         model.fitted_modes_ = list(d.get("fitted_modes", []))
         return model

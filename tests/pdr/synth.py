@@ -21,8 +21,22 @@ from gaitml.recording import Recording
 FS = 50.0
 
 
-def synth_walk(legs, *, fs=FS, period_s=0.5, amp_ms2=4.0, fwd_ms2=2.0, pitch_deg=0.0, gyro_bias_rads=(0.0, 0.0, 0.0),
-               turn_s=1.0, start_heading_rad=0.0, pause_s=1.0, noise=0.0, seed=0, step_length_m=0.7):
+def synth_walk(
+    legs,
+    *,
+    fs=FS,
+    period_s=0.5,
+    amp_ms2=4.0,
+    fwd_ms2=2.0,
+    pitch_deg=0.0,
+    gyro_bias_rads=(0.0, 0.0, 0.0),
+    turn_s=1.0,
+    start_heading_rad=0.0,
+    pause_s=1.0,
+    noise=0.0,
+    seed=0,
+    step_length_m=0.7,
+):
     """``legs``: list of (mode, n_steps, turn_after_rad). Returns a Recording with labels and references."""
     rng = np.random.default_rng(seed)
     ns = int(round(period_s * fs))

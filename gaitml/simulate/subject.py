@@ -1,0 +1,202 @@
+"""Simulated subjects: the per-person gait, pose and sensor parameters.
+
+A :class:`Subject` holds everything that makes one simulated person and phone
+differ from another: body height, cadence and step length per motion mode,
+the amplitude and harmonic content of the vertical acceleration, left/right
+asymmetry, how the phone is held (flat or tilted, slow orientation wander)
+and the sensor's noise and bias. :meth:`Subject.random` draws a plausible
+person; :func:`sample_subjects` draws ``n`` reproducibly from a seed.
+
+Ranges (the sources of the numbers):
+
+- walking cadence 1.7-2.15 steps/s and step length ~0.41 x height: normal
+  adult gait (the two real flat-held walkers of ``ifsm-flat-phone`` have
+  1.90 and 1.97 steps/s; Table 3 of paper 000 lists 0.50-0.64 s step
+  durations);
+- vertical acceleration amplitude 3.2-5.2 m/s^2 at the hand: the real
+  flat-held walks have per-step magnitude peaks of 13.7-14.8 m/s^2 and
+  troughs of 5.7-6.8 m/s^2 (smoothed with N = 5), i.e. about +/-4 m/s^2
+  around g;
+- running cadence 2.5-3.1 steps/s (the brief's 2.4-3.2 Hz), duty factor
+  0.38-0.48 of the step in stance;
+- side steps 1.4-1.9 cycles/s of 0.35-0.55 m, backward walking 1.45-1.85
+  steps/s of 0.38-0.55 m (backward gait is slower with shorter steps);
+- phone pitch 3-12 deg when "flat" (the real files show about 8 deg: mean
+  acc_y 1.4 m/s^2), 30-50 deg when "tilted" (reading posture);
+- accelerometer noise 0.03-0.10 m/s^2, bias up to 0.12 m/s^2 per axis;
+  gyroscope noise 0.002-0.008 rad/s, bias up to 0.015 rad/s per axis
+  (consumer MEMS IMUs after factory calibration).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from gaitml.errors import InputError
+
+__all__ = ["Subject", "sample_subjects", "POSES"]
+
+#: Phone holding poses the simulator knows.
+POSES = ("flat", "tilted")
+
+
+@dataclasses.dataclass(frozen=True)
+class Subject:
+    """One simulated person holding a phone in front of them.
+
+    All lengths in m, rates in Hz (steps per second), accelerations in m/s^2,
+    angles in rad. Step frequencies count steps (foot contacts), not strides.
+    """
+
+    subject: str = "S01"
+    height_m: float = 1.72
+    # walking
+    walk_cadence_hz: float = 1.94
+    walk_step_length_m: float = 0.70
+    walk_vertical_ms2: float = 4.0  # amplitude of the step-frequency fundamental
+    walk_harmonic2: float = 0.15  # 2nd / 1st harmonic of vertical acceleration
+    walk_harmonic3: float = 0.05  # 3rd / 1st harmonic
+    walk_skew: float = -0.15  # phase warp: < 0 makes the rise to heel strike steeper than the fall
+    walk_speed_fluctuation: float = 0.10  # +/- fraction of the mean forward speed within a step
+    sway_ms2: float = 0.9  # lateral sway amplitude at half the step frequency
+    sway_harmonic3: float = 0.35
+    asymmetry_time: float = 0.02  # step duration L/R difference: (1 +/- a)
+    asymmetry_amp: float = 0.03  # vertical peak L/R difference: (1 +/- a)
+    step_jitter: float = 0.03  # coefficient of variation of step duration and length
+    # running
+    run_cadence_hz: float = 2.8
+    run_step_length_m: float = 1.15
+    run_duty: float = 0.43  # stance fraction of a step
+    run_flight_unload: float = 0.5  # fraction of g unloaded in flight (1 = free fall)
+    # side steps (one lead-out + close cycle per step)
+    side_cadence_hz: float = 1.65
+    side_step_length_m: float = 0.45
+    side_vertical_ms2: float = 2.4
+    side_push: float = 0.8  # lateral speed fluctuation (1 = stops between steps)
+    # backward
+    back_cadence_hz: float = 1.65
+    back_step_length_m: float = 0.45
+    back_vertical_ms2: float = 2.9
+    # phone pose and sensor
+    pose: str = "flat"
+    pitch_rad: float = 0.13
+    roll_rad: float = -0.03
+    wander_rad: float = 0.03  # std of the slow orientation wander
+    wander_time_s: float = 4.0  # its correlation time
+    acc_noise_ms2: float = 0.06
+    acc_bias_x_ms2: float = 0.03
+    acc_bias_y_ms2: float = -0.05
+    acc_bias_z_ms2: float = 0.04
+    gyr_noise_rads: float = 0.004
+    gyr_bias_x_rads: float = 0.004
+    gyr_bias_y_rads: float = -0.003
+    gyr_bias_z_rads: float = 0.005
+
+    def __post_init__(self) -> None:
+        if self.pose not in POSES:
+            raise InputError(f"Subject.pose must be one of {POSES}, got {self.pose!r}.")
+        for name in ("walk_cadence_hz", "run_cadence_hz", "side_cadence_hz", "back_cadence_hz"):
+            v = getattr(self, name)
+            if not 0.5 <= v <= 4.0:
+                raise InputError(f"Subject.{name} must be a step rate in 0.5-4 steps/s, got {v!r}.")
+        for name in ("walk_step_length_m", "run_step_length_m", "side_step_length_m", "back_step_length_m"):
+            v = getattr(self, name)
+            if not 0.05 <= v <= 2.5:
+                raise InputError(f"Subject.{name} must be 0.05-2.5 m, got {v!r}.")
+
+    # ------------------------------------------------------------------
+    @classmethod
+    def random(cls, rng: np.random.Generator, *, subject: str = "S01", pose: str | None = None) -> Subject:
+        """Draw a plausible subject (see the module docstring for the ranges).
+
+        Parameters
+        ----------
+        rng : numpy Generator
+        subject : str
+            The subject id.
+        pose : {'flat', 'tilted'} or None
+            Phone pose; None draws it (70 % flat).
+        """
+        u = rng.uniform
+        height = u(1.55, 1.90)
+        cad = u(1.70, 2.15)
+        # longer legs -> longer steps; faster cadence -> slightly longer steps too
+        step_len = 0.415 * height * (0.85 + 0.15 * cad / 1.9) * u(0.92, 1.08)
+        pose_ = pose if pose is not None else ("flat" if u() < 0.7 else "tilted")
+        if pose_ not in POSES:
+            raise InputError(f"pose must be one of {POSES}, got {pose_!r}.")
+        pitch = u(0.05, 0.21) if pose_ == "flat" else u(0.52, 0.87)
+        sign = lambda: 1.0 if u() < 0.5 else -1.0  # noqa: E731
+        return cls(
+            subject=subject,
+            height_m=round(height, 3),
+            walk_cadence_hz=cad,
+            walk_step_length_m=step_len,
+            walk_vertical_ms2=u(3.2, 5.2),
+            walk_harmonic2=u(0.05, 0.25),
+            walk_harmonic3=u(0.0, 0.10),
+            walk_skew=u(-0.30, 0.05),
+            walk_speed_fluctuation=u(0.06, 0.14),
+            sway_ms2=u(0.6, 1.3),
+            sway_harmonic3=u(0.2, 0.5),
+            asymmetry_time=u(0.0, 0.04),
+            asymmetry_amp=u(0.0, 0.06),
+            step_jitter=u(0.02, 0.045),
+            run_cadence_hz=u(2.5, 3.1),
+            run_step_length_m=0.66 * height * u(0.9, 1.1),
+            run_duty=u(0.38, 0.48),
+            run_flight_unload=u(0.40, 0.62),
+            side_cadence_hz=u(1.4, 1.9),
+            side_step_length_m=u(0.35, 0.55),
+            side_vertical_ms2=u(2.2, 3.2),
+            side_push=u(0.6, 0.9),
+            back_cadence_hz=u(1.45, 1.85),
+            back_step_length_m=u(0.38, 0.55),
+            back_vertical_ms2=u(2.4, 3.6),
+            pose=pose_,
+            pitch_rad=pitch,
+            roll_rad=u(-0.09, 0.09),
+            wander_rad=u(0.015, 0.05),
+            wander_time_s=u(2.0, 6.0),
+            acc_noise_ms2=u(0.03, 0.10),
+            acc_bias_x_ms2=sign() * u(0.0, 0.12),
+            acc_bias_y_ms2=sign() * u(0.0, 0.12),
+            acc_bias_z_ms2=sign() * u(0.0, 0.12),
+            gyr_noise_rads=u(0.002, 0.008),
+            gyr_bias_x_rads=sign() * u(0.0, 0.015),
+            gyr_bias_y_rads=sign() * u(0.0, 0.015),
+            gyr_bias_z_rads=sign() * u(0.0, 0.015),
+        )
+
+    def with_pose(self, pose: str, rng: np.random.Generator | None = None) -> Subject:
+        """Return the subject holding the phone in ``pose`` (pitch redrawn if it changes)."""
+        if pose not in POSES:
+            raise InputError(f"pose must be one of {POSES}, got {pose!r}.")
+        if pose == self.pose:
+            return self
+        rng = rng if rng is not None else np.random.default_rng(0)
+        pitch = rng.uniform(0.05, 0.21) if pose == "flat" else rng.uniform(0.52, 0.87)
+        return dataclasses.replace(self, pose=pose, pitch_rad=pitch)
+
+    def to_dict(self, *, digits: int = 6) -> dict[str, Any]:
+        """The parameters as a flat dict (floats rounded to ``digits``) for a manifest."""
+        out: dict[str, Any] = {}
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            out[f.name] = round(float(v), digits) if isinstance(v, float) else v
+        return out
+
+
+def sample_subjects(n: int, seed: int = 0, *, pose: str | None = None) -> list[Subject]:
+    """Draw ``n`` subjects ``S01``.. reproducibly from ``seed``.
+
+    Subject ``i`` depends only on ``seed`` and ``i`` (its own spawned random
+    stream), so asking for more subjects does not change the first ones.
+    """
+    if int(n) != n or n < 1:
+        raise InputError(f"the number of subjects must be a positive integer, got {n!r}.")
+    streams = np.random.SeedSequence([int(seed), 7919]).spawn(int(n))
+    return [Subject.random(np.random.default_rng(s), subject=f"S{i + 1:02d}", pose=pose) for i, s in enumerate(streams)]

@@ -7,17 +7,21 @@ DESIGN step table in ``steps_``.
 
 from gaitml.steps._registry import DETECTORS, detect_steps, detector_names, get_detector
 from gaitml.steps._table import empty_step_table, make_step_table
+from gaitml.steps.adaptive import AdaptiveStepDetector
 from gaitml.steps.adfsm import ADFSMStepDetector
 from gaitml.steps.autocorr import AutocorrStepDetector
+from gaitml.steps.fsm_selflearn import SelfLearningFSMStepDetector
 from gaitml.steps.ifsm import IFSMLiteralStepDetector, IFSMStepDetector
 from gaitml.steps.single_peak import SinglePeakStepDetector
 
 __all__ = [
     "DETECTORS",
     "ADFSMStepDetector",
+    "AdaptiveStepDetector",
     "AutocorrStepDetector",
     "IFSMLiteralStepDetector",
     "IFSMStepDetector",
+    "SelfLearningFSMStepDetector",
     "SinglePeakStepDetector",
     "detect_steps",
     "detector_names",

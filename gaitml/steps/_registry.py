@@ -23,7 +23,7 @@ _SPECS = {
     "zupt-magnitude": ("gaitml.steps.zupt_magnitude", "ZuptMagnitudeStepDetector"),
 }
 #: detectors written elsewhere: imported lazily, a clear error when missing
-_LAZY = ("zupt-magnitude", "fsm-selflearn", "adaptive")
+_LAZY = ("zupt-magnitude",)
 
 
 def detector_names() -> tuple[str, ...]:

@@ -46,13 +46,20 @@ def centered_sums(x: np.ndarray, half: int) -> tuple[np.ndarray, np.ndarray]:
     """
     arr = np.asarray(x, dtype=float)
     n = arr.shape[0]
-    c = np.empty((n + 1,) + arr.shape[1:])
-    c[0] = 0.0
-    np.cumsum(arr, axis=0, out=c[1:])
-    idx = np.arange(n)
-    lo = np.maximum(idx - half, 0)
-    hi = np.minimum(idx + half + 1, n)
-    return c[hi] - c[lo], hi - lo
+    h = int(half)
+    if h < 0:
+        raise InputError(f"`half` must be >= 0, got {half}.")
+    c = np.empty((n + 1 + 2 * h,) + arr.shape[1:])
+    # c[h + j] = sum of the first j samples (j = 0..n), padded with the first/last value on
+    # both sides so that the window edges can be read with two plain slices (no gather).
+    c[: h + 1] = 0.0
+    np.cumsum(arr, axis=0, out=c[h + 1 : h + 1 + n])
+    c[h + 1 + n :] = c[h + n]
+    sums = c[2 * h + 1 :] - c[:n]
+    counts = np.full(n, 2 * h + 1, dtype=np.int64)
+    edge = np.unique(np.concatenate([np.arange(min(h, n)), np.arange(max(n - h, 0), n)]))
+    counts[edge] = np.minimum(edge + h + 1, n) - np.maximum(edge - h, 0)
+    return sums, counts
 
 
 def mask_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

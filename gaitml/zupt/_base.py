@@ -124,12 +124,6 @@ class BaseZuptDetector:
         return f"{type(self).__name__}({params})"
 
 
-def statistic_on_labelled(detector, pairs, statistic_fn) -> np.ndarray:
-    """Concatenate a per-sample statistic over the labelled zero-velocity samples."""
-    vals = [np.asarray(statistic_fn(r))[m] for r, m in pairs]
-    return np.concatenate(vals)
-
-
 def empirical_upper_threshold(values: np.ndarray, eps: float) -> float:
     """The ``1 - eps`` quantile of ``values`` (nonparametric Neyman-Pearson threshold)."""
     if not 0 < eps < 1:

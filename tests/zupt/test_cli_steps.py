@@ -94,3 +94,27 @@ def test_steps_registry_resolves_zupt_magnitude():
     from gaitml.steps import get_detector
 
     assert isinstance(get_detector("zupt-magnitude"), ZuptMagnitudeStepDetector)
+
+
+def test_cli_large_input_path_equals_whole_file(walk_csv, capsys, monkeypatch):
+    assert main(["zupt", str(walk_csv), "--json"]) == 0
+    whole = json.loads(capsys.readouterr().out)
+    import gaitml.io.chunked
+
+    monkeypatch.setattr(gaitml.io.chunked, "LARGE_INPUT_SAMPLES", 10)
+    assert main(["zupt", str(walk_csv), "--json"]) == 0
+    chunked = json.loads(capsys.readouterr().out)
+    assert chunked["intervals"] == whole["intervals"]
+    assert chunked["zero_velocity_fraction"] == whole["zero_velocity_fraction"]
+
+
+@pytest.mark.parametrize("name", ["pseudo-std", "magnitude", "method1", "method2", "shoe"])
+def test_chunked_detection_equals_whole_file(walk_csv, name):
+    from gaitml.io import read_recording
+    from gaitml.longrun import long_zupts
+    from gaitml.zupt import get_detector
+
+    mask, table, fs = long_zupts(walk_csv, name, chunk_s=5.0, margin_s=2.0, progress=False)
+    whole = get_detector(name).detect(read_recording(walk_csv))
+    np.testing.assert_array_equal(mask, whole.per_sample_zupts_)
+    assert table[["start", "end"]].equals(whole.zupts_[["start", "end"]])

@@ -146,7 +146,7 @@ def mode_gait(subject: Subject, mode: str) -> ModeGait:
         return ModeGait(
             mode, s.side_cadence_hz, s.side_step_length_m, s.side_vertical_ms2,
             (1.0, 0.45, 0.2), -0.1, False, 0.0, 0.0,
-            s.side_push, 0.08, 0.05, 0.05,
+            s.side_push, 0.25, 0.05, 0.05,
             0.0, 0.0, 0.02, 0.03, 0.015, MODE_OFFSET_RAD[mode],
         )  # fmt: skip
     if mode == "backward":

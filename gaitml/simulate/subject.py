@@ -75,7 +75,7 @@ class Subject:
     side_cadence_hz: float = 1.65
     side_step_length_m: float = 0.45
     side_vertical_ms2: float = 2.4
-    side_push: float = 0.8  # lateral speed fluctuation (1 = stops between steps)
+    side_push: float = 0.6  # lateral speed fluctuation (1 = stops between steps)
     # backward
     back_cadence_hz: float = 1.65
     back_step_length_m: float = 0.45
@@ -146,13 +146,13 @@ class Subject:
             asymmetry_amp=u(0.0, 0.06),
             step_jitter=u(0.02, 0.045),
             run_cadence_hz=u(2.5, 3.1),
-            run_step_length_m=0.66 * height * u(0.9, 1.1),
-            run_duty=u(0.38, 0.48),
-            run_flight_unload=u(0.40, 0.62),
+            run_step_length_m=0.68 * height * u(0.92, 1.12),
+            run_duty=u(0.40, 0.50),
+            run_flight_unload=u(0.35, 0.55),
             side_cadence_hz=u(1.4, 1.9),
             side_step_length_m=u(0.35, 0.55),
             side_vertical_ms2=u(2.2, 3.2),
-            side_push=u(0.6, 0.9),
+            side_push=u(0.45, 0.75),
             back_cadence_hz=u(1.45, 1.85),
             back_step_length_m=u(0.38, 0.55),
             back_vertical_ms2=u(2.4, 3.6),

@@ -1,0 +1,135 @@
+"""Every committed config builds; bad configs fail before any work with one-line ConfigErrors."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from gaitml.errors import ConfigError
+from gaitml.experiments import load_config, parse_config, prepare_data, sweep_grid
+from gaitml.models import torch_available
+from tests.models.synth import write_synth_folder
+
+ROOT = Path(__file__).resolve().parents[2]
+CONFIGS = sorted((ROOT / "experiments").glob("*.toml"))
+
+
+def test_the_committed_configs_are_there():
+    names = {p.name for p in CONFIGS}
+    assert {"paper-svm.toml", "window-sweep.toml", "torch-mlp.toml", "torch-cnn.toml", "oxford-position.toml", "demo.toml"} <= names
+
+
+@pytest.mark.parametrize("path", CONFIGS, ids=lambda p: p.name)
+def test_committed_config_builds(path):
+    raw = tomllib.loads(path.read_text())
+    if raw.get("model", {}).get("kind") in ("mlp", "cnn1d") and not torch_available():
+        pytest.skip("torch extra not installed")
+    if raw.get("data", {}).get("source") == "folder" and not (path.parent / raw["data"]["path"]).exists():
+        pytest.skip(f"data folder {raw['data']['path']} not present")
+    if path.name == "steps-real.toml":
+        pytest.skip("steps-real.toml belongs to the steps runner, not the classification schema")
+    cfg = load_config(path)
+    assert cfg.name == path.stem
+    for point in sweep_grid(cfg):
+        pcfg = cfg.with_values(point) if point else cfg
+        assert pcfg["windows"]["length_s"] > 0
+
+
+def test_window_sweep_covers_the_paper_widths():
+    cfg = load_config(ROOT / "experiments" / "window-sweep.toml")
+    assert cfg.sweep["windows.length_s"] == [0.5, 1.0, 1.5, 2.0, 2.5, 3.0]
+    assert cfg["cv"]["scheme"] == "train-one-test-rest"
+
+
+def test_defaults_are_filled():
+    cfg = parse_config({"name": "x"})
+    assert cfg["windows"] == {"length_s": 1.5, "overlap": 0.5, "min_label_fraction": 0.5}
+    assert cfg["model"]["kind"] == "linear-ovo-svm"
+    assert cfg["cv"]["scheme"] == "leave-one-group-out"
+    assert sweep_grid(cfg) == [{}]
+
+
+def test_sweep_grid_is_the_product():
+    cfg = parse_config({"name": "x", "sweep": {"windows.length_s": [1.0, 2], "features.set": ["all52", "paper34"]}})
+    grid = sweep_grid(cfg)
+    assert len(grid) == 4 and grid[1] == {"windows.length_s": 1.0, "features.set": "paper34"}
+    assert grid[2]["windows.length_s"] == 2.0  # int promoted to float
+
+
+BAD = [
+    ({"name": "x", "colour": 1}, r"unknown key colour .*allowed keys: name, seed"),
+    ({"name": "x", "windows": {"length": 1}}, r"unknown key windows.length in \[windows\]; allowed keys: length_s"),
+    ({"name": "x", "windows": {"length_s": "1.5"}}, r"windows.length_s = '1.5' has the wrong type .*expected a integer or number"),
+    ({"name": "x", "windows": {"length_s": -1}}, r"windows.length_s = -1 must be > 0"),
+    ({"name": "x", "windows": {"overlap": 1.0}}, r"windows.overlap = 1.0 must be in \[0, 1\)"),
+    ({"name": "x", "seed": True}, r"seed = True has the wrong type"),
+    ({"name": "x", "features": {"set": "all"}}, r"features.set = 'all' is not allowed; allowed: 'all52', 'paper34', 'all52\+gyro'"),
+    ({"name": "x", "model": {"kind": "rbf"}}, r"model.kind = 'rbf' is not allowed; allowed: 'linear-ovo-svm', 'mlp', 'cnn1d'"),
+    ({"name": "x", "model": {"params": {"gamma": 1}}}, r"model.params.gamma is not a parameter of 'linear-ovo-svm'; allowed: C"),
+    ({"name": "x", "cv": {"scheme": "kfold"}}, r"cv.scheme = 'kfold' is not allowed; allowed: 'train-one-test-rest'"),
+    ({"name": "x", "cv": {"n_jobs": 0}}, r"cv.n_jobs = 0 must be >= 1, or -1"),
+    ({"name": "x", "data": {"source": "web"}}, r"data.source = 'web' is not allowed; allowed: 'simulated', 'folder'"),
+    ({"name": "x", "data": {"source": "folder"}}, r"data.source = 'folder' needs data.path"),
+    ({"name": "x", "data": {"source": "folder", "path": "no/such/dir"}}, r"data.path = 'no/such/dir' does not exist"),
+    ({"name": "x", "data": {"simulated": {"modes": ["walk", "swim"]}}}, r"data.simulated.modes has 'swim'.*allowed: walk, run"),
+    ({"name": "x", "data": {"group": "height"}}, r"data.group = 'height' is not a column of simulated data"),
+    ({"name": "x", "data": {"labels": ["walk", "jump"]}}, r"data.labels has 'jump', which is not in data.simulated.modes"),
+    ({"name": "x", "sweep": {"windows.width": [1]}}, r"sweep key 'windows.width' is not a config key"),
+    ({"name": "x", "sweep": {"windows.length_s": []}}, r"must be a non-empty array"),
+    ({"name": "x", "sweep": {"windows.length_s": [1.0, "2"]}}, r"sweep.'windows.length_s' = '2' has the wrong type"),
+    ({"name": "x", "sweep": {"features.set": ["all52", "paper35"]}}, r"'paper35' is not allowed"),
+    ({"seed": 1}, r"the config has no name"),
+]
+
+
+@pytest.mark.parametrize(("raw", "pattern"), BAD, ids=[str(i) for i in range(len(BAD))])
+def test_bad_config_one_line_error(tmp_path, raw, pattern):
+    with pytest.raises(ConfigError, match=pattern) as exc:
+        parse_config(raw, base_dir=tmp_path)
+    assert "\n" not in str(exc.value)
+
+
+def test_bad_toml_and_missing_file(tmp_path):
+    with pytest.raises(ConfigError, match="config file not found"):
+        load_config(tmp_path / "none.toml")
+    p = tmp_path / "bad.toml"
+    p.write_text("name = 'x'\n[windows\n")
+    with pytest.raises(ConfigError, match="not valid TOML"):
+        load_config(p)
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    d = tmp_path_factory.mktemp("synth")
+    write_synth_folder(d / "data", n_subjects=3, seconds_per_mode=6.0)
+    return d
+
+
+DATA_BAD = [
+    ({"label": "colour"}, {}, r"data.label = 'colour' is not in the data: .*available: per-sample 'label', .*position"),
+    ({"labels": ["walk", "fly"]}, {}, r"data.labels has 'fly', which is not a label of the data; labels present: run, side_left, walk"),
+    ({"group": "room"}, {}, r"data.group = 'room' is not a meta/manifest column"),
+    ({"group": "position", "where": {"position": "InHand"}}, {}, r"needs at least 2 groups, but data.group = 'position' has 1"),
+    ({}, {"scheme": "group-kfold", "n_splits": 4}, r"n_splits = 4 needs at least 4 groups, but data.group = 'subject' has 3"),
+    ({"where": {"room": "x"}}, {}, r"data.where key 'room' is not a meta/manifest column"),
+    ({"where": {"position": "Purse"}}, {}, r"data.where = .* matches no recording; values present"),
+]
+
+
+@pytest.mark.parametrize(("data", "cv", "pattern"), DATA_BAD, ids=[str(i) for i in range(len(DATA_BAD))])
+def test_data_dependent_errors_before_any_work(folder, data, cv, pattern):
+    raw = {"name": "x", "data": {"source": "folder", "path": "data", **data}, "cv": cv}
+    cfg = parse_config(raw, base_dir=folder)
+    with pytest.raises(ConfigError, match=pattern) as exc:
+        prepare_data(cfg, use_cache=False)
+    assert "\n" not in str(exc.value)
+
+
+def test_meta_label_gives_one_label_per_recording(folder):
+    cfg = parse_config({"name": "x", "data": {"source": "folder", "path": "data", "label": "position", "group": "user"}}, base_dir=folder)
+    data = prepare_data(cfg, use_cache=False)
+    for r in data.recordings:
+        assert set(r.labels) == {r.meta["position"]}
+    assert sorted(set(data.groups)) == ["u0", "u1", "u2"]

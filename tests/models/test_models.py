@@ -1,0 +1,212 @@
+"""Model kinds, the OVO vote, determinism, artifacts (tamper tests) and predict_recording."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+import pytest
+
+from gaitml.errors import ConfigError, InputError, ModelError
+from gaitml.models import (
+    LinearOVOSVM,
+    build_window_dataset,
+    load_model,
+    make_model,
+    model_param_names,
+    ovo_vote,
+    predict_recording,
+    save_model,
+    torch_available,
+)
+from tests.models.synth import synth_set
+
+needs_torch = pytest.mark.skipif(not torch_available(), reason="torch extra not installed")
+
+
+@pytest.fixture(scope="module")
+def dataset():
+    recs = synth_set(3, seconds_per_mode=12.0)
+    return build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], length_s=1.5, overlap=0.5, need_raw=True)
+
+
+def test_ovo_vote_majority_and_tie_break():
+    pairs = np.array([[0, 1], [0, 2], [1, 2]])
+    # class 0 beats 1 and 2 -> 0
+    assert ovo_vote(np.array([[1.0, 1.0, -1.0]]), pairs, 3)[0] == 0
+    # cycle 0>1, 2>0, 1>2: one vote each; confidences decide (class 2 wins by most margin)
+    d = np.array([[0.1, -2.0, 0.1]])
+    assert ovo_vote(d, pairs, 3)[0] == 2
+
+
+def test_linear_ovo_svm_matches_sklearn_one_vs_one(dataset):
+    from sklearn.multiclass import OneVsOneClassifier
+    from sklearn.svm import LinearSVC
+
+    X, y = dataset.inputs("features"), dataset.y
+    ours = LinearOVOSVM(C=0.5).fit(X, y)
+    Z = (X - ours.mean_) / ours.scale_
+    ref = OneVsOneClassifier(LinearSVC(C=0.5, dual=False, tol=1e-4, max_iter=2000, random_state=0)).fit(Z, y)
+    # same pairwise machines and the same vote: the predictions agree
+    assert np.array_equal(ours.predict(X), ref.predict(Z))
+    assert ours.converged_
+    assert ours.coef_.shape == (3, X.shape[1])
+
+
+def test_linear_ovo_svm_pairwise_weights_equal_liblinear(dataset):
+    from sklearn.svm import LinearSVC
+
+    X, y = dataset.inputs("features"), dataset.y
+    m = LinearOVOSVM().fit(X, y)
+    Z = (X - m.mean_) / m.scale_
+    i, j = m.pairs_[0]
+    mask = np.isin(y, [m.classes_[i], m.classes_[j]])
+    clf = LinearSVC(dual=False, random_state=0).fit(Z[mask], np.where(y[mask] == m.classes_[i], 1, -1))
+    np.testing.assert_allclose(X[mask] @ m.coef_[0] + m.intercept_[0], clf.decision_function(Z[mask]), rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("bad", [{"C": 0}, {"C": -1.0}, {"solver": "sgd"}, {"loss": "log"}])
+def test_svm_bad_params(dataset, bad):
+    with pytest.raises(InputError, match=next(iter(bad))):
+        LinearOVOSVM(**bad).fit(dataset.inputs("features"), dataset.y)
+
+
+def test_svm_refuses_wrong_width_and_one_class(dataset):
+    m = LinearOVOSVM().fit(dataset.inputs("features"), dataset.y)
+    with pytest.raises(InputError, match="expects 52 features"):
+        m.predict(np.zeros((2, 34)))
+    with pytest.raises(InputError, match="at least 2 classes"):
+        LinearOVOSVM().fit(np.zeros((5, 3)) + np.arange(5)[:, None], ["a"] * 5)
+
+
+def test_make_model_errors():
+    with pytest.raises(ConfigError, match="allowed: linear-ovo-svm, mlp, cnn1d"):
+        make_model("rbf-svm")
+    with pytest.raises(ConfigError, match=r"model.params.gamma .*allowed: C"):
+        make_model("linear-ovo-svm", {"gamma": 1})
+    assert "C" in model_param_names("linear-ovo-svm")
+
+
+def test_torch_missing_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "torch", None)  # import torch -> ImportError
+    with pytest.raises(ModelError, match=r"pip install 'gaitml\[torch\]'"):
+        make_model("mlp")
+    with pytest.raises(ModelError, match="torch"):
+        make_model("cnn1d")
+
+
+@pytest.mark.parametrize("kind", ["linear-ovo-svm", pytest.param("mlp", marks=needs_torch), pytest.param("cnn1d", marks=needs_torch)])
+def test_each_kind_is_deterministic(dataset, kind):
+    params = {} if kind == "linear-ovo-svm" else {"epochs": 3}
+    X = dataset.inputs(make_model(kind).input_kind)
+    p1 = make_model(kind, params, seed=3).fit(X, dataset.y).predict(X)
+    p2 = make_model(kind, params, seed=3).fit(X, dataset.y).predict(X)
+    assert np.array_equal(p1, p2)
+    assert set(p1) <= set(dataset.y)
+
+
+@needs_torch
+def test_torch_models_learn(dataset):
+    X = dataset.inputs("features")
+    m = make_model("mlp", {"epochs": 30}).fit(X, dataset.y)
+    assert np.mean(m.predict(X) == dataset.y) > 0.9
+    assert m.loss_curve_[-1] < m.loss_curve_[0]
+    proba = m.predict_proba(X[:4])
+    np.testing.assert_allclose(proba.sum(axis=1), 1.0, rtol=1e-5)
+    with pytest.raises(InputError, match="raw windows"):
+        make_model("cnn1d", {"epochs": 1}).fit(X, dataset.y)
+
+
+# ------------------------------------------------------------------ artifacts
+def _info(ds, kind="linear-ovo-svm"):
+    from gaitml.features import feature_names
+
+    return {
+        "model_kind": kind, "input_kind": "features", "feature_set": "all52", "feature_names": list(feature_names("all52")),
+        "window": {"length_s": 1.5, "overlap": 0.5}, "sampling_rate_hz": 50.0, "labels": sorted(set(ds.y)),
+    }
+
+
+@pytest.fixture
+def saved(tmp_path, dataset):
+    m = LinearOVOSVM().fit(dataset.inputs("features"), dataset.y)
+    save_model(tmp_path / "m", m, _info(dataset))
+    return tmp_path / "m"
+
+
+def test_artifact_roundtrip(saved, dataset):
+    info = json.loads((saved / "model.json").read_text())
+    for key in ("sha256", "versions", "feature_names", "window", "sampling_rate_hz", "labels", "security_note"):
+        assert key in info
+    assert {"gaitml", "scikit-learn", "numpy"} <= set(info["versions"])
+    m = load_model(saved)
+    X = dataset.inputs("features")
+    assert np.array_equal(m.estimator.predict(X), LinearOVOSVM().fit(X, dataset.y).predict(X))
+
+
+def test_tampered_bytes_refused(saved):
+    p = saved / "model.joblib"
+    b = bytearray(p.read_bytes())
+    b[len(b) // 2] ^= 0xFF
+    p.write_bytes(bytes(b))
+    with pytest.raises(ModelError, match="sha256"):
+        load_model(saved)
+
+
+@pytest.mark.parametrize("lib", ["gaitml", "scikit-learn"])
+def test_wrong_version_refused(saved, lib):
+    info = json.loads((saved / "model.json").read_text())
+    info["versions"][lib] = "0.0.1"
+    (saved / "model.json").write_text(json.dumps(info))
+    with pytest.raises(ModelError, match=f"saved with {lib} 0.0.1"):
+        load_model(saved)
+
+
+def test_other_feature_set_refused(saved):
+    info = json.loads((saved / "model.json").read_text())
+    info["feature_set"] = "paper34"  # names still the 52: the set no longer matches
+    (saved / "model.json").write_text(json.dumps(info))
+    with pytest.raises(ModelError, match="feature names do not match feature set 'paper34'"):
+        load_model(saved)
+    info["feature_names"] = info["feature_names"][:34]
+    from gaitml.features import feature_names
+
+    info["feature_names"] = list(feature_names("paper34"))
+    (saved / "model.json").write_text(json.dumps(info))
+    with pytest.raises(ModelError, match="takes 52 features but model.json lists 34"):
+        load_model(saved)
+
+
+def test_missing_or_corrupt_artifact(tmp_path, saved):
+    with pytest.raises(ModelError, match="not found"):
+        load_model(tmp_path / "nope")
+    (saved / "model.json").write_text("{not json")
+    with pytest.raises(ModelError, match="cannot read"):
+        load_model(saved)
+    (saved / "model.json").unlink()
+    with pytest.raises(ModelError, match="model.json is missing"):
+        load_model(saved)
+
+
+def test_predict_recording_resamples_and_corrects(saved):
+    from gaitml.models import resample_recording
+    from tests.models.synth import synth_recording
+
+    model = load_model(saved)
+    rec = synth_recording(7, seconds_per_mode=10.0)
+    out = predict_recording(model, rec)
+    assert list(out.columns[:6]) == ["start", "end", "t_start_s", "t_end_s", "mode_raw", "mode"]
+    assert np.mean(out["mode"] == out["label"]) > 0.9
+    raw = predict_recording(model, rec, correction=False)
+    assert np.array_equal(raw["mode"], raw["mode_raw"])
+    # the same recording at 100 Hz, without labels: resampled to the model's 50 Hz
+    rec100 = resample_recording(rec, 100.0).replace(labels=None)
+    out100 = predict_recording(model, rec100)
+    assert out100.attrs["resampled_from_hz"] == 100.0
+    assert "label" not in out100.columns
+    assert abs(len(out100) - len(out)) <= 1
+    n = min(len(out), len(out100))
+    assert np.mean(out100["mode"].to_numpy()[:n] == out["mode"].to_numpy()[:n]) > 0.9
+    with pytest.raises(InputError, match="too short"):
+        predict_recording(model, rec.slice(0, 40))

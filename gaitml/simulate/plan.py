@@ -168,8 +168,9 @@ def plan_steps(
         side = mode in ("side_left", "side_right")
         foot = ("left" if mode == "side_left" else "right") if side else ("left" if k % 2 == 0 else "right")
         asym = 1.0 + (subject.asymmetry_time if foot == "left" else -subject.asymmetry_time)
-        T = float(np.clip(asym / g.cadence_hz * (1.0 + jit * rng.standard_normal()), 0.6 / g.cadence_hz, 1.4 / g.cadence_hz))
-        L = float(np.clip(g.step_length_m * (1.0 + jit * rng.standard_normal()), 0.5 * g.step_length_m, 1.5 * g.step_length_m))
+        z1, z2 = rng.standard_normal(2)
+        T = min(max(asym / g.cadence_hz * (1.0 + jit * z1), 0.6 / g.cadence_hz), 1.4 / g.cadence_hz)
+        L = min(max(g.step_length_m * (1.0 + jit * z2), 0.5 * g.step_length_m), 1.5 * g.step_length_m)
         first = not in_bout
         u0 = 0.5 if first else 0.0
         if prev_mode is not None and prev_mode != mode:
@@ -184,9 +185,7 @@ def plan_steps(
                 L = remaining
         if duration_s is not None and t + T + 0.5 * T > duration_s:
             break
-        psi = float(path.heading_at(s + L / 2))
-        theta = psi - g.offset_rad
-        steps.append((t, t + T, mode, L, theta, psi, foot, u0, k, prev_mode if prev_mode is not None else mode))
+        steps.append((t, t + T, mode, L, s + L / 2, foot, u0, k, prev_mode if prev_mode is not None else mode))
         intervals.append((INTERVAL_STEP, t, t + T, u0, 1.0, len(steps) - 1))
         t += T
         s += L
@@ -205,11 +204,14 @@ def plan_steps(
         total = t
     steps_df = pd.DataFrame(
         steps,
-        columns=["t_start_s", "t_s", "mode", "step_length_m", "heading_rad", "direction_rad", "foot", "u0", "index", "prev_mode"],
+        columns=["t_start_s", "t_s", "mode", "step_length_m", "s_mid_m", "foot", "u0", "index", "prev_mode"],
     )
-    # continuous facing headings (no 2 pi jumps between steps)
-    steps_df["heading_rad"] = np.unwrap(steps_df["heading_rad"].to_numpy())
-    steps_df["direction_rad"] = steps_df["heading_rad"] + steps_df["mode"].map(MODE_OFFSET_RAD).to_numpy(dtype=float)
+    # direction of travel: the path heading half way along the step; facing = that - offset,
+    # unwrapped (continuous, no 2 pi jumps between steps)
+    offset = steps_df["mode"].map(MODE_OFFSET_RAD).to_numpy(dtype=float)
+    theta = np.unwrap(path.heading_at(steps_df.pop("s_mid_m").to_numpy()) - offset)
+    steps_df.insert(4, "heading_rad", theta)
+    steps_df.insert(5, "direction_rad", theta + offset)
     iv = pd.DataFrame(intervals, columns=["kind", "t_a", "t_b", "u_a", "u_b", "step"])
     iv = iv[iv["t_b"] > iv["t_a"]].reset_index(drop=True)
     return StepPlan(steps_df, iv, total)

@@ -99,3 +99,33 @@ def intervals_table(mask: np.ndarray, sampling_rate_hz: float) -> pd.DataFrame:
     assert tuple(table.columns) == ZUPT_COLUMNS
     table.attrs["sampling_rate_hz"] = fs
     return table
+
+
+#: Block length (samples) of :func:`apply_blockwise`: small enough that a block's
+#: intermediate arrays stay in the CPU cache (~1.5x faster than whole-array passes).
+BLOCK_SAMPLES = 32768
+
+
+def apply_blockwise(fn, arrays: tuple[np.ndarray, ...], half: int, *, block_samples: int = BLOCK_SAMPLES):
+    """Apply a centred-window function block by block; identical to ``fn(*arrays)``.
+
+    ``fn`` maps arrays of n samples (axis 0) to one array or a tuple of arrays of n
+    samples whose value at i depends only on samples ``[i - half, i + half]``
+    (windows truncated at the recording's edges). Each block is extended by
+    ``half`` samples on both sides, so interior windows see exactly the samples
+    they would see in a whole-array call and the recording's edges stay the edges.
+    """
+    n = len(arrays[0])
+    if n <= 2 * block_samples:
+        return fn(*arrays)
+    parts: list = []
+    for b0 in range(0, n, block_samples):
+        b1 = min(n, b0 + block_samples)
+        lo = max(0, b0 - half)
+        hi = min(n, b1 + half)
+        res = fn(*(a[lo:hi] for a in arrays))
+        sl = slice(b0 - lo, b0 - lo + (b1 - b0))
+        parts.append(tuple(r[sl] for r in res) if isinstance(res, tuple) else res[sl])
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(p) for p in zip(*parts, strict=True))
+    return np.concatenate(parts)

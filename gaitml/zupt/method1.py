@@ -17,7 +17,7 @@ from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
 from gaitml.zupt._base import BaseZuptDetector
-from gaitml.zupt._intervals import half_window_samples
+from gaitml.zupt._intervals import apply_blockwise, half_window_samples
 
 __all__ = ["Method1ZuptDetector", "method1_zupts", "DEFAULT_GYR_RANGE_RADS", "DEFAULT_ACC_MAX_MS2"]
 
@@ -106,6 +106,8 @@ class Method1ZuptDetector(BaseZuptDetector):
     def _mask(self, recording: Recording):
         gyr = recording.require_gyr("method 1 (gyro range + |a| maximum, paper 001)")
         s = half_window_samples(self.half_window_s, recording.sampling_rate_hz)
-        mask, gyr_range, acc_max = method1_zupts(recording.acc, gyr, s, gyr_range_rads=self.gyr_range_rads, acc_max_ms2=self.acc_max_ms2)
+        mask, gyr_range, acc_max = apply_blockwise(
+            lambda a, w: method1_zupts(a, w, s, gyr_range_rads=self.gyr_range_rads, acc_max_ms2=self.acc_max_ms2), (recording.acc, gyr), s
+        )
         self.acc_max_ms2_series_ = acc_max
         return mask, gyr_range

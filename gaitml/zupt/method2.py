@@ -14,7 +14,7 @@ from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
 from gaitml.zupt._base import BaseZuptDetector
-from gaitml.zupt._intervals import centered_sums, half_window_samples
+from gaitml.zupt._intervals import apply_blockwise, centered_sums, half_window_samples
 
 __all__ = ["Method2ZuptDetector", "method2_zupts"]
 
@@ -117,14 +117,18 @@ class Method2ZuptDetector(BaseZuptDetector):
     def _mask(self, recording: Recording):
         gyr = recording.require_gyr("method 2 (acc/gyro magnitude and std, paper 001)")
         s = half_window_samples(self.half_window_s, recording.sampling_rate_hz)
-        mask = method2_zupts(
-            recording.acc,
-            gyr,
+        mask = apply_blockwise(
+            lambda a, w: method2_zupts(
+                a,
+                w,
+                s,
+                acc_min_ms2=self.acc_min_ms2,
+                acc_max_ms2=self.acc_max_ms2,
+                acc_std_ms2=self.acc_std_ms2,
+                gyr_max_rads=self.gyr_max_rads,
+                gyr_std_rads=self.gyr_std_rads,
+            ),
+            (recording.acc, gyr),
             s,
-            acc_min_ms2=self.acc_min_ms2,
-            acc_max_ms2=self.acc_max_ms2,
-            acc_std_ms2=self.acc_std_ms2,
-            gyr_max_rads=self.gyr_max_rads,
-            gyr_std_rads=self.gyr_std_rads,
         )
         return mask, magnitude(gyr)

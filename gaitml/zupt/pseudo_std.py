@@ -15,7 +15,7 @@ from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
 from gaitml.zupt._base import BaseZuptDetector, labelled_samples
-from gaitml.zupt._intervals import centered_sums, half_window_samples
+from gaitml.zupt._intervals import apply_blockwise, centered_sums, half_window_samples
 
 __all__ = [
     "PAPER_EPS",
@@ -179,9 +179,9 @@ class PseudoStdZuptDetector(BaseZuptDetector):
         s = half_window_samples(self.half_window_s, recording.sampling_rate_hz)
         g = magnitude(gyr)
         if self.form == "exact":
-            return pseudo_std(g, s)
+            return apply_blockwise(lambda x: pseudo_std(x, s), (g,), s)
         if self.form == "tangent":
-            return pseudo_std_tangent(g, s)
+            return apply_blockwise(lambda x: pseudo_std_tangent(x, s), (g,), s + 1)
         raise InputError(f"`form` must be 'exact' or 'tangent', got {self.form!r}.")
 
     def _threshold(self) -> float:

@@ -14,7 +14,7 @@ from gaitml.consts import DEG2RAD, GRAVITY_MS2
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.zupt._base import BaseZuptDetector, empirical_upper_threshold, labelled_samples
-from gaitml.zupt._intervals import centered_sums
+from gaitml.zupt._intervals import apply_blockwise, centered_sums
 
 __all__ = ["ShoeZuptDetector", "shoe_statistic", "DEFAULT_SIGMA_A_MS2", "DEFAULT_SIGMA_W_RADS", "DEFAULT_GAMMA", "DEFAULT_WINDOW_SAMPLES"]
 
@@ -134,8 +134,9 @@ class ShoeZuptDetector(BaseZuptDetector):
 
     def _statistic(self, recording: Recording) -> np.ndarray:
         gyr = recording.require_gyr("the SHOE zero-velocity detector")
-        return shoe_statistic(
-            recording.acc, gyr, self._half(recording.sampling_rate_hz), sigma_a_ms2=self.sigma_a_ms2, sigma_w_rads=self.sigma_w_rads
+        h = self._half(recording.sampling_rate_hz)
+        return apply_blockwise(
+            lambda a, w: shoe_statistic(a, w, h, sigma_a_ms2=self.sigma_a_ms2, sigma_w_rads=self.sigma_w_rads), (recording.acc, gyr), h
         )
 
     def _mask(self, recording: Recording):

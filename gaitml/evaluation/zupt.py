@@ -157,6 +157,9 @@ def evaluate_stride_events(detected, stride_events: pd.DataFrame) -> dict:
     - ``split_fraction``: share of strides whose stance ``[pre_ic, tc)`` overlaps more
       than one detected interval; ``intervals_per_stance``: mean count;
     - ``stance_recall``: share of stances that overlap a detection;
+    - ``stride_extra_fraction``: share of strides (``min_vel`` to next ``min_vel``) in which
+      more than one detected interval begins (exactly one, the landing, is expected: more
+      means a split stance or a false detection in the swing);
     - ``count_accuracy``: paper 001's count accuracy of the detected intervals that
       overlap the annotated span (first stride start to last stride end) against the
       reference stances in it (the distinct ``min_vel`` samples incl. the last stride's end).
@@ -166,6 +169,9 @@ def evaluate_stride_events(detected, stride_events: pd.DataFrame) -> dict:
     table = pd.DataFrame({"start": s, "end": e})
     rec, _ = point_recall(table, st["min_vel"].to_numpy())
     seg = over_segmentation(table, st["start"], st["end"])
+    ss = stride_events["start"].to_numpy(dtype=np.int64)
+    se = stride_events["end"].to_numpy(dtype=np.int64)
+    starts_in = np.searchsorted(s, se, side="right") - np.searchsorted(s, ss, side="right")
     lo = int(np.min(stride_events["start"]))
     hi = int(np.max(stride_events["end"])) + 1
     n_in_span = int(np.sum((s < hi) & (e > lo)))
@@ -178,6 +184,7 @@ def evaluate_stride_events(detected, stride_events: pd.DataFrame) -> dict:
         "split_fraction": seg["split_fraction"],
         "n_split": seg["n_split"],
         "intervals_per_stance": seg["mean_per_reference"],
+        "stride_extra_fraction": float(np.mean(starts_in > 1)),
         "n_intervals_in_span": n_in_span,
         "n_stances_in_span": n_ref,
         "count_accuracy": count_accuracy(n_in_span, n_ref),

@@ -144,6 +144,7 @@ ZUPT_COLUMNS = [
     "min_vel_recall",
     "split_fraction",
     "intervals_per_stance",
+    "stride_extra_fraction",
     "n_intervals",
     "n_intervals_in_span",
     "n_stances_in_span",

@@ -64,6 +64,7 @@ def test_evaluate_stride_events_synthetic():
     r = evaluate_stride_events(intervals_table(mask, 100.0), ev)
     assert r["min_vel_recall"] == 0.5  # min_vel 200 falls in the gap
     assert r["split_fraction"] == 0.5
+    assert r["stride_extra_fraction"] == 0.5  # stride 2 holds the starts 205 and 290
     assert r["n_stances_in_span"] == 3 and r["n_intervals_in_span"] == 4
     assert r["count_accuracy"] == pytest.approx(1 - 1 / 3)
 

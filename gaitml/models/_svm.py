@@ -55,15 +55,14 @@ def ovo_vote(decision: np.ndarray, pairs: np.ndarray, n_classes: int) -> np.ndar
         of squashed confidences (the rule of :class:`sklearn.multiclass.OneVsOneClassifier`),
         then to the lower index.
     """
-    n = decision.shape[0]
-    votes = np.zeros((n, n_classes))
-    conf = np.zeros((n, n_classes))
-    win_i = decision > 0
-    for k, (i, j) in enumerate(pairs):
-        votes[:, i] += win_i[:, k]
-        votes[:, j] += ~win_i[:, k]
-        conf[:, i] += decision[:, k]
-        conf[:, j] -= decision[:, k]
+    pairs = np.asarray(pairs)
+    first = np.zeros((len(pairs), n_classes))
+    second = np.zeros((len(pairs), n_classes))
+    first[np.arange(len(pairs)), pairs[:, 0]] = 1.0
+    second[np.arange(len(pairs)), pairs[:, 1]] = 1.0
+    win_i = (decision > 0).astype(float)
+    votes = win_i @ first + (1.0 - win_i) @ second
+    conf = decision @ (first - second)
     # squash the confidence sums into (-1/3, 1/3) so they only break ties
     conf = conf / (3 * (np.abs(conf) + 1))
     return np.argmax(votes + conf, axis=1)

@@ -1,0 +1,137 @@
+"""Benchmark: linear OVO SVM training time and streaming prediction latency (issue 6 targets).
+
+Measurements (one dict each, COMMON bench contract):
+
+- ``svm-train-<n>``: :class:`gaitml.models.LinearOVOSVM` (liblinear, one machine
+  per class pair) fitted on ``n`` windows x 52 features (target: <= 60 s for
+  100,000 windows). Features come from simulated recordings (8 subjects, 1.5 s
+  windows at 50 Hz); the rows are drawn with replacement and jittered by 5 % of
+  each feature's std to reach ``n`` (simulating 100,000 windows directly would
+  take minutes and add nothing to a training-time measurement). Reference:
+  scikit-learn's ``SVC(kernel='linear')`` (libsvm, native one-vs-one) on the same
+  rows, at a size where it finishes in seconds (its cost grows faster than
+  linearly, so the ratio grows with ``n``).
+- ``stream-predict-per-window``: the streaming path of a deployed classifier,
+  per window: :class:`~gaitml.features.StreamingFeatureExtractor` fed one hop of
+  samples, the SVM on that row, :class:`~gaitml.postprocess.AdjacentWindowCorrector`
+  (target <= 1 ms per window). Reference: the same loop with a scikit-learn
+  ``make_pipeline(StandardScaler(), SVC(kernel='linear'))`` predicting each row.
+
+Run: ``python -m gaitml.bench.models [--quick]``.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+
+import numpy as np
+
+__all__ = ["run"]
+
+FS_HZ = 50.0
+LENGTH_S = 1.5
+OVERLAP = 0.5
+
+
+def _features(n_subjects: int, duration_s: float, seed: int = 1):
+    from gaitml.models import build_window_dataset
+    from gaitml.simulate import simulate_dataset
+
+    recs = simulate_dataset(n_subjects=n_subjects, duration_s=duration_s, seed=seed, sampling_rate_hz=FS_HZ)
+    ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], length_s=LENGTH_S, overlap=OVERLAP)
+    return recs, ds.inputs("features"), ds.y
+
+
+def _bootstrap(X, y, n, seed=0):
+    rng = np.random.default_rng(seed)
+    idx = rng.integers(0, len(X), n)
+    return X[idx] + rng.normal(0.0, 0.05, (n, X.shape[1])) * X.std(axis=0), y[idx]
+
+
+def _time(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
+def _stream_loop(rec, predict_one, subset="all52") -> tuple[float, int]:
+    from gaitml.features import StreamingFeatureExtractor
+    from gaitml.postprocess import AdjacentWindowCorrector
+
+    ext = StreamingFeatureExtractor(FS_HZ, LENGTH_S, OVERLAP, subset)
+    corr = AdjacentWindowCorrector()
+    hop = ext.hop_samples_
+    acc = np.asarray(rec.acc)
+    chunks = [acc[i : i + hop] for i in range(0, len(acc), hop)]
+    n = 0
+    t0 = time.perf_counter()
+    for c in chunks:
+        rows = ext.push(c)
+        for r in rows:
+            corr.push(predict_one(r[None, :]))
+            n += 1
+    corr.flush()
+    return time.perf_counter() - t0, n
+
+
+def run(quick: bool = False) -> list[dict]:
+    """Return one dict per measurement."""
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+    from sklearn.svm import SVC
+
+    from gaitml.models import LinearOVOSVM
+
+    recs, X, y = _features(2 if quick else 8, 120.0 if quick else 300.0)
+    out = []
+    sizes = [3_000] if quick else [20_000, 100_000]
+    ref_n = 3_000 if quick else 20_000
+    for n in sizes:
+        Xn, yn = _bootstrap(X, y, n)
+        t = _time(lambda Xn=Xn, yn=yn: LinearOVOSVM().fit(Xn, yn))
+        row = {
+            "area": "models",
+            "name": f"svm-train-{n}",
+            "n_items": n,
+            "unit": "windows",
+            "seconds": t,
+            "throughput_per_s": n / t,
+            "note": f"LinearOVOSVM fit, {X.shape[1]} features, {len(set(y))} classes, liblinear primal per class pair; target <= 60 s at 100000 windows",
+        }
+        if n == ref_n:
+            tr = _time(lambda Xn=Xn, yn=yn: LinearOVOSVM(solver="libsvm").fit(Xn, yn))
+            row.update(reference_seconds=tr, ratio=tr / t)
+            row["note"] += "; reference: SVC(kernel='linear') (libsvm OVO) on the same rows"
+        else:
+            row["note"] += f"; no reference at this size (libsvm grows faster than linearly; see svm-train-{ref_n})"
+        out.append(row)
+
+    # streaming latency on a held-out simulated recording
+    model = LinearOVOSVM().fit(X, y)
+    ref = make_pipeline(StandardScaler(), SVC(kernel="linear")).fit(X, y)
+    stream_rec = recs[0] if quick else _features(1, 600.0, seed=7)[0][0]
+    _stream_loop(stream_rec.slice(0, 200), model.predict)  # warm-up
+    t, n = _stream_loop(stream_rec, model.predict)
+    tr, _ = _stream_loop(stream_rec, ref.predict)
+    out.append({
+        "area": "models",
+        "name": "stream-predict-per-window",
+        "n_items": n,
+        "unit": "windows",
+        "seconds": t,
+        "throughput_per_s": n / t,
+        "reference_seconds": tr,
+        "ratio": tr / t,
+        "note": (f"{1000 * t / n:.3f} ms per window (target <= 1 ms): StreamingFeatureExtractor push of one hop + LinearOVOSVM.predict "
+                 f"on one row + AdjacentWindowCorrector; reference: the same loop with StandardScaler+SVC(kernel='linear') "
+                 f"({1000 * tr / n:.3f} ms per window)"),
+    })
+    return out
+
+
+if __name__ == "__main__":  # pragma: no cover
+    rows = run(quick="--quick" in sys.argv)
+    json.dump(rows, sys.stdout, indent=2)
+    sys.stdout.write("\n")

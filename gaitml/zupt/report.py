@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from gaitml.evaluation.zupt import evaluate_stride_events
+from gaitml.evaluation.zupt import evaluate_stride_events, per_sample_scores
 from gaitml.io import read_recording
-from gaitml.zupt import DETECTORS, get_detector
+from gaitml.zupt import DETECTORS, get_detector, reference_zupt_mask
 
 __all__ = ["default_data_path", "zupt_table", "step_count_table", "format_markdown", "main"]
 
@@ -41,6 +41,9 @@ def _row(config: str, foot: str, det, rec, fitted_on: str | None = None) -> dict
     ev = evaluate_stride_events(det, rec.reference["stride_events"])
     ev.pop("n_split", None)
     row = {"detector": config, "foot": foot, "fitted_on": fitted_on or "", **ev}
+    # per-sample recall on the labelled samples (+-50 ms around each min_vel); there is no
+    # full per-sample truth in this data set, so precision/F1 are not meaningful here
+    row["labelled_sample_recall"] = per_sample_scores(det.per_sample_zupts_, reference_zupt_mask(rec))["recall"]
     thr = getattr(det, "threshold_rads_", None)
     if thr is not None:
         row["threshold_degs"] = float(np.degrees(thr))
@@ -142,6 +145,7 @@ ZUPT_COLUMNS = [
     "band_ms2",
     "n_strides",
     "min_vel_recall",
+    "labelled_sample_recall",
     "split_fraction",
     "intervals_per_stance",
     "stride_extra_fraction",

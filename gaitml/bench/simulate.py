@@ -26,7 +26,15 @@ def _best(fn, repeats: int) -> tuple[float, object]:
 
 
 def _row(name, n, seconds, note):
-    return {"area": "simulate", "name": name, "n_items": int(n), "unit": "samples", "seconds": seconds, "throughput_per_s": n / seconds, "note": note}
+    return {
+        "area": "simulate",
+        "name": name,
+        "n_items": int(n),
+        "unit": "samples",
+        "seconds": seconds,
+        "throughput_per_s": n / seconds,
+        "note": note,
+    }
 
 
 def run(quick: bool = False) -> list[dict]:

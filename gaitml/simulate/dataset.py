@@ -222,7 +222,9 @@ def synthesize(
         }
     )
     steps = steps[steps["t_s"] < n / fs].reset_index(drop=True)
-    trajectory = pd.DataFrame({"t": t, "x_m": np.round(pos[:, 0], 4), "y_m": np.round(pos[:, 1], 4), "heading_rad": np.round(_wrap(theta), 5)})
+    trajectory = pd.DataFrame(
+        {"t": t, "x_m": np.round(pos[:, 0], 4), "y_m": np.round(pos[:, 1], 4), "heading_rad": np.round(_wrap(theta), 5)}
+    )
     reference = {
         "steps": steps,
         "steps_t_s": steps["t_s"].to_numpy(float),
@@ -289,7 +291,10 @@ def simulate_dataset(
 ) -> list[Recording]:
     """Simulate ``n_subjects`` x ``n_sessions`` recordings of mixed motion modes.
 
-    Each recording walks ``route`` for ``duration_s`` with mode segments of
+    Session 1 of a subject uses the subject as drawn; later sessions use
+    :meth:`Subject.session_variant` (about 3 % other cadence and step length,
+    6 % other amplitude, another grip). Each recording walks ``route`` for
+    ``duration_s`` with mode segments of
     ``segment_s`` (8-20 s) in shuffled rounds (every mode in ``modes`` once
     per round, transitions inside the recording). Labels are the mode names;
     with ``pauses=True`` pauses labelled ``stand`` occur between segments.
@@ -318,9 +323,11 @@ def simulate_dataset(
     for i, subj in enumerate(subjects):
         for j in range(int(n_sessions)):
             rid = f"{subj.subject}-R{j + 1}"
+            # session 1 is the subject as drawn; later sessions vary a little (another day)
+            s_j = subj if j == 0 else subj.session_variant(np.random.default_rng([int(seed), i, j, 2]))
             recs.append(
                 simulate_recording(
-                    subj,
+                    s_j,
                     route=route,
                     duration_s=duration_s,
                     modes=modes,

@@ -23,6 +23,7 @@ mean: 9.8 +/- 0.3 m/s^2). Run ``python -m gaitml.simulate.realism``.
 
 from __future__ import annotations
 
+import functools
 import sys
 from pathlib import Path
 
@@ -34,7 +35,7 @@ from gaitml.consts import GRAVITY_MS2
 from gaitml.recording import Recording
 from gaitml.signal import moving_average
 
-__all__ = ["gait_statistics", "count_peaks", "realism_table", "reference_walk", "REAL_FILES", "main"]
+__all__ = ["gait_statistics", "count_peaks", "real_statistics", "realism_table", "reference_walk", "REAL_FILES", "main"]
 
 #: The real flat-held walks (paper 000 data) below the shared data folder.
 REAL_FILES = ("ifsm-flat-phone/acceleration_flat_holding_1.xlsx", "ifsm-flat-phone/acceleration_flat_holding_2.xlsx")
@@ -95,11 +96,21 @@ def reference_walk(*, duration_s: float = 150.0, seed: int = 0, subject=None) ->
     return simulate_recording(subj, route="straight", duration_s=duration_s, modes=("walk",), seed=seed)
 
 
-def realism_table(shared_data: str | Path, *, simulated: Recording | None = None) -> pd.DataFrame:
-    """Rows: statistics; columns: ``real_1, real_2, simulated, low, high, inside``."""
+@functools.lru_cache(maxsize=4)
+def _real_statistics(root: str) -> tuple[dict, dict]:
     from gaitml.io import read_recording
 
-    real = [gait_statistics(read_recording(Path(shared_data) / f)) for f in REAL_FILES]
+    return tuple(gait_statistics(read_recording(Path(root) / f)) for f in REAL_FILES)
+
+
+def real_statistics(shared_data: str | Path) -> list[dict[str, float]]:
+    """:func:`gait_statistics` of the two real flat-held walks (cached per folder)."""
+    return [dict(d) for d in _real_statistics(str(Path(shared_data).resolve()))]
+
+
+def realism_table(shared_data: str | Path, *, simulated: Recording | None = None) -> pd.DataFrame:
+    """Rows: statistics; columns: ``real_1, real_2, simulated, low, high, inside``."""
+    real = real_statistics(shared_data)
     sim = gait_statistics(simulated if simulated is not None else reference_walk())
     rows = []
     for k in STATS:
@@ -109,7 +120,9 @@ def realism_table(shared_data: str | Path, *, simulated: Recording | None = None
         else:
             span = abs(a - b)
             lo, hi = min(a, b) - WIDEN * span, max(a, b) + WIDEN * span
-        rows.append({"statistic": k, "real_1": a, "real_2": b, "simulated": sim[k], "low": lo, "high": hi, "inside": bool(lo <= sim[k] <= hi)})
+        rows.append(
+            {"statistic": k, "real_1": a, "real_2": b, "simulated": sim[k], "low": lo, "high": hi, "inside": bool(lo <= sim[k] <= hi)}
+        )
     return pd.DataFrame(rows).set_index("statistic")
 
 

@@ -25,7 +25,9 @@ SAMPLES_SEED = 2024
 def sample_recordings() -> list:
     """The sample recordings (see the module docstring)."""
     subs = sample_subjects(3, SAMPLES_SEED, pose="flat")
-    walk = simulate_recording(Subject(), modes=("walk",), duration_s=20.0, seed=SAMPLES_SEED, meta={"id": "S01-walk", "session": "S01-walk"})
+    walk = simulate_recording(
+        Subject(), modes=("walk",), duration_s=20.0, seed=SAMPLES_SEED, meta={"id": "S01-walk", "session": "S01-walk"}
+    )
     mixed = simulate_recording(
         subs[1], duration_s=60.0, seed=SAMPLES_SEED + 1, segment_s=(10.0, 12.0), meta={"id": "S02-mixed", "session": "S02-mixed"}
     )

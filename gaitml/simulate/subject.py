@@ -181,6 +181,32 @@ class Subject:
         pitch = rng.uniform(0.05, 0.21) if pose == "flat" else rng.uniform(0.52, 0.87)
         return dataclasses.replace(self, pose=pose, pitch_rad=pitch)
 
+    def session_variant(self, rng: np.random.Generator, *, scale: float = 1.0) -> Subject:
+        """The same person on another day: small changes of cadence, step length, amplitude and grip.
+
+        Cadences and step lengths change by about 3 %, amplitudes by 6 %, the
+        phone pitch and roll by about 3 deg (standard deviations, times ``scale``).
+        """
+        n = lambda sd: 1.0 + scale * sd * rng.standard_normal()  # noqa: E731
+        cad, length, amp = n(0.03), n(0.03), n(0.06)
+        return dataclasses.replace(
+            self,
+            walk_cadence_hz=self.walk_cadence_hz * cad,
+            run_cadence_hz=min(max(self.run_cadence_hz * cad, 2.4), 3.2),
+            side_cadence_hz=self.side_cadence_hz * cad,
+            back_cadence_hz=self.back_cadence_hz * cad,
+            walk_step_length_m=self.walk_step_length_m * length,
+            run_step_length_m=self.run_step_length_m * length,
+            side_step_length_m=self.side_step_length_m * length,
+            back_step_length_m=self.back_step_length_m * length,
+            walk_vertical_ms2=self.walk_vertical_ms2 * amp,
+            side_vertical_ms2=self.side_vertical_ms2 * amp,
+            back_vertical_ms2=self.back_vertical_ms2 * amp,
+            sway_ms2=self.sway_ms2 * n(0.06),
+            pitch_rad=self.pitch_rad + scale * 0.05 * rng.standard_normal(),
+            roll_rad=self.roll_rad + scale * 0.05 * rng.standard_normal(),
+        )
+
     def to_dict(self, *, digits: int = 6) -> dict[str, Any]:
         """The parameters as a flat dict (floats rounded to ``digits``) for a manifest."""
         out: dict[str, Any] = {}

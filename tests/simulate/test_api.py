@@ -160,3 +160,13 @@ def test_bad_subject():
         Subject(walk_cadence_hz=9.0)
     with pytest.raises(InputError, match="pose"):
         Subject(pose="ear")
+
+
+def test_sessions_of_one_subject_differ_a_little():
+    recs = simulate_dataset(2, 20.0, seed=1, n_sessions=3)
+    assert [r.name for r in recs] == ["S01-R1", "S01-R2", "S01-R3", "S02-R1", "S02-R2", "S02-R3"]
+    cad = [r.meta["walk_cadence_hz"] for r in recs]
+    assert cad[0] == pytest.approx(sample_subjects(2, seed=1)[0].walk_cadence_hz, abs=1e-6)
+    assert len(set(cad)) == 6
+    assert all(abs(c / cad[0] - 1) < 0.15 for c in cad[:3])
+    assert {r.meta["subject"] for r in recs[:3]} == {"S01"}

@@ -59,7 +59,9 @@ def test_first_subjects_do_not_depend_on_the_number_of_subjects():
 
 def test_cli_simulate(tmp_path, capsys):
     out = tmp_path / "sim"
-    rc = main(["simulate", str(out), "--subjects", "2", "--duration-s", "12", "--modes", "walk,run", "--seed", "2", "--sampling-rate-hz", "100"])
+    rc = main(
+        ["simulate", str(out), "--subjects", "2", "--duration-s", "12", "--modes", "walk,run", "--seed", "2", "--sampling-rate-hz", "100"]
+    )
     assert rc == 0
     recs = read_dataset(out)
     assert len(recs) == 2

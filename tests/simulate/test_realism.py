@@ -5,9 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gaitml.io import read_recording
 from gaitml.simulate import sample_subjects, simulate_recording
-from gaitml.simulate.realism import REAL_FILES, gait_statistics, realism_table, reference_walk
+from gaitml.simulate.realism import gait_statistics, real_statistics, realism_table, reference_walk
 from tests.conftest import shared
 
 pytestmark = pytest.mark.realdata
@@ -15,7 +14,7 @@ pytestmark = pytest.mark.realdata
 
 @pytest.fixture(scope="module")
 def real_stats():
-    return [gait_statistics(read_recording(shared(*f.split("/")))) for f in REAL_FILES]
+    return real_statistics(shared())
 
 
 def test_statistics_find_the_published_steps_in_the_real_files(real_stats):
@@ -36,7 +35,9 @@ def test_other_seeds_stay_inside_real_range(seed):
 
 
 def test_variation_across_subjects_spans_the_real_walkers(real_stats):
-    sims = [gait_statistics(simulate_recording(s, modes=("walk",), duration_s=60.0, seed=i)) for i, s in enumerate(sample_subjects(8, seed=0))]
+    sims = [
+        gait_statistics(simulate_recording(s, modes=("walk",), duration_s=60.0, seed=i)) for i, s in enumerate(sample_subjects(8, seed=0))
+    ]
     for key in ("cadence_hz", "mag_std_ms2"):
         spread = np.ptp([s[key] for s in sims])
         real_diff = abs(real_stats[0][key] - real_stats[1][key])

@@ -50,13 +50,16 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
      (duty ``D`` 0.38-0.48) centred on mid-stance and a flight phase at
      ``-k g`` (``k`` 0.4-0.62: the arm holding the phone is only partly in
      free fall), cadence 2.5-3.1 steps/s, so larger swings of the magnitude
-     (about 4-27 m/s^2) than walking (about 6-15 m/s^2); braking then
-     propulsion within stance;
-   - side steps: the trailing leg pushes, the lead foot lands and brakes, the
-     trailing foot closes; the lateral speed nearly stops once per cycle
-     (fluctuation 0.6-0.9), so the dominant signal is lateral, with opposite
-     sign for left and right (mirror images); a sharper vertical landing peak
-     with a 2nd-harmonic bump when the trailing foot closes;
+     (1st-99th percentile about 5-27 m/s^2) than walking (about 4-16 m/s^2);
+     braking then propulsion within stance;
+   - side steps (one step = lead foot out + trailing foot closing): the lead
+     foot lands and brakes the sideways motion hardest at impact (lateral and
+     vertical peaks coincide), the body is slowest when the trailing foot
+     closes, then the trailing leg pushes; the lateral speed swings by
+     +/-45-75 % of its mean, so the dominant signal is lateral (about
+     +/-4-6 m/s^2), with opposite sign for left and right (mirror images); a
+     sharper vertical landing peak with a 2nd-harmonic bump when the trailing
+     foot closes;
    - backward: toe-first contact, smaller and smoother vertical peak, shorter
      (0.38-0.55 m) and slower (1.45-1.85 /s) steps; the speed profile of
      walking along ``theta + pi``, so on the body's forward axis the
@@ -77,8 +80,9 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
 The true step event
 -------------------
 ``reference['steps_t_s']`` (and ``steps['t_s']``) is the time of the
-vertical acceleration peak of the step, which in the noise-free signal is
-also the peak of ``|acc|``: heel strike / loading response for walking,
+vertical acceleration peak of the step, which is also the peak of ``|acc|``
+(``find_peaks`` on the N = 5 smoothed magnitude lands within one sample of
+it, median, in every mode; tested): heel strike / loading response for walking,
 forefoot contact for backward walking, mid-stance for running, lead-foot
 landing for side steps. Evaluate peak detectors against it directly (paper
 003's single-peak detector, ``t_peak_s``); FSM detectors that report step

@@ -119,10 +119,12 @@ def mode_gait(subject: Subject, mode: str) -> ModeGait:
       at mid-stance and a flight phase where the body is (partly, the arm
       damps it) in free fall, so the specific force drops well below g;
       braking in the first half of stance, propulsion in the second.
-    - side steps: the trailing leg pushes the body sideways, the lead foot
-      lands and brakes it, the trailing foot closes; the lateral speed nearly
-      stops once per cycle, so the lateral acceleration dominates and its sign
-      flips between left and right (mirror images).
+    - side steps: the lead foot lands and brakes the sideways motion hardest
+      at impact (lateral deceleration peak at ``u = 0`` with the vertical
+      peak: speed phase ``d1 = 0.25``), the body is slowest when the trailing
+      foot closes, then the trailing leg pushes; the lateral speed swings by
+      ``side_push`` (45-75 %) of its mean, so the lateral acceleration
+      dominates and its sign flips between left and right (mirror images).
     - backward: toe-first contact cushions the landing (smaller, smoother
       vertical peak), shorter and slower steps; the speed profile is that of
       walking but along theta + pi, so in the body's forward axis the

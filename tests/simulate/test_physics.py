@@ -186,3 +186,13 @@ def test_peak_times_match_true_step_times(mode):
     d = np.abs(pk[:, None] - t_true[None, :]).min(axis=1)
     assert np.median(d) <= 1.0 / rec.sampling_rate_hz + 1e-9
     assert np.percentile(d, 95) < 0.06
+
+
+@pytest.mark.parametrize(("pose", "fs"), [("tilted", 100.0), ("flat", 200.0)])
+def test_peak_counting_other_poses_and_rates(pose, fs):
+    for i, s in enumerate(sample_subjects(2, seed=12, pose=pose)):
+        for mode in ("walk", "run"):
+            rec = simulate_recording(s, modes=(mode,), duration_s=30.0, seed=i, sampling_rate_hz=fs)
+            n_true = rec.reference["n_steps_true"]
+            assert abs(len(count_peaks(rec)) - n_true) <= 0.02 * n_true
+    assert s.pose == pose

@@ -62,3 +62,56 @@ def map_indices(idx: np.ndarray, fs_from_hz: float, fs_to_hz: float, n_to: int) 
     if fs_from_hz == fs_to_hz:
         return idx
     return np.clip(np.rint(idx * (fs_to_hz / fs_from_hz)).astype(np.int64), 0, n_to)
+
+
+def segment_argmax(x: np.ndarray, start: np.ndarray, end: np.ndarray, *, minimum: bool = False) -> np.ndarray:
+    """Index of the maximum (or minimum) of ``x[start[i]:end[i]]`` for every segment, vectorised.
+
+    The first index wins on ties; an empty segment gives ``start[i]``.
+    """
+    x = np.asarray(x, dtype=float)
+    start = np.asarray(start, dtype=np.int64)
+    end = np.asarray(end, dtype=np.int64)
+    out = start.copy()
+    lengths = np.maximum(end - start, 0)
+    nz = np.flatnonzero(lengths > 0)
+    if len(nz) == 0:
+        return out
+    L = lengths[nz]
+    offsets = np.cumsum(L) - L
+    seg = np.repeat(np.arange(len(nz)), L)
+    pos = np.arange(int(L.sum())) - np.repeat(offsets, L) + np.repeat(start[nz], L)
+    vals = x[pos]
+    if minimum:
+        vals = -vals
+    best = np.maximum.reduceat(vals, offsets)
+    hit = np.flatnonzero(vals == best[seg])
+    first = hit[np.concatenate([[True], seg[hit][1:] != seg[hit][:-1]])]
+    out[nz] = pos[first]
+    return out
+
+
+def moving_average_fast(x: np.ndarray, n_samples: int) -> np.ndarray:
+    """Centred moving average with slicing (same values as :func:`gaitml.signal.moving_average` ``mode='centered'``).
+
+    The window shrinks to the existing samples at the edges; for even
+    ``n_samples`` it reaches one more sample into the past.
+    """
+    x = np.asarray(x, dtype=float)
+    n = int(n_samples)
+    m = len(x)
+    if n <= 1 or m == 0:
+        return x.copy()
+    back = n // 2
+    fwd = n - 1 - back
+    c = np.concatenate([[0.0], np.cumsum(x)])
+    idx = np.arange(m)
+    out = np.empty(m)
+    lo_i, hi_i = back, m - fwd  # interior: full windows
+    if hi_i > lo_i:
+        out[lo_i:hi_i] = (c[lo_i + fwd + 1 : hi_i + fwd + 1] - c[lo_i - back : hi_i - back]) / n
+    edge = np.concatenate([idx[: min(lo_i, m)], idx[max(hi_i, lo_i, 0) :]])
+    lo = np.maximum(edge - back, 0)
+    hi = np.minimum(edge + fwd + 1, m)
+    out[edge] = (c[hi] - c[lo]) / (hi - lo)
+    return out

@@ -35,7 +35,7 @@ import scipy.signal
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.signal import bandpass, moving_average, sliding_windows
+from gaitml.signal import bandpass, sliding_windows
 from gaitml.steps._common import acc_magnitude, as_recording, check_positive
 from gaitml.steps._table import make_step_table
 
@@ -53,6 +53,8 @@ MIN_CORRELATION = 0.2
 MIN_RMS_MS2 = 0.2
 MIN_DISTANCE_RATIO = 0.6
 CANDIDATE_DISTANCE_S = 0.25
+#: the cadence autocorrelation runs at about this rate (decimated band-limited signal)
+CADENCE_RATE_HZ = 25.0
 
 
 def local_step_period(
@@ -87,11 +89,13 @@ def local_step_period(
     w = sliding_windows(np.asarray(y, dtype=float), L, H)
     starts = np.arange(w.shape[0]) * H
     w = w - w.mean(axis=1, keepdims=True)
-    nfft = 1 << int(np.ceil(np.log2(2 * L)))
-    F = np.fft.rfft(w, nfft, axis=1)
-    r = np.fft.irfft(F.real**2 + F.imag**2, nfft, axis=1)[:, : hi + 2]
-    r0 = r[:, :1]
-    r = np.divide(r, r0, out=np.zeros_like(r), where=r0 > 0)
+    # direct autocorrelation at the lags needed only (lo - 1 .. hi + 1): cheaper than an FFT of every window
+    r = np.zeros((w.shape[0], hi + 2))
+    r0 = np.einsum("ij,ij->i", w, w)
+    for lag in range(max(1, lo - 1), hi + 2):
+        r[:, lag] = np.einsum("ij,ij->i", w[:, : L - lag], w[:, lag:])
+    r[:, 0] = r0
+    r = np.divide(r, r0[:, None], out=np.zeros_like(r), where=r0[:, None] > 0)
     rows = np.arange(len(r))
     lags = np.arange(lo, hi + 1)
     j = np.argmax(r[:, lo : hi + 1], axis=1)
@@ -128,22 +132,29 @@ def adaptive_steps(
     min_rms_ms2: float = MIN_RMS_MS2,
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
 ) -> dict[str, np.ndarray]:
-    """Detect steps in |acc| (m/s^2); returns ``peak`` samples, the band-passed ``y``, per-sample ``period_s`` and ``correlation``."""
+    """Detect steps in |acc| (m/s^2); returns ``peak`` samples, the band-passed ``y``, and the local ``period_s`` and ``correlation`` at each peak."""
     x = np.asarray(acc_mag_ms2, dtype=float)
     fs = float(sampling_rate_hz)
     n = len(x)
     y = bandpass(x - np.median(x), band_hz[0], band_hz[1], fs, order=2)
+    # the cadence estimate runs on the band-limited signal decimated to about CADENCE_RATE_HZ
+    q = max(1, int(fs // CADENCE_RATE_HZ))
     centres, per, corr = local_step_period(
-        y, fs, window_s=window_s, hop_s=hop_s, min_period_s=min_period_s, max_period_s=max_period_s, half_lag_ratio=half_lag_ratio
+        y[::q], fs / q, window_s=window_s, hop_s=hop_s, min_period_s=min_period_s, max_period_s=max_period_s, half_lag_ratio=half_lag_ratio
     )
-    idx = np.arange(n)
-    T = np.interp(idx, centres, per)
-    R = np.interp(idx, centres, corr)
-    rms = np.sqrt(moving_average(y * y, max(1, int(round(rms_window_s * fs)))))
+    centres = centres * q
     pk, props = scipy.signal.find_peaks(y, distance=max(1, int(round(CANDIDATE_DISTANCE_S * fs))), prominence=0)
-    keep = (props["prominences"] >= prominence_ratio * rms[pk]) & (R[pk] >= min_correlation) & (rms[pk] >= min_rms_ms2)
-    pk = pk[keep]
-    min_gap = (min_distance_ratio * T[pk] * fs).tolist()
+    T = np.interp(pk, centres, per)
+    R = np.interp(pk, centres, corr)
+    # local RMS over rms_window_s centred on each candidate (cumulative sum, shrunk at the edges)
+    c = np.concatenate([[0.0], np.cumsum(y * y)])
+    w = max(1, int(round(rms_window_s * fs)))
+    lo_i = np.maximum(pk - w // 2, 0)
+    hi_i = np.minimum(pk - w // 2 + w, n)
+    rms = np.sqrt((c[hi_i] - c[lo_i]) / (hi_i - lo_i))
+    keep = (props["prominences"] >= prominence_ratio * rms) & (R >= min_correlation) & (rms >= min_rms_ms2)
+    pk, T = pk[keep], T[keep]
+    min_gap = (min_distance_ratio * T * fs).tolist()
     yv = y[pk].tolist()
     out: list[int] = []
     hv: list[float] = []
@@ -155,7 +166,7 @@ def adaptive_steps(
         out.append(p)
         hv.append(v)
     peaks = np.asarray(out, dtype=np.int64)
-    return {"peak": peaks, "y": y, "period_s": T, "correlation": R}
+    return {"peak": peaks, "y": y, "period_s": np.interp(peaks, centres, per), "correlation": np.interp(peaks, centres, corr)}
 
 
 class AdaptiveStepDetector:
@@ -245,9 +256,9 @@ class AdaptiveStepDetector:
             min_distance_ratio=float(self.min_distance_ratio),
         )
         p = r["peak"]
-        per = r["period_s"][p]
+        per = r["period_s"]
         half = np.rint(per * fs / 2).astype(np.int64)
         start = np.maximum(p - half, 0)
         end = np.minimum(p + half, rec.n_samples)
-        self.steps_: pd.DataFrame = make_step_table(start, p, end, fs, event="t_peak_s", period_s=per, correlation=r["correlation"][p])
+        self.steps_: pd.DataFrame = make_step_table(start, p, end, fs, event="t_peak_s", period_s=per, correlation=r["correlation"])
         return self

@@ -17,8 +17,15 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.signal import moving_average
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive, map_indices, resample_signal
+from gaitml.steps._common import (
+    acc_magnitude,
+    as_recording,
+    check_positive,
+    map_indices,
+    moving_average_fast,
+    resample_signal,
+    segment_argmax,
+)
 from gaitml.steps._table import make_step_table
 
 __all__ = ["ADFSMStepDetector", "adfsm_steps", "adfsm_steps_loop"]
@@ -181,16 +188,14 @@ class ADFSMStepDetector:
                 raise InputError(f"`{name}` must be a positive integer, got {v!r}.")
         check_positive("flat_diff_ms2", self.flat_diff_ms2, allow_zero=True)
         fs = rec.sampling_rate_hz
-        A = moving_average(resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ), int(self.smoothing_samples))
+        A = moving_average_fast(resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ), int(self.smoothing_samples))
         ev = adfsm_steps(A, min_rises=int(self.min_rises), min_falls=int(self.min_falls), flat_diff_ms2=float(self.flat_diff_ms2))
         trough, end = ev[:, 0], ev[:, 1]
         start = np.empty_like(end)
         if len(end):
             start[1:] = end[:-1]
             start[0] = max(0, end[0] - int(np.median(np.diff(end))) if len(end) > 1 else 0)
-        peak = np.array(
-            [s + int(np.argmax(A[s:e])) if e > s else s for s, e in zip(start.tolist(), end.tolist(), strict=True)], dtype=np.int64
-        )
+        peak = segment_argmax(A, start, end)
         n = rec.n_samples
         m = [map_indices(x, DESIGN_RATE_HZ, fs, n) for x in (start, peak, end, trough)]
         self.steps_: pd.DataFrame = make_step_table(

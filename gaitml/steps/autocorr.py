@@ -27,8 +27,7 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.signal import moving_average
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive
+from gaitml.steps._common import acc_magnitude, as_recording, check_positive, moving_average_fast
 from gaitml.steps._table import make_step_table
 
 __all__ = ["AutocorrStepDetector", "window_step_periods", "autocorr_steps"]
@@ -154,7 +153,7 @@ class AutocorrStepDetector:
                 f"need 1 <= min_period_s * fs < max_period_s * fs < window_s * fs - 2, got {lo}, {hi}, {L} samples; "
                 "choose a window longer than the longest period."
             )
-        x = moving_average(acc_magnitude(rec), max(1, int(round(self.smoothing_s * fs))))
+        x = moving_average_fast(acc_magnitude(rec), max(1, int(round(self.smoothing_s * fs))))
         per, rpk = window_step_periods(
             x,
             fs,

@@ -20,15 +20,13 @@ the chosen cut).
 
 from __future__ import annotations
 
-from bisect import bisect_right
-
 import numpy as np
 import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import lowpass
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive
+from gaitml.steps._common import acc_magnitude, as_recording, check_positive, segment_argmax
 from gaitml.steps._table import make_step_table
 
 __all__ = ["SelfLearningFSMStepDetector", "selflearn_fsm_run", "learn_thresholds", "FSM_STATES"]
@@ -125,10 +123,9 @@ def selflearn_fsm_run(
         Update Thrpp / Thrnp at every S7 (eqs. 2-3) and stop after
         ``learn_steps`` steps (the learning phase).
     jump : bool
-        Skip the samples where no comparison with a threshold changes (exact:
-        the machine reads only the threshold levels and the timeouts). Ignored
-        when ``learn`` (the thresholds move). ``False`` is the plain per-sample
-        loop.
+        Visit only the state transitions (:func:`_count_fast`, exact: the
+        machine reads only threshold comparisons and timeouts). Ignored when
+        ``learn`` (the thresholds move). ``False`` is the plain per-sample loop.
 
     Returns
     -------
@@ -141,13 +138,8 @@ def selflearn_fsm_run(
     x = np.asarray(a, dtype=float)
     n = len(x)
     xs = x.tolist()
-    use_jump = jump and not learn
-    if use_jump:
-        # the machine reads only "a > T" and "a < T" for the four thresholds: both change only where
-        # the number of thresholds below a (or at most a) changes
-        ts = np.sort([thr, pp, npk, neg])
-        lev = np.searchsorted(ts, x, side="left") * 5 + np.searchsorted(ts, x, side="right")
-        changes = (np.flatnonzero(np.diff(lev) != 0) + 1).tolist()
+    if jump and not learn:
+        return _count_fast(x, (thr, pp, npk, neg), max_step_samples, end_timeout_samples), (thr, pp, npk, neg), []
     s = 0
     k = 0
     t1 = t2 = t4 = t6 = 0
@@ -201,18 +193,94 @@ def selflearn_fsm_run(
             s = ns
             k += 1
             continue
-        if not use_jump:
+        k += 1
+    return np.asarray(out, dtype=np.int64).reshape(-1, 4), (thr, pp, npk, neg), hist
+
+
+def _next_true(mask: np.ndarray) -> np.ndarray:
+    """``out[k]`` = first ``j >= k`` with ``mask[j]`` (``len(mask)`` if none); length n + 1."""
+    n = len(mask)
+    idx = np.where(mask, np.arange(n), n)
+    out = np.minimum.accumulate(idx[::-1])[::-1]
+    return np.append(out, n)
+
+
+def _count_fast(x: np.ndarray, thresholds, max_step_samples: int, end_timeout_samples: int) -> np.ndarray:
+    """The counting machine (fixed thresholds) visiting only state transitions.
+
+    For each level condition the machine reads (``a > Thr``, ``a > Thrpp``,
+    ``a < Thrpp``, ``a < Thrnp``, ``a > Thrnp``, ``a < Thrneg``, ``a > Thrneg``) the
+    index of the next sample where it holds is precomputed with numpy; from a
+    state entered at sample k the next transition is the earliest of its exit
+    conditions after k (ties in the priority order of :func:`_transition`) or
+    its timeout. Same result as the per-sample loop.
+    """
+    thr, pp, npk, neg = thresholds
+    n = len(x)
+    gt_thr = _next_true(x > thr).tolist()
+    gt_pp = _next_true(x > pp).tolist()
+    lt_pp = _next_true(x < pp).tolist()
+    lt_np = _next_true(x < npk).tolist()
+    gt_np = _next_true(x > npk).tolist()
+    lt_neg = _next_true(x < neg).tolist()
+    gt_neg = _next_true(x > neg).tolist()
+    out = []
+    s, k = 0, 0  # state s holds from sample k on (k not yet processed)
+    t1 = t2 = t4 = t6 = 0
+    while k < n:
+        if s == 0:
+            k = gt_thr[k]
+            if k >= n:
+                break
+            s, t1 = 1, k
             k += 1
             continue
-        # nothing changed: jump to the next level change or timeout
-        j = bisect_right(changes, k)
-        nxt = changes[j] if j < len(changes) else n
-        if 1 <= s <= 5:
-            nxt = min(nxt, t1 + max_step_samples)
-        elif s == 6:
-            nxt = min(nxt, t6 + end_timeout_samples)
-        k = max(nxt, k + 1)
-    return np.asarray(out, dtype=np.int64).reshape(-1, 4), (thr, pp, npk, neg), hist
+        if s == 6:
+            j7, j4 = gt_thr[k], lt_np[k]
+            dl = max(t6 + end_timeout_samples, k)  # the timeout acts only where no transition does
+            j, ends_step = (j7, True) if j7 <= j4 else (j4, False)
+            if dl < j:
+                j, ends_step = dl, True
+            if j >= n:
+                break
+            if ends_step:
+                out.append((t1, t2, t4, j))
+                if x[j] > thr:
+                    s, t1 = 1, j
+                else:
+                    s = 0
+            else:
+                s = 4
+            k = j + 1
+            continue
+        # states 1..5: the earliest exit, unless the step timeout comes first (it overrides a transition on its sample)
+        if s == 1:
+            ja, jb = gt_pp[k], lt_neg[k]
+            j, ns = (ja, 2) if ja <= jb else (jb, 0)
+        elif s == 2:
+            j, ns = lt_pp[k], 3
+        elif s == 3:
+            ja, jb = gt_pp[k], lt_np[k]
+            j, ns = (ja, 2) if ja <= jb else (jb, 4)
+        elif s == 4:
+            j, ns = gt_np[k], 5
+        else:  # s == 5
+            ja, jb = lt_np[k], gt_neg[k]
+            j, ns = (ja, 4) if ja <= jb else (jb, 6)
+        dl = t1 + max_step_samples
+        if dl <= j:
+            j, ns = max(dl, k), 0
+        if j >= n:
+            break
+        if ns == 2 and s == 1:
+            t2 = j
+        elif ns == 4 and s == 3:
+            t4 = j
+        elif ns == 6:
+            t6 = j
+        s = ns
+        k = j + 1
+    return np.asarray(out, dtype=np.int64).reshape(-1, 4)
 
 
 def learn_thresholds(a, thresholds, *, max_step_samples, end_timeout_samples, alpha=ALPHA, beta=BETA, learn_steps=LEARN_STEPS):
@@ -330,10 +398,8 @@ class SelfLearningFSMStepDetector:
             th, hist = th0, []
         ev, _, _ = selflearn_fsm_run(a, th, **kw)
         t1, t2, t4, t7 = (ev[:, i] for i in range(4))
-        peak = np.array([i + int(np.argmax(a[i:j])) if j > i else i for i, j in zip(t2.tolist(), t4.tolist(), strict=True)], dtype=np.int64)
-        trough = np.array(
-            [i + int(np.argmin(a[i:j])) if j > i else i for i, j in zip(t4.tolist(), t7.tolist(), strict=True)], dtype=np.int64
-        )
+        peak = segment_argmax(a, t2, t4)
+        trough = segment_argmax(a, t4, t7, minimum=True)
         self.steps_: pd.DataFrame = make_step_table(t1, peak, t7, fs, event="t_end_s", s2=t2, s4=t4, trough=trough)
         self.segments_ = pd.DataFrame({"start": t2, "end": t7, "t_start_s": t2 / fs, "t_end_s": t7 / fs, "step": np.arange(len(t7))})
         self.thresholds_ = {"thr_ms2": th[0], "thr_peak_ms2": th[1], "thr_trough_ms2": th[2], "thr_neg_ms2": th[3]}

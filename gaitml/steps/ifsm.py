@@ -20,8 +20,7 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.signal import moving_average
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive, map_indices, resample_signal
+from gaitml.steps._common import acc_magnitude, as_recording, check_positive, map_indices, moving_average_fast, resample_signal
 from gaitml.steps._table import make_step_table
 
 __all__ = ["IFSMStepDetector", "IFSMLiteralStepDetector", "ifsm_steps", "ifsm_steps_loop", "IFSM_READINGS"]
@@ -146,10 +145,13 @@ def ifsm_steps(
     counts the step (``t_e``) and returns to s0.
 
     The machine is evaluated exactly as the per-sample loop
-    :func:`ifsm_steps_loop` would, but the Python loop runs over steps: counter
-    totals are cumulative sums, so "the first sample where the counter reaches
-    c" is a binary search, and the next local extremum / threshold sample is a
-    binary search in a precomputed index list.
+    :func:`ifsm_steps_loop` would, but the Python loop runs over steps. The
+    counters are cumulative sums, so "the first sample where a counter reaches
+    c" is a binary search; the outcome of s1 (peak or noise reset) depends only
+    on t_0 and is computed for every candidate t_0 at once, the trough for
+    every local maximum and the end for every local minimum likewise; chains
+    of noise resets are collapsed by pointer jumping (numpy), so the loop only
+    visits detected steps.
 
     Parameters
     ----------
@@ -172,58 +174,59 @@ def ifsm_steps(
     d = np.empty(n)
     d[0] = 0.0
     np.subtract(A[1:], A[:-1], out=d[1:])
-    CU = np.cumsum(d > diff_threshold_ms2).tolist()
-    CD = np.cumsum(d < -diff_threshold_ms2).tolist()
-    inner = np.zeros(n, dtype=bool)
-    inner[1:-1] = True
-    mid = A[1:-1]
-    lmax = (np.flatnonzero((mid > A[:-2]) & (mid > A[2:])) + 1).tolist()
-    lmin = (np.flatnonzero((mid < A[:-2]) & (mid < A[2:])) + 1).tolist()
-    above = (np.flatnonzero((A > magnitude_threshold_ms2) & inner)).tolist()
-    if end_condition == "always":
-        ends = None
-    else:
-        ends = np.flatnonzero((A > magnitude_threshold_ms2 - end_tolerance_ms2) & inner).tolist()
+    CU = np.cumsum(d > diff_threshold_ms2)
+    CD = np.cumsum(d < -diff_threshold_ms2)
     last = n - 2
-    n_above, n_lmax, n_lmin = len(above), len(lmax), len(lmin)
+    mid = A[1:-1]
+    lmax = np.flatnonzero((mid > A[:-2]) & (mid > A[2:])) + 1
+    lmin = np.flatnonzero((mid < A[:-2]) & (mid < A[2:])) + 1
+    above = np.flatnonzero(A[1:-1] > magnitude_threshold_ms2) + 1
+    if end_condition == "always":
+        ends = np.arange(1, n - 1)
+    else:
+        ends = np.flatnonzero(A[1:-1] > magnitude_threshold_ms2 - end_tolerance_ms2) + 1
+    big = n + 1  # "never"
+
+    def next_in(sorted_idx, k):
+        j = np.searchsorted(sorted_idx, k)
+        return np.where(j < len(sorted_idx), sorted_idx[np.minimum(j, len(sorted_idx) - 1)] if len(sorted_idx) else big, big)
+
+    # s1 outcome of every possible t0 (every sample above A_T), all at once
+    first = above if count_entry else above + 1
+    base = first - 1
+    k_reset = np.searchsorted(CD, CD[base] + disturb_descents, side="left")  # >= first since the count starts at 0
+    k_peak = next_in(lmax, np.searchsorted(CU, CU[base] + c1, side="left"))
+    ok = (k_peak < k_reset) & (k_peak <= last)
+    dead = ~ok & ((k_reset > last) | (k_reset >= big))
+    m = len(above)
+    # successor of a failed attempt: the next t0 after its reset sample; pointer jumping finds the first success
+    succ = np.where(ok, np.arange(m), np.where(dead, m, np.searchsorted(above, k_reset + 1)))
+    succ = np.append(succ, m)
+    for _ in range(int(np.ceil(np.log2(m + 2))) + 1):
+        nxt = succ[succ]
+        if np.array_equal(nxt, succ):
+            break
+        succ = nxt
+    # s3 -> s4 for every possible peak, s5 -> s6 for every possible trough
+    trough_of = next_in(lmin, np.searchsorted(CD, CD[lmax] + cd, side="left"))
+    end_of = next_in(ends, np.searchsorted(CU, CU[lmin] + c2, side="left"))
+    above_l, succ_l, kpeak_l = above.tolist(), succ.tolist(), k_peak.tolist()
+    lmax_l, lmin_l, trough_l, end_l = lmax.tolist(), lmin.tolist(), trough_of.tolist(), end_of.tolist()
     out = []
     cur = 1
     while True:
-        i = bisect_left(above, cur)
-        if i >= n_above:
+        i = succ_l[bisect_left(above_l, cur)] if cur <= (above_l[-1] if m else -1) else m
+        if i >= m:
             break
-        t0 = above[i]
-        first = t0 if count_entry else t0 + 1
-        base = first - 1
-        # s1: noise reset or peak, whichever comes first (the reset is tested first on a sample)
-        k_reset = bisect_left(CD, CD[base] + disturb_descents, first)
-        k_a = bisect_left(CU, CU[base] + c1, first)
-        j = bisect_left(lmax, k_a)
-        k_peak = lmax[j] if j < n_lmax else n
-        if k_reset <= k_peak:
-            if k_reset > last:
-                break
-            cur = k_reset + 1
-            continue
-        if k_peak > last:
+        t0, kp = above_l[i], kpeak_l[i]
+        kt = trough_l[bisect_left(lmax_l, kp)]
+        if kt > last:
             break
-        # s3 -> s4: descents counted from the sample after the peak
-        k_a = bisect_left(CD, CD[k_peak] + cd, k_peak + 1)
-        j = bisect_left(lmin, k_a)
-        if j >= n_lmin:
+        ke = end_l[bisect_left(lmin_l, kt)]
+        if ke > last:
             break
-        k_trough = lmin[j]
-        # s5 -> s6: climbs counted from the sample after the trough
-        k_a = bisect_left(CU, CU[k_trough] + c2, k_trough + 1)
-        if ends is None:
-            k_end = k_a
-        else:
-            j = bisect_left(ends, k_a)
-            k_end = ends[j] if j < len(ends) else n
-        if k_end > last:
-            break
-        out.append((t0, k_peak, k_trough, k_end))
-        cur = k_end + 1
+        out.append((t0, kp, kt, ke))
+        cur = ke + 1
     return np.asarray(out, dtype=np.int64).reshape(-1, 4)
 
 
@@ -348,7 +351,7 @@ class IFSMStepDetector:
         params = self._params()
         fs = rec.sampling_rate_hz
         A = resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ)
-        A = moving_average(A, int(self.smoothing_samples), mode="centered")
+        A = moving_average_fast(A, int(self.smoothing_samples))
         ev = ifsm_steps(A, **params)
         n = rec.n_samples
         t0, kp, kt, te = (map_indices(ev[:, i], DESIGN_RATE_HZ, fs, n) for i in range(4))

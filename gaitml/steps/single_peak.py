@@ -19,8 +19,7 @@ import scipy.signal
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.signal import moving_average
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive
+from gaitml.steps._common import acc_magnitude, as_recording, check_positive, moving_average_fast
 from gaitml.steps._table import make_step_table
 
 __all__ = ["SinglePeakStepDetector", "single_peak_steps", "zero_points"]
@@ -115,7 +114,7 @@ def single_peak_steps(
     check_positive("smoothing_s", smoothing_s)
     check_positive("left_zero_search_s", left_zero_search_s, allow_zero=True)
     check_positive("right_zero_search_s", right_zero_search_s, allow_zero=True)
-    a = moving_average(x - gravity_ms2, _samples(smoothing_s, fs), mode="centered")
+    a = moving_average_fast(x - gravity_ms2, _samples(smoothing_s, fs))
     peaks, _ = scipy.signal.find_peaks(a, height=peak_threshold_ms2, distance=_samples(min_peak_distance_s, fs))
     left, right, lf, rf = zero_points(a, peaks, _samples(left_zero_search_s, fs, 0), _samples(right_zero_search_s, fs, 0))
     return {"peak": peaks.astype(np.int64), "start": left, "end": right, "left_found": lf, "right_found": rf, "a": a}

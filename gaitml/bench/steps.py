@@ -1,0 +1,177 @@
+"""Step detector throughput: samples per second on a 1-hour recording (issue 4).
+
+The recording is a real Oxford hand-held walk (100 Hz) tiled to one hour, or a
+synthetic walk when the shared data is absent. Each detector's ``detect`` is
+timed end to end (magnitude, filtering, resampling, the state machine, the step
+table). Where a plain reference exists it is timed in the same run on the same
+input: a naive per-sample Python loop of single-peak, and the per-sample loop
+versions of the FSMs (``ifsm_steps_loop``, ``adfsm_steps_loop``, the
+self-learning FSM without jumping); ``ratio = reference_seconds / seconds``.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gaitml.recording import Recording
+from gaitml.signal import lowpass, magnitude, moving_average
+
+__all__ = ["run", "naive_single_peak", "bench_recording"]
+
+_ORIGIN = "Pixel_Jamie_Hard_InHand_1"
+
+
+def bench_recording(duration_s: float) -> tuple[Recording, str]:
+    """A walking recording of ``duration_s`` seconds (tiled real data when available)."""
+    root = Path(os.environ.get("GAITML_SHARED_DATA", Path(__file__).resolve().parents[3] / "shared" / "data"))
+    folder = root / "oxford-step-counter" / "optimisation" / "data" / _ORIGIN
+    if folder.is_dir():
+        from gaitml.io import read_recording
+
+        base = read_recording(folder)
+        src = f"Oxford {_ORIGIN} (100 Hz) tiled"
+        acc, fs = base.acc, base.sampling_rate_hz
+    else:
+        fs = 100.0
+        t = np.arange(int(60 * fs)) / fs
+        rng = np.random.default_rng(0)
+        acc = np.column_stack([rng.normal(0, 0.3, len(t)), rng.normal(0, 0.3, len(t)), 9.81 + 3 * np.sin(2 * np.pi * 1.8 * t)])
+        src = "synthetic 1.8 Hz walk (100 Hz) tiled"
+    n = int(duration_s * fs)
+    reps = int(np.ceil(n / len(acc)))
+    return Recording.from_arrays(np.tile(acc, (reps, 1))[:n], fs), src
+
+
+def naive_single_peak(acc: np.ndarray, fs: float) -> list[tuple[int, int, int]]:
+    """Single-peak (paper 003 sec. 2.2) as a plain per-sample Python loop: the speed reference.
+
+    Returns ``(left zero, peak, right zero)`` per step; same rules as
+    :func:`gaitml.steps.single_peak.single_peak_steps` (centred 3-sample moving
+    average, peaks > 2 m/s^2 at least 0.3 s apart with the higher one kept,
+    zero-point search 0.24 s back / 0.5 s forward).
+    """
+    n = len(acc)
+    m = [(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2) ** 0.5 - 9.8 for i in range(n)]
+    w = max(1, round(0.06 * fs))
+    back, fwd = w // 2, w - 1 - w // 2
+    a = []
+    for i in range(n):
+        lo, hi = max(0, i - back), min(n, i + fwd + 1)
+        s = 0.0
+        for j in range(lo, hi):
+            s += m[j]
+        a.append(s / (hi - lo))
+    dist = max(1, round(0.3 * fs))
+    peaks: list[int] = []
+    for i in range(1, n - 1):
+        if a[i] > 2.0 and a[i] > a[i - 1] and a[i] >= a[i + 1]:
+            if peaks and i - peaks[-1] < dist:
+                if a[i] > a[peaks[-1]]:
+                    peaks[-1] = i
+            else:
+                peaks.append(i)
+    lmax, rmax = round(0.24 * fs), round(0.5 * fs)
+    out = []
+    for p in peaks:
+        left = max(p - lmax, 0)
+        for j in range(p, max(p - lmax, 0), -1):
+            if (a[j] >= 0) != (a[j - 1] >= 0):
+                left = j
+                break
+        right, seen = min(p + rmax, n), 0
+        for j in range(p + 1, min(p + rmax, n - 1) + 1):
+            if (a[j] >= 0) != (a[j - 1] >= 0):
+                seen += 1
+                if seen == 2:
+                    right = j
+                    break
+        out.append((left, p, right))
+    return out
+
+
+def _references(rec: Recording) -> dict:
+    from gaitml.steps._common import resample_signal
+    from gaitml.steps.adfsm import adfsm_steps_loop
+    from gaitml.steps.fsm_selflearn import SelfLearningFSMStepDetector, learn_thresholds, selflearn_fsm_run
+    from gaitml.steps.ifsm import IFSM_READINGS, ifsm_steps_loop
+
+    fs = rec.sampling_rate_hz
+
+    def ifsm_ref(reading):
+        def f():
+            A = moving_average(resample_signal(magnitude(rec.acc), fs, 50.0), 5)
+            ce, inc, end = IFSM_READINGS[reading]
+            ifsm_steps_loop(A, count_entry=ce, inclusive=inc, end_condition=end)
+
+        return f
+
+    def adfsm_ref():
+        adfsm_steps_loop(moving_average(resample_signal(magnitude(rec.acc), fs, 50.0), 5))
+
+    def selflearn_ref():
+        d = SelfLearningFSMStepDetector()
+        a = lowpass(magnitude(rec.acc), d.lowpass_hz, fs)
+        kw = dict(max_step_samples=int(round(d.max_step_s * fs)), end_timeout_samples=int(round(d.end_timeout_s * fs)))
+        th, _ = learn_thresholds(a, (d.thr_ms2, d.thr_peak_ms2, d.thr_trough_ms2, d.thr_neg_ms2), **kw)
+        selflearn_fsm_run(a, th, jump=False, **kw)
+
+    return {
+        "single-peak": ("naive per-sample Python loop of single-peak", lambda: naive_single_peak(rec.acc, fs)),
+        "ifsm": ("per-sample loop ifsm_steps_loop", ifsm_ref("reproduce")),
+        "ifsm-literal": ("per-sample loop ifsm_steps_loop", ifsm_ref("literal")),
+        "adfsm": ("per-sample loop adfsm_steps_loop", adfsm_ref),
+        "fsm-selflearn": ("per-sample loop (no jumping)", selflearn_ref),
+    }
+
+
+def _best_of(f, repeats: int) -> float:
+    best = np.inf
+    for _ in range(repeats):
+        t = time.perf_counter()
+        f()
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def run(quick: bool = False) -> list[dict]:
+    """Time every step detector on a 1-hour recording (5 minutes with ``quick``)."""
+    from gaitml.steps import detector_names, get_detector
+
+    duration = 300.0 if quick else 3600.0
+    rec, src = bench_recording(duration)
+    refs = _references(rec)
+    machine = f"{platform.machine()}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
+    rows = []
+    for name in detector_names():
+        try:
+            det = get_detector(name)
+        except Exception:  # e.g. zupt-magnitude missing in this checkout
+            continue
+        secs = _best_of(lambda det=det: det.detect(rec), 1 if quick else 3)
+        n_steps = len(det.steps_)
+        row = {
+            "area": "steps",
+            "name": name,
+            "n_items": rec.n_samples,
+            "unit": "samples",
+            "seconds": secs,
+            "throughput_per_s": rec.n_samples / secs,
+            "note": f"{src}, {duration / 60:g} min at {rec.sampling_rate_hz:g} Hz, {n_steps} steps; {machine}",
+        }
+        if name in refs and not (quick and name == "single-peak" and False):
+            what, f = refs[name]
+            rsecs = _best_of(f, 1)
+            row.update(reference_seconds=rsecs, ratio=rsecs / secs)
+            row["note"] += f"; reference: {what}"
+        rows.append(row)
+    return rows
+
+
+if __name__ == "__main__":  # pragma: no cover
+    for r in run(quick=bool(os.environ.get("QUICK"))):
+        print(f"{r['name']:15s} {r['throughput_per_s'] / 1e6:7.2f} M samples/s  {r['seconds']:.3f} s  ratio {r.get('ratio', float('nan')):.1f}")

@@ -112,7 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="FILE")
     p.add_argument("--plot", metavar="PNG")
     p.add_argument("--json", action="store_true")
-    p.add_argument("--heading", choices=("hde", "dwpca", "gyro"), default="hde", help="heading source (default hde)")
+    p.add_argument("--heading", choices=("hde", "dwpca", "gyro", "dwpca-hde"), default="hde", help="heading source (default hde)")
     p.add_argument("--modes", choices=("model", "true", "forward"), help="motion modes per step (default: model with --model, else the labels, else forward)")
     p.add_argument("--detector", choices=STEP_DETECTORS, default="single-peak", help="step detector (default single-peak)")
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")

@@ -15,7 +15,9 @@ directions differ by more than 30 deg, the gyro is consulted. Algorithm 3 sets
 and says nothing for the other case; our reading: if the gyro turned less, the jump is
 an ambiguity error, so the direction is flipped by 180 deg when that brings it within
 30 deg of the previous one, and otherwise propagated with the gyro
-(``heading_{i-1} + gyro_step_i``). ``gyro_step_i`` is the change of the gyro heading
+(``heading_{i-1} + gyro_step_i``). The first step has no predecessor; its ambiguity is
+resolved against the gyro heading (flipped when more than 90 deg away), otherwise one
+wrong first step would flip the whole chain. ``gyro_step_i`` is the change of the gyro heading
 between the two steps (difference of their mean gyro headings). Finally adjacent
 measurements are averaged (circular mean of step i-1 and i, non-recursive: "the average
 of two adjacent measurements"), except across a turn (the two differ by more than the
@@ -47,13 +49,17 @@ GYRO_CHECK_RAD = np.deg2rad(30.0)
 MIN_WINDOW_SAMPLES = 3
 
 
-def pca_step_directions(lin_acc_h: np.ndarray, start, end) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def pca_step_directions(lin_acc_h: np.ndarray, start, end, polarity=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """PCA2d motion direction of each step window with 180-degree disambiguation.
 
     Parameters
     ----------
     lin_acc_h : array (n, 2), horizontal linear acceleration (east, north), m/s^2.
     start, end : int arrays (m,), windows ``[start, end)``.
+    polarity : array (m,) of +1/-1, optional
+        +1 (paper 002, default): a convex projection means the eigenvector points along the
+        motion; -1 reverses the rule (for gaits whose window shows the opposite shape, see
+        :meth:`DwPcaHeading.fit_polarity`).
 
     Returns
     -------
@@ -70,6 +76,9 @@ def pca_step_directions(lin_acc_h: np.ndarray, start, end) -> tuple[np.ndarray, 
     if len(start) and (start.min() < 0 or end.max() > len(a) or (end < start).any()):
         raise InputError(f"step windows must satisfy 0 <= start <= end <= {len(a)}; check the windows match the recording.")
     m = len(start)
+    pol = np.ones(m) if polarity is None else np.asarray(polarity, dtype=float).reshape(-1)
+    if pol.shape != (m,):
+        raise InputError(f"`polarity` must have one value per window ({m}), got {pol.shape[0]}.")
     direction = np.full(m, np.nan)
     axis = np.full(m, np.nan)
     explained = np.full(m, np.nan)
@@ -85,7 +94,7 @@ def pca_step_directions(lin_acc_h: np.ndarray, start, end) -> tuple[np.ndarray, 
         axis[i] = np.arctan2(e[0], e[1])
         p = xc @ e
         t = np.linspace(-1.0, 1.0, len(p))
-        c2 = np.polyfit(t, p, 2)[0]
+        c2 = np.polyfit(t, p, 2)[0] * pol[i]
         if c2 < 0:  # concave: the eigenvector points against the motion
             e = -e
         direction[i] = np.arctan2(e[0], e[1])
@@ -93,7 +102,7 @@ def pca_step_directions(lin_acc_h: np.ndarray, start, end) -> tuple[np.ndarray, 
 
 
 def dwpca_check_and_average(
-    direction_rad, gyro_heading_rad, *, check_rad: float = GYRO_CHECK_RAD, average: bool = True
+    direction_rad, gyro_heading_rad, *, check_rad: float = GYRO_CHECK_RAD, average: bool = True, reanchor_steps: int = 3
 ) -> tuple[np.ndarray, np.ndarray]:
     """Gyro check and adjacent averaging of paper 002 Algorithm 3 (see module doc).
 
@@ -102,13 +111,21 @@ def dwpca_check_and_average(
     direction_rad : (m,) per-step direction (facing heading), NaN where PCA failed
         (replaced by the gyro-propagated previous value).
     gyro_heading_rad : (m,) per-step gyro heading (its differences are the gyro turns).
+    check_rad : the 30 deg threshold.
+    average : adjacent averaging.
+    reanchor_steps : re-anchoring (our addition, 0 = off): when this many consecutive PCA
+        directions agree with each other (within ``check_rad``) but were all overruled by
+        the gyro check, the chain is wrong (e.g. it picked up a mid-turn value at a change
+        of mode, where the body turns 90 or 180 deg within a step) and the PCA direction is
+        taken again. Algorithm 3 alone never recovers from such a state.
 
     Returns
     -------
     heading : (m,) checked (and averaged) headings.
     gyro_fixed : (m,) bool, steps changed by the gyro check.
     """
-    h = np.asarray(direction_rad, dtype=float).reshape(-1).copy()
+    raw = np.asarray(direction_rad, dtype=float).reshape(-1)
+    h = raw.copy()
     g = np.asarray(gyro_heading_rad, dtype=float).reshape(-1)
     if h.shape != g.shape:
         raise InputError(f"`direction_rad` and `gyro_heading_rad` must have the same length, got {h.shape[0]} and {g.shape[0]}.")
@@ -119,15 +136,28 @@ def dwpca_check_and_average(
     if np.isnan(h[0]):
         h[0] = g[0]
         fixed[0] = True
+    elif abs(wrap_angle(h[0] - g[0])) > np.pi / 2:
+        # the first step has no predecessor: resolve its 180-degree ambiguity with the
+        # gyro heading (which starts from the known initial heading)
+        h[0] = h[0] + np.pi
+        fixed[0] = True
     dg = wrap_angle(np.diff(g))
+    overruled = 0  # consecutive overruled PCA values that agree with each other
     for i in range(1, m):
         if np.isnan(h[i]):
             h[i] = h[i - 1] + dg[i - 1]
             fixed[i] = True
+            overruled = 0
             continue
         d = wrap_angle(h[i] - h[i - 1])
         if abs(d) <= check_rad:
+            overruled = 0
             continue
+        consistent = not np.isnan(raw[i - 1]) and abs(wrap_angle(raw[i] - raw[i - 1])) <= check_rad
+        overruled = overruled + 1 if consistent else 1
+        if reanchor_steps and overruled >= reanchor_steps:
+            overruled = 0
+            continue  # keep the PCA direction: re-anchor the chain
         fixed[i] = True
         if abs(dg[i - 1]) > check_rad:
             h[i] = h[i - 1] + dg[i - 1]
@@ -152,6 +182,11 @@ class DwPcaHeading:
     ----------
     check_rad : gyro check threshold (paper 002: 30 deg).
     average : adjacent averaging (paper 002 sec. 3.4).
+    reanchor_steps : see :func:`dwpca_check_and_average` (our addition; 0 = Algorithm 3 only).
+    polarity : dict mode -> +1/-1, optional
+        Sign of the concavity rule per motion mode (default +1 for every mode: the paper's
+        rule, derived for walking). :meth:`fit_polarity` learns it from steps of known
+        direction; the rule does not hold for every gait (see Notes).
 
     Attributes
     ----------
@@ -159,14 +194,49 @@ class DwPcaHeading:
     axis_rad_ : (m,) raw first-eigenvector direction.
     heading_rad_ : (m,) facing heading after mode offset, gyro check and averaging.
     gyro_fixed_ : (m,) bool.
+
+    Notes
+    -----
+    Paper 002 states the concavity rule for walking only. On the gaitml simulator the
+    running steps' forward acceleration (braking then propulsion centred on the peak of
+    the single-peak window) has the opposite shape within the window, so the rule flips
+    every running step; a learned per-mode polarity fixes that.
     """
 
-    def __init__(self, *, check_rad: float = GYRO_CHECK_RAD, average: bool = True):
+    def __init__(self, *, check_rad: float = GYRO_CHECK_RAD, average: bool = True, polarity: dict | None = None, reanchor_steps: int = 3):
         self.check_rad = check_rad
         self.average = average
+        self.polarity = polarity
+        self.reanchor_steps = reanchor_steps
 
-    def estimate(self, lin_acc_h, start, end, gyro_step_heading_rad, mode_offset_rad=None) -> DwPcaHeading:
-        motion, axis, expl = pca_step_directions(lin_acc_h, start, end)
+    def _polarity(self, modes, m: int) -> np.ndarray:
+        if modes is None or not self.polarity:
+            return np.ones(m)
+        modes = np.asarray(modes).astype(str)
+        return np.array([float(self.polarity.get(x, 1.0)) for x in modes])
+
+    def fit_polarity(self, lin_acc_h, start, end, motion_rad, modes, *, min_steps: int = 5) -> DwPcaHeading:
+        """Learn the concavity polarity per mode from steps whose motion direction is known.
+
+        For each mode the majority vote of "the paper's rule pointed the right way" (within
+        90 deg of the known direction) sets the polarity to +1, else -1. Modes with fewer
+        than ``min_steps`` steps keep +1.
+        """
+        d, _, _ = pca_step_directions(lin_acc_h, start, end)
+        modes = np.asarray(modes).astype(str)
+        ok = np.isfinite(d)
+        right = np.abs(wrap_angle(d - np.asarray(motion_rad, dtype=float))) < np.pi / 2
+        pol = {}
+        for mode in np.unique(modes):
+            sel = ok & (modes == mode)
+            pol[mode] = 1.0 if sel.sum() < min_steps or right[sel].mean() >= 0.5 else -1.0
+        self.polarity = pol
+        self.polarity_ = pol
+        return self
+
+    def estimate(self, lin_acc_h, start, end, gyro_step_heading_rad, mode_offset_rad=None, modes=None) -> DwPcaHeading:
+        start = np.asarray(start, dtype=np.int64)
+        motion, axis, expl = pca_step_directions(lin_acc_h, start, end, self._polarity(modes, len(start)))
         off = np.zeros(len(motion)) if mode_offset_rad is None else np.asarray(mode_offset_rad, dtype=float)
         if off.shape != motion.shape:
             raise InputError(f"`mode_offset_rad` must have one value per step ({len(motion)}), got {off.shape[0]}.")
@@ -175,6 +245,6 @@ class DwPcaHeading:
         self.axis_rad_ = axis
         self.explained_ = expl
         self.heading_rad_, self.gyro_fixed_ = dwpca_check_and_average(
-            facing, gyro_step_heading_rad, check_rad=self.check_rad, average=self.average
+            facing, gyro_step_heading_rad, check_rad=self.check_rad, average=self.average, reanchor_steps=self.reanchor_steps
         )
         return self

@@ -33,7 +33,7 @@ from gaitml.recording import Recording
 
 __all__ = ["HEADING_SOURCES", "MODE_SOURCES", "PdrResult", "modes_from_labels", "modes_from_windows", "run_pdr"]
 
-HEADING_SOURCES = ("hde", "dwpca", "gyro")
+HEADING_SOURCES = ("hde", "dwpca", "gyro", "dwpca-hde")
 MODE_SOURCES = ("model", "true", "forward")
 TRAJECTORY_COLUMNS = ("t_s", "x_m", "y_m", "heading_rad", "mode", "step_length_m")
 
@@ -185,7 +185,9 @@ def run_pdr(
     model : TrainedModel, optional (needed for ``modes='model'``).
     detector : str or detector object (``detect(rec).steps_``); default ``single-peak``.
     steps : DataFrame, optional; a step table to use instead of running a detector.
-    heading : {'hde', 'dwpca', 'gyro'}
+    heading : {'hde', 'dwpca', 'gyro', 'dwpca-hde'}
+        Buffered HDE on the gyro heading (paper 003), DW-PCA step direction (paper 002),
+        the raw gyro heading, or DW-PCA followed by HDE.
     modes : {'model', 'true', 'forward'}
         ``model`` requires ``model``; ``true`` requires per-sample labels; ``forward``
         treats every step as a walk step (traditional PDR).
@@ -266,8 +268,8 @@ def run_pdr(
         theta = gyro_h
     elif heading == "hde":
         h = hde or HeuristicDriftElimination(reference_rad=initial_heading_rad)
-        theta = h.correct(gyro_h, dur).heading_rad_ if n else np.zeros(0)
-    else:
+        theta = h.correct(gyro_h, dur, t_step).heading_rad_ if n else np.zeros(0)
+    else:  # dwpca, dwpca-hde
         d = dwpca or DwPcaHeading()
         win_start, win_end = start, np.maximum(end, start + 1)
         if segments is not None and len(segments) == n and {"start", "end"} <= set(segments.columns):
@@ -276,7 +278,12 @@ def run_pdr(
             notes.append("DW-PCA windows: the detector's S2..S6 segments")
         lin = att.linear_acc_nav(recording)[:, :2]
         pca_offsets = offsets if update == "multi" else np.zeros(n)
-        theta = d.estimate(lin, win_start, win_end, gyro_h, pca_offsets).heading_rad_ if n else np.zeros(0)
+        theta = d.estimate(lin, win_start, win_end, gyro_h, pca_offsets, step_modes).heading_rad_ if n else np.zeros(0)
+        if heading == "dwpca-hde" and n:
+            # DW-PCA works in the gyro-integrated navigation frame, so it inherits the gyro's
+            # yaw drift (paper 002 used the magnetometer-aided rotation vector); HDE removes it
+            h = hde or HeuristicDriftElimination(reference_rad=initial_heading_rad)
+            theta = h.correct(theta, dur, t_step).heading_rad_
 
     # ---- positions
     if update == "multi":

@@ -55,11 +55,21 @@ def ovo_vote(decision: np.ndarray, pairs: np.ndarray, n_classes: int) -> np.ndar
         of squashed confidences (the rule of :class:`sklearn.multiclass.OneVsOneClassifier`),
         then to the lower index.
     """
+    first, second = _vote_matrices(pairs, n_classes)
+    return _vote(decision, first, second)
+
+
+def _vote_matrices(pairs, n_classes: int) -> tuple[np.ndarray, np.ndarray]:
+    """One-hot (n_pairs, n_classes) matrices of the first and second class of every machine."""
     pairs = np.asarray(pairs)
     first = np.zeros((len(pairs), n_classes))
     second = np.zeros((len(pairs), n_classes))
     first[np.arange(len(pairs)), pairs[:, 0]] = 1.0
     second[np.arange(len(pairs)), pairs[:, 1]] = 1.0
+    return first, second
+
+
+def _vote(decision: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
     win_i = (decision > 0).astype(float)
     votes = win_i @ first + (1.0 - win_i) @ second
     conf = decision @ (first - second)
@@ -167,18 +177,21 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         self.coef_ = coef / self.scale_
         self.intercept_ = intercept - coef @ (self.mean_ / self.scale_)
         self.pairs_ = pairs
+        self.vote_matrices_ = _vote_matrices(pairs, len(self.classes_))
         return self
 
     def decision_function(self, X) -> np.ndarray:
         """Pairwise decision values, shape (n, n_pairs) (positive: first class of the pair)."""
-        check_is_fitted(self, "coef_")
+        if not hasattr(self, "coef_"):  # cheaper than check_is_fitted on the one-window streaming path
+            check_is_fitted(self, "coef_")
         X = _as_features(X, self.n_features_in_)
         return X @ self.coef_.T + self.intercept_
 
     def predict(self, X) -> np.ndarray:
         """Class label of every row by one-vs-one voting."""
         d = self.decision_function(X)
-        return self.classes_[ovo_vote(d, self.pairs_, len(self.classes_))]
+        first, second = self.vote_matrices_
+        return self.classes_[_vote(d, first, second)]
 
 
 def _as_features(X, n_features: int | None = None) -> np.ndarray:

@@ -67,6 +67,7 @@ def test_folder_source_meta_label(tmp_path):
     assert res["labels"] == ["InHand", "Pocket"] and res["n_groups"] == 3
 
 
+@pytest.mark.slow
 def test_parallel_folds_equal_serial(tmp_path):
     a = evaluate_config(_tiny_cfg("linear-ovo-svm"), write=False, progress=False)
     b = evaluate_config(_tiny_cfg("linear-ovo-svm", cv={"n_jobs": 2}), write=False, progress=False)

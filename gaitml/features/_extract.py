@@ -25,7 +25,9 @@ SMOOTHING_SAMPLES = 3
 #: A window with std <= DEGENERATE_REL * (1 + |mean|) counts as constant.
 DEGENERATE_REL = 1e-10
 #: Windows per block (bounds the temporary memory to a few MB).
-BLOCK_WINDOWS = 2048
+BLOCK_WINDOWS = 512
+#: Up to this many windows are gathered by fancy indexing instead of strided views.
+_FEW_WINDOWS = 16
 
 _N_STATS = 52
 
@@ -48,32 +50,41 @@ def _window_block(xyz: np.ndarray, mag: np.ndarray, mag3: np.ndarray, starts: np
     """
     k = len(starts)
     out = np.empty((k, 4, length))
-    view = np.lib.stride_tricks.sliding_window_view(xyz, length, axis=0)  # (n-L+1, 3, L), no copy
-    out[:, :3, :] = view[starts]
-    if length > 2:
-        mview = np.lib.stride_tricks.sliding_window_view(mag3, length - 2)
-        out[:, 3, 1:-1] = mview[starts]
+    if k > _FEW_WINDOWS:
+        view = np.lib.stride_tricks.sliding_window_view(xyz, length, axis=0)  # (n-L+1, 3, L), no copy
+        out[:, :3, :] = view[starts]
+        if length > 2:
+            out[:, 3, 1:-1] = np.lib.stride_tricks.sliding_window_view(mag3, length - 2)[starts]
+    else:  # a few windows (streaming): one fancy-index gather has less call overhead
+        idx = starts[:, None] + np.arange(length)
+        out[:, :3, :] = xyz[idx].transpose(0, 2, 1)
+        if length > 2:
+            out[:, 3, 1:-1] = mag3[idx[:, :-2]]
     out[:, 3, 0] = (mag[starts] + mag[starts + 1]) / 2.0
     out[:, 3, -1] = (mag[starts + length - 2] + mag[starts + length - 1]) / 2.0
     return out
 
 
 def _mode_sorted(sorted_vals: np.ndarray, width: float) -> np.ndarray:
-    """Mode of binned values along the last axis of an already sorted array."""
-    q = np.floor(sorted_vals / width + 0.5)
-    shape = q.shape
-    q2 = q.reshape(-1, shape[-1])
-    m, n = q2.shape
+    """Mode of binned values along the last axis of an already sorted array.
+
+    Bins are ``floor(v / width + 1/2)`` (monotone, so the binned rows stay
+    sorted); the longest run of equal bins wins, the first (smallest) on ties.
+    """
+    shape = sorted_vals.shape
+    n = shape[-1]
+    q = np.floor(sorted_vals.reshape(-1, n) / width + 0.5)
     pos = np.arange(n)
-    new_run = np.ones((m, n), dtype=bool)
-    new_run[:, 1:] = q2[:, 1:] != q2[:, :-1]
-    run_start = np.maximum.accumulate(np.where(new_run, pos, 0), axis=1)
-    run_len = pos - run_start + 1
-    best = np.argmax(run_len, axis=1)  # first end of a longest run -> smallest value on ties
-    return (q2[np.arange(m), best] * width).reshape(shape[:-1])
+    run_start = np.zeros(q.shape, dtype=np.intp)
+    np.multiply(q[:, 1:] != q[:, :-1], pos[1:], out=run_start[:, 1:])
+    np.maximum.accumulate(run_start, axis=1, out=run_start)
+    np.subtract(pos, run_start, out=run_start)  # run length - 1 at each position
+    best = np.argmax(run_start, axis=1)  # first end of a longest run -> smallest value on ties
+    return (q[np.arange(q.shape[0]), best] * width).reshape(shape[:-1])
 
 
 def _quantile_sorted(sorted_vals: np.ndarray, p: float) -> np.ndarray:
+    """Linear interpolation between order statistics (numpy's default, type 7)."""
     n = sorted_vals.shape[-1]
     h = p * (n - 1)
     lo = int(np.floor(h))
@@ -84,45 +95,49 @@ def _quantile_sorted(sorted_vals: np.ndarray, p: float) -> np.ndarray:
     return a + (b - a) * frac
 
 
+_SUM = np.add.reduce
+_PAIR_A = [0, 0, 1]
+_PAIR_B = [1, 2, 2]
+
+
 def _stats52(w: np.ndarray, mode_width: float) -> np.ndarray:
     """The 52 statistics of a block (k, 4, L) -> (k, 52), paper order."""
     k, _, n = w.shape
+    inv_n = 1.0 / n
     out = np.empty((k, _N_STATS))
-    mean = w.mean(axis=-1)  # (k, 4)
+    mean = _SUM(w, axis=-1) * inv_n  # (k, 4)
     d = w - mean[..., None]
     d2 = d * d
-    m2 = d2.mean(axis=-1)
-    m3 = (d2 * d).mean(axis=-1)
-    m4 = (d2 * d2).mean(axis=-1)
+    m2 = _SUM(d2, axis=-1) * inv_n
+    m3 = _SUM(d2 * d, axis=-1) * inv_n
+    np.multiply(d2, d2, out=d2)
+    m4 = _SUM(d2, axis=-1) * inv_n
     s = np.sort(w, axis=-1)
     q1 = _quantile_sorted(s, 0.25)
     q3 = _quantile_sorted(s, 0.75)
     degenerate = np.sqrt(m2) <= DEGENERATE_REL * (1.0 + np.abs(mean))
     safe_m2 = np.where(degenerate, 1.0, m2)
-    skew = np.where(degenerate, 0.0, m3 / safe_m2**1.5)
-    kurt = np.where(degenerate, 0.0, m4 / (safe_m2 * safe_m2) - 3.0)
-    corr = np.empty((k, 3))
-    for j, (a, b) in enumerate(((0, 1), (0, 2), (1, 2))):
-        cov = (d[:, a] * d[:, b]).mean(axis=-1)
-        bad = degenerate[:, a] | degenerate[:, b]
-        den = np.sqrt(np.where(bad, 1.0, m2[:, a] * m2[:, b]))
-        corr[:, j] = np.where(bad, 0.0, np.clip(cov / den, -1.0, 1.0))
-    dd = np.diff(w, n=1, axis=-1)
-    ddd = np.diff(dd, n=1, axis=-1)
+    cov = _SUM(d[:, _PAIR_A] * d[:, _PAIR_B], axis=-1) * inv_n  # (k, 3): xy, xz, yz
+    bad = degenerate[:, _PAIR_A] | degenerate[:, _PAIR_B]
+    den = np.sqrt(safe_m2[:, _PAIR_A] * safe_m2[:, _PAIR_B])
     out[:, 0:4] = mean
-    out[:, 4:8] = np.abs(w).mean(axis=-1)
+    out[:, 4:8] = _SUM(np.abs(w), axis=-1) * inv_n
     out[:, 8:12] = m2
     out[:, 12:16] = _mode_sorted(s, mode_width)
     out[:, 16:20] = s[..., -1]
     out[:, 20:24] = s[..., 0]
     out[:, 24:28] = q3 - q1
     out[:, 28:32] = q3
-    out[:, 32:35] = corr
-    out[:, 35:39] = skew
-    out[:, 39:43] = kurt
-    out[:, 43:47] = np.abs(d).mean(axis=-1)
-    out[:, 47:51] = (ddd * ddd).sum(axis=-1) / n
-    out[:, 51] = (dd[:, 0] * dd[:, 0]).sum(axis=-1) / n
+    out[:, 32:35] = np.where(bad, 0.0, np.clip(cov / den, -1.0, 1.0))
+    out[:, 35:39] = np.where(degenerate, 0.0, m3 / safe_m2**1.5)
+    out[:, 39:43] = np.where(degenerate, 0.0, m4 / (safe_m2 * safe_m2) - 3.0)
+    np.abs(d, out=d)
+    out[:, 43:47] = _SUM(d, axis=-1) * inv_n
+    dd = w[..., 1:] - w[..., :-1]
+    ddd = dd[..., 1:] - dd[..., :-1]
+    out[:, 47:51] = _SUM(ddd * ddd, axis=-1) * inv_n
+    dx = dd[:, 0]
+    out[:, 51] = _SUM(dx * dx, axis=-1) * inv_n
     return out
 
 

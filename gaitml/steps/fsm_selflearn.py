@@ -20,6 +20,8 @@ the chosen cut).
 
 from __future__ import annotations
 
+from bisect import bisect_left
+
 import numpy as np
 import pandas as pd
 
@@ -137,9 +139,9 @@ def selflearn_fsm_run(
     thr, pp, npk, neg = (float(v) for v in thresholds)
     x = np.asarray(a, dtype=float)
     n = len(x)
-    xs = x.tolist()
     if jump and not learn:
         return _count_fast(x, (thr, pp, npk, neg), max_step_samples, end_timeout_samples), (thr, pp, npk, neg), []
+    xs = x.tolist()
     s = 0
     k = 0
     t1 = t2 = t4 = t6 = 0
@@ -197,12 +199,13 @@ def selflearn_fsm_run(
     return np.asarray(out, dtype=np.int64).reshape(-1, 4), (thr, pp, npk, neg), hist
 
 
-def _next_true(mask: np.ndarray) -> np.ndarray:
-    """``out[k]`` = first ``j >= k`` with ``mask[j]`` (``len(mask)`` if none); length n + 1."""
-    n = len(mask)
-    idx = np.where(mask, np.arange(n), n)
-    out = np.minimum.accumulate(idx[::-1])[::-1]
-    return np.append(out, n)
+def _rising_edges(mask: np.ndarray) -> list:
+    """Samples where ``mask`` becomes true (including sample 0 when it starts true)."""
+    m = np.asarray(mask, dtype=bool)
+    e = np.flatnonzero(m[1:] & ~m[:-1]) + 1
+    if len(m) and m[0]:
+        e = np.concatenate([[0], e])
+    return e.tolist()
 
 
 def _count_fast(x: np.ndarray, thresholds, max_step_samples: int, end_timeout_samples: int) -> np.ndarray:
@@ -210,33 +213,63 @@ def _count_fast(x: np.ndarray, thresholds, max_step_samples: int, end_timeout_sa
 
     For each level condition the machine reads (``a > Thr``, ``a > Thrpp``,
     ``a < Thrpp``, ``a < Thrnp``, ``a > Thrnp``, ``a < Thrneg``, ``a > Thrneg``) the
-    index of the next sample where it holds is precomputed with numpy; from a
-    state entered at sample k the next transition is the earliest of its exit
-    conditions after k (ties in the priority order of :func:`_transition`) or
-    its timeout. Same result as the per-sample loop.
+    samples where it becomes true are precomputed with numpy; the next sample
+    from k where it holds is k itself if it holds at k, else the next such edge
+    (binary search). From a state entered at sample k the next transition is the
+    earliest of its exit conditions (ties in the priority order of
+    :func:`_transition`) or its timeout. Same result as the per-sample loop.
     """
     thr, pp, npk, neg = thresholds
     n = len(x)
-    gt_thr = _next_true(x > thr).tolist()
-    gt_pp = _next_true(x > pp).tolist()
-    lt_pp = _next_true(x < pp).tolist()
-    lt_np = _next_true(x < npk).tolist()
-    gt_np = _next_true(x > npk).tolist()
-    lt_neg = _next_true(x < neg).tolist()
-    gt_neg = _next_true(x > neg).tolist()
+    xs = x.tolist()
+    e_gt_thr = _rising_edges(x > thr)
+    e_gt_pp = _rising_edges(x > pp)
+    e_lt_pp = _rising_edges(x < pp)
+    e_lt_np = _rising_edges(x < npk)
+    e_gt_np = _rising_edges(x > npk)
+    e_lt_neg = _rising_edges(x < neg)
+    e_gt_neg = _rising_edges(x > neg)
+
+    def nxt(edges, k, holds):
+        if holds:
+            return k
+        j = bisect_left(edges, k)
+        return edges[j] if j < len(edges) else n
+
+    def gt_thr(k):
+        return n if k >= n else nxt(e_gt_thr, k, xs[k] > thr)
+
+    def gt_pp(k):
+        return n if k >= n else nxt(e_gt_pp, k, xs[k] > pp)
+
+    def lt_pp(k):
+        return n if k >= n else nxt(e_lt_pp, k, xs[k] < pp)
+
+    def lt_np(k):
+        return n if k >= n else nxt(e_lt_np, k, xs[k] < npk)
+
+    def gt_np(k):
+        return n if k >= n else nxt(e_gt_np, k, xs[k] > npk)
+
+    def lt_neg(k):
+        return n if k >= n else nxt(e_lt_neg, k, xs[k] < neg)
+
+    def gt_neg(k):
+        return n if k >= n else nxt(e_gt_neg, k, xs[k] > neg)
+
     out = []
     s, k = 0, 0  # state s holds from sample k on (k not yet processed)
     t1 = t2 = t4 = t6 = 0
     while k < n:
         if s == 0:
-            k = gt_thr[k]
+            k = gt_thr(k)
             if k >= n:
                 break
             s, t1 = 1, k
             k += 1
             continue
         if s == 6:
-            j7, j4 = gt_thr[k], lt_np[k]
+            j7, j4 = gt_thr(k), lt_np(k)
             dl = max(t6 + end_timeout_samples, k)  # the timeout acts only where no transition does
             j, ends_step = (j7, True) if j7 <= j4 else (j4, False)
             if dl < j:
@@ -245,7 +278,7 @@ def _count_fast(x: np.ndarray, thresholds, max_step_samples: int, end_timeout_sa
                 break
             if ends_step:
                 out.append((t1, t2, t4, j))
-                if x[j] > thr:
+                if xs[j] > thr:
                     s, t1 = 1, j
                 else:
                     s = 0
@@ -255,17 +288,17 @@ def _count_fast(x: np.ndarray, thresholds, max_step_samples: int, end_timeout_sa
             continue
         # states 1..5: the earliest exit, unless the step timeout comes first (it overrides a transition on its sample)
         if s == 1:
-            ja, jb = gt_pp[k], lt_neg[k]
+            ja, jb = gt_pp(k), lt_neg(k)
             j, ns = (ja, 2) if ja <= jb else (jb, 0)
         elif s == 2:
-            j, ns = lt_pp[k], 3
+            j, ns = lt_pp(k), 3
         elif s == 3:
-            ja, jb = gt_pp[k], lt_np[k]
+            ja, jb = gt_pp(k), lt_np(k)
             j, ns = (ja, 2) if ja <= jb else (jb, 4)
         elif s == 4:
-            j, ns = gt_np[k], 5
+            j, ns = gt_np(k), 5
         else:  # s == 5
-            ja, jb = lt_np[k], gt_neg[k]
+            ja, jb = lt_np(k), gt_neg(k)
             j, ns = (ja, 4) if ja <= jb else (jb, 6)
         dl = t1 + max_step_samples
         if dl <= j:

@@ -100,10 +100,13 @@ def test_jump_equals_loop_on_random_signals():
         t = np.arange(4000) / 100
         a = 9.8 + rng.uniform(0.5, 4) * np.sin(2 * np.pi * rng.uniform(1.0, 2.5) * t) + rng.normal(0, rng.uniform(0.05, 1.0), len(t))
         a[rng.integers(0, 4000, 5)] = 10.3  # exact threshold values
-        kw = dict(max_step_samples=200, end_timeout_samples=30)
-        e1, _, _ = selflearn_fsm_run(a, TH, jump=True, **kw)
-        e2, _, _ = selflearn_fsm_run(a, TH, jump=False, **kw)
-        np.testing.assert_array_equal(e1, e2)
+        for kw in (
+            dict(max_step_samples=200, end_timeout_samples=30),
+            dict(max_step_samples=int(rng.integers(5, 60)), end_timeout_samples=int(rng.integers(1, 10))),
+        ):
+            e1, _, _ = selflearn_fsm_run(a, TH, jump=True, **kw)
+            e2, _, _ = selflearn_fsm_run(a, TH, jump=False, **kw)
+            np.testing.assert_array_equal(e1, e2)
 
 
 def test_real_data_and_segments(ifsm_recs):

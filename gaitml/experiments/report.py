@@ -159,6 +159,8 @@ def _report_md(cfg, result: dict, rows: list[dict], points: list[dict]) -> str:
     ]
     for n in result.get("notes", []):
         lines.append(f"- note: {n}")
+    if result.get("skipped_recordings"):
+        lines.append(f"- skipped (shorter than one window): {', '.join(result['skipped_recordings'])}")
     lines += ["", "## Result" + (" (best sweep point: " + ", ".join(f"{k}={x}" for k, x in result["best"].items()) + ")" if cfg.sweep else ""), ""]
     lines.append("| | accuracy | macro-F1 |\n|---|---|---|")
     lines.append(f"| before correction | {result['accuracy_before_correction']:.4f} | {result['macro_f1_before_correction']:.4f} |")

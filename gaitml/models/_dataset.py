@@ -101,6 +101,8 @@ class WindowDataset:
         ``min_label_fraction``); dropped because the label is not in the kept set.
     dropped_labels : dict
         Label -> number of windows dropped because it is not in the kept set.
+    skipped_recordings : list of str
+        Recordings shorter than one window (no windows; reported, not an error).
     """
 
     windows: pd.DataFrame
@@ -116,6 +118,7 @@ class WindowDataset:
     n_dropped_fraction: int = 0
     n_dropped_label: int = 0
     dropped_labels: dict = dataclasses.field(default_factory=dict)
+    skipped_recordings: list = dataclasses.field(default_factory=list)
 
     def __len__(self) -> int:
         return len(self.windows)
@@ -194,11 +197,15 @@ def build_window_dataset(
     tables, feats, raws, names = [], [], [], []
     n_total = n_frac = n_lab = 0
     dropped: dict[str, int] = {}
+    skipped: list[str] = []
     keep = None if not keep_labels else {str(x) for x in keep_labels}
     for i, (rec, grp) in enumerate(zip(recordings, groups, strict=True)):
         if rec.labels is None:
             raise InputError(f"recording {rec.name!r} has no labels; give per-sample labels or a label column in the manifest/meta.")
         names.append(rec.name)
+        if rec.n_samples < int(round(length_s * rec.sampling_rate_hz)):
+            skipped.append(rec.name)  # shorter than one window: nothing to classify
+            continue
         w = make_windows(rec, length_s, overlap, min_label_fraction=min_label_fraction)
         n_total += int(w.attrs.get("n_total", len(w)))
         n_frac += int(w.attrs.get("n_dropped", 0))
@@ -233,5 +240,5 @@ def build_window_dataset(
     return WindowDataset(
         windows=windows, features=features, raw=raw, recording_names=names, sampling_rate_hz=fs, length_s=float(length_s),
         overlap=float(overlap), feature_set=feature_set, raw_channels=tuple(channels), n_total=n_total, n_dropped_fraction=n_frac,
-        n_dropped_label=n_lab, dropped_labels=dropped,
+        n_dropped_label=n_lab, dropped_labels=dropped, skipped_recordings=skipped,
     )

@@ -210,3 +210,18 @@ def test_predict_recording_resamples_and_corrects(saved):
     assert np.mean(out100["mode"].to_numpy()[:n] == out["mode"].to_numpy()[:n]) > 0.9
     with pytest.raises(InputError, match="too short"):
         predict_recording(model, rec.slice(0, 40))
+
+
+def test_dataset_skips_recordings_shorter_than_a_window_and_counts_drops():
+    recs = synth_set(2, seconds_per_mode=6.0)
+    short = recs[0].slice(0, 30)
+    ds = build_window_dataset([*recs, short], groups=["a", "b", "c"], length_s=1.5, overlap=0.5, keep_labels=["walk", "run"], need_raw=True)
+    assert ds.skipped_recordings == [short.name]
+    assert set(ds.y) == {"walk", "run"} and ds.dropped_labels.get("side_left", 0) > 0
+    assert ds.n_dropped_label == sum(ds.dropped_labels.values())
+    assert len(ds) == len(ds.features) == len(ds.raw)
+    assert ds.raw.shape[1:] == (75, 4)
+    # raw channel 3 is |acc| - g of the window's samples
+    w0 = ds.windows.iloc[0]
+    r0 = recs[int(w0["recording"])]
+    np.testing.assert_allclose(ds.raw[0, :, 3], np.linalg.norm(r0.acc[w0["start"]:w0["end"]], axis=1) - 9.80665)

@@ -34,8 +34,9 @@ __all__ = ["ADFSMStepDetector", "adfsm_steps", "adfsm_steps_loop"]
 MIN_RISES = 5
 #: our choice: falling differences that make a trough a step (50 Hz samples)
 MIN_FALLS = 5
-#: our choice: |difference| below this is "flat" (neither counts nor breaks a run), m/s^2
-FLAT_DIFF_MS2 = 0.0
+#: |difference| up to this is "flat" (neither counts nor breaks a run), m/s^2: we reuse paper 000's
+#: Table 1 A_diff = 0.04 so sensor noise of a phone at rest does not count as steps
+FLAT_DIFF_MS2 = 0.04
 #: paper 000 sec. 2.1 preprocessing: 5-sample moving average at 50 Hz
 SMOOTHING_SAMPLES = 5
 DESIGN_RATE_HZ = 50.0
@@ -138,8 +139,9 @@ class ADFSMStepDetector:
     min_rises, min_falls : int, default 5 / 5
         Difference counts (samples at 50 Hz) that confirm a climb and a descent.
         Our values: paper 000 does not print those of ref. [24].
-    flat_diff_ms2 : float, default 0.0
-        Differences with ``|d|`` up to this are flat.
+    flat_diff_ms2 : float, default 0.04
+        Differences with ``|d|`` up to this are flat (paper 000 Table 1's A_diff,
+        reused here so a phone at rest does not count steps).
     smoothing_samples : int, default 5
         Moving average at 50 Hz (paper 000 sec. 2.1).
 

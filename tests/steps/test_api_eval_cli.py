@@ -41,7 +41,7 @@ def test_zupt_magnitude_lazy():
 
 @pytest.mark.parametrize("name", OWN)
 def test_detector_api(name):
-    rec = synthetic_walk(n_steps=30, fs=50.0, noise_ms2=0.0 if name == "adfsm" else 0.05)  # AD-FSM has no amplitude gate
+    rec = synthetic_walk(n_steps=30, fs=50.0)
     det = get_detector(name)
     assert det.detect(rec) is det
     st = det.steps_
@@ -51,6 +51,13 @@ def test_detector_api(name):
     assert (st["start"] <= st["end"]).all() and (st["end"] <= rec.n_samples).all()
     assert abs(len(st) - 30) <= 2, name
     pd.testing.assert_frame_equal(detect_steps(rec, name), st)
+
+
+@pytest.mark.parametrize("name", OWN)
+def test_phone_at_rest_has_no_steps(name):
+    rng = np.random.default_rng(0)
+    rec = Recording.from_arrays(np.tile([0.0, 0.0, 9.80665], (1500, 1)) + rng.normal(0, 0.02, (1500, 3)), 50.0)
+    assert len(get_detector(name).detect(rec).steps_) == 0
 
 
 @pytest.mark.parametrize("name", OWN)

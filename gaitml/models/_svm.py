@@ -190,7 +190,8 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
     def predict(self, X) -> np.ndarray:
         """Class label of every row by one-vs-one voting."""
         d = self.decision_function(X)
-        first, second = self.vote_matrices_
+        mats = getattr(self, "vote_matrices_", None)
+        first, second = mats if mats is not None else _vote_matrices(self.pairs_, len(self.classes_))
         return self.classes_[_vote(d, first, second)]
 
 

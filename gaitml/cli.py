@@ -116,7 +116,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--modes", choices=("model", "true", "forward"), help="motion modes per step (default: model with --model, else the labels, else forward)")
     p.add_argument("--detector", choices=STEP_DETECTORS, default="single-peak", help="step detector (default single-peak)")
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
-    p.add_argument("--initial-heading-rad", type=float, default=0.0, help="compass heading at the start (default 0 = north)")
+    p.add_argument("--initial-heading-rad", type=float, default=None, help="compass heading at the start (default: the reference trajectory's when the input has one, else 0 = north)")
     _input_options(p)
 
     p = sub.add_parser("demo", help="the main job end to end on simulated data")

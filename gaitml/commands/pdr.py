@@ -31,6 +31,16 @@ def run(args) -> int:
     step_length = StepLengthModel.load(args.step_length) if getattr(args, "step_length", None) else None
     if step_length is None:
         log("note: step lengths from the uncalibrated default model (pass --step-length FILE.json for a calibrated one).")
+    h0 = getattr(args, "initial_heading_rad", None)
+    truth = rec.reference.get("trajectory")
+    if h0 is None:
+        if truth is not None and len(truth) and "heading_rad" in truth:
+            h0 = float(truth["heading_rad"].iloc[0])
+            log(
+                f"note: start heading {h0:.3f} rad taken from the input's reference trajectory (no compass; pass --initial-heading-rad to override)."
+            )
+        else:
+            h0 = 0.0
     res = run_pdr(
         rec,
         model=model,
@@ -38,13 +48,12 @@ def run(args) -> int:
         heading=getattr(args, "heading", "hde"),
         modes=modes,
         step_length=step_length,
-        initial_heading_rad=getattr(args, "initial_heading_rad", 0.0) or 0.0,
+        initial_heading_rad=h0,
     )
     for note in res.info["notes"]:
         log(f"note: {note}")
     if args.out:
         write_csv(args.out, res.trajectory)
-    truth = rec.reference.get("trajectory")
     if args.plot:
         from gaitml.pdr.plot import plot_trajectory
 

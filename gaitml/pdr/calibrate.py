@@ -106,4 +106,3 @@ def calibrate_walk_distance(
         raise InputError("no steps detected in the calibration walk; check the recording and the detector.")
     feats = step_length_features(recording.acc, steps, recording.sampling_rate_hz)
     return (model or StepLengthModel()).calibrate(feats, np.full(len(steps), mode), distance_m)
-

@@ -70,7 +70,7 @@ class PdrResult:
         traj = self.trajectory
         rows = [
             {"t_s": float(t), "x_m": float(x), "y_m": float(y), "heading_rad": float(h), "mode": str(m)}
-            for t, x, y, h, m in zip(traj["t_s"], traj["x_m"], traj["y_m"], traj["heading_rad"], traj["mode"])
+            for t, x, y, h, m in zip(traj["t_s"], traj["x_m"], traj["y_m"], traj["heading_rad"], traj["mode"], strict=True)
         ]
         return {
             "n_steps": int(self.n_steps),

@@ -127,13 +127,18 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  {route} seed {seed} done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
     tab = route_table(rows)
     with pd.option_context("display.width", 200, "display.max_columns", 30, "display.float_format", "{:.2f}".format):
-        print("end-point error, % of distance travelled (paper 003: multi-state 1.60 % rectangle / 1.30 % arc; traditional 12.14 % / 15.42 %)")
+        print(
+            "end-point error, % of distance travelled (paper 003: multi-state 1.60 % rectangle / 1.30 % arc; traditional 12.14 % / 15.42 %)"
+        )
         print(tab)
         long = pd.DataFrame([{k: v for k, v in r.items() if k != "result"} for r in rows])
         extra = long.groupby("route")[["distance_true_m", "n_steps", "n_steps_true"]].mean()
         print(extra.round(1))
         if "mode_accuracy" in long:
-            print("per-step mode accuracy of the model:", long.dropna(subset=["mode_accuracy"]).groupby("route")["mode_accuracy"].mean().round(4).to_dict())
+            print(
+                "per-step mode accuracy of the model:",
+                long.dropna(subset=["mode_accuracy"]).groupby("route")["mode_accuracy"].mean().round(4).to_dict(),
+            )
     if args.csv:
         from gaitml.io import write_csv
 

@@ -14,7 +14,7 @@ comes out right (per-subject calibration).
 Defaults when uncalibrated (stated, not from the paper, which gives no values):
 walk ``A = 0.25 m, B = 0.25 m s, C = 0`` (0.70 m at 1.8 steps/s, a typical adult step),
 backward ``A = 0.15, B = 0.15, C = 0`` (0.42 m at 1.8 Hz), side steps ``A = 0.15,
-B = 0.12, C = 0`` (0.37 m at 1.8 Hz), run ``K = 0.45 m (m/s^2)^(-1/4)`` (about 0.95 m for
+B = 0.12, C = 0`` (0.37 m at 1.8 Hz), run ``K = 0.55 m (m/s^2)^(-1/4)`` (about 1.16 m, a jogging step, for
 a 20 m/s^2 magnitude range). They are order-of-magnitude values for an adult; calibrate
 for distances better than ~20 %.
 
@@ -55,7 +55,7 @@ DEFAULT_LINEAR: dict[str, tuple[float, float, float]] = {
     "side_right": (0.15, 0.12, 0.0),
 }
 #: Uncalibrated Weinberg constant for running (m (m/s^2)^-1/4): stated default, see module doc.
-DEFAULT_WEINBERG_K = 0.45
+DEFAULT_WEINBERG_K = 0.55
 #: Modes that use the Weinberg model (paper 003 sec. 4.1).
 WEINBERG_MODES = ("run",)
 FEATURE_COLUMNS = ("freq_hz", "var_ms2sq", "a_max_ms2", "a_min_ms2")
@@ -103,8 +103,8 @@ def step_length_features(acc: np.ndarray, steps: pd.DataFrame, sampling_rate_hz:
     mean = (c1[end] - c1[start]) / np.maximum(cnt, 1)
     var = np.maximum((c2[end] - c2[start]) / np.maximum(cnt, 1) - mean**2, 0.0)
     # a loop over steps (not samples): a few hundred short slices
-    amax = np.array([mag[s:e].max() for s, e in zip(start, end)]) if n else np.zeros(0)
-    amin = np.array([mag[s:e].min() for s, e in zip(start, end)]) if n else np.zeros(0)
+    amax = np.array([mag[s:e].max() for s, e in zip(start, end, strict=True)]) if n else np.zeros(0)
+    amin = np.array([mag[s:e].min() for s, e in zip(start, end, strict=True)]) if n else np.zeros(0)
     period = steps["period_s"].to_numpy(dtype=float)
     with np.errstate(divide="ignore"):
         freq = np.where(period > 0, 1.0 / np.where(period > 0, period, 1.0), np.nan)

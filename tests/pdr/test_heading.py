@@ -116,3 +116,48 @@ def test_gyro_check_fixes_a_flip_and_confirms_a_turn():
     assert fixed.tolist() == [False, False, True, False, True, False]
     avg, _ = dwpca_check_and_average(np.deg2rad([10.0, -10.0, 10.0]), np.zeros(3))
     assert np.allclose(np.degrees(avg), [10.0, 0.0, 0.0], atol=1e-9)
+
+
+def test_drift_rate_fit_recovers_a_constant_gyro_drift_and_hde_then_removes_it():
+    from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate
+
+    n = 400
+    t = np.arange(n) * 0.5
+    truth = np.repeat(np.deg2rad([0.0, 90.0, 180.0, 270.0]), n // 4)
+    drift = 0.02  # rad/s, 1.1 deg/s: an uncalibrated phone gyro
+    raw = wrap_angle(truth + drift * t)
+    assert estimate_drift_rate(raw, t) == pytest.approx(drift, abs=5e-4)
+    h = HeuristicDriftElimination().correct(raw, np.full(n, 0.5), t)
+    assert h.drift_rate_rads_ == pytest.approx(drift, abs=5e-4)
+    assert np.degrees(np.abs(wrap_angle(h.heading_rad_ - truth))).max() < 1.0
+    # the paper's buffered HDE alone cannot follow that drift
+    h0 = HeuristicDriftElimination(drift_rate="none").correct(raw, np.full(n, 0.5), t)
+    assert np.degrees(np.abs(wrap_angle(h0.heading_rad_ - truth))).max() > 10.0
+
+
+def test_dwpca_reanchors_after_consistent_disagreement():
+    # the chain picked up a wrong value (60 deg) while the PCA keeps saying 0 and the gyro no turn
+    pca = np.deg2rad([0.0, 0.0, 60.0, 0.0, 1.0, -1.0, 0.0, 0.0])
+    gyro = np.zeros(8)
+    gyro[2:] = np.deg2rad(60.0)  # a gyro error makes the jump look like a real turn
+    h_paper, _ = dwpca_check_and_average(pca, gyro, average=False, reanchor_steps=0)
+    h, _ = dwpca_check_and_average(pca, gyro, average=False, reanchor_steps=3)
+    assert abs(np.degrees(h_paper[-1])) > 50.0  # Algorithm 3 alone stays wrong
+    assert abs(np.degrees(h[-1])) < 2.0
+
+
+def test_fit_polarity_learns_a_reversed_rule():
+    from gaitml.pdr.dwpca import DwPcaHeading
+
+    n = 25
+    tau = np.arange(n) / n
+    d = np.deg2rad(40.0)
+    walk = 2.0 * np.cos(2 * np.pi * tau)  # convex: the paper's rule holds
+    run = -walk  # concave: the rule flips it
+    a = np.vstack([np.column_stack([x * np.sin(d), x * np.cos(d)]) for x in [walk] * 6 + [run] * 6])
+    start = np.arange(12) * n
+    modes = ["walk"] * 6 + ["run"] * 6
+    dw = DwPcaHeading().fit_polarity(a, start, start + n, np.full(12, d), modes)
+    assert dw.polarity_ == {"walk": 1.0, "run": -1.0}
+    out = dw.estimate(a, start, start + n, np.full(12, d), None, modes)
+    assert np.allclose(wrap_angle(out.motion_rad_ - d), 0.0, atol=1e-6)

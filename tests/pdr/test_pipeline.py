@@ -87,3 +87,19 @@ def test_cli_json_plot_and_out(rec, tmp_path, capsys):
     cap = capsys.readouterr()
     assert "forward" in cap.err and json.loads(cap.out)["n_steps"] == 68
     assert main(["pdr", str(path), "--modes", "model"]) == 2
+
+
+def test_calibration_from_reference_steps_fits_lengths_and_polarity():
+    from gaitml.pdr.calibrate import calibrate_from_reference, calibrate_walk_distance, match_reference_steps
+
+    rec = synth_walk([("walk", 30, np.pi / 2), ("backward", 30, 0.0)], step_length_m=0.62)
+    cal = calibrate_from_reference(rec)
+    assert cal.n_matched == cal.n_detected == 60
+    feats_modes = ["walk"] * 30 + ["backward"] * 30
+    res = run_pdr(rec, modes="true", heading="gyro", step_length=cal.step_length)
+    assert np.allclose(res.steps["step_length_m"], 0.62, atol=1e-6)
+    assert cal.dwpca.polarity_ == {"backward": 1.0, "walk": 1.0}
+    assert res.steps["mode"].tolist() == feats_modes
+    m = calibrate_walk_distance(synth_walk([("walk", 40, 0.0)]), 30.0)
+    assert run_pdr(synth_walk([("walk", 40, 0.0)]), modes="true", heading="gyro", step_length=m).distance_m == pytest.approx(30.0)
+    assert match_reference_steps([0.0, 1.0, 5.0], [0.05, 1.2]).tolist() == [0, -1, -1]

@@ -46,6 +46,7 @@ from gaitml.simulate.route import ROUTES, make_path
 from gaitml.simulate.sensor import (
     ACC_RESOLUTION_MS2,
     GYR_RESOLUTION_RADS,
+    band_noise,
     body_rates,
     smooth_noise,
     specific_force,
@@ -94,6 +95,7 @@ def _pattern(tab: dict, m: np.ndarray, u, phi, du_dt, u0, length_m, asym_amp):
         harmonics=g["harmonics"],
         skew=g["skew"],
         mean=g["vertical_mean"],
+        shoulder=g["shoulder"],
         is_run=g["is_run"] > 0,
         duty=g["duty"],
         flight_unload=g["flight_unload"],
@@ -164,6 +166,17 @@ def synthesize(
     pat *= env
     a_right, a_fwd, a_up, pitch_b, roll_b, yaw_b = pat
 
+    # heel-strike impact: a narrow vertical spike centred on each step event (so the event
+    # stays the peak), its area removed again over the step (no net vertical velocity)
+    t_ev = st["t_s"].to_numpy(float)
+    sig = subject.impact_width_s
+    b_imp = subject.impact_ms2 * tab["impact_scale"][mode_cur] * rng.uniform(0.6, 1.4, len(st))
+    jn = np.clip(np.searchsorted(t_ev, t), 1, len(t_ev) - 1) if len(t_ev) > 1 else np.zeros(n, dtype=int)
+    if len(t_ev) > 1:
+        jn = np.where(np.abs(t - t_ev[jn - 1]) < np.abs(t - t_ev[jn]), jn - 1, jn)
+    a_up = a_up + b_imp[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
+    a_up = a_up - np.where(is_step, b_imp[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
+
     # facing heading and direction of travel: smooth through the step midpoints
     t_mid = 0.5 * (st["t_start_s"].to_numpy(float) + st["t_s"].to_numpy(float))
     theta, theta_rate = _smooth_angle(t_mid, st["heading_rad"].to_numpy(float), t)
@@ -187,6 +200,11 @@ def synthesize(
     yaw_rate = -theta_rate + np.gradient(yaw_extra, dt)
     gyr = body_rates(yaw_rate, pitch, np.gradient(pitch, dt), roll, np.gradient(roll, dt))
     acc = specific_force(acc_nav, yaw, pitch, roll)
+
+    # hand/arm vibration while moving (3-15 Hz), some tremor while standing
+    shake = (0.15 + 0.85 * env) * np.where(moving, tab["jitter_scale"][mode_cur[k]], 1.0)
+    acc = acc + band_noise(rng, n, fs, 3.0, 15.0, 3) * (subject.hand_jitter_ms2 * shake)[:, None]
+    gyr = gyr + band_noise(rng, n, fs, 3.0, 15.0, 3) * (0.1 * subject.hand_jitter_ms2 * shake)[:, None]
 
     # sensor errors
     acc_bias = np.array([subject.acc_bias_x_ms2, subject.acc_bias_y_ms2, subject.acc_bias_z_ms2])

@@ -54,6 +54,12 @@ __all__ = [
 #: Label of pauses (only present when pauses are asked for).
 STAND = "stand"
 
+#: Warped step phase and width of the secondary vertical bump ("shoulder") after the
+#: peak: the real flat-held walks show it about 0.1-0.15 s after the peak (the arm and
+#: phone rebound after the impact, and the push-off of the trailing leg).
+SHOULDER_PHASE = 0.27
+SHOULDER_WIDTH = 0.06
+
 #: Direction of motion relative to the facing heading theta (clockwise compass
 #: convention, DESIGN sec. 4): forward/run along theta, backward theta + pi,
 #: a left side step theta - pi/2, a right side step theta + pi/2.
@@ -76,6 +82,7 @@ class ModeGait:
     vertical_ms2: float  # amplitude of the fundamental (walk-like) or unused (run)
     harmonics: tuple[float, float, float]  # weights of cos(2 pi h w), h = 1, 2, 3
     skew: float  # phase warp w = u + skew sin(2 pi u) / (2 pi)
+    shoulder: float  # secondary vertical bump after the peak, fraction of the amplitude
     is_run: bool
     duty: float  # running: stance fraction
     flight_unload: float  # running: fraction of g unloaded in flight
@@ -89,6 +96,8 @@ class ModeGait:
     roll_bob_rad: float  # phone roll oscillation at half the step frequency
     yaw_bob_rad: float  # trunk/arm yaw oscillation at half the step frequency
     offset_rad: float  # direction of motion relative to the facing heading
+    impact_scale: float  # heel-strike impact spike, relative to the subject's walking spike
+    jitter_scale: float  # hand vibration, relative to walking
 
 
 def check_modes(modes) -> tuple[str, ...]:
@@ -134,29 +143,29 @@ def mode_gait(subject: Subject, mode: str) -> ModeGait:
     if mode == "walk":
         return ModeGait(
             mode, s.walk_cadence_hz, s.walk_step_length_m, s.walk_vertical_ms2,
-            (1.0, s.walk_harmonic2, s.walk_harmonic3), s.walk_skew, False, 0.0, 0.0,
+            (1.0, s.walk_harmonic2, s.walk_harmonic3), s.walk_skew, s.walk_shoulder, False, 0.0, 0.0,
             s.walk_speed_fluctuation, 0.0, 0.02, 0.1,
-            s.sway_ms2, s.sway_harmonic3, 0.025, 0.02, 0.03, MODE_OFFSET_RAD[mode],
+            s.sway_ms2, s.sway_harmonic3, 0.025, 0.02, 0.03, MODE_OFFSET_RAD[mode], 1.0, 1.0,
         )  # fmt: skip
     if mode == "run":
         return ModeGait(
-            mode, s.run_cadence_hz, s.run_step_length_m, 0.0, (1.0, 0.0, 0.0), 0.0, True,
+            mode, s.run_cadence_hz, s.run_step_length_m, 0.0, (1.0, 0.0, 0.0), 0.0, 0.0, True,
             s.run_duty, s.run_flight_unload, 0.12, 0.5, 0.03, 0.1,
-            1.6 * s.sway_ms2, s.sway_harmonic3, 0.05, 0.035, 0.05, MODE_OFFSET_RAD[mode],
+            1.6 * s.sway_ms2, s.sway_harmonic3, 0.05, 0.035, 0.05, MODE_OFFSET_RAD[mode], 1.6, 1.6,
         )  # fmt: skip
     if mode in ("side_left", "side_right"):
         return ModeGait(
             mode, s.side_cadence_hz, s.side_step_length_m, s.side_vertical_ms2,
-            (1.0, 0.45, 0.2), -0.1, False, 0.0, 0.0,
+            (1.0, 0.45, 0.2), -0.1, 0.0, False, 0.0, 0.0,
             s.side_push, 0.25, 0.05, 0.05,
-            0.0, 0.0, 0.02, 0.03, 0.015, MODE_OFFSET_RAD[mode],
+            0.0, 0.0, 0.02, 0.03, 0.015, MODE_OFFSET_RAD[mode], 0.8, 1.0,
         )  # fmt: skip
     if mode == "backward":
         return ModeGait(
             mode, s.back_cadence_hz, s.back_step_length_m, s.back_vertical_ms2,
-            (1.0, 0.1, 0.02), 0.05, False, 0.0, 0.0,
+            (1.0, 0.1, 0.02), 0.05, 0.5 * s.walk_shoulder, False, 0.0, 0.0,
             1.3 * s.walk_speed_fluctuation, 0.0, 0.03, 0.15,
-            0.8 * s.sway_ms2, s.sway_harmonic3, 0.02, 0.02, 0.025, MODE_OFFSET_RAD[mode],
+            0.8 * s.sway_ms2, s.sway_harmonic3, 0.02, 0.02, 0.025, MODE_OFFSET_RAD[mode], 0.5, 0.9,
         )  # fmt: skip
     raise InputError(f"unknown motion mode {mode!r}; choose from {', '.join(MOTION_MODES)}.")
 
@@ -172,7 +181,7 @@ def gait_table(subject: Subject, modes=MOTION_MODES) -> dict[str, np.ndarray]:
             out["harmonics"] = np.array([g.harmonics for g in gaits], dtype=float)
         else:
             out[f.name] = np.array([getattr(g, f.name) for g in gaits], dtype=float)
-    out["vertical_mean"] = np.array([_vertical_mean(g.harmonics, g.skew) for g in gaits])
+    out["vertical_mean"] = np.array([_vertical_mean(g.harmonics, g.skew, g.shoulder) for g in gaits])
     return out
 
 
@@ -180,10 +189,16 @@ def _warp(u: np.ndarray, skew) -> np.ndarray:
     return u + skew * np.sin(2 * np.pi * u) / (2 * np.pi)
 
 
-def _vertical_mean(harmonics, skew, n: int = 512) -> float:
+def _shoulder(w, shoulder):
+    d = (w - SHOULDER_PHASE + 0.5) % 1.0 - 0.5
+    return shoulder * np.exp(-0.5 * (d / SHOULDER_WIDTH) ** 2)
+
+
+def _vertical_mean(harmonics, skew, shoulder=0.0, n: int = 1024) -> float:
     u = (np.arange(n) + 0.5) / n
     w = _warp(u, skew)
-    return float(np.mean(sum(c * np.cos(2 * np.pi * (h + 1) * w) for h, c in enumerate(harmonics))))
+    base = sum(c * np.cos(2 * np.pi * (h + 1) * w) for h, c in enumerate(harmonics))
+    return float(np.mean(base + _shoulder(w, shoulder)))
 
 
 def vertical_waveform(
@@ -193,14 +208,16 @@ def vertical_waveform(
     harmonics: np.ndarray,
     skew: np.ndarray,
     mean: np.ndarray,
+    shoulder: np.ndarray = 0.0,
     is_run: np.ndarray,
     duty: np.ndarray,
     flight_unload: np.ndarray,
 ) -> np.ndarray:
     """Vertical body acceleration (m/s^2, gravity excluded) at step phase ``u``.
 
-    Walk-like modes: ``A (sum_h c_h cos(2 pi h w(u)) - mean)``, maximal at
-    ``u = 0``. Running: a raised-cosine stance pulse of width ``duty``
+    Walk-like modes: ``A (sum_h c_h cos(2 pi h w(u)) + shoulder bump - mean)``,
+    maximal at ``u = 0`` (the bump near ``w = 0.27`` is far narrower than the
+    distance to the peak and lower than the peak). Running: a raised-cosine stance pulse of width ``duty``
     centred on ``u = 0`` and height ``2 k g / duty`` minus ``k g`` (``k`` =
     ``flight_unload``), zero mean over the step. All arguments broadcast
     (``harmonics`` has a trailing axis of 3).
@@ -210,6 +227,7 @@ def vertical_waveform(
         harmonics[..., 0] * np.cos(2 * np.pi * w)
         + harmonics[..., 1] * np.cos(4 * np.pi * w)
         + harmonics[..., 2] * np.cos(6 * np.pi * w)
+        + _shoulder(w, shoulder)
         - mean
     )
     d = np.minimum(u % 1.0, 1.0 - (u % 1.0))  # distance to the step event in phase

@@ -35,7 +35,7 @@ from gaitml.consts import GRAVITY_MS2
 from gaitml.recording import Recording
 from gaitml.signal import moving_average
 
-__all__ = ["gait_statistics", "count_peaks", "real_statistics", "realism_table", "reference_walk", "REAL_FILES", "main"]
+__all__ = ["gait_statistics", "count_peaks", "real_statistics", "realism_table", "reference_walk", "plot_comparison", "REAL_FILES", "main"]
 
 #: The real flat-held walks (paper 000 data) below the shared data folder.
 REAL_FILES = ("ifsm-flat-phone/acceleration_flat_holding_1.xlsx", "ifsm-flat-phone/acceleration_flat_holding_2.xlsx")
@@ -126,9 +126,59 @@ def realism_table(shared_data: str | Path, *, simulated: Recording | None = None
     return pd.DataFrame(rows).set_index("statistic")
 
 
+def plot_comparison(shared_data: str | Path, path: str | Path, *, seconds: float = 6.0, start_s: float = 20.0) -> Path:
+    """PNG of ``|acc|`` (raw and N = 5 smoothed) of real 1, real 2 and the simulated walk, same scale.
+
+    The simulated panel marks the true step events (``reference['steps_t_s']``).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gaitml.io import atomic_path, read_recording
+
+    recs = [read_recording(Path(shared_data) / f) for f in REAL_FILES] + [reference_walk()]
+    names = ["real 1 (ifsm file 1)", "real 2 (ifsm file 2)", "simulated (default subject, flat)"]
+    fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True, sharey=True)
+    for ax, rec, name in zip(axes, recs, names, strict=True):
+        a, b = int(start_s * rec.sampling_rate_hz), int((start_s + seconds) * rec.sampling_rate_hz)
+        t = rec.t_s[a:b] - start_s
+        mag = np.linalg.norm(rec.acc, axis=1)
+        ax.plot(t, mag[a:b], lw=0.8, color="0.6", label="|acc|")
+        ax.plot(t, moving_average(mag, SMOOTH_N)[a:b], lw=1.4, label="smoothed N=5")
+        if "steps_t_s" in rec.reference:
+            ts = rec.reference["steps_t_s"]
+            ts = ts[(ts >= start_s) & (ts < start_s + seconds)] - start_s
+            ax.vlines(ts, 3, 20, colors="C3", lw=0.8, linestyles=":", label="true step")
+        ax.set_title(name, fontsize=10)
+        ax.set_ylabel("m/s$^2$")
+        ax.axhline(GRAVITY_MS2, color="k", lw=0.5)
+    axes[0].legend(loc="upper right", fontsize=8)
+    axes[-1].set_xlabel("s")
+    fig.tight_layout()
+    out = Path(path)
+    with atomic_path(out, suffix=".png") as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Print the realism table; the argument is the shared data folder (default ../shared/data)."""
-    argv = sys.argv[1:] if argv is None else argv
+    """Print the realism table.
+
+    Usage: ``python -m gaitml.simulate.realism [SHARED_DATA] [--plot PNG]``
+    (SHARED_DATA defaults to ../shared/data beside the repository).
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    plot = None
+    if "--plot" in argv:
+        i = argv.index("--plot")
+        if i + 1 >= len(argv):
+            print("--plot needs a PNG path.", file=sys.stderr)
+            return 2
+        plot = argv[i + 1]
+        del argv[i : i + 2]
     root = Path(argv[0]) if argv else Path(__file__).resolve().parents[2].parent / "shared" / "data"
     if not (root / REAL_FILES[0]).exists():
         print(f"real data not found below {root}; pass the shared data folder as the argument.", file=sys.stderr)
@@ -136,6 +186,8 @@ def main(argv: list[str] | None = None) -> int:
     tab = realism_table(root)
     with pd.option_context("display.float_format", "{:.3f}".format, "display.width", 120):
         print(tab.to_string())
+    if plot:
+        print(f"figure: {plot_comparison(root, plot)}", file=sys.stderr)
     return 0 if tab["inside"].all() else 1
 
 

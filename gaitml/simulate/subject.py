@@ -56,16 +56,20 @@ class Subject:
     # walking
     walk_cadence_hz: float = 1.94
     walk_step_length_m: float = 0.70
-    walk_vertical_ms2: float = 4.0  # amplitude of the step-frequency fundamental
+    walk_vertical_ms2: float = 3.7  # amplitude of the step-frequency fundamental
     walk_harmonic2: float = 0.15  # 2nd / 1st harmonic of vertical acceleration
     walk_harmonic3: float = 0.05  # 3rd / 1st harmonic
     walk_skew: float = -0.15  # phase warp: < 0 makes the rise to heel strike steeper than the fall
+    walk_shoulder: float = 0.4  # secondary vertical bump after heel strike, fraction of the amplitude
     walk_speed_fluctuation: float = 0.10  # +/- fraction of the mean forward speed within a step
     sway_ms2: float = 0.9  # lateral sway amplitude at half the step frequency
     sway_harmonic3: float = 0.35
     asymmetry_time: float = 0.02  # step duration L/R difference: (1 +/- a)
     asymmetry_amp: float = 0.03  # vertical peak L/R difference: (1 +/- a)
     step_jitter: float = 0.03  # coefficient of variation of step duration and length
+    impact_ms2: float = 3.0  # height of the heel-strike impact spike (vertical, raw signal)
+    impact_width_s: float = 0.014  # its Gaussian width (sigma)
+    hand_jitter_ms2: float = 0.45  # std of the 3-15 Hz hand/arm vibration while moving, per axis
     # running
     run_cadence_hz: float = 2.8
     run_step_length_m: float = 1.15
@@ -135,16 +139,20 @@ class Subject:
             height_m=round(height, 3),
             walk_cadence_hz=cad,
             walk_step_length_m=step_len,
-            walk_vertical_ms2=u(3.2, 5.2),
+            walk_vertical_ms2=u(3.0, 4.8),
             walk_harmonic2=u(0.05, 0.25),
             walk_harmonic3=u(0.0, 0.10),
             walk_skew=u(-0.30, 0.05),
+            walk_shoulder=u(0.15, 0.55),
             walk_speed_fluctuation=u(0.06, 0.14),
             sway_ms2=u(0.6, 1.3),
             sway_harmonic3=u(0.2, 0.5),
             asymmetry_time=u(0.0, 0.04),
             asymmetry_amp=u(0.0, 0.06),
             step_jitter=u(0.02, 0.045),
+            impact_ms2=u(1.5, 5.0),
+            impact_width_s=u(0.010, 0.020),
+            hand_jitter_ms2=u(0.25, 0.65),
             run_cadence_hz=u(2.5, 3.1),
             run_step_length_m=0.68 * height * u(0.92, 1.12),
             run_duty=u(0.40, 0.50),

@@ -122,6 +122,7 @@ def test_vertical_waveform_has_zero_mean_and_displacement_is_one_step():
             harmonics=tab["harmonics"][i],
             skew=tab["skew"][i],
             mean=tab["vertical_mean"][i],
+            shoulder=tab["shoulder"][i],
             is_run=tab["is_run"][i] > 0,
             duty=tab["duty"][i],
             flight_unload=tab["flight_unload"][i],

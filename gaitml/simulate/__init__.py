@@ -65,7 +65,12 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
      walking along ``theta + pi``, so on the body's forward axis the
      braking/push pattern is reversed.
 
-   The first step of a new mode blends the old and new pattern linearly in
+   On top of the smooth pattern: a narrow heel-strike impact spike (Gaussian,
+   sigma 10-20 ms, 1.5-5 m/s^2, random per step; larger when running, smaller
+   for backward toe landings) centred on the step event, and for walking a
+   secondary "shoulder" bump about 0.1-0.15 s after the peak (the arm and
+   phone rebound and the trailing leg's push-off), both seen in the real
+   flat-held walks. The first step of a new mode blends the old and new pattern linearly in
    phase; a walking bout starts from rest (amplitude ramp over the first half
    step) and ends with a half-step settling ramp. Turning adds the
    centripetal acceleration ``v psi'`` towards the inside of the turn.
@@ -74,7 +79,9 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    frequency, roll and yaw at half of it) and a smooth random wander; the
    accelerometer gives ``R^T (a + g z)``, the gyroscope ``R^T R'`` from the
    same angles (so a right turn reads a negative z rate when the phone is
-   flat); bias, white noise, rounding to 1e-4 m/s^2 and 1e-5 rad/s;
+   flat); hand/arm vibration (3-15 Hz band noise, 0.25-0.65 m/s^2 per axis
+   while moving, 15 % of it while standing), bias, white noise, rounding to
+   1e-4 m/s^2 and 1e-5 rad/s;
    sampling rate 20-500 Hz (phones: 50-200 Hz).
 
 The true step event

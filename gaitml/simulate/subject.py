@@ -13,7 +13,8 @@ Ranges (the sources of the numbers):
   adult gait (the two real flat-held walkers of ``ifsm-flat-phone`` have
   1.90 and 1.97 steps/s; Table 3 of paper 000 lists 0.50-0.64 s step
   durations);
-- vertical acceleration amplitude 3.2-5.2 m/s^2 at the hand: the real
+- vertical acceleration amplitude 3.0-4.8 m/s^2 at the hand (plus the
+  impact spike of 1.5-5 m/s^2 and the post-peak shoulder): the real
   flat-held walks have per-step magnitude peaks of 13.7-14.8 m/s^2 and
   troughs of 5.7-6.8 m/s^2 (smoothed with N = 5), i.e. about +/-4 m/s^2
   around g;
@@ -23,6 +24,8 @@ Ranges (the sources of the numbers):
   steps/s of 0.38-0.55 m (backward gait is slower with shorter steps);
 - phone pitch 3-12 deg when "flat" (the real files show about 8 deg: mean
   acc_y 1.4 m/s^2), 30-50 deg when "tilted" (reading posture);
+- hand vibration 0.25-0.65 m/s^2 per axis in 3-15 Hz (the real files have
+  0.45-0.49 m/s^2 on x and y above their N = 5 moving average);
 - accelerometer noise 0.03-0.10 m/s^2, bias up to 0.12 m/s^2 per axis;
   gyroscope noise 0.002-0.008 rad/s, bias up to 0.015 rad/s per axis
   (consumer MEMS IMUs after factory calibration).

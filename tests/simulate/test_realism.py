@@ -45,3 +45,12 @@ def test_variation_across_subjects_spans_the_real_walkers(real_stats):
     # and stays human: every simulated walker in a plausible band
     assert all(1.6 < s["cadence_hz"] < 2.3 for s in sims)
     assert all(9.5 < s["mag_mean_ms2"] < 10.2 for s in sims)
+
+
+def test_realism_main_prints_the_table(capsys):
+    from gaitml.simulate.realism import main
+
+    rc = main([str(shared())])
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "real_1" in out and "simulated" in out and "cadence_hz" in out

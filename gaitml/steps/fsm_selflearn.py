@@ -48,6 +48,8 @@ ALPHA = 0.9
 BETA = 1.3
 #: paper 002 sec. 2.3: thresholds are stable after about 15 steps
 LEARN_STEPS = 15
+#: ours: the learning phase looks at most at the first 60 s (paper 002: about 10 s / 15 steps suffice)
+LEARN_MAX_S = 60.0
 #: ours: a step (S1..S5) longer than this is noise: back to S0 without counting
 MAX_STEP_S = 2.0
 #: ours: S6 ends the step when the next climb does not come within this time (the walker stopped)
@@ -221,55 +223,31 @@ def _count_fast(x: np.ndarray, thresholds, max_step_samples: int, end_timeout_sa
     """
     thr, pp, npk, neg = thresholds
     n = len(x)
-    xs = x.tolist()
-    e_gt_thr = _rising_edges(x > thr)
-    e_gt_pp = _rising_edges(x > pp)
-    e_lt_pp = _rising_edges(x < pp)
-    e_lt_np = _rising_edges(x < npk)
-    e_gt_np = _rising_edges(x > npk)
-    e_lt_neg = _rising_edges(x < neg)
-    e_gt_neg = _rising_edges(x > neg)
 
-    def nxt(edges, k, holds):
-        if holds:
-            return k
-        j = bisect_left(edges, k)
-        return edges[j] if j < len(edges) else n
+    def edges(mask):
+        e = _rising_edges(mask)
+        e.append(n)  # sentinel: "never"
+        return e
 
-    def gt_thr(k):
-        return n if k >= n else nxt(e_gt_thr, k, xs[k] > thr)
-
-    def gt_pp(k):
-        return n if k >= n else nxt(e_gt_pp, k, xs[k] > pp)
-
-    def lt_pp(k):
-        return n if k >= n else nxt(e_lt_pp, k, xs[k] < pp)
-
-    def lt_np(k):
-        return n if k >= n else nxt(e_lt_np, k, xs[k] < npk)
-
-    def gt_np(k):
-        return n if k >= n else nxt(e_gt_np, k, xs[k] > npk)
-
-    def lt_neg(k):
-        return n if k >= n else nxt(e_lt_neg, k, xs[k] < neg)
-
-    def gt_neg(k):
-        return n if k >= n else nxt(e_gt_neg, k, xs[k] > neg)
-
+    e_gt_thr, e_gt_pp, e_lt_pp = edges(x > thr), edges(x > pp), edges(x < pp)
+    e_lt_np, e_gt_np = edges(x < npk), edges(x > npk)
+    e_lt_neg, e_gt_neg = edges(x < neg), edges(x > neg)
+    bl = bisect_left
     out = []
     s, k = 0, 0  # state s holds from sample k on (k not yet processed)
     t1 = t2 = t4 = t6 = 0
     while k < n:
+        v = x[k]
         if s == 0:
-            k = gt_thr(k)
+            k = k if v > thr else e_gt_thr[bl(e_gt_thr, k)]
             if k >= n:
                 break
             s, t1 = 1, k
             k += 1
             continue
         if s == 6:
-            j7, j4 = gt_thr(k), lt_np(k)
+            j7 = k if v > thr else e_gt_thr[bl(e_gt_thr, k)]
+            j4 = k if v < npk else e_lt_np[bl(e_lt_np, k)]
             dl = max(t6 + end_timeout_samples, k)  # the timeout acts only where no transition does
             j, ends_step = (j7, True) if j7 <= j4 else (j4, False)
             if dl < j:
@@ -278,7 +256,7 @@ def _count_fast(x: np.ndarray, thresholds, max_step_samples: int, end_timeout_sa
                 break
             if ends_step:
                 out.append((t1, t2, t4, j))
-                if xs[j] > thr:
+                if x[j] > thr:
                     s, t1 = 1, j
                 else:
                     s = 0
@@ -288,17 +266,20 @@ def _count_fast(x: np.ndarray, thresholds, max_step_samples: int, end_timeout_sa
             continue
         # states 1..5: the earliest exit, unless the step timeout comes first (it overrides a transition on its sample)
         if s == 1:
-            ja, jb = gt_pp(k), lt_neg(k)
+            ja = k if v > pp else e_gt_pp[bl(e_gt_pp, k)]
+            jb = k if v < neg else e_lt_neg[bl(e_lt_neg, k)]
             j, ns = (ja, 2) if ja <= jb else (jb, 0)
         elif s == 2:
-            j, ns = lt_pp(k), 3
+            j, ns = (k if v < pp else e_lt_pp[bl(e_lt_pp, k)]), 3
         elif s == 3:
-            ja, jb = gt_pp(k), lt_np(k)
+            ja = k if v > pp else e_gt_pp[bl(e_gt_pp, k)]
+            jb = k if v < npk else e_lt_np[bl(e_lt_np, k)]
             j, ns = (ja, 2) if ja <= jb else (jb, 4)
         elif s == 4:
-            j, ns = gt_np(k), 5
+            j, ns = (k if v > npk else e_gt_np[bl(e_gt_np, k)]), 5
         else:  # s == 5
-            ja, jb = lt_np(k), gt_neg(k)
+            ja = k if v < npk else e_lt_np[bl(e_lt_np, k)]
+            jb = k if v > neg else e_gt_neg[bl(e_gt_neg, k)]
             j, ns = (ja, 4) if ja <= jb else (jb, 6)
         dl = t1 + max_step_samples
         if dl <= j:
@@ -375,8 +356,9 @@ class SelfLearningFSMStepDetector:
     a step not completed within ``max_step_s`` of its S1 entry is noise (back to
     S0), and S6 also ends the step after ``end_timeout_s`` without a new climb
     (the last step before standing still). The learning phase runs the machine
-    on the start of the recording until ``learn_steps`` steps were learned;
-    then the whole recording is counted with the learned thresholds (offline
+    on the start of the recording until ``learn_steps`` steps were learned (it
+    looks at most at the first 60 s; fewer steps there leave the thresholds
+    learned so far); then the whole recording is counted with the learned thresholds (offline
     reading of sec. 2.4: steps during the learning phase are counted too).
 
     References
@@ -426,7 +408,8 @@ class SelfLearningFSMStepDetector:
         th0 = (float(self.thr_ms2), float(self.thr_peak_ms2), float(self.thr_trough_ms2), float(self.thr_neg_ms2))
         kw = dict(max_step_samples=max_step, end_timeout_samples=timeout)
         if self.learn_steps > 0:
-            th, hist = learn_thresholds(a, th0, alpha=float(self.alpha), beta=float(self.beta), learn_steps=int(self.learn_steps), **kw)
+            head = a[: int(LEARN_MAX_S * fs)]
+            th, hist = learn_thresholds(head, th0, alpha=float(self.alpha), beta=float(self.beta), learn_steps=int(self.learn_steps), **kw)
         else:
             th, hist = th0, []
         ev, _, _ = selflearn_fsm_run(a, th, **kw)

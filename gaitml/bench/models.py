@@ -86,10 +86,10 @@ def run(quick: bool = False) -> list[dict]:
 
     from gaitml.models import LinearOVOSVM
 
-    recs, X, y = _features(2 if quick else 8, 120.0 if quick else 300.0)
+    recs, X, y = _features(2 if quick else 8, 60.0 if quick else 300.0)
     out = []
-    sizes = [3_000] if quick else [20_000, 100_000]
-    ref_n = 3_000 if quick else 20_000
+    sizes = [2_000] if quick else [20_000, 100_000]
+    ref_n = 2_000 if quick else 20_000
     for n in sizes:
         Xn, yn = _bootstrap(X, y, n)
         t = _time(lambda Xn=Xn, yn=yn: LinearOVOSVM().fit(Xn, yn))

@@ -197,3 +197,33 @@ def test_peak_counting_other_poses_and_rates(pose, fs):
             n_true = rec.reference["n_steps_true"]
             assert abs(len(count_peaks(rec)) - n_true) <= 0.02 * n_true
     assert s.pose == pose
+
+
+def test_left_right_asymmetry():
+    asym = dataclasses.replace(LEVEL, asymmetry_time=0.06, asymmetry_amp=0.12, impact_ms2=0.5, hand_jitter_ms2=0.05)
+    rec = _single("walk", subject=asym, duration_s=60.0)
+    steps = rec.reference["steps"]
+    dur = (steps["t_s"] - steps["t_start_s"]).to_numpy()[1:]
+    foot = steps["foot"].to_numpy()[1:]
+    assert dur[foot == "left"].mean() > 1.08 * dur[foot == "right"].mean()
+    idx = np.round(steps["t_s"].to_numpy() * rec.sampling_rate_hz).astype(int)[1:-1]
+    peak = rec.acc[np.clip(idx, 0, rec.n_samples - 1), 2]
+    f = steps["foot"].to_numpy()[1:-1]
+    assert peak[f == "left"].mean() > peak[f == "right"].mean() + 0.5
+    sym = _single("walk", subject=dataclasses.replace(asym, asymmetry_time=0.0, asymmetry_amp=0.0), duration_s=60.0)
+    s2 = sym.reference["steps"]
+    d2 = (s2["t_s"] - s2["t_start_s"]).to_numpy()[1:]
+    f2 = s2["foot"].to_numpy()[1:]
+    assert abs(d2[f2 == "left"].mean() / d2[f2 == "right"].mean() - 1) < 0.03
+
+
+def test_orientation_wander_is_slow_and_sized():
+    from gaitml.signal import moving_average
+
+    for wander in (0.02, 0.06):
+        subj = dataclasses.replace(Subject(), wander_rad=wander, wander_time_s=4.0)
+        rec = _single("walk", subject=subj, duration_s=120.0, seed=3)
+        g = np.column_stack([moving_average(rec.acc[:, j], 100) for j in range(3)])[100:-100]
+        pitch = np.arctan2(g[:, 1], g[:, 2])
+        assert 0.4 * wander < pitch.std() < 1.6 * wander + 0.01
+        assert abs(pitch.mean() - subj.pitch_rad) < 3 * wander

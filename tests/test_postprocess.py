@@ -44,11 +44,9 @@ def test_rule1_precedes_rule2_consistency():
 
 
 def test_feedback_uses_corrected_history():
-    # raw A B A C A: window 1 (B) becomes A by rule 2; deciding window 3 (C) then sees
-    # corrected W1 = A (raw B), W2 = A, W4 = A -> rule 2 -> A. With raw history W1 = B:
-    # rule 1 fails, rule 2 still fires. Use a case where only the corrected history fires rule 1:
-    # raw A B A C D: window 1 -> A (rule 2). Window 3: W1 = A (corrected; raw B), W2 = A, W3 = C, W4 = D
-    # -> rule 1 with corrected history (W1 == W2); with raw history W1 = B != W2 -> unchanged.
+    """W1, W2 are the corrected labels. Raw A B A C D: window 1 (B) -> A by rule 2; for window 3 (C)
+    the corrected history is W1 = A, W2 = A, so rule 1 fires (C -> A). With the raw history
+    (W1 = B != W2 = A) neither rule would fire and C would stay."""
     assert _fix("ABACD") == "AAAAD"
 
 
@@ -81,8 +79,8 @@ def test_no_change_on_runs_and_isolated_blips_removed(labels):
     out = adjacent_window_correction(np.array(labels))
     assert out.dtype == np.array(labels).dtype and out.shape == (len(labels),)
     assert out[0] == labels[0] and out[-1] == labels[-1]
-    # after correction no isolated single-window blip X between equal neighbours remains,
-    # except where the left neighbour itself is at index 0 and the blip is window 1 (handled) - none at all:
+    # rule 2 on the corrected history: no window differs from its (corrected) left
+    # neighbour when the raw right neighbour equals that left neighbour
     for k in range(1, len(out) - 1):
         assert not (out[k - 1] == labels[k + 1] and out[k] != out[k - 1]), (labels, out)
 

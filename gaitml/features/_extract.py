@@ -96,8 +96,8 @@ def _quantile_sorted(sorted_vals: np.ndarray, p: float) -> np.ndarray:
 
 
 _SUM = np.add.reduce
-_PAIR_A = [0, 0, 1]
-_PAIR_B = [1, 2, 2]
+_PAIR_A = np.array([0, 0, 1])
+_PAIR_B = np.array([1, 2, 2])
 
 
 def _stats52(w: np.ndarray, mode_width: float) -> np.ndarray:
@@ -128,7 +128,7 @@ def _stats52(w: np.ndarray, mode_width: float) -> np.ndarray:
     out[:, 20:24] = s[..., 0]
     out[:, 24:28] = q3 - q1
     out[:, 28:32] = q3
-    out[:, 32:35] = np.where(bad, 0.0, np.clip(cov / den, -1.0, 1.0))
+    out[:, 32:35] = np.where(bad, 0.0, np.minimum(np.maximum(cov / den, -1.0), 1.0))
     out[:, 35:39] = np.where(degenerate, 0.0, m3 / safe_m2**1.5)
     out[:, 39:43] = np.where(degenerate, 0.0, m4 / (safe_m2 * safe_m2) - 3.0)
     np.abs(d, out=d)

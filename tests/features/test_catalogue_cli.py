@@ -90,5 +90,6 @@ def test_real_recording_features_are_finite(name):
     rec = read_recording(shared("ifsm-flat-phone", "acceleration_flat_holding_1.xlsx"))
     f = extract_features(rec, subset=name)
     assert len(f) > 100 and np.isfinite(f.to_numpy()).all()
-    # hand-held walking: the vertical axis carries gravity, magnitude oscillates about 0
-    assert 9.0 < f["acc_z__mean_abs"].median() < 10.5 if "acc_z__mean_abs" in f else True
+    # flat-held phone while walking: z carries gravity, the gravity-free magnitude varies by a few m/s^2
+    assert 1.0 < f["acc_mag__mean_abs"].median() < 5.0
+    assert (f["acc_x__var"] > 0).all() and (f["acc_mag__var"] > 0.5).median()

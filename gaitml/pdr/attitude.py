@@ -150,33 +150,33 @@ def integrate_gyro_gravity(
     up = np.asarray(up_body, dtype=float)
     dt = 1.0 / sampling_rate_hz
     n = len(w)
-    out = np.empty((n, 4))
-    x, y, z, s = initial.as_quat()
-    out[0] = (x, y, z, s)
-    wl = w.tolist()
-    ul = up.tolist()
-    k = float(gain_hz)
+    # pre-computed with numpy: trapezoidal rate increments (rad) and the gain-scaled up vectors
+    mid = np.zeros_like(w)
+    mid[1:] = 0.5 * (w[1:] + w[:-1]) * dt
+    kdt = float(gain_hz) * dt
+    mx_l, my_l, mz_l = (up[:, j] * kdt for j in range(3))
+    wx_l, wy_l, wz_l = (mid[:, j] for j in range(3))
+    mx_l, my_l, mz_l, wx_l, wy_l, wz_l = (a.tolist() for a in (mx_l, my_l, mz_l, wx_l, wy_l, wz_l))
+    x, y, z, s = (float(v) for v in initial.as_quat())
+    out = [(x, y, z, s)]
+    append = out.append
+    sqrt, sin, cos = math.sqrt, math.sin, math.cos
     for i in range(1, n):
         # estimated up in body = R^T e_z (third row of R)
         ex = 2.0 * (x * z - s * y)
         ey = 2.0 * (y * z + s * x)
         ez = 1.0 - 2.0 * (x * x + y * y)
-        mx, my, mz = ul[i]
-        # omega_c = k (measured x estimated)
-        cx = k * (my * ez - mz * ey)
-        cy = k * (mz * ex - mx * ez)
-        cz = k * (mx * ey - my * ex)
-        a, b = wl[i - 1], wl[i]
-        ox = 0.5 * (a[0] + b[0]) + cx
-        oy = 0.5 * (a[1] + b[1]) + cy
-        oz = 0.5 * (a[2] + b[2]) + cz
-        ang = math.sqrt(ox * ox + oy * oy + oz * oz) * dt
+        mx, my, mz = mx_l[i], my_l[i], mz_l[i]
+        # rotation vector of this sample: (omega + k (measured x estimated)) dt
+        ox = wx_l[i] + (my * ez - mz * ey)
+        oy = wy_l[i] + (mz * ex - mx * ez)
+        oz = wz_l[i] + (mx * ey - my * ex)
+        ang = sqrt(ox * ox + oy * oy + oz * oz)
         if ang > 1e-12:
-            h = 0.5 * ang
-            sc = math.sin(h) / (ang / dt)
-            dx, dy, dz, dw = ox * sc, oy * sc, oz * sc, math.cos(h)
+            sc = sin(0.5 * ang) / ang
+            dx, dy, dz, dw = ox * sc, oy * sc, oz * sc, cos(0.5 * ang)
         else:
-            dx, dy, dz, dw = 0.5 * ox * dt, 0.5 * oy * dt, 0.5 * oz * dt, 1.0
+            dx, dy, dz, dw = 0.5 * ox, 0.5 * oy, 0.5 * oz, 1.0
         # q = q (x) d
         x, y, z, s = (
             s * dx + x * dw + y * dz - z * dy,
@@ -184,10 +184,10 @@ def integrate_gyro_gravity(
             s * dz + x * dy - y * dx + z * dw,
             s * dw - x * dx - y * dy - z * dz,
         )
-        nrm = math.sqrt(x * x + y * y + z * z + s * s)
-        x, y, z, s = x / nrm, y / nrm, z / nrm, s / nrm
-        out[i] = (x, y, z, s)
-    return Rotation.from_quat(out)
+        nrm = 1.0 / sqrt(x * x + y * y + z * z + s * s)
+        x, y, z, s = x * nrm, y * nrm, z * nrm, s * nrm
+        append((x, y, z, s))
+    return Rotation.from_quat(np.asarray(out))
 
 
 def step_headings(heading_rad: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.ndarray:

@@ -106,3 +106,42 @@ def calibrate_walk_distance(
         raise InputError("no steps detected in the calibration walk; check the recording and the detector.")
     feats = step_length_features(recording.acc, steps, recording.sampling_rate_hz)
     return (model or StepLengthModel()).calibrate(feats, np.full(len(steps), mode), distance_m)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m gaitml.pdr.calibrate INPUT --out STEP_LENGTH.json [--distance-m D]``.
+
+    With ``--distance-m``: scale the defaults so that INPUT (a walk) sums to D. Without:
+    fit per mode on INPUT's reference steps (a simulated or surveyed recording). The JSON is
+    what ``gaitml pdr --step-length`` reads.
+    """
+    import argparse
+    import sys
+
+    from gaitml.errors import GaitmlError
+    from gaitml.io import read_recording
+
+    p = argparse.ArgumentParser(prog="python -m gaitml.pdr.calibrate", description="Calibrate the PDR step length model.")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--out", metavar="JSON", required=True)
+    p.add_argument("--distance-m", type=float, help="known distance of a walk (scale calibration)")
+    p.add_argument("--detector", default="single-peak")
+    args = p.parse_args(argv)
+    try:
+        rec = read_recording(args.input)
+        if args.distance_m is not None:
+            model = calibrate_walk_distance(rec, args.distance_m, detector=args.detector)
+            print(f"scaled the walk model by {model.scale_:.4f} to {args.distance_m} m", file=sys.stderr)
+        else:
+            cal = calibrate_from_reference(rec, detector=args.detector)
+            model = cal.step_length
+            print(f"fitted modes {model.fitted_modes_} on {cal.n_matched} of {cal.n_detected} detected steps", file=sys.stderr)
+        model.save(args.out)
+    except GaitmlError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -227,7 +227,7 @@ class DwPcaHeading:
         ok = np.isfinite(d)
         right = np.abs(wrap_angle(d - np.asarray(motion_rad, dtype=float))) < np.pi / 2
         pol = {}
-        for mode in np.unique(modes):
+        for mode in map(str, np.unique(modes)):
             sel = ok & (modes == mode)
             pol[mode] = 1.0 if sel.sum() < min_steps or right[sel].mean() >= 0.5 else -1.0
         self.polarity = pol

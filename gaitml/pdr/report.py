@@ -148,11 +148,14 @@ def main(argv: list[str] | None = None) -> int:
         from gaitml.simulate import simulate_route
 
         first = [r for r in rows if r["route"] == args.routes[0] and r["seed"] == args.seeds[0]]
-        main_row = next(r for r in first if r["variant"].startswith("multi / model") or r["variant"] == "multi / true modes / hde")
+        preferred = [r for r in first if r["variant"].startswith("multi / model")] or [
+            r for r in first if r["variant"] == "multi / true modes / hde"
+        ]
+        main_row = preferred[0]
         others = {
             f"{r['variant']} ({r['end_error_pct']:.2f} %)": r["result"].trajectory
             for r in first
-            if r["variant"] in ("forward-only / hde", "multi / true modes / gyro")
+            if r["variant"] in ("forward-only / hde", "multi / true modes / hde", "multi / true modes / gyro") and r is not main_row
         }
         truth = simulate_route(args.routes[0], seed=args.seeds[0]).reference["trajectory"]
         title = f"{args.routes[0]} seed {args.seeds[0]}: {main_row['variant']} end error {main_row['end_error_pct']:.2f} % of {main_row['distance_true_m']:.0f} m"

@@ -155,7 +155,7 @@ class StepLengthModel:
         if not (len(L) == len(modes) == len(feats)):
             raise InputError(f"features, step_length_m and modes must have the same length, got {len(feats)}, {len(L)}, {len(modes)}.")
         ok = np.isfinite(L) & np.isfinite(feats.to_numpy()).all(axis=1)
-        for m in np.unique(modes):
+        for m in map(str, np.unique(modes)):
             sel = ok & (modes == m)
             if sel.sum() < min_steps:
                 continue
@@ -187,7 +187,7 @@ class StepLengthModel:
         if total <= 0:
             raise InputError("the calibration walk has no steps with a positive predicted length; check the step table.")
         s = distance_m / total
-        for m in np.unique(np.asarray(modes).astype(str)):
+        for m in map(str, np.unique(np.asarray(modes).astype(str))):
             kind, params = self._coef(m)
             self.coefficients_[m] = (kind, tuple(p * s for p in params))
             if m not in self.fitted_modes_:

@@ -17,6 +17,10 @@ Readings of ambiguous passages (also in :mod:`gaitml.features._extract`):
   centred 3-sample moving average (paper sec. 2.1, N = 3) computed *within each
   window* (shrunk to 2 samples at the window's first and last sample), so a
   window's features depend on its own samples only;
+- "互相关系数" (F33-35) is read as the zero-lag Pearson correlation coefficient
+  of two axes over the window;
+- the paper's feature analysis used 2 s windows ("每2 s时间的采样数据作为一个窗口");
+  the window length here is a parameter (default 1.5 s, the paper's choice in sec. 3.3);
 - "三四分位距" (F29-32) is read as the third quartile (75th percentile): the
   interquartile range is already F25-28 and the count of 47 basic features only
   works out with a single-valued statistic here;
@@ -81,7 +85,7 @@ _STAT_TABLE = (
     ("min", _AXES, "minimum", "min_i a_i"),
     ("iqr", _AXES, "interquartile range", "Q3 - Q1 (linear interpolation, type 7)"),
     ("q3", _AXES, "third quartile (reading of 三四分位距)", "Q3 = 75th percentile (linear interpolation, type 7)"),
-    ("corr", _PAIRS, "Pearson correlation coefficient", "cov(a, b) / sqrt(var(a) var(b)); 0 if a or b is constant"),
+    ("corr", _PAIRS, "correlation coefficient (zero-lag Pearson)", "cov(a, b) / sqrt(var(a) var(b)); 0 if a or b is constant"),
     ("skew", _AXES, "skewness (population moments)", "m3 / m2^(3/2); 0 if constant"),
     ("kurt", _AXES, "excess kurtosis (population moments)", "m4 / m2^2 - 3; 0 if constant"),
     ("mad", _AXES, "mean absolute deviation", "(1/N) sum_i |a_i - mean|"),

@@ -246,7 +246,7 @@ def extract_features(
 
     Notes
     -----
-    Paper 003 sec. 3.2; see :mod:`gaitml.features.catalogue` for the readings of
+    Paper 003 sec. 3.2; see :mod:`gaitml.features._catalogue` for the readings of
     ambiguous definitions (third quartile, mode binning, excess kurtosis,
     per-window smoothing of the magnitude).
     """

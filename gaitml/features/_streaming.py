@@ -31,7 +31,7 @@ class StreamingFeatureExtractor:
     ``length_s``/``overlap`` (starts 0, hop, 2 hop, ...) and each row equals the
     batch :func:`gaitml.features.extract_features` row (the same vectorised code
     runs on the buffered samples; a window's features depend on its own samples
-    only, see :mod:`gaitml.features.catalogue`). Only the samples of windows not
+    only, see :mod:`gaitml.features._catalogue`). Only the samples of windows not
     yet completed are kept (at most ``length`` + chunk size).
 
     Parameters

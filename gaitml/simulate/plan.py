@@ -21,7 +21,11 @@ Step durations scatter with the subject's ``step_jitter`` and alternate by
 ``1 +/- asymmetry_time`` between the left and right foot; step lengths
 scatter with the same coefficient of variation. The direction of travel of
 a step is the path heading half way along the step (a chord of the path);
-the facing heading is that minus the mode's offset.
+the facing heading is that minus the mode's offset. When the mode changes
+to one with another offset (e.g. walk -> side_right: the body turns 90 deg
+to keep travelling along the path), the first step of the new mode lasts
+``1 + |turn| / pi`` times longer (up to twice for a 180 deg turn), which keeps
+the turning rate of the body at a few rad/s.
 """
 
 from __future__ import annotations

@@ -31,9 +31,10 @@ reading, stated here so it can be judged and changed:
    Before the buffered HDE, :func:`estimate_drift_rate` fits one constant heading drift
    rate to the whole recording (offline): the rate that best aligns the step headings
    with the dominant directions (maximum of the mean of ``cos(n (theta - reference))``
-   over all steps). ``drift_rate='none'`` switches it off (the paper's method). An
-   online integral correction of the rate (``b += k_i E dt``, ``bias_gain_per_s2``) is
-   also available but off by default: on the 400 m arc it locks onto the bends.
+   over all steps). ``drift_rate='none'`` switches it off (the paper's method). We also
+   tried an online integral correction of the rate (``b += k_i E dt``, as in Borenstein's
+   HDE); on the 400 m arc it locked onto the bends (end errors up to 45 %), so it is not
+   offered.
 
 The correction of step k uses only steps up to k (causal), so it can run online.
 Defaults of the buffer tests (10 steps, 8 deg spread, 2 deg trend between the buffer's
@@ -110,8 +111,7 @@ def hde_correct(
     buffer_steps: int = 10,
     straight_spread_rad: float = np.deg2rad(8.0),
     straight_trend_rad: float = np.deg2rad(2.0),
-    bias_gain_per_s2: float | None = None,
-    step_t_s=None,
+    lookahead_steps: int = 0,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Correct per-step headings with buffered heuristic drift elimination.
 
@@ -125,8 +125,7 @@ def hde_correct(
     feedback_per : {'sample', 'step'}, see module Notes (step 4).
     buffer_steps : steps in the buffer (>= 2).
     straight_spread_rad, straight_trend_rad : straight-walking tests (step 2).
-    bias_gain_per_s2 : integral gain on the drift *rate* (step 5), default 0 (off).
-    step_t_s : array (n,), optional, step times (default: cumulative step durations).
+    lookahead_steps : steps after k included in the straightness buffer (0: causal).
 
     Returns
     -------
@@ -147,17 +146,13 @@ def hde_correct(
     dur = np.full(n, 0.5) if step_duration_s is None else np.asarray(step_duration_s, dtype=float).reshape(-1)
     if dur.shape != psi.shape:
         raise InputError(f"`step_duration_s` must have one value per step ({n}), got {dur.shape[0]}.")
-    t = np.cumsum(dur) if step_t_s is None else np.asarray(step_t_s, dtype=float).reshape(-1)
-    if t.shape != psi.shape:
-        raise InputError(f"`step_t_s` must have one value per step ({n}), got {t.shape[0]}.")
-    dt = np.diff(t, prepend=t[0] if n else 0.0)
+    if lookahead_steps < 0:
+        raise InputError(f"`lookahead_steps` must be >= 0, got {lookahead_steps}.")
     if feedback_per == "sample":
         rate = -np.log1p(-feedback) * PAPER_RATE_HZ
         gains = 1.0 - np.exp(-rate * np.clip(dur, 0.0, None))
-        k_i = 0.0 if bias_gain_per_s2 is None else float(bias_gain_per_s2)
     elif feedback_per == "step":
         gains = np.full(n, feedback)
-        k_i = 0.0 if bias_gain_per_s2 is None else float(bias_gain_per_s2)
     else:
         raise InputError(f"`feedback_per` must be 'sample' or 'step', got {feedback_per!r}.")
     sector = 2 * np.pi / n_directions
@@ -165,30 +160,25 @@ def hde_correct(
     corrected = np.empty(n)
     correction = np.empty(n)
     straight = np.zeros(n, dtype=bool)
-    rate_fixed = np.empty(n)  # raw heading with the integrated drift-rate correction
     delta = 0.0  # heading offset correction
-    bias = 0.0  # drift-rate correction, rad/s
-    acc_bias = 0.0  # its integral up to the current step
+    la = int(lookahead_steps)
     for k in range(n):
-        acc_bias += bias * dt[k]
-        rate_fixed[k] = psi[k] + acc_bias
-        corrected[k] = rate_fixed[k] + delta
-        correction[k] = acc_bias + delta
+        corrected[k] = psi[k] + delta
+        correction[k] = delta
         if k + 1 < buffer_steps:
             continue
-        # straightness from the rate-corrected headings without the offset feedback (the
-        # fully corrected ones would look straighter because of the correction itself:
-        # a positive feedback that locks curves)
-        raw = rate_fixed[k + 1 - buffer_steps : k + 1]
+        # straightness from the raw headings (the corrected ones would look straighter
+        # because of the correction itself: a positive feedback that locks curves); with a
+        # look-ahead the buffer also holds the next steps (a delayed decision)
+        hi = min(k + 1 + la, n)
+        raw = psi[hi - buffer_steps : hi]
         spread = np.abs(wrap_angle(raw - _circmean(raw))).max()
         trend = abs(float(wrap_angle(_circmean(raw[half:]) - _circmean(raw[:half]))))
         if spread < straight_spread_rad and trend < straight_trend_rad:
             straight[k] = True
             m = _circmean(corrected[k + 1 - buffer_steps : k + 1])
             dom = reference_rad + sector * np.round((m - reference_rad) / sector)
-            err = float(wrap_angle(dom - m))
-            delta += gains[k] * err
-            bias += k_i * err * dur[k]
+            delta += gains[k] * float(wrap_angle(dom - m))
     return wrap_angle(corrected), correction, straight
 
 
@@ -217,7 +207,7 @@ class HeuristicDriftElimination:
         buffer_steps: int = 10,
         straight_spread_rad: float = np.deg2rad(8.0),
         straight_trend_rad: float = np.deg2rad(2.0),
-        bias_gain_per_s2: float | None = None,
+        lookahead_steps: int = 0,
         drift_rate: str = "fit",
     ):
         self.n_directions = n_directions
@@ -227,7 +217,7 @@ class HeuristicDriftElimination:
         self.buffer_steps = buffer_steps
         self.straight_spread_rad = straight_spread_rad
         self.straight_trend_rad = straight_trend_rad
-        self.bias_gain_per_s2 = bias_gain_per_s2
+        self.lookahead_steps = lookahead_steps
         self.drift_rate = drift_rate
 
     def correct(self, heading_rad, step_duration_s=None, step_t_s=None) -> HeuristicDriftElimination:
@@ -250,7 +240,6 @@ class HeuristicDriftElimination:
             buffer_steps=self.buffer_steps,
             straight_spread_rad=self.straight_spread_rad,
             straight_trend_rad=self.straight_trend_rad,
-            bias_gain_per_s2=self.bias_gain_per_s2,
-            step_t_s=step_t_s,
+            lookahead_steps=self.lookahead_steps,
         )
         return self

@@ -16,6 +16,9 @@ Then the variants:
 - ``multi / true modes / gyro``, ``dwpca``, ``dwpca-hde``: other heading sources.
 - ``multi / true modes / hde / true lengths``: the step lengths of the reference (isolates
   heading and mode effects from step length).
+- ``multi / true modes / paper HDE (no drift fit)``: buffered HDE without the drift-rate fit.
+- ``multi / true modes / gyro / true gyro bias removed``: the simulator's gyro bias (in
+  ``meta``) subtracted: what the heading error is made of.
 
 The error is |estimated end - true end| / true distance (the true end is the start).
 """
@@ -31,6 +34,7 @@ import pandas as pd
 
 from gaitml.evaluation.trajectory import end_point_error, path_length
 from gaitml.pdr.calibrate import calibrate_from_reference
+from gaitml.pdr.hde import HeuristicDriftElimination
 from gaitml.pdr.pipeline import run_pdr
 
 __all__ = ["VARIANTS", "evaluate_route", "main", "route_table"]
@@ -45,6 +49,8 @@ VARIANTS = (
     ("multi / true modes / dwpca", {"modes": "true", "heading": "dwpca"}),
     ("multi / true modes / dwpca-hde", {"modes": "true", "heading": "dwpca-hde"}),
     ("multi / true modes / hde / true lengths", {"modes": "true", "heading": "hde", "step_length": "reference"}),
+    ("multi / true modes / paper HDE (no drift fit)", {"modes": "true", "heading": "hde", "hde_kwargs": {"drift_rate": "none"}}),
+    ("multi / true modes / gyro / true gyro bias removed", {"modes": "true", "heading": "gyro", "remove_true_gyro_bias": True}),
 )
 CALIBRATION_S = 150.0
 
@@ -67,7 +73,14 @@ def evaluate_route(route: str, seed: int, *, model=None, variants=VARIANTS, keep
             continue
         kw = dict(kw)
         kw.setdefault("step_length", cal.step_length)
-        res = run_pdr(rec, model=model, initial_heading_rad=h0, dwpca=cal.dwpca, **kw)
+        hde_kwargs = kw.pop("hde_kwargs", {})
+        r = rec
+        if kw.pop("remove_true_gyro_bias", False):
+            bias = np.array([rec.meta.get(f"gyr_bias_{a}_rads", 0.0) for a in "xyz"], dtype=float)
+            r = rec.replace(gyr=rec.gyr - bias)
+        res = run_pdr(
+            r, model=model, initial_heading_rad=h0, dwpca=cal.dwpca, hde=HeuristicDriftElimination(reference_rad=h0, **hde_kwargs), **kw
+        )
         err, pct = end_point_error(res.trajectory[["x_m", "y_m"]].to_numpy(), xy_true[-1], dist)
         row = {
             "route": route,

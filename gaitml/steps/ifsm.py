@@ -266,7 +266,8 @@ class IFSMStepDetector:
     **Reading 'reproduce'** (default; reproduces Table 2 on the paper's own data
     within one step: 283 / 319 for the true 284 / 319, and the period of the
     first 10 steps of file 1 within 0.02 s on average of the manually read
-    durations of Table 3):
+    durations of Table 3; the one step short on file 1 is its last peak, 0.4 s
+    before the end of the recording, whose descent is cut off):
 
     - the end condition of step 6 is printed as "A_k > A_T - delta or A_k <
       A_T + delta", which is always true; we read it as "A_k > A_T - delta": the

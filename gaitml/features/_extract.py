@@ -20,7 +20,8 @@ __all__ = ["extract_features", "features_from_arrays", "magnitude_offset", "MAGN
 
 #: g subtracted from |acc| (paper 003 eq. 1: g = 9.8 m/s^2).
 MAGNITUDE_OFFSET_MS2 = 9.8
-#: Moving-average length for the magnitude (paper 003 sec. 2.1: N = 3).
+#: Moving-average length for the magnitude (paper 003 sec. 2.1: N = 3; the gather in
+#: ``_window_block`` is written for this value, it is not a free parameter).
 SMOOTHING_SAMPLES = 3
 #: A window with std <= DEGENERATE_REL * (1 + |mean|) counts as constant.
 DEGENERATE_REL = 1e-10
@@ -30,6 +31,7 @@ BLOCK_WINDOWS = 512
 _FEW_WINDOWS = 16
 
 _N_STATS = 52
+_PAPER34_IDX = np.array([i for i, name in enumerate(FEATURE_SETS["all52"]) if name in set(FEATURE_SETS["paper34"])])
 
 
 def magnitude_offset(sensor: str) -> float:
@@ -211,8 +213,7 @@ def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subse
         blocks.append(_sensor_stats(gyr, "gyr", starts, length))
     full = np.concatenate(blocks, axis=1) if len(blocks) > 1 else blocks[0]
     if key == "paper34":
-        idx = [i for i, name in enumerate(FEATURE_SETS["all52"]) if name in set(FEATURE_SETS["paper34"])]
-        return np.ascontiguousarray(full[:, idx])
+        return np.ascontiguousarray(full[:, _PAPER34_IDX])
     return full
 
 

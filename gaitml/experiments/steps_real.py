@@ -12,7 +12,8 @@ offset, period error), ``oxford_by_position.csv`` (mean per detector, surface
 and position), ``summary.json`` and ``report.md`` into the output folder
 (atomically). Credit: "Oxford step counter data set, Salvi et al." (CC BY 4.0).
 
-Run: ``python -m gaitml.experiments.steps_real [--out DIR] [--detectors a,b] [--data DIR]``.
+Run: ``python -m gaitml.experiments.steps_real [--config experiments/steps-real.toml] [--out DIR]
+[--detectors a,b] [--data DIR]`` (command-line options override the config).
 """
 
 from __future__ import annotations
@@ -21,17 +22,19 @@ import argparse
 import json
 import sys
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from gaitml.errors import ConfigError
 from gaitml.evaluation.steps import evaluate_steps
 from gaitml.io import atomic_dir, read_recording
 from gaitml.io.oxford import list_oxford_folders
 from gaitml.steps import detector_names, get_detector
 
-__all__ = ["run_steps_real", "evaluate_recording", "summarise_oxford", "main"]
+__all__ = ["run_steps_real", "evaluate_recording", "summarise_oxford", "load_steps_config", "main"]
 
 TOLERANCE_S = 0.25
 #: paper 000 Table 2 (true, AD-FSM, autocorrelation, IFSM) per IFSM file
@@ -100,11 +103,11 @@ def _fmt(x, pct=False):
     return f"{100 * x:.2f}" if pct else f"{x:.3f}"
 
 
-def _report(table: pd.DataFrame, by_pos: pd.DataFrame) -> str:
+def _report(table: pd.DataFrame, by_pos: pd.DataFrame, tolerance_s: float = TOLERANCE_S) -> str:
     lines = [
         "# Step detectors on the shared real recordings",
         "",
-        f"Matching tolerance {TOLERANCE_S} s. Count accuracy = 1 - |n_det - n_true| / n_true.",
+        f"Matching tolerance {tolerance_s} s. Count accuracy = 1 - |n_det - n_true| / n_true.",
         "",
     ]
     ifsm = table[table["dataset"] == "ifsm-xlsx"]
@@ -145,30 +148,69 @@ def _report(table: pd.DataFrame, by_pos: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
-def load_recordings(data_dir: Path) -> list:
+DATA_SETS = ("ifsm-flat-phone", "oxford-step-counter")
+
+
+def load_recordings(data_dir: Path, sets=DATA_SETS) -> list:
     """The IFSM files and the Oxford optimisation folders under ``data_dir`` (missing sets are skipped)."""
     recs = []
     ifsm_dir = data_dir / "ifsm-flat-phone"
-    for f in sorted(ifsm_dir.glob("*.xlsx")) if ifsm_dir.is_dir() else []:
-        recs.append(read_recording(f))
+    if "ifsm-flat-phone" in sets and ifsm_dir.is_dir():
+        recs.extend(read_recording(f) for f in sorted(ifsm_dir.glob("*.xlsx")))
     ox = data_dir / "oxford-step-counter" / "optimisation"
-    for d in list_oxford_folders(ox) if ox.is_dir() else []:
-        recs.append(read_recording(d))
+    if "oxford-step-counter" in sets and ox.is_dir():
+        recs.extend(read_recording(d) for d in list_oxford_folders(ox))
     return recs
 
 
-def run_steps_real(out_dir: str | Path, *, data_dir: str | Path, detectors=DEFAULT_DETECTORS, recordings=None, progress=None) -> dict:
+def load_steps_config(path: str | Path) -> dict:
+    """Read and validate ``experiments/steps-real.toml``; returns detectors, tolerance_s, data_dir, sets, name."""
+    p = Path(path)
+    try:
+        raw = tomllib.loads(p.read_text())
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise ConfigError(f"cannot read the steps config {p}: {exc}; fix the TOML.") from exc
+    allowed = {"name", "detectors", "tolerance_s", "data"}
+    extra = set(raw) - allowed
+    if extra:
+        raise ConfigError(f"unknown key(s) {sorted(extra)} in {p.name}; allowed: {sorted(allowed)}.")
+    dets = raw.get("detectors", list(DEFAULT_DETECTORS))
+    bad = [d for d in dets if d not in detector_names()]
+    if bad:
+        raise ConfigError(f"`detectors` has unknown name(s) {bad} in {p.name}; allowed: {', '.join(detector_names())}.")
+    tol = raw.get("tolerance_s", TOLERANCE_S)
+    if not isinstance(tol, int | float) or tol <= 0:
+        raise ConfigError(f"`tolerance_s` must be a positive number in {p.name}, got {tol!r}.")
+    data = raw.get("data", {})
+    sets = data.get("sets", list(DATA_SETS))
+    bad = [s for s in sets if s not in DATA_SETS]
+    if bad:
+        raise ConfigError(f"`data.sets` has unknown set(s) {bad} in {p.name}; allowed: {list(DATA_SETS)}.")
+    data_dir = (p.parent / data["path"]).resolve() if "path" in data else None
+    return {"name": raw.get("name", p.stem), "detectors": list(dets), "tolerance_s": float(tol), "data_dir": data_dir, "sets": list(sets)}
+
+
+def run_steps_real(
+    out_dir: str | Path,
+    *,
+    data_dir: str | Path,
+    detectors=DEFAULT_DETECTORS,
+    recordings=None,
+    progress=None,
+    tolerance_s: float = TOLERANCE_S,
+    sets=DATA_SETS,
+) -> dict:
     """Evaluate ``detectors`` on the shared step recordings and write the tables to ``out_dir``."""
-    recs = recordings if recordings is not None else load_recordings(Path(data_dir))
+    recs = recordings if recordings is not None else load_recordings(Path(data_dir), sets)
     rows = []
     for det in detectors:
         for rec in recs:
-            rows.append(evaluate_recording(rec, det))
+            rows.append(evaluate_recording(rec, det, tolerance_s=tolerance_s))
         if progress:
             progress(f"{det}: done")
     table = pd.DataFrame(rows)
     by_pos = summarise_oxford(table)
-    summary = {"tolerance_s": TOLERANCE_S, "ifsm": {}, "oxford": {}}
+    summary = {"tolerance_s": tolerance_s, "ifsm": {}, "oxford": {}}
     for _, r in table[table["dataset"] == "ifsm-xlsx"].iterrows():
         summary["ifsm"].setdefault(r["detector"], {})[r["recording"]] = {
             "n_detected": int(r["n_detected"]),
@@ -192,7 +234,7 @@ def run_steps_real(out_dir: str | Path, *, data_dir: str | Path, detectors=DEFAU
         table.to_csv(tmp / "per_recording.csv", index=False)
         by_pos.to_csv(tmp / "oxford_by_position.csv", index=False)
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2))
-        (tmp / "report.md").write_text(_report(table, by_pos))
+        (tmp / "report.md").write_text(_report(table, by_pos, tolerance_s))
     return summary
 
 
@@ -200,17 +242,37 @@ def main(argv=None) -> int:
     """Command line: ``python -m gaitml.experiments.steps_real``."""
     root = Path(__file__).resolve().parents[2]
     p = argparse.ArgumentParser(prog="python -m gaitml.experiments.steps_real", description=__doc__.splitlines()[0])
-    p.add_argument("--out", default="runs/steps-real", help="output folder (replaced atomically)")
-    p.add_argument("--data", default=str(root.parent / "shared" / "data"), help="the shared data folder")
-    p.add_argument("--detectors", default=",".join(DEFAULT_DETECTORS), help="comma-separated detector names")
+    p.add_argument("--config", help="a steps TOML (experiments/steps-real.toml)")
+    p.add_argument("--out", help="output folder (replaced atomically; default runs/<name>)")
+    p.add_argument("--data", help="the shared data folder (default: the config's, else ../shared/data)")
+    p.add_argument("--detectors", help="comma-separated detector names (default: the config's, else all)")
     a = p.parse_args(argv)
-    dets = [d.strip() for d in a.detectors.split(",") if d.strip()]
+    try:
+        cfg = (
+            load_steps_config(a.config)
+            if a.config
+            else {
+                "name": "steps-real",
+                "detectors": list(DEFAULT_DETECTORS),
+                "tolerance_s": TOLERANCE_S,
+                "data_dir": None,
+                "sets": list(DATA_SETS),
+            }
+        )
+    except ConfigError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    dets = [d.strip() for d in a.detectors.split(",") if d.strip()] if a.detectors else cfg["detectors"]
     bad = [d for d in dets if d not in detector_names()]
     if bad:
-        print(f"unknown detector(s) {bad}; valid: {', '.join(detector_names())}", file=sys.stderr)
+        print(f"error: unknown detector(s) {bad}; valid: {', '.join(detector_names())}", file=sys.stderr)
         return 2
-    run_steps_real(a.out, data_dir=a.data, detectors=dets, progress=lambda m: print(m, file=sys.stderr))
-    print((Path(a.out) / "report.md").read_text())
+    data = Path(a.data) if a.data else (cfg["data_dir"] or root.parent / "shared" / "data")
+    out = Path(a.out) if a.out else Path("runs") / cfg["name"]
+    run_steps_real(
+        out, data_dir=data, detectors=dets, tolerance_s=cfg["tolerance_s"], sets=cfg["sets"], progress=lambda m: print(m, file=sys.stderr)
+    )
+    print((out / "report.md").read_text())
     return 0
 
 

@@ -78,11 +78,12 @@ def make_windows(
     n_total = len(df)
     if recording.labels is not None:
         uniq, codes = np.unique(np.asarray(recording.labels), return_inverse=True)
-        # cumulative one-hot counts: counts of class k in [s, e) = C[e, k] - C[s, k]
-        onehot = np.zeros((n + 1, len(uniq)), dtype=np.int32)
-        onehot[np.arange(1, n + 1), codes] = 1
-        cum = np.cumsum(onehot, axis=0, out=onehot)
-        counts = cum[ends] - cum[starts]
+        # per class (a handful), cumulative counts: count of class k in [s, e) = C[e] - C[s]
+        counts = np.empty((len(starts), len(uniq)), dtype=np.int64)
+        cum = np.zeros(n + 1, dtype=np.int64)
+        for k in range(len(uniq)):
+            np.cumsum(codes == k, out=cum[1:])
+            counts[:, k] = cum[ends] - cum[starts]
         best = np.argmax(counts, axis=1)
         df["label"] = uniq[best].astype(object)
         df["label_fraction"] = counts[np.arange(len(best)), best] / float(length)

@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+from collections import Counter
+
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from gaitml.errors import InputError
 from gaitml.features import make_windows
@@ -53,3 +57,19 @@ def test_too_short_names_window_length():
 def test_bad_parameters(kwargs, match):
     with pytest.raises(InputError, match=match):
         make_windows(_rec(300), **kwargs)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    labels=st.lists(st.sampled_from(["a", "b", "c"]), min_size=8, max_size=80),
+    length=st.integers(2, 8),
+    overlap=st.sampled_from([0.0, 0.5, 0.75]),
+)
+def test_majority_matches_per_window_count(labels, length, overlap):
+    rec = _rec(len(labels), np.array(labels), fs=10.0)
+    w = make_windows(rec, length / 10.0, overlap, min_label_fraction=0.0)
+    for _, row in w.iterrows():
+        counts = Counter(labels[row["start"] : row["end"]])
+        top = max(counts.values())
+        assert row["label"] == min(k for k, v in counts.items() if v == top)
+        assert row["label_fraction"] == pytest.approx(top / length)

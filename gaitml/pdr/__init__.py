@@ -6,11 +6,14 @@
 - :mod:`~gaitml.pdr.dwpca`: dynamic-window PCA step direction.
 - :mod:`~gaitml.pdr.update`: multi-state and forward-only position updates.
 - :mod:`~gaitml.pdr.pipeline`: :func:`run_pdr`, recording -> trajectory.
+- :mod:`~gaitml.pdr.calibrate`: per-subject step length / DW-PCA calibration.
+- :mod:`~gaitml.pdr.plot`, :mod:`~gaitml.pdr.report` (``python -m gaitml.pdr.report``).
 """
 
 from gaitml.pdr.attitude import AttitudeEstimator, compass_heading, initial_attitude, integrate_gyro, step_headings, wrap_angle
+from gaitml.pdr.calibrate import Calibration, calibrate_from_reference, calibrate_walk_distance
 from gaitml.pdr.dwpca import DwPcaHeading, dwpca_check_and_average, pca_step_directions
-from gaitml.pdr.hde import HeuristicDriftElimination, hde_correct
+from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate, hde_correct
 from gaitml.pdr.pipeline import HEADING_SOURCES, MODE_SOURCES, PdrResult, modes_from_labels, modes_from_windows, run_pdr
 from gaitml.pdr.step_length import StepLengthModel, linear_step_length, step_length_features, weinberg_step_length
 from gaitml.pdr.update import MODE_OFFSET_RAD, dead_reckon, forward_update, mode_offsets_rad, multi_state_update
@@ -20,13 +23,17 @@ __all__ = [
     "MODE_OFFSET_RAD",
     "MODE_SOURCES",
     "AttitudeEstimator",
+    "Calibration",
     "DwPcaHeading",
     "HeuristicDriftElimination",
     "PdrResult",
     "StepLengthModel",
+    "calibrate_from_reference",
+    "calibrate_walk_distance",
     "compass_heading",
     "dead_reckon",
     "dwpca_check_and_average",
+    "estimate_drift_rate",
     "forward_update",
     "hde_correct",
     "initial_attitude",

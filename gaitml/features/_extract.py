@@ -102,6 +102,11 @@ _PAIR_A = np.array([0, 0, 1])
 _PAIR_B = np.array([1, 2, 2])
 
 
+def _rowdot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """sum(a * b) along the last axis without a temporary (einsum)."""
+    return np.einsum("...k,...k->...", a, b)
+
+
 def _stats52(w: np.ndarray, mode_width: float) -> np.ndarray:
     """The 52 statistics of a block (k, 4, L) -> (k, 52), paper order."""
     k, _, n = w.shape
@@ -111,15 +116,14 @@ def _stats52(w: np.ndarray, mode_width: float) -> np.ndarray:
     d = w - mean[..., None]
     d2 = d * d
     m2 = _SUM(d2, axis=-1) * inv_n
-    m3 = _SUM(d2 * d, axis=-1) * inv_n
-    np.multiply(d2, d2, out=d2)
-    m4 = _SUM(d2, axis=-1) * inv_n
+    m3 = _rowdot(d2, d) * inv_n
+    m4 = _rowdot(d2, d2) * inv_n
     s = np.sort(w, axis=-1)
     q1 = _quantile_sorted(s, 0.25)
     q3 = _quantile_sorted(s, 0.75)
     degenerate = np.sqrt(m2) <= DEGENERATE_REL * (1.0 + np.abs(mean))
     safe_m2 = np.where(degenerate, 1.0, m2)
-    cov = _SUM(d[:, _PAIR_A] * d[:, _PAIR_B], axis=-1) * inv_n  # (k, 3): xy, xz, yz
+    cov = np.stack([_rowdot(d[:, a], d[:, b]) for a, b in ((0, 1), (0, 2), (1, 2))], axis=1) * inv_n  # xy, xz, yz
     bad = degenerate[:, _PAIR_A] | degenerate[:, _PAIR_B]
     den = np.sqrt(safe_m2[:, _PAIR_A] * safe_m2[:, _PAIR_B])
     out[:, 0:4] = mean
@@ -137,9 +141,8 @@ def _stats52(w: np.ndarray, mode_width: float) -> np.ndarray:
     out[:, 43:47] = _SUM(d, axis=-1) * inv_n
     dd = w[..., 1:] - w[..., :-1]
     ddd = dd[..., 1:] - dd[..., :-1]
-    out[:, 47:51] = _SUM(ddd * ddd, axis=-1) * inv_n
-    dx = dd[:, 0]
-    out[:, 51] = _SUM(dx * dx, axis=-1) * inv_n
+    out[:, 47:51] = _rowdot(ddd, ddd) * inv_n
+    out[:, 51] = _rowdot(dd[:, 0], dd[:, 0]) * inv_n
     return out
 
 

@@ -1,7 +1,11 @@
-"""`gaitml demo`: not built yet (exits 2 rather than pretending)."""
+"""`gaitml demo [--out DIR]`: the main job end to end on the built-in simulator."""
 
-from gaitml.errors import NotAvailableError
+from __future__ import annotations
+
+from gaitml.demo import format_summary, run_demo
 
 
 def run(args) -> int:
-    raise NotAvailableError("'gaitml demo' is not available yet in this version; see the README for what works.")
+    summary = run_demo(args.out)
+    print(format_summary(summary))
+    return 0

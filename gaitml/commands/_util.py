@@ -31,3 +31,25 @@ def emit_json(obj: Any) -> None:
 def log(msg: str) -> None:
     """Progress and notes go to stderr, never stdout."""
     print(msg, file=sys.stderr, flush=True)
+
+
+def is_large_input(args) -> bool:
+    """Whether ``args.input`` is long enough to be processed in chunks (bounded memory)."""
+    from gaitml.errors import GaitmlError
+    from gaitml.io.chunked import LARGE_INPUT_SAMPLES, estimate_samples
+
+    try:
+        return estimate_samples(args.input) > LARGE_INPUT_SAMPLES
+    except (GaitmlError, OSError):
+        return False
+
+
+def read_kwargs(args) -> dict:
+    """The common input options as keyword arguments of the readers."""
+    return {
+        "format": getattr(args, "format", None),
+        "sensor": getattr(args, "sensor", "left"),
+        "sampling_rate_hz": getattr(args, "sampling_rate_hz", None),
+        "acc_unit": getattr(args, "acc_unit", "m/s^2"),
+        "gyr_unit": getattr(args, "gyr_unit", "rad/s"),
+    }

@@ -1,0 +1,61 @@
+"""Chunked (bounded-memory) runs equal whole-recording runs."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from gaitml.cli import main
+from gaitml.io import read_recording, write_gaitml_csv
+from gaitml.longrun import long_features, long_steps, long_zupts
+from gaitml.simulate import simulate_dataset
+
+
+@pytest.fixture(scope="module")
+def long_file(tmp_path_factory):
+    rec = simulate_dataset(1, 240.0, sampling_rate_hz=50.0, seed=3)[0]
+    p = tmp_path_factory.mktemp("long") / "long.csv"
+    write_gaitml_csv(rec, p)
+    return p
+
+
+def test_long_steps_match_whole(long_file):
+    from gaitml.steps import detect_steps
+
+    whole = detect_steps(read_recording(long_file), detector="single-peak")
+    chunked = long_steps(long_file, "single-peak", chunk_s=30.0, margin_s=5.0, progress=False)
+    assert len(chunked) == len(whole)
+    np.testing.assert_array_equal(chunked["peak"].to_numpy(), whole["peak"].to_numpy())
+
+
+def test_long_zupts_match_whole(long_file):
+    from gaitml.zupt import detect_zupts
+
+    whole = detect_zupts(read_recording(long_file), detector="magnitude").per_sample_zupts_
+    mask, table, fs = long_zupts(long_file, "magnitude", chunk_s=20.0, margin_s=3.0, progress=False)
+    np.testing.assert_array_equal(mask, whole)
+    assert fs == 50.0
+
+
+def test_long_features_match_whole(long_file):
+    from gaitml.features import extract_features, make_windows
+
+    rec = read_recording(long_file)
+    wins = make_windows(rec, 1.5, 0.5, min_label_fraction=0.0)
+    whole = extract_features(rec, wins)
+    chunked = long_features(long_file, chunk_s=20.0, progress=False)
+    assert len(chunked) == len(whole)
+    np.testing.assert_array_equal(chunked["start"].to_numpy(), wins["start"].to_numpy())
+    np.testing.assert_allclose(chunked[whole.columns].to_numpy(), whole.to_numpy(), rtol=0, atol=1e-9)
+
+
+def test_steps_cli_switches_to_chunks(long_file, monkeypatch, capsys, tmp_path):
+    import gaitml.io.chunked as ch
+
+    monkeypatch.setattr(ch, "LARGE_INPUT_SAMPLES", 1000)
+    out = tmp_path / "steps.csv"
+    assert main(["steps", str(long_file), "--json", "--out", str(out)]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["chunked"] and d["n_steps"] > 300 and out.exists()

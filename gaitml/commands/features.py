@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from gaitml.commands._util import load_input, log
+from gaitml.commands._util import is_large_input, load_input, log, read_kwargs
 from gaitml.features import CATALOGUE, GYRO_CATALOGUE, extract_features, make_windows, resolve_subset
 from gaitml.io import write_csv
 
@@ -49,6 +49,8 @@ def summary_text(table: pd.DataFrame, recording) -> str:
 
 
 def run(args) -> int:
+    if is_large_input(args):
+        return _run_long(args)
     recording = load_input(args)
     table = feature_table(recording, window_s=args.window_s, overlap=args.overlap, subset=args.subset)
     if args.out:
@@ -56,4 +58,28 @@ def run(args) -> int:
         log(f"wrote {len(table)} windows x {sum('__' in c for c in table.columns)} features to {args.out}")
     else:
         print(summary_text(table, recording))
+    return 0
+
+
+def _run_long(args) -> int:
+    """A long input: features chunk by chunk, appended to the output file (bounded memory)."""
+    from gaitml.io import atomic_path
+    from gaitml.longrun import long_features
+
+    key = resolve_subset(args.subset)
+    if not args.out:
+        n = [0]
+        long_features(args.input, length_s=args.window_s, overlap=args.overlap, subset=key, on_block=lambda b: n.__setitem__(0, n[0] + len(b)), **read_kwargs(args))
+        print(f"{args.input}: {n[0]} windows of {args.window_s:g} s ({key}); the input is long: pass --out FILE to write the table")
+        return 0
+    count = [0]
+    with atomic_path(args.out) as tmp:
+        with open(tmp, "w", newline="") as fh:
+
+            def write_block(block: pd.DataFrame) -> None:
+                block.to_csv(fh, header=count[0] == 0, index=False)
+                count[0] += len(block)
+
+            long_features(args.input, length_s=args.window_s, overlap=args.overlap, subset=key, on_block=write_block, **read_kwargs(args))
+    log(f"wrote {count[0]} windows ({key}, processed in chunks) to {args.out}")
     return 0

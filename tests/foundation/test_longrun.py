@@ -59,3 +59,19 @@ def test_steps_cli_switches_to_chunks(long_file, monkeypatch, capsys, tmp_path):
     assert main(["steps", str(long_file), "--json", "--out", str(out)]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["chunked"] and d["n_steps"] > 300 and out.exists()
+
+
+def test_features_cli_long_equals_short(long_file, monkeypatch, tmp_path):
+    import pandas as pd
+
+    import gaitml.io.chunked as ch
+
+    short = tmp_path / "short.csv"
+    assert main(["features", str(long_file), "--out", str(short)]) == 0
+    monkeypatch.setattr(ch, "LARGE_INPUT_SAMPLES", 1000)
+    long = tmp_path / "long.csv"
+    assert main(["features", str(long_file), "--out", str(long)]) == 0
+    a, b = pd.read_csv(short), pd.read_csv(long)
+    assert list(a.columns) == list(b.columns) and len(a) == len(b)
+    num = a.select_dtypes("number").columns
+    np.testing.assert_allclose(b[num].to_numpy(), a[num].to_numpy(), rtol=1e-9, atol=1e-9)

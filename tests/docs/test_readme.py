@@ -1,0 +1,72 @@
+"""Every `gaitml ...` command in the README works as written (exit 0).
+
+The commands run in a scratch folder laid out like a checkout: `data`, `models` and
+`experiments` link to the repository's, and `../shared` to the shared real data, so
+relative paths resolve as they do for a user in the repository root.
+"""
+
+from __future__ import annotations
+
+import re
+import shlex
+from pathlib import Path
+
+import pytest
+
+from gaitml.cli import main
+from tests.conftest import ROOT, SHARED_DATA
+
+README = ROOT / "README.md"
+#: README commands that run a long experiment: exercised by the slow test below.
+SLOW = ("evaluate experiments/paper-svm.toml", "evaluate experiments/window-sweep.toml", "train experiments/demo.toml", "bench")
+
+
+def readme_commands() -> list[str]:
+    text = README.read_text()
+    cmds = []
+    for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
+        for line in block.splitlines():
+            line = line.split("#", 1)[0].strip()
+            if line.startswith("gaitml "):
+                cmds.append(line[len("gaitml ") :])
+    return cmds
+
+
+@pytest.fixture(scope="module")
+def sandbox(tmp_path_factory):
+    root = tmp_path_factory.mktemp("readme")
+    work = root / "work"
+    work.mkdir()
+    for name in ("data", "models", "experiments"):
+        (work / name).symlink_to(ROOT / name)
+    if SHARED_DATA.exists():
+        (root / "shared").mkdir()
+        (root / "shared" / "data").symlink_to(SHARED_DATA)
+    return work
+
+
+def _run(cmd: str, sandbox: Path, monkeypatch, capsys):
+    if "../shared/data" in cmd and not SHARED_DATA.exists():
+        pytest.skip("shared real data not found")
+    monkeypatch.chdir(sandbox)
+    code = main(shlex.split(cmd))
+    out, err = capsys.readouterr()
+    assert code == 0, f"gaitml {cmd}: exit {code}: {err.strip()[-300:]}"
+
+
+def test_readme_has_commands():
+    cmds = readme_commands()
+    assert len(cmds) >= 15
+    sub = {c.split()[0] for c in cmds}
+    assert sub >= {"info", "simulate", "steps", "zupt", "features", "evaluate", "train", "predict", "pdr", "bench"}
+
+
+@pytest.mark.parametrize("cmd", [c for c in readme_commands() if not c.startswith(SLOW)])
+def test_readme_command(cmd, sandbox, monkeypatch, capsys):
+    _run(cmd, sandbox, monkeypatch, capsys)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("cmd", [c for c in readme_commands() if c.startswith(SLOW)])
+def test_readme_slow_command(cmd, sandbox, monkeypatch, capsys):
+    _run(cmd, sandbox, monkeypatch, capsys)

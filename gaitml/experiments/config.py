@@ -56,7 +56,7 @@ from pathlib import Path
 from typing import Any
 
 from gaitml.consts import MOTION_MODES
-from gaitml.errors import ConfigError, GaitmlError
+from gaitml.errors import ConfigError, GaitmlError, InputError
 
 __all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "FEATURE_SET_NAMES"]
 
@@ -294,9 +294,14 @@ def _check_model(values: dict) -> None:
 
     kind = values["model"]["kind"]
     try:
-        make_model(kind, values["model"]["params"], seed=values["seed"])
+        est = make_model(kind, values["model"]["params"], seed=values["seed"])
+        check = getattr(est, "_check_params", None)
+        if check is not None:
+            check()
     except ConfigError:
         raise
+    except InputError as exc:
+        raise ConfigError(f"model.params for {kind!r}: {str(exc).rstrip('.')}.") from exc
     except GaitmlError:
         raise
     except (TypeError, ValueError) as exc:

@@ -54,15 +54,33 @@ class _TorchClassifier(ClassifierMixin, BaseEstimator):
     def _prepare(self, X, fitting: bool) -> np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def _check_params(self) -> None:
+        """Raise InputError naming a bad constructor parameter."""
+        for name in ("epochs", "batch_size", "n_threads"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise InputError(f"`{name}` must be a positive integer, got {v!r}.")
+        for name in ("learning_rate", "weight_decay"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int | float) or v < 0 or (name == "learning_rate" and v == 0):
+                raise InputError(f"`{name}` must be a {'positive' if name == 'learning_rate' else 'non-negative'} number, got {v!r}.")
+        for name in ("hidden", "channels"):
+            v = getattr(self, name, None)
+            if v is not None and (not isinstance(v, tuple | list) or not v or any(isinstance(h, bool) or not isinstance(h, int) or h < 1 for h in v)):
+                raise InputError(f"`{name}` must be a list of positive integers, got {v!r}.")
+        if hasattr(self, "channels") and len(self.channels) != 2:
+            raise InputError(f"`channels` must give the filters of the 2 conv layers, e.g. [16, 32], got {self.channels!r}.")
+        d = getattr(self, "dropout", 0.0)
+        if isinstance(d, bool) or not isinstance(d, int | float) or not 0 <= d < 1:
+            raise InputError(f"`dropout` must be in [0, 1), got {d!r}.")
+        k = getattr(self, "kernel_size", 1)
+        if isinstance(k, bool) or not isinstance(k, int) or k < 1:
+            raise InputError(f"`kernel_size` must be a positive integer, got {k!r}.")
+
     def fit(self, X, y):
         """Train the network; returns self."""
         torch = require_torch(f"model kind {self._kind!r}")
-        for name in ("epochs", "batch_size", "n_threads"):
-            v = getattr(self, name)
-            if not isinstance(v, int) or v < 1:
-                raise InputError(f"`{name}` must be a positive integer, got {v!r}.")
-        if not (self.learning_rate > 0):
-            raise InputError(f"`learning_rate` must be > 0, got {self.learning_rate!r}.")
+        self._check_params()
         y = np.asarray(y).astype(str)
         self.classes_ = np.unique(y)
         if len(self.classes_) < 2:

@@ -81,6 +81,7 @@ BAD = [
     ({"name": "x", "sweep": {"windows.length_s": [1.0, "2"]}}, r"sweep.'windows.length_s' = '2' has the wrong type"),
     ({"name": "x", "sweep": {"features.set": ["all52", "paper35"]}}, r"'paper35' is not allowed"),
     ({"seed": 1}, r"the config has no name"),
+    ({"name": "x", "model": {"params": {"C": -1}}}, r"model.params for 'linear-ovo-svm': `C` must be a positive number, got -1"),
 ]
 
 
@@ -89,6 +90,17 @@ def test_bad_config_one_line_error(tmp_path, raw, pattern):
     with pytest.raises(ConfigError, match=pattern) as exc:
         parse_config(raw, base_dir=tmp_path)
     assert "\n" not in str(exc.value)
+
+
+@pytest.mark.skipif(not torch_available(), reason="torch extra not installed")
+@pytest.mark.parametrize(("params", "pattern"), [
+    ({"epochs": "ten"}, r"`epochs` must be a positive integer, got 'ten'"),
+    ({"hidden": [8, 0]}, r"`hidden` must be a list of positive integers"),
+    ({"dropout": 1.5}, r"`dropout` must be in \[0, 1\)"),
+])
+def test_bad_torch_params_fail_at_load(params, pattern):
+    with pytest.raises(ConfigError, match=pattern):
+        parse_config({"name": "x", "model": {"kind": "mlp", "params": params}})
 
 
 def test_bad_toml_and_missing_file(tmp_path):

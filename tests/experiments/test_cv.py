@@ -75,3 +75,27 @@ def test_cross_validate_outputs():
     s = res.summary()
     assert s["n_folds"] == 3 and 0 <= s["accuracy_before"] <= 1
     assert res.after["n"] == res.before["n"]
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from("abc"), st.integers(0, 2)), min_size=1, max_size=40), st.randoms(use_true_random=False))
+def test_correction_per_recording_ignores_input_order(items, rnd):
+    from gaitml.evaluation.classification import correct_by_recording
+    from gaitml.postprocess import adjacent_window_correction
+
+    pred = np.array([p for p, _ in items])
+    rec = np.array([r for _, r in items])
+    t = np.arange(len(items), dtype=float)
+    base = correct_by_recording(pred, rec, t)
+    for r in set(rec):  # equals the sequence rule applied to each recording alone
+        m = rec == r
+        assert list(base[m]) == list(adjacent_window_correction(pred[m]))
+    perm = list(range(len(items)))
+    rnd.shuffle(perm)
+    perm = np.array(perm)
+    shuffled = correct_by_recording(pred[perm], rec[perm], t[perm])
+    assert list(shuffled) == list(base[perm])

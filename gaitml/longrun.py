@@ -217,9 +217,9 @@ def long_predict(
     from gaitml.models import predict_recording
 
     parts = []
-    for ch, _length, _hop in _window_chunks(
-        path, model.window_length_s, model.window_overlap, chunk_s, progress, "predict", **read_kwargs
-    ):
+    if read_kwargs.get("sampling_rate_hz") is None:
+        read_kwargs["sampling_rate_hz"] = model.sampling_rate_hz
+    for ch, _length, _hop in _window_chunks(path, model.length_s, model.overlap, chunk_s, progress, "predict", **read_kwargs):
         rec = ch.recording
         if rec.n_samples < _length:
             continue

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from gaitml.commands._util import emit_json, load_input, log
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
 
 
 def run(args) -> int:
@@ -10,8 +10,14 @@ def run(args) -> int:
     from gaitml.models import load_model, predict_recording
 
     model = load_model(args.model_dir)
-    rec = load_input(args)
-    table = predict_recording(model, rec, correction=not args.no_correction)
+    if is_large_input(args):
+        from gaitml.longrun import long_predict
+
+        log("gaitml predict: long input, processing in chunks of 10 min (bounded memory)")
+        table = long_predict(model, args.input, correction=not args.no_correction, **read_kwargs(args))
+    else:
+        rec = load_input(args)
+        table = predict_recording(model, rec, correction=not args.no_correction)
     if table.attrs.get("resampled_from_hz"):
         log(f"gaitml predict: resampled the input from {table.attrs['resampled_from_hz']:g} Hz to the model's {model.sampling_rate_hz:g} Hz")
     if args.out:

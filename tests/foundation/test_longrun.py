@@ -75,3 +75,17 @@ def test_features_cli_long_equals_short(long_file, monkeypatch, tmp_path):
     assert list(a.columns) == list(b.columns) and len(a) == len(b)
     num = a.select_dtypes("number").columns
     np.testing.assert_allclose(b[num].to_numpy(), a[num].to_numpy(), rtol=1e-9, atol=1e-9)
+
+
+def test_long_predict_matches_whole(long_file):
+    from gaitml.longrun import long_predict
+    from gaitml.models import load_model, predict_recording
+    from tests.conftest import ROOT
+
+    model = load_model(ROOT / "models" / "demo")
+    whole = predict_recording(model, read_recording(long_file), correction=True)
+    chunked = long_predict(model, long_file, chunk_s=20.0, progress=False)
+    assert len(chunked) == len(whole)
+    np.testing.assert_array_equal(chunked["start"].to_numpy(), whole["start"].to_numpy())
+    np.testing.assert_array_equal(chunked["mode"].to_numpy(), whole["mode"].to_numpy())
+    np.testing.assert_array_equal(chunked["mode_raw"].to_numpy(), whole["mode_raw"].to_numpy())

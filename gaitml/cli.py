@@ -35,9 +35,15 @@ class _Parser(argparse.ArgumentParser):
 
 def _input_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("input")
-    g.add_argument("--format", choices=("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap"), help="input format (default: detected from the content)")
+    g.add_argument(
+        "--format", choices=("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap"), help="input format (default: detected from the content)"
+    )
     g.add_argument("--sensor", choices=("left", "right"), default="left", help="foot of a two-sensor gaitmap file (default: left)")
-    g.add_argument("--sampling-rate-hz", type=float, help="resample to this uniform rate (Oxford default 100 Hz), or the rate of a file without a time base")
+    g.add_argument(
+        "--sampling-rate-hz",
+        type=float,
+        help="resample to this uniform rate (Oxford default 100 Hz), or the rate of a file without a time base",
+    )
     g.add_argument("--acc-unit", choices=("m/s^2", "g"), default="m/s^2", help="unit of a gaitml-csv's acc columns (default m/s^2)")
     g.add_argument("--gyr-unit", choices=("rad/s", "deg/s"), default="rad/s", help="unit of a gaitml-csv's gyr columns (default rad/s)")
 
@@ -113,10 +119,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="PNG")
     p.add_argument("--json", action="store_true")
     p.add_argument("--heading", choices=("hde", "dwpca", "gyro", "dwpca-hde"), default="hde", help="heading source (default hde)")
-    p.add_argument("--modes", choices=("model", "true", "forward"), help="motion modes per step (default: model with --model, else the labels, else forward)")
+    p.add_argument(
+        "--modes",
+        choices=("model", "true", "forward"),
+        help="motion modes per step (default: model with --model, else the labels, else forward)",
+    )
     p.add_argument("--detector", choices=STEP_DETECTORS, default="single-peak", help="step detector (default single-peak)")
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
-    p.add_argument("--initial-heading-rad", type=float, default=None, help="compass heading at the start (default: the reference trajectory's when the input has one, else 0 = north)")
+    p.add_argument(
+        "--initial-heading-rad",
+        type=float,
+        default=None,
+        help="compass heading at the start (default: the reference trajectory's when the input has one, else 0 = north)",
+    )
     _input_options(p)
 
     p = sub.add_parser("demo", help="the main job end to end on simulated data")
@@ -153,7 +168,9 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # an internal error: a bug to report
         if os.environ.get("GAITML_DEBUG"):
             traceback.print_exc()
-        print(f"gaitml: internal error: {type(exc).__name__}: {exc} (set GAITML_DEBUG=1 for the traceback; please report it)", file=sys.stderr)
+        print(
+            f"gaitml: internal error: {type(exc).__name__}: {exc} (set GAITML_DEBUG=1 for the traceback; please report it)", file=sys.stderr
+        )
         return 1
 
 

@@ -53,7 +53,13 @@ def _config(data_dir: Path, out_dir: Path, settings: dict) -> Any:
         "name": "demo-cv",
         "seed": settings["seed"],
         "description": "gaitml demo: paper 003 pipeline on the simulated data set",
-        "data": {"source": "folder", "path": str(data_dir), "label": "label", "group": "subject", "resample_hz": settings["sampling_rate_hz"]},
+        "data": {
+            "source": "folder",
+            "path": str(data_dir),
+            "label": "label",
+            "group": "subject",
+            "resample_hz": settings["sampling_rate_hz"],
+        },
         "windows": {"length_s": 1.5, "overlap": 0.5, "min_label_fraction": 0.5},
         "features": {"set": "all52"},
         "model": {"kind": "linear-ovo-svm", "params": {"C": 1.0}},
@@ -139,7 +145,12 @@ def run_demo(out_dir: str | Path = "demo-out", *, settings: dict | None = None, 
     total_s = time.perf_counter() - t_all
     summary = {
         "out_dir": str(out),
-        "data": {"subjects": s["subjects"], "duration_s": s["duration_s"], "sampling_rate_hz": s["sampling_rate_hz"], "samples_per_mode": label_counts.to_dict()},
+        "data": {
+            "subjects": s["subjects"],
+            "duration_s": s["duration_s"],
+            "sampling_rate_hz": s["sampling_rate_hz"],
+            "samples_per_mode": label_counts.to_dict(),
+        },
         "cross_validation": {
             "scheme": "leave-one-subject-out",
             "n_windows": cv["n_windows"],
@@ -223,5 +234,7 @@ def format_summary(summary: dict) -> str:
         f"  {summary['route']['route']} route, modes predicted by the saved model: window accuracy {summary['route']['window_accuracy_after_correction']:.3f}",
     ]
     for r in summary["route"]["pdr"]:
-        lines.append(f"  PDR {r['variant']:28s} end error {r['end error (m)']:6.2f} m = {r['end error (% of distance)']:5.2f} % of {r['true distance (m)']} m")
+        lines.append(
+            f"  PDR {r['variant']:28s} end error {r['end error (m)']:6.2f} m = {r['end error (% of distance)']:5.2f} % of {r['true distance (m)']} m"
+        )
     return "\n".join(lines)

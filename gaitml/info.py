@@ -124,5 +124,3 @@ def _recording_text(d: dict[str, Any]) -> str:
     if d["reference"]:
         lines.append("  reference " + ", ".join(f"{k} {v}" for k, v in d["reference"].items()))
     return "\n".join(lines)
-
-

@@ -80,7 +80,9 @@ def long_steps(
     parts = []
     fs = None
     attrs: dict = {}
-    for ch in progress_chunks(iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"steps ({detector})", enabled=progress):
+    for ch in progress_chunks(
+        iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"steps ({detector})", enabled=progress
+    ):
         fs = ch.recording.sampling_rate_hz
         det = get_detector(detector, **(detector_params or {})).detect(ch.recording)
         table = det.steps_

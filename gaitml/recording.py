@@ -51,8 +51,7 @@ def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
         )
     if med > _MAX_MEDIAN_ACC_MS2:
         raise InputError(
-            f"{what} is implausibly large for m/s^2 with gravity (median |acc| = {med:.4g}; milli-g would give ~1000); "
-            "convert it to m/s^2."
+            f"{what} is implausibly large for m/s^2 with gravity (median |acc| = {med:.4g}; milli-g would give ~1000); convert it to m/s^2."
         )
 
 
@@ -79,8 +78,7 @@ def _check_finite(name: str, arr: np.ndarray) -> None:
     if bad.any():
         rows = np.flatnonzero(bad.any(axis=-1) if arr.ndim > 1 else bad)
         raise InputError(
-            f"`{name}` has {int(bad.sum())} NaN/inf values (first at sample {int(rows[0])}); "
-            "remove or interpolate them before loading."
+            f"`{name}` has {int(bad.sum())} NaN/inf values (first at sample {int(rows[0])}); remove or interpolate them before loading."
         )
 
 
@@ -330,10 +328,7 @@ class Recording:
             )
         if (dt < 0).any():
             i = int(np.flatnonzero(dt < 0)[0]) + 1
-            raise InputError(
-                f"timestamps decrease at sample {i} ({t[i - 1]:.9g} -> {t[i]:.9g} s); "
-                "sort the rows by time or fix the clock."
-            )
+            raise InputError(f"timestamps decrease at sample {i} ({t[i - 1]:.9g} -> {t[i]:.9g} s); sort the rows by time or fix the clock.")
         acc, gyr_arr = _convert_units(acc, gyr_arr, acc_unit, gyr_unit)
         med = float(np.median(dt))
         original_rate = 1.0 / med

@@ -113,34 +113,53 @@ def run(quick: bool = False) -> list[dict]:
     _stream_loop(stream_rec.slice(0, 200), model.predict)  # warm-up
     t, n = _stream_loop(stream_rec, model.predict)
     tr, _ = _stream_loop(stream_rec, ref.predict)
-    out.append({
-        "area": "models",
-        "name": "stream-predict-per-window",
-        "n_items": n,
-        "unit": "windows",
-        "seconds": t,
-        "throughput_per_s": n / t,
-        "reference_seconds": tr,
-        "ratio": tr / t,
-        "note": (f"{1000 * t / n:.3f} ms per window (target <= 1 ms): StreamingFeatureExtractor push of one hop + LinearOVOSVM.predict "
-                 f"on one row + AdjacentWindowCorrector; reference: the same loop with StandardScaler+SVC(kernel='linear') "
-                 f"({1000 * tr / n:.3f} ms per window)"),
-    })
+    out.append(
+        {
+            "area": "models",
+            "name": "stream-predict-per-window",
+            "n_items": n,
+            "unit": "windows",
+            "seconds": t,
+            "throughput_per_s": n / t,
+            "reference_seconds": tr,
+            "ratio": tr / t,
+            "note": (
+                f"{1000 * t / n:.3f} ms per window (target <= 1 ms): StreamingFeatureExtractor push of one hop + LinearOVOSVM.predict "
+                f"on one row + AdjacentWindowCorrector; reference: the same loop with StandardScaler+SVC(kernel='linear') "
+                f"({1000 * tr / n:.3f} ms per window)"
+            ),
+        }
+    )
     # the two parts of the streaming path separately
     te, n_e = _stream_loop(stream_rec, lambda r: "walk")
-    out.append({
-        "area": "models", "name": "stream-features-per-window", "n_items": n_e, "unit": "windows", "seconds": te, "throughput_per_s": n_e / te,
-        "note": f"{1000 * te / n_e:.3f} ms per window: StreamingFeatureExtractor push of one hop (+ the correction), no classifier",
-    })
+    out.append(
+        {
+            "area": "models",
+            "name": "stream-features-per-window",
+            "n_items": n_e,
+            "unit": "windows",
+            "seconds": te,
+            "throughput_per_s": n_e / te,
+            "note": f"{1000 * te / n_e:.3f} ms per window: StreamingFeatureExtractor push of one hop (+ the correction), no classifier",
+        }
+    )
     rows1 = X[: min(len(X), 2000)]
     tp = _time(lambda: [model.predict(r[None, :]) for r in rows1])
     tq = _time(lambda: [ref.predict(r[None, :]) for r in rows1])
-    out.append({
-        "area": "models", "name": "predict-one-window", "n_items": len(rows1), "unit": "windows", "seconds": tp, "throughput_per_s": len(rows1) / tp,
-        "reference_seconds": tq, "ratio": tq / tp,
-        "note": f"{1000 * tp / len(rows1):.3f} ms per window: LinearOVOSVM.predict on one 52-feature row; reference StandardScaler+SVC(kernel='linear') "
-                f"({1000 * tq / len(rows1):.3f} ms)",
-    })
+    out.append(
+        {
+            "area": "models",
+            "name": "predict-one-window",
+            "n_items": len(rows1),
+            "unit": "windows",
+            "seconds": tp,
+            "throughput_per_s": len(rows1) / tp,
+            "reference_seconds": tq,
+            "ratio": tq / tp,
+            "note": f"{1000 * tp / len(rows1):.3f} ms per window: LinearOVOSVM.predict on one 52-feature row; reference StandardScaler+SVC(kernel='linear') "
+            f"({1000 * tq / len(rows1):.3f} ms)",
+        }
+    )
     return out
 
 

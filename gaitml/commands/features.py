@@ -69,7 +69,14 @@ def _run_long(args) -> int:
     key = resolve_subset(args.subset)
     if not args.out:
         n = [0]
-        long_features(args.input, length_s=args.window_s, overlap=args.overlap, subset=key, on_block=lambda b: n.__setitem__(0, n[0] + len(b)), **read_kwargs(args))
+        long_features(
+            args.input,
+            length_s=args.window_s,
+            overlap=args.overlap,
+            subset=key,
+            on_block=lambda b: n.__setitem__(0, n[0] + len(b)),
+            **read_kwargs(args),
+        )
         print(f"{args.input}: {n[0]} windows of {args.window_s:g} s ({key}); the input is long: pass --out FILE to write the table")
         return 0
     count = [0]

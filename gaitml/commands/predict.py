@@ -19,21 +19,31 @@ def run(args) -> int:
         rec = load_input(args)
         table = predict_recording(model, rec, correction=not args.no_correction)
     if table.attrs.get("resampled_from_hz"):
-        log(f"gaitml predict: resampled the input from {table.attrs['resampled_from_hz']:g} Hz to the model's {model.sampling_rate_hz:g} Hz")
+        log(
+            f"gaitml predict: resampled the input from {table.attrs['resampled_from_hz']:g} Hz to the model's {model.sampling_rate_hz:g} Hz"
+        )
     if args.out:
         write_csv(args.out, table)
         log(f"gaitml predict: {len(table)} windows written to {args.out}")
     counts = {str(k): int(v) for k, v in table["mode"].value_counts().sort_index().items()}
     if args.json:
-        emit_json({
-            "model": str(model.path),
-            "sampling_rate_hz": model.sampling_rate_hz,
-            "window_s": model.length_s,
-            "overlap": model.overlap,
-            "correction": not args.no_correction,
-            "windows": [{"t_start_s": float(r.t_start_s), "t_end_s": float(r.t_end_s), "mode": str(r.mode)} for r in table.itertuples()],
-            "counts": counts,
-        })
+        emit_json(
+            {
+                "model": str(model.path),
+                "sampling_rate_hz": model.sampling_rate_hz,
+                "window_s": model.length_s,
+                "overlap": model.overlap,
+                "correction": not args.no_correction,
+                "windows": [
+                    {"t_start_s": float(r.t_start_s), "t_end_s": float(r.t_end_s), "mode": str(r.mode)} for r in table.itertuples()
+                ],
+                "counts": counts,
+            }
+        )
     elif not args.out:
-        log("gaitml predict: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + f" ({len(table)} windows; use --out FILE or --json for the table)")
+        log(
+            "gaitml predict: "
+            + ", ".join(f"{k} {v}" for k, v in counts.items())
+            + f" ({len(table)} windows; use --out FILE or --json for the table)"
+        )
     return 0

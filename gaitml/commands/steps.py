@@ -82,7 +82,9 @@ def _run_long(args) -> int:
                 "detector": args.detector,
                 "sampling_rate_hz": fs,
                 "n_steps": int(len(steps)),
-                "steps": [{"t_s": float(a), "period_s": float(b)} for a, b in zip(t, steps["period_s"].to_numpy(), strict=True)] if len(steps) else [],
+                "steps": [{"t_s": float(a), "period_s": float(b)} for a, b in zip(t, steps["period_s"].to_numpy(), strict=True)]
+                if len(steps)
+                else [],
                 "chunked": steps.attrs.get("chunked"),
             }
         )

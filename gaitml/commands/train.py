@@ -11,7 +11,9 @@ def run(args) -> int:
     cfg = load_config(args.config)
     model = train_config(cfg, out_dir=args.out)
     cv = model.info.get("cv_scores") or {}
-    extra = f"; CV ({cv.get('scheme')}) accuracy {cv['accuracy_before']:.4f} before / {cv['accuracy_after']:.4f} after correction" if cv else ""
+    extra = (
+        f"; CV ({cv.get('scheme')}) accuracy {cv['accuracy_before']:.4f} before / {cv['accuracy_after']:.4f} after correction" if cv else ""
+    )
     log(f"gaitml train: {model.kind} on {model.info['training_data']['n_windows']} windows, labels {', '.join(model.labels)}{extra}")
     log(f"gaitml train: model written to {model.path}")
     return 0

@@ -178,7 +178,9 @@ def cross_validate(
     labs = list(labels) if labels else sorted(set(y))
     for k, (tr, _te) in enumerate(splits):
         if len(np.unique(y[tr])) < 2:
-            raise InputError(f"fold {k} of {scheme} has fewer than 2 classes in its training windows ({sorted(set(y[tr]))}); use another scheme or more data per group.")
+            raise InputError(
+                f"fold {k} of {scheme} has fewer than 2 classes in its training windows ({sorted(set(y[tr]))}); use another scheme or more data per group."
+            )
     tasks = (delayed(_fit_predict)(kind, params, seed, X[tr], y[tr], X[te]) for tr, te in splits)
     bar = tqdm(total=len(splits), desc=description, file=sys.stderr, disable=not progress, leave=False)
     results = []
@@ -199,22 +201,34 @@ def cross_validate(
         corr = correct_by_recording(pred, rec, win["t_start_s"].to_numpy()[te])
         mb = classification_metrics(y[te], pred, labs)
         ma = classification_metrics(y[te], corr, labs)
-        rows.append({
-            "fold": k,
-            "train_groups": ";".join(sorted(set(groups[tr]))) if scheme == "train-one-test-rest" else "",
-            "test_groups": ";".join(sorted(set(groups[te]))),
-            "n_train": int(len(tr)),
-            "n_test": int(len(te)),
-            "accuracy": mb["accuracy"],
-            "macro_f1": mb["macro_f1"],
-            "accuracy_corrected": ma["accuracy"],
-            "macro_f1_corrected": ma["macro_f1"],
-            "fit_s": float(fit_s),
-        })
-        preds.append(pd.DataFrame({
-            "fold": k, "recording": rec, "group": groups[te], "t_start_s": win["t_start_s"].to_numpy()[te],
-            "t_end_s": win["t_end_s"].to_numpy()[te], "label": y[te], "pred": pred, "pred_corrected": corr,
-        }))
+        rows.append(
+            {
+                "fold": k,
+                "train_groups": ";".join(sorted(set(groups[tr]))) if scheme == "train-one-test-rest" else "",
+                "test_groups": ";".join(sorted(set(groups[te]))),
+                "n_train": int(len(tr)),
+                "n_test": int(len(te)),
+                "accuracy": mb["accuracy"],
+                "macro_f1": mb["macro_f1"],
+                "accuracy_corrected": ma["accuracy"],
+                "macro_f1_corrected": ma["macro_f1"],
+                "fit_s": float(fit_s),
+            }
+        )
+        preds.append(
+            pd.DataFrame(
+                {
+                    "fold": k,
+                    "recording": rec,
+                    "group": groups[te],
+                    "t_start_s": win["t_start_s"].to_numpy()[te],
+                    "t_end_s": win["t_end_s"].to_numpy()[te],
+                    "label": y[te],
+                    "pred": pred,
+                    "pred_corrected": corr,
+                }
+            )
+        )
     predictions = pd.concat(preds, ignore_index=True)
     before = classification_metrics(predictions["label"], predictions["pred"], labs)
     after = classification_metrics(predictions["label"], predictions["pred_corrected"], labs)

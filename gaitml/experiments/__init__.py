@@ -8,4 +8,13 @@
 from gaitml.experiments.config import ExperimentConfig, load_config, parse_config, sweep_grid
 from gaitml.experiments.runner import build_dataset, evaluate_config, prepare_data, train_config
 
-__all__ = ["ExperimentConfig", "build_dataset", "evaluate_config", "load_config", "parse_config", "prepare_data", "sweep_grid", "train_config"]
+__all__ = [
+    "ExperimentConfig",
+    "build_dataset",
+    "evaluate_config",
+    "load_config",
+    "parse_config",
+    "prepare_data",
+    "sweep_grid",
+    "train_config",
+]

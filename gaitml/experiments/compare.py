@@ -27,20 +27,45 @@ def compare_runs(run_dirs) -> pd.DataFrame:
         if not p.is_file():
             raise InputError(f"{p} not found; pass run folders written by 'gaitml evaluate'.")
         m = json.loads(p.read_text())
-        base = {"run": m["name"], "model": m["model_kind"], "features": m["feature_set"], "window_s": m["window_length_s"], "scheme": m["scheme"]}
+        base = {
+            "run": m["name"],
+            "model": m["model_kind"],
+            "features": m["feature_set"],
+            "window_s": m["window_length_s"],
+            "scheme": m["scheme"],
+        }
         if "sweep" in m:
             for r in m["sweep"]:
                 point = {k: v for k, v in r.items() if "." in k}
                 row = dict(base)
-                row.update({"model": point.get("model.kind", base["model"]), "features": point.get("features.set", base["features"]),
-                            "window_s": point.get("windows.length_s", base["window_s"])})
+                row.update(
+                    {
+                        "model": point.get("model.kind", base["model"]),
+                        "features": point.get("features.set", base["features"]),
+                        "window_s": point.get("windows.length_s", base["window_s"]),
+                    }
+                )
                 row["point"] = ", ".join(f"{k}={v}" for k, v in point.items())
-                row.update(acc_before=r["accuracy_before"], acc_after=r["accuracy_after"], f1_before=r["macro_f1_before"], f1_after=r["macro_f1_after"],
-                           n_windows=r["n_windows"])
+                row.update(
+                    acc_before=r["accuracy_before"],
+                    acc_after=r["accuracy_after"],
+                    f1_before=r["macro_f1_before"],
+                    f1_after=r["macro_f1_after"],
+                    n_windows=r["n_windows"],
+                )
                 rows.append(row)
         else:
-            rows.append({**base, "point": "", "acc_before": m["accuracy_before_correction"], "acc_after": m["accuracy_after_correction"],
-                         "f1_before": m["macro_f1_before_correction"], "f1_after": m["macro_f1_after_correction"], "n_windows": m["n_windows"]})
+            rows.append(
+                {
+                    **base,
+                    "point": "",
+                    "acc_before": m["accuracy_before_correction"],
+                    "acc_after": m["accuracy_after_correction"],
+                    "f1_before": m["macro_f1_before_correction"],
+                    "f1_after": m["macro_f1_after_correction"],
+                    "n_windows": m["n_windows"],
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -48,7 +73,9 @@ def _markdown(df: pd.DataFrame) -> str:
     cols = list(df.columns)
     out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     for _, r in df.iterrows():
-        out.append("| " + " | ".join(f"{r[c]:.4f}" if isinstance(r[c], float) and c.startswith(("acc", "f1")) else str(r[c]) for c in cols) + " |")
+        out.append(
+            "| " + " | ".join(f"{r[c]:.4f}" if isinstance(r[c], float) and c.startswith(("acc", "f1")) else str(r[c]) for c in cols) + " |"
+        )
     return "\n".join(out)
 
 

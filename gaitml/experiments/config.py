@@ -186,7 +186,7 @@ def _fill(raw: dict, schema: dict, prefix: str) -> dict:
             out[k] = _check_leaf(key, spec, raw[k])
         else:
             if spec.default is None:
-                raise ConfigError(f"the config has no {key}; add e.g. {key} = \"my-experiment\".")
+                raise ConfigError(f'the config has no {key}; add e.g. {key} = "my-experiment".')
             out[k] = copy.deepcopy(spec.default)
     return out
 
@@ -282,7 +282,9 @@ def _check_sweep(raw_sweep, values: dict) -> dict:
         else:
             leaf = _leaf_at(path)
             if leaf is None or path in ("name",):
-                raise ConfigError(f"sweep key {path!r} is not a config key; use a dotted key such as 'windows.length_s', 'features.set' or 'model.params.C'.")
+                raise ConfigError(
+                    f"sweep key {path!r} is not a config key; use a dotted key such as 'windows.length_s', 'features.set' or 'model.params.C'."
+                )
         if not isinstance(vals, list) or not vals:
             raise ConfigError(f"sweep.{path!r} = {vals!r} must be a non-empty array of values.")
         out[path] = [_check_leaf(f"sweep.{path!r}", leaf, v) if leaf else v for v in vals]
@@ -308,7 +310,9 @@ def _check_model(values: dict) -> None:
         raise ConfigError(f"model.params = {values['model']['params']!r} is not valid for {kind!r}: {exc}.") from exc
 
 
-def parse_config(raw: dict, *, base_dir: str | os.PathLike = ".", source: str | os.PathLike | None = None, check_paths: bool = True) -> ExperimentConfig:
+def parse_config(
+    raw: dict, *, base_dir: str | os.PathLike = ".", source: str | os.PathLike | None = None, check_paths: bool = True
+) -> ExperimentConfig:
     """Validate a config dict (as read from TOML) into an :class:`ExperimentConfig`.
 
     Raises
@@ -331,7 +335,9 @@ def parse_config(raw: dict, *, base_dir: str | os.PathLike = ".", source: str | 
         if not d["path"]:
             raise ConfigError("data.source = 'folder' needs data.path (a data set folder, relative to the config file).")
         if check_paths and not cfg.data_path.exists():
-            raise ConfigError(f"data.path = {d['path']!r} does not exist (resolved to {cfg.data_path}); fix the path (it is relative to the config file).")
+            raise ConfigError(
+                f"data.path = {d['path']!r} does not exist (resolved to {cfg.data_path}); fix the path (it is relative to the config file)."
+            )
     else:
         bad = [m for m in d["simulated"]["modes"] if m not in MOTION_MODES]
         if bad:

@@ -60,7 +60,15 @@ def plot_sweep(path: Path, rows: list[dict], keys: list[str], title: str) -> Non
     ax.plot(x, df["accuracy_before"], "o-", label="before correction")
     ax.plot(x, df["accuracy_after"], "s--", label="after correction")
     if "fold_accuracy_std_before" in df:
-        ax.errorbar(x, df["fold_accuracy_mean_before"], yerr=df["fold_accuracy_std_before"], fmt="none", ecolor="grey", capsize=3, label="fold mean +/- std (before)")
+        ax.errorbar(
+            x,
+            df["fold_accuracy_mean_before"],
+            yerr=df["fold_accuracy_std_before"],
+            fmt="none",
+            ecolor="grey",
+            capsize=3,
+            label="fold mean +/- std (before)",
+        )
     if numeric:
         ax.set_xlabel(keys[0])
     else:
@@ -93,8 +101,14 @@ def _point_files(folder: Path, cfg, point: dict, title: str) -> dict:
     folder.mkdir(parents=True, exist_ok=True)
     res.folds.to_csv(folder / "folds.csv", index=False)
     per_class = pd.DataFrame(
-        [{"label": lab, **{f"{k}_before": v for k, v in res.before["per_class"][lab].items()},
-          **{f"{k}_after": v for k, v in res.after["per_class"][lab].items() if k != "support"}} for lab in res.labels]
+        [
+            {
+                "label": lab,
+                **{f"{k}_before": v for k, v in res.before["per_class"][lab].items()},
+                **{f"{k}_after": v for k, v in res.after["per_class"][lab].items() if k != "support"},
+            }
+            for lab in res.labels
+        ]
     )
     per_class.to_csv(folder / "per_class.csv", index=False)
     from gaitml.evaluation.classification import confusion_table
@@ -127,7 +141,12 @@ def write_run(run_dir: str | Path, cfg, result: dict, points: list[dict], rows: 
             _point_files(sub, cfg, p, title)
             if multi:
                 s = p["cv"].summary()
-                (sub / "metrics.json").write_text(json.dumps({"point": p["point"], **s, "before": p["cv"].before, "after": p["cv"].after}, indent=2, default=_json_default) + "\n")
+                (sub / "metrics.json").write_text(
+                    json.dumps(
+                        {"point": p["point"], **s, "before": p["cv"].before, "after": p["cv"].after}, indent=2, default=_json_default
+                    )
+                    + "\n"
+                )
         if multi:
             best_i = next(i for i, p in enumerate(points) if p["point"] == best_point)
             for f in ("confusion.png", "folds.csv", "per_class.csv", "confusion_before.csv", "confusion_after.csv"):
@@ -146,7 +165,9 @@ def _report_md(cfg, result: dict, rows: list[dict], points: list[dict]) -> str:
         "",
         v.get("description") or "",
         "",
-        f"- data: {v['data']['source']}" + (f" `{cfg.data_path}`" if cfg.data_path else "") + f"; label `{v['data']['label']}`, group `{v['data']['group']}`, "
+        f"- data: {v['data']['source']}"
+        + (f" `{cfg.data_path}`" if cfg.data_path else "")
+        + f"; label `{v['data']['label']}`, group `{v['data']['group']}`, "
         f"{result['n_recordings']} recordings, {result['n_groups']} groups, resampled to {v['data']['resample_hz']:g} Hz",
         f"- windows: {result['window_length_s']} s, overlap {v['windows']['overlap']}, min_label_fraction {v['windows']['min_label_fraction']}: "
         f"{result['n_windows']} kept of {result['n_windows_total']} ({result['n_dropped_label_fraction']} below the label fraction, "
@@ -161,7 +182,11 @@ def _report_md(cfg, result: dict, rows: list[dict], points: list[dict]) -> str:
         lines.append(f"- note: {n}")
     if result.get("skipped_recordings"):
         lines.append(f"- skipped (shorter than one window): {', '.join(result['skipped_recordings'])}")
-    lines += ["", "## Result" + (" (best sweep point: " + ", ".join(f"{k}={x}" for k, x in result["best"].items()) + ")" if cfg.sweep else ""), ""]
+    lines += [
+        "",
+        "## Result" + (" (best sweep point: " + ", ".join(f"{k}={x}" for k, x in result["best"].items()) + ")" if cfg.sweep else ""),
+        "",
+    ]
     lines.append("| | accuracy | macro-F1 |\n|---|---|---|")
     lines.append(f"| before correction | {result['accuracy_before_correction']:.4f} | {result['macro_f1_before_correction']:.4f} |")
     lines.append(f"| after correction | {result['accuracy_after_correction']:.4f} | {result['macro_f1_after_correction']:.4f} |")

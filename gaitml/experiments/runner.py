@@ -54,8 +54,12 @@ def _load_recordings(cfg: ExperimentConfig):
         from gaitml.simulate import simulate_dataset
 
         s = d["simulated"]
-        recs = simulate_dataset(n_subjects=s["subjects"], duration_s=s["duration_s"], modes=tuple(s["modes"]), sampling_rate_hz=fs, seed=cfg.seed)
-        notes.append(f"simulated: {s['subjects']} subjects, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}")
+        recs = simulate_dataset(
+            n_subjects=s["subjects"], duration_s=s["duration_s"], modes=tuple(s["modes"]), sampling_rate_hz=fs, seed=cfg.seed
+        )
+        notes.append(
+            f"simulated: {s['subjects']} subjects, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}"
+        )
         return list(recs), notes
     from gaitml.io import read_dataset
     from gaitml.models import resample_recording
@@ -117,7 +121,9 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
         notes.append(f"label: meta column {label!r} (one label per recording)")
     else:
         have = "per-sample 'label', " if all(r.labels is not None for r in recs) else ""
-        raise ConfigError(f"data.label = {label!r} is not in the data: neither per-sample labels nor a meta/manifest column; available: {have}{', '.join(cols)}.")
+        raise ConfigError(
+            f"data.label = {label!r} is not in the data: neither per-sample labels nor a meta/manifest column; available: {have}{', '.join(cols)}."
+        )
     present = sorted({str(x) for r in labelled for x in np.unique(r.labels)})
     for x in d["labels"]:
         if x not in present:
@@ -131,7 +137,9 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
     return PreparedData(labelled, groups, notes)
 
 
-def build_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool | None = None, need_features: bool | None = None, use_cache: bool = True):
+def build_dataset(
+    cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool | None = None, need_features: bool | None = None, use_cache: bool = True
+):
     """Window the prepared recordings with the config's window and feature settings."""
     from gaitml.models import build_window_dataset, model_class
 
@@ -143,8 +151,15 @@ def build_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool |
     if use_cache and key in _DS_CACHE:
         return _DS_CACHE[key]
     ds = build_window_dataset(
-        data.recordings, groups=data.groups, length_s=w["length_s"], overlap=w["overlap"], min_label_fraction=w["min_label_fraction"],
-        feature_set=cfg["features"]["set"], keep_labels=cfg["data"]["labels"] or None, need_features=need_features, need_raw=need_raw,
+        data.recordings,
+        groups=data.groups,
+        length_s=w["length_s"],
+        overlap=w["overlap"],
+        min_label_fraction=w["min_label_fraction"],
+        feature_set=cfg["features"]["set"],
+        keep_labels=cfg["data"]["labels"] or None,
+        need_features=need_features,
+        need_raw=need_raw,
     )
     if use_cache:
         if len(_DS_CACHE) > 4:
@@ -175,8 +190,18 @@ def _evaluate_point(cfg: ExperimentConfig, data: PreparedData, progress: bool, d
         labels = [m for m in modes if m in set(ds.y)]
     c = cfg["cv"]
     t1 = time.perf_counter()
-    res = cross_validate(ds, cfg["model"]["kind"], cfg["model"]["params"], scheme=c["scheme"], n_splits=c["n_splits"], n_jobs=c["n_jobs"],
-                         seed=cfg.seed, labels=labels, progress=progress, description=desc)
+    res = cross_validate(
+        ds,
+        cfg["model"]["kind"],
+        cfg["model"]["params"],
+        scheme=c["scheme"],
+        n_splits=c["n_splits"],
+        n_jobs=c["n_jobs"],
+        seed=cfg.seed,
+        labels=labels,
+        progress=progress,
+        description=desc,
+    )
     return {"dataset": ds, "cv": res, "dataset_s": t_ds, "cv_s": time.perf_counter() - t1}
 
 
@@ -198,7 +223,9 @@ def _headline(cfg: ExperimentConfig, res) -> dict:
     }
 
 
-def evaluate_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, progress: bool = True, write: bool = True, n_jobs: int | None = None) -> dict:
+def evaluate_config(
+    cfg: ExperimentConfig, *, out_dir: str | Path | None = None, progress: bool = True, write: bool = True, n_jobs: int | None = None
+) -> dict:
     """Cross-validate a config (every sweep point) and write its run folder.
 
     Returns
@@ -232,11 +259,22 @@ def evaluate_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None,
     for r in points:
         ds, res = r["dataset"], r["cv"]
         s = res.summary()
-        rows.append({**{k: v for k, v in r["point"].items()}, "accuracy_before": s["accuracy_before"], "accuracy_after": s["accuracy_after"],
-                     "macro_f1_before": s["macro_f1_before"], "macro_f1_after": s["macro_f1_after"],
-                     "fold_accuracy_mean_before": s["fold_accuracy_mean_before"], "fold_accuracy_std_before": s["fold_accuracy_std_before"],
-                     "fold_accuracy_mean_after": s["fold_accuracy_mean_after"], "n_windows": len(ds), "n_dropped": ds.n_dropped_fraction + ds.n_dropped_label,
-                     "n_features": len(ds.feature_names), "cv_s": round(r["cv_s"], 3)})
+        rows.append(
+            {
+                **{k: v for k, v in r["point"].items()},
+                "accuracy_before": s["accuracy_before"],
+                "accuracy_after": s["accuracy_after"],
+                "macro_f1_before": s["macro_f1_before"],
+                "macro_f1_after": s["macro_f1_after"],
+                "fold_accuracy_mean_before": s["fold_accuracy_mean_before"],
+                "fold_accuracy_std_before": s["fold_accuracy_std_before"],
+                "fold_accuracy_mean_after": s["fold_accuracy_mean_after"],
+                "n_windows": len(ds),
+                "n_dropped": ds.n_dropped_fraction + ds.n_dropped_label,
+                "n_features": len(ds.feature_names),
+                "cv_s": round(r["cv_s"], 3),
+            }
+        )
     key = "accuracy_after" if cfg["postprocess"]["adjacent_correction"] else "accuracy_before"
     best_i = int(np.argmax([row[key] for row in rows]))
     best = points[best_i]
@@ -290,7 +328,9 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
     from gaitml.models import make_model, save_model
 
     if cfg.sweep:
-        raise ConfigError(f"gaitml train takes one setting but the config has a [sweep] over {', '.join(cfg.sweep)}; remove [sweep] or pick one value.")
+        raise ConfigError(
+            f"gaitml train takes one setting but the config has a [sweep] over {', '.join(cfg.sweep)}; remove [sweep] or pick one value."
+        )
     data = prepare_data(cfg)
     target = Path(out_dir) if out_dir is not None else (cfg.model_dir or Path("models") / cfg.name)
     cv_scores = None
@@ -318,7 +358,12 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
         "labels": [str(x) for x in model.classes_],
         "postprocess": cfg["postprocess"],
         "training_config": cfg.resolved(),
-        "training_data": {"n_windows": len(ds), "n_recordings": len(data.recordings), "groups": sorted(set(data.groups)), "notes": data.notes},
+        "training_data": {
+            "n_windows": len(ds),
+            "n_recordings": len(data.recordings),
+            "groups": sorted(set(data.groups)),
+            "notes": data.notes,
+        },
         "fit_s": round(fit_s, 3),
         "cv_scores": cv_scores,
     }

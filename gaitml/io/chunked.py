@@ -156,10 +156,15 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
                 yield a, g, li, {"sampling_rate_hz": fs, "resampled": True}
                 k_next = k_last + 1
         else:
-            yield acc[start:], (None if gyr is None else gyr[start:]), (None if lab is None else lab[start:]), {
-                "sampling_rate_hz": fs,
-                "resampled": False,
-            }
+            yield (
+                acc[start:],
+                (None if gyr is None else gyr[start:]),
+                (None if lab is None else lab[start:]),
+                {
+                    "sampling_rate_hz": fs,
+                    "resampled": False,
+                },
+            )
         prev = (t[-1], acc[-1:], None if gyr is None else gyr[-1:], None if lab is None else lab[-1])
         line += len(df)
     if t0 is None:

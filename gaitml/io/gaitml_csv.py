@@ -213,5 +213,3 @@ def read_gaitml_folder(folder: str | os.PathLike, **kwargs) -> list[Recording]:
             raise InputError(f"{d} holds no gaitml-csv recordings; add <name>.csv files with t, acc_x, acc_y, acc_z.")
         recs = [read_gaitml_csv(f, **kwargs) for f in files]
     return recs
-
-

@@ -29,7 +29,9 @@ def raw_window_channels(feature_set: str, has_gyr: bool) -> tuple[str, ...]:
     """Names of the raw channels for a feature set (gyro only for ``all52+gyro``)."""
     if "gyro" in feature_set:
         if not has_gyr:
-            raise InputError(f"feature set {feature_set!r} needs a gyroscope but a recording has none; use 'all52' or recordings with gyr_x, gyr_y, gyr_z.")
+            raise InputError(
+                f"feature set {feature_set!r} needs a gyroscope but a recording has none; use 'all52' or recordings with gyr_x, gyr_y, gyr_z."
+            )
         return RAW_ACC_CHANNELS + RAW_GYR_CHANNELS
     return RAW_ACC_CHANNELS
 
@@ -74,8 +76,13 @@ def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recordi
         acc = lowpass(acc, cut, fs0)
         gyr = None if gyr is None else lowpass(gyr, cut, fs0)
     rec = Recording.from_timestamps(
-        recording.t_s, acc, gyr=gyr, labels=recording.labels, sampling_rate_hz=sampling_rate_hz,
-        meta={**recording.meta, "resampled_from_hz": fs0}, reference=recording.reference,
+        recording.t_s,
+        acc,
+        gyr=gyr,
+        labels=recording.labels,
+        sampling_rate_hz=sampling_rate_hz,
+        meta={**recording.meta, "resampled_from_hz": fs0},
+        reference=recording.reference,
     )
     return rec
 
@@ -238,7 +245,18 @@ def build_window_dataset(
     features = pd.concat(feats, ignore_index=True) if need_features else None
     raw = np.concatenate(raws, axis=0) if need_raw else None
     return WindowDataset(
-        windows=windows, features=features, raw=raw, recording_names=names, sampling_rate_hz=fs, length_s=float(length_s),
-        overlap=float(overlap), feature_set=feature_set, raw_channels=tuple(channels), n_total=n_total, n_dropped_fraction=n_frac,
-        n_dropped_label=n_lab, dropped_labels=dropped, skipped_recordings=skipped,
+        windows=windows,
+        features=features,
+        raw=raw,
+        recording_names=names,
+        sampling_rate_hz=fs,
+        length_s=float(length_s),
+        overlap=float(overlap),
+        feature_set=feature_set,
+        raw_channels=tuple(channels),
+        n_total=n_total,
+        n_dropped_fraction=n_frac,
+        n_dropped_label=n_lab,
+        dropped_labels=dropped,
+        skipped_recordings=skipped,
     )

@@ -177,7 +177,9 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
     if not isinstance(info, dict) or info.get("format") != "gaitml-model":
         raise ModelError(f"{jpath} is not a gaitml model description (no format = 'gaitml-model'); train the model again.")
     if info.get("format_version") != MODEL_FORMAT_VERSION:
-        raise ModelError(f"model format version {info.get('format_version')!r} in {jpath} is not {MODEL_FORMAT_VERSION}; train the model again with this gaitml.")
+        raise ModelError(
+            f"model format version {info.get('format_version')!r} in {jpath} is not {MODEL_FORMAT_VERSION}; train the model again with this gaitml."
+        )
     digest = sha256_file(mpath)
     if digest != info.get("sha256"):
         raise ModelError(
@@ -212,7 +214,9 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
         raise ModelError(f"cannot load {mpath} ({type(exc).__name__}: {exc}); the artifact is corrupt, train it again.") from exc
     n_in = getattr(est, "n_features_in_", None)
     if info.get("input_kind") == "features" and n_in is not None and n_in != len(info["feature_names"]):
-        raise ModelError(f"the estimator takes {n_in} features but model.json lists {len(info['feature_names'])}; the artifact is inconsistent, train it again.")
+        raise ModelError(
+            f"the estimator takes {n_in} features but model.json lists {len(info['feature_names'])}; the artifact is inconsistent, train it again."
+        )
     return TrainedModel(estimator=est, info=info, path=p)
 
 
@@ -229,6 +233,8 @@ def _check_feature_set(info: dict, jpath: Path) -> None:
     now = list(feature_names(fset))
     saved = list(info.get("feature_names") or [])
     if now != saved:
-        diff = next((f"position {i}: saved {a!r}, now {b!r}" for i, (a, b) in enumerate(zip(saved, now, strict=False)) if a != b),
-                    f"saved {len(saved)} names, now {len(now)}")
+        diff = next(
+            (f"position {i}: saved {a!r}, now {b!r}" for i, (a, b) in enumerate(zip(saved, now, strict=False)) if a != b),
+            f"saved {len(saved)} names, now {len(now)}",
+        )
         raise ModelError(f"the model's feature names do not match feature set {fset!r} of this gaitml ({diff}); retrain the model.")

@@ -83,5 +83,7 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     for c in ("label", "label_fraction"):
         if c in w.columns:
             out[c] = w[c].to_numpy()
-    out.attrs.update(sampling_rate_hz=model.sampling_rate_hz, resampled_from_hz=None if rec is recording else fs0, correction=bool(correction))
+    out.attrs.update(
+        sampling_rate_hz=model.sampling_rate_hz, resampled_from_hz=None if rec is recording else fs0, correction=bool(correction)
+    )
     return out

@@ -112,7 +112,16 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
 
     input_kind = "features"
 
-    def __init__(self, C: float = DEFAULT_C, *, solver: str = "liblinear", loss: str = "squared_hinge", max_iter: int = 2000, tol: float = 1e-4, random_state: int = 0):
+    def __init__(
+        self,
+        C: float = DEFAULT_C,
+        *,
+        solver: str = "liblinear",
+        loss: str = "squared_hinge",
+        max_iter: int = 2000,
+        tol: float = 1e-4,
+        random_state: int = 0,
+    ):
         self.C = C
         self.solver = solver
         self.loss = loss
@@ -145,7 +154,9 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
             raise InputError(f"X has {len(X)} rows but y has {len(y)} labels; they must match.")
         self.classes_ = np.unique(y)
         if len(self.classes_) < 2:
-            raise InputError(f"need at least 2 classes to train a classifier, got {list(self.classes_)}; check the labels of the training data.")
+            raise InputError(
+                f"need at least 2 classes to train a classifier, got {list(self.classes_)}; check the labels of the training data."
+            )
         self.n_features_in_ = X.shape[1]
         self.mean_ = X.mean(axis=0)
         scale = X.std(axis=0)
@@ -166,7 +177,12 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
                     clf = SVC(kernel="linear", C=self.C, tol=self.tol * 10, max_iter=-1, random_state=self.random_state)
                 else:
                     clf = LinearSVC(
-                        C=self.C, loss=self.loss, dual=self.loss == "hinge", tol=self.tol, max_iter=self.max_iter, random_state=self.random_state
+                        C=self.C,
+                        loss=self.loss,
+                        dual=self.loss == "hinge",
+                        tol=self.tol,
+                        max_iter=self.max_iter,
+                        random_state=self.random_state,
                     )
                 clf.fit(Z[mask], yk)
                 # class order of clf is [-1, 1], so a positive decision means class i

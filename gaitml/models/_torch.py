@@ -66,7 +66,9 @@ class _TorchClassifier(ClassifierMixin, BaseEstimator):
                 raise InputError(f"`{name}` must be a {'positive' if name == 'learning_rate' else 'non-negative'} number, got {v!r}.")
         for name in ("hidden", "channels"):
             v = getattr(self, name, None)
-            if v is not None and (not isinstance(v, tuple | list) or not v or any(isinstance(h, bool) or not isinstance(h, int) or h < 1 for h in v)):
+            if v is not None and (
+                not isinstance(v, tuple | list) or not v or any(isinstance(h, bool) or not isinstance(h, int) or h < 1 for h in v)
+            ):
                 raise InputError(f"`{name}` must be a list of positive integers, got {v!r}.")
         if hasattr(self, "channels") and len(self.channels) != 2:
             raise InputError(f"`channels` must give the filters of the 2 conv layers, e.g. [16, 32], got {self.channels!r}.")
@@ -155,8 +157,18 @@ class TorchMLPClassifier(_TorchClassifier):
     _kind = "mlp"
     input_kind = "features"
 
-    def __init__(self, hidden=(64, 32), *, dropout: float = 0.1, epochs: int = 40, batch_size: int = 128, learning_rate: float = 1e-3,
-                 weight_decay: float = 1e-4, random_state: int = 0, n_threads: int = 1):
+    def __init__(
+        self,
+        hidden=(64, 32),
+        *,
+        dropout: float = 0.1,
+        epochs: int = 40,
+        batch_size: int = 128,
+        learning_rate: float = 1e-3,
+        weight_decay: float = 1e-4,
+        random_state: int = 0,
+        n_threads: int = 1,
+    ):
         self.hidden = hidden
         self.dropout = dropout
         self.epochs = epochs
@@ -215,8 +227,18 @@ class TorchCNN1DClassifier(_TorchClassifier):
     _kind = "cnn1d"
     input_kind = "raw"
 
-    def __init__(self, channels=(16, 32), *, kernel_size: int = 5, epochs: int = 30, batch_size: int = 64, learning_rate: float = 2e-3,
-                 weight_decay: float = 1e-4, random_state: int = 0, n_threads: int = 1):
+    def __init__(
+        self,
+        channels=(16, 32),
+        *,
+        kernel_size: int = 5,
+        epochs: int = 30,
+        batch_size: int = 64,
+        learning_rate: float = 2e-3,
+        weight_decay: float = 1e-4,
+        random_state: int = 0,
+        n_threads: int = 1,
+    ):
         self.channels = channels
         self.kernel_size = kernel_size
         self.epochs = epochs
@@ -237,7 +259,9 @@ class TorchCNN1DClassifier(_TorchClassifier):
             s[s == 0] = 1.0
             self.scale_ = s
         elif arr.shape[1:] != tuple(self.window_shape_):
-            raise InputError(f"the model expects raw windows of shape {tuple(self.window_shape_)}, got {arr.shape[1:]}; use its window length and rate.")
+            raise InputError(
+                f"the model expects raw windows of shape {tuple(self.window_shape_)}, got {arr.shape[1:]}; use its window length and rate."
+            )
         z = (arr - self.mean_) / self.scale_
         return np.ascontiguousarray(np.transpose(z, (0, 2, 1)))  # torch wants (n, channels, length)
 

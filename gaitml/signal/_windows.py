@@ -19,8 +19,7 @@ def window_params(length_s: float, overlap: float, sampling_rate_hz: float) -> t
     length = int(round(length_s * sampling_rate_hz))
     if length < 2:
         raise InputError(
-            f"the window is shorter than 2 samples (`length_s`={length_s}, `sampling_rate_hz`={sampling_rate_hz}); "
-            "specify a longer window."
+            f"the window is shorter than 2 samples (`length_s`={length_s}, `sampling_rate_hz`={sampling_rate_hz}); specify a longer window."
         )
     hop = max(1, int(round(length * (1 - overlap))))
     return length, hop

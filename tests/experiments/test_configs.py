@@ -93,11 +93,14 @@ def test_bad_config_one_line_error(tmp_path, raw, pattern):
 
 
 @pytest.mark.skipif(not torch_available(), reason="torch extra not installed")
-@pytest.mark.parametrize(("params", "pattern"), [
-    ({"epochs": "ten"}, r"`epochs` must be a positive integer, got 'ten'"),
-    ({"hidden": [8, 0]}, r"`hidden` must be a list of positive integers"),
-    ({"dropout": 1.5}, r"`dropout` must be in \[0, 1\)"),
-])
+@pytest.mark.parametrize(
+    ("params", "pattern"),
+    [
+        ({"epochs": "ten"}, r"`epochs` must be a positive integer, got 'ten'"),
+        ({"hidden": [8, 0]}, r"`hidden` must be a list of positive integers"),
+        ({"dropout": 1.5}, r"`dropout` must be in \[0, 1\)"),
+    ],
+)
 def test_bad_torch_params_fail_at_load(params, pattern):
     with pytest.raises(ConfigError, match=pattern):
         parse_config({"name": "x", "model": {"kind": "mlp", "params": params}})

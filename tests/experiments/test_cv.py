@@ -54,12 +54,15 @@ def test_leave_one_group_out_and_group_kfold():
         assert set(G[tr]).isdisjoint(set(G[te]))
 
 
-@pytest.mark.parametrize(("scheme", "groups", "n", "pattern"), [
-    ("leave-one-group-out", ["a"] * 5, 5, "needs at least 2 groups"),
-    ("train-one-test-rest", ["a"] * 5, 5, "needs at least 2 groups"),
-    ("group-kfold", ["a", "b", "c"], 5, "n_splits = 5 needs at least 5 groups"),
-    ("kfold", ["a", "b"], 2, "allowed: train-one-test-rest"),
-])
+@pytest.mark.parametrize(
+    ("scheme", "groups", "n", "pattern"),
+    [
+        ("leave-one-group-out", ["a"] * 5, 5, "needs at least 2 groups"),
+        ("train-one-test-rest", ["a"] * 5, 5, "needs at least 2 groups"),
+        ("group-kfold", ["a", "b", "c"], 5, "n_splits = 5 needs at least 5 groups"),
+        ("kfold", ["a", "b"], 2, "allowed: train-one-test-rest"),
+    ],
+)
 def test_too_few_groups(scheme, groups, n, pattern):
     with pytest.raises(ConfigError, match=pattern):
         check_groups(scheme, groups, n)

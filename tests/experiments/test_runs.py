@@ -19,7 +19,12 @@ TINY = {"subjects": 3, "duration_s": 60.0, "modes": ["walk", "run", "side_left"]
 
 
 def _tiny_cfg(kind, params=None, **extra):
-    raw = {"name": f"tiny-{kind}", "seed": 1, "data": {"source": "simulated", "simulated": TINY}, "model": {"kind": kind, "params": params or {}}}
+    raw = {
+        "name": f"tiny-{kind}",
+        "seed": 1,
+        "data": {"source": "simulated", "simulated": TINY},
+        "model": {"kind": kind, "params": params or {}},
+    }
     for k, v in extra.items():
         raw.setdefault(k, {}).update(v)
     return parse_config(raw)
@@ -27,7 +32,11 @@ def _tiny_cfg(kind, params=None, **extra):
 
 @pytest.mark.parametrize(
     ("kind", "params"),
-    [("linear-ovo-svm", {"C": 1.0}), pytest.param("mlp", {"epochs": 5}, marks=needs_torch), pytest.param("cnn1d", {"epochs": 3}, marks=needs_torch)],
+    [
+        ("linear-ovo-svm", {"C": 1.0}),
+        pytest.param("mlp", {"epochs": 5}, marks=needs_torch),
+        pytest.param("cnn1d", {"epochs": 3}, marks=needs_torch),
+    ],
 )
 def test_each_model_kind_end_to_end_on_simulated_data(tmp_path, kind, params):
     cfg = _tiny_cfg(kind, params)
@@ -51,8 +60,20 @@ def test_run_folder_contents_and_sweep(tmp_path):
     cfg = parse_config({**cfg.values, "sweep": {"windows.length_s": [0.5, 1.5]}})
     res = evaluate_config(cfg, out_dir=tmp_path / "run", progress=False)
     run = tmp_path / "run"
-    for f in ("config.resolved.json", "metrics.json", "report.md", "confusion.png", "sweep.png", "sweep.csv", "folds.csv", "per_class.csv",
-              "confusion_before.csv", "confusion_after.csv", "point-00/predictions.csv", "point-01/confusion.png"):
+    for f in (
+        "config.resolved.json",
+        "metrics.json",
+        "report.md",
+        "confusion.png",
+        "sweep.png",
+        "sweep.csv",
+        "folds.csv",
+        "per_class.csv",
+        "confusion_before.csv",
+        "confusion_after.csv",
+        "point-00/predictions.csv",
+        "point-01/confusion.png",
+    ):
         assert (run / f).is_file(), f
     assert [r["windows.length_s"] for r in res["sweep"]] == [0.5, 1.5]
     m = json.loads((run / "metrics.json").read_text())
@@ -66,7 +87,9 @@ def test_run_folder_contents_and_sweep(tmp_path):
 
 def test_folder_source_meta_label(tmp_path):
     write_synth_folder(tmp_path / "data", n_subjects=3, seconds_per_mode=6.0)
-    cfg = parse_config({"name": "pos", "data": {"source": "folder", "path": "data", "label": "position", "group": "user"}}, base_dir=tmp_path)
+    cfg = parse_config(
+        {"name": "pos", "data": {"source": "folder", "path": "data", "label": "position", "group": "user"}}, base_dir=tmp_path
+    )
     res = evaluate_config(cfg, write=False, progress=False)
     assert res["labels"] == ["InHand", "Pocket"] and res["n_groups"] == 3
 

@@ -7,8 +7,8 @@ import pandas as pd
 import pytest
 
 from gaitml import InputError
-from gaitml.io import read_recording
 from gaitml.io import chunked as ch
+from gaitml.io import read_recording
 
 
 def _write(tmp_path, n, fs=100.0, irregular=False, seed=0, labels=True, gyr=True):

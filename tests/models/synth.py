@@ -22,7 +22,15 @@ _PATTERN = {  # (step frequency Hz, amplitude m/s^2, weights on x, y, z)
 }
 
 
-def synth_recording(subject: int, modes=MODES, seconds_per_mode: float = 20.0, fs: float = 50.0, seed: int = 0, gyr: bool = False, position: str | None = None) -> Recording:
+def synth_recording(
+    subject: int,
+    modes=MODES,
+    seconds_per_mode: float = 20.0,
+    fs: float = 50.0,
+    seed: int = 0,
+    gyr: bool = False,
+    position: str | None = None,
+) -> Recording:
     rng = np.random.default_rng(seed * 1000 + subject)
     accs, labels = [], []
     for m in modes:

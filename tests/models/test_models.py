@@ -123,8 +123,13 @@ def _info(ds, kind="linear-ovo-svm"):
     from gaitml.features import feature_names
 
     return {
-        "model_kind": kind, "input_kind": "features", "feature_set": "all52", "feature_names": list(feature_names("all52")),
-        "window": {"length_s": 1.5, "overlap": 0.5}, "sampling_rate_hz": 50.0, "labels": sorted(set(ds.y)),
+        "model_kind": kind,
+        "input_kind": "features",
+        "feature_set": "all52",
+        "feature_names": list(feature_names("all52")),
+        "window": {"length_s": 1.5, "overlap": 0.5},
+        "sampling_rate_hz": 50.0,
+        "labels": sorted(set(ds.y)),
     }
 
 
@@ -224,4 +229,4 @@ def test_dataset_skips_recordings_shorter_than_a_window_and_counts_drops():
     # raw channel 3 is |acc| - g of the window's samples
     w0 = ds.windows.iloc[0]
     r0 = recs[int(w0["recording"])]
-    np.testing.assert_allclose(ds.raw[0, :, 3], np.linalg.norm(r0.acc[w0["start"]:w0["end"]], axis=1) - 9.80665)
+    np.testing.assert_allclose(ds.raw[0, :, 3], np.linalg.norm(r0.acc[w0["start"] : w0["end"]], axis=1) - 9.80665)

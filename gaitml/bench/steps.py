@@ -120,8 +120,59 @@ def _references(rec: Recording) -> dict:
         th, _ = learn_thresholds(a, (d.thr_ms2, d.thr_peak_ms2, d.thr_trough_ms2, d.thr_neg_ms2), **kw)
         selflearn_fsm_run(a, th, jump=False, **kw)
 
+    def autocorr_ref():
+        from gaitml.steps.autocorr import AutocorrStepDetector
+
+        d = AutocorrStepDetector()
+        x = moving_average(magnitude(rec.acc), max(1, int(round(d.smoothing_s * fs))))
+        L = int(round(d.window_s * fs))
+        lo, hi = max(2, int(round(d.min_period_s * fs))), int(round(d.max_period_s * fs))
+        for i in range(len(x) // L):  # one window at a time, direct autocorrelation
+            w = x[i * L : (i + 1) * L] - x[i * L : (i + 1) * L].mean()
+            r = np.correlate(w, w, "full")[L - 1 :]
+            r = r / r[0] if r[0] > 0 else r
+            seg = r[lo - 1 : hi + 2]
+            _ = [k for k in range(1, len(seg) - 1) if seg[k] > seg[k - 1] and seg[k] >= seg[k + 1]]
+
+    def adaptive_ref():
+        import gaitml.steps.adaptive as ad
+
+        def plain_period(y, sampling_rate_hz, *, window_s, hop_s, min_period_s, max_period_s, half_lag_ratio):
+            f = float(sampling_rate_hz)
+            L, H = int(round(window_s * f)), max(1, int(round(hop_s * f)))
+            lo, hi = max(1, int(round(min_period_s * f))), int(round(max_period_s * f))
+            centres, per, cor = [], [], []
+            for a in range(0, len(y) - L + 1, H):  # one window at a time, np.correlate
+                w = y[a : a + L] - y[a : a + L].mean()
+                r = np.correlate(w, w, "full")[L - 1 :]
+                r = r / r[0] if r[0] > 0 else r
+                lag = lo + int(np.argmax(r[lo : hi + 1]))
+                centres.append(a + L // 2)
+                per.append(lag / f)
+                cor.append(r[lag])
+            return np.array(centres), np.array(per), np.array(cor)
+
+        orig = ad.local_step_period
+        ad.local_step_period = plain_period
+        try:
+            ad.adaptive_steps(magnitude(rec.acc), fs)
+        finally:
+            ad.local_step_period = orig
+
+    def zupt_magnitude_ref():
+        from gaitml.steps.zupt_magnitude import ZuptMagnitudeStepDetector, steps_from_zupts
+        from gaitml.zupt import intervals_table
+        from gaitml.zupt._reference import reference_magnitude
+
+        d = ZuptMagnitudeStepDetector()
+        mask = reference_magnitude(rec.acc, fs, d.t_min_ms2, d.t_max_ms2, d.min_run_fraction)
+        steps_from_zupts(intervals_table(mask, fs), fs, n_samples=rec.n_samples)
+
     return {
         "single-peak": ("naive per-sample Python loop of single-peak", lambda: naive_single_peak(rec.acc, fs)),
+        "autocorr": ("per-window np.correlate loop of the autocorrelation", autocorr_ref),
+        "adaptive": ("cadence autocorrelation as a per-window np.correlate loop", adaptive_ref),
+        "zupt-magnitude": ("per-sample state-machine loop of paper 004's interval test", zupt_magnitude_ref),
         "ifsm": ("per-sample loop ifsm_steps_loop", ifsm_ref("reproduce")),
         "ifsm-literal": ("per-sample loop ifsm_steps_loop", ifsm_ref("literal")),
         "adfsm": ("per-sample loop adfsm_steps_loop", adfsm_ref),

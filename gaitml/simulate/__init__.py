@@ -24,7 +24,8 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    vertical amplitude and harmonic content, phase skew, speed fluctuation,
    lateral sway, left/right asymmetry of step time and peak, step-to-step
    jitter, phone pose (flat ~3-12 deg pitch or tilted 30-50 deg), slow
-   orientation wander, accelerometer/gyroscope noise and bias.
+   orientation wander, accelerometer/gyroscope noise and bias, and the sizes
+   of the step-to-step and slow variability (below).
 2. *Route and steps* (:mod:`.route`, :mod:`.plan`): a path of straight legs,
    turns and arcs (rectangle ~262 m and arc ~400 m of paper 003 sec. 4.3,
    straight legs with turns, random); mode segments of 8-20 s in shuffled
@@ -74,6 +75,18 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    phase; a walking bout starts from rest (amplitude ramp over the first half
    step) and ends with a half-step settling ramp. Turning adds the
    centripetal acceleration ``v psi'`` towards the inside of the turn.
+   *Variability* (:mod:`.variability`): no two steps are alike. Step time
+   and length scatter 2-4.5 % (stride-time CV of healthy adults 2-4 %); the
+   walking speed drifts slowly (1.5-4 %, 3-8 s); each step's amplitude
+   follows its speed squared (inverted pendulum) and its heel-strike peak
+   and mid-stance trough vary by another 5-11 % (the compliant arm and wrist
+   between trunk and phone); the harmonic shape, the lateral sway and the
+   forward speed swing vary per step; the hand shake drifts slowly. All
+   per-step values are smooth knots at half steps, so the signal stays
+   continuous and the step event stays the peak. Sized against the real
+   flat-held walks' window statistics: the CV across 0.5 s / 1.5 s windows
+   of the window variance of ``|acc|`` is 0.22-0.23 / 0.15-0.19 in the real
+   walks (:func:`gaitml.simulate.realism.variability_table`).
 4. *Phone and sensor* (:mod:`.sensor`): attitude ``Rz(-theta + yaw bob +
    wander) Rx(pitch) Ry(roll)`` with gait-induced bobbing (pitch at the step
    frequency, roll and yaw at half of it) and a smooth random wander; the

@@ -52,6 +52,7 @@ from gaitml.simulate.sensor import (
     specific_force,
 )
 from gaitml.simulate.subject import POSES, Subject, sample_subjects
+from gaitml.simulate.variability import interpolate_knots, speed_gain, step_knots
 
 __all__ = ["synthesize", "simulate_recording", "simulate_dataset", "simulate_route", "write_simulation", "SAMPLING_RATE_RANGE_HZ"]
 
@@ -86,23 +87,31 @@ def _smooth_angle(t_knots: np.ndarray, values: np.ndarray, t: np.ndarray) -> tup
     return f(tc), rate
 
 
-def _pattern(tab: dict, m: np.ndarray, u, phi, du_dt, u0, length_m, asym_amp):
-    """Person-frame body acceleration (right, forward, up) and phone bobbing for modes ``m``."""
+def _pattern(tab: dict, m: np.ndarray, u, phi, du_dt, u0, length_m, asym_amp, var: dict):
+    """Person-frame body acceleration (right, forward, up) and phone bobbing for modes ``m``.
+
+    ``var`` holds the per-sample step-to-step factors (:mod:`.variability`):
+    ``gain`` (vertical amplitude), ``shape`` (n, 3: 2nd, 3rd harmonic,
+    shoulder), ``lateral`` (sway) and ``swing`` (forward speed swing ``c1``,
+    ``c2``; constant within a step).
+    """
     g = {k: v[m] for k, v in tab.items()}
+    harm = g["harmonics"] * np.column_stack([np.ones(len(m)), var["shape"][:, 0], var["shape"][:, 1]])
     a_up = vertical_waveform(
         u,
         amplitude_ms2=g["vertical_ms2"],
-        harmonics=g["harmonics"],
+        harmonics=harm,
         skew=g["skew"],
         mean=g["vertical_mean"],
-        shoulder=g["shoulder"],
+        shoulder=g["shoulder"] * var["shape"][:, 2],
         is_run=g["is_run"] > 0,
         duty=g["duty"],
         flight_unload=g["flight_unload"],
     )
-    a_up = a_up * (1.0 + asym_amp * np.cos(np.pi * phi))
-    a_m = motion_acceleration(u, u0, du_dt, length_m, g["speed_c1"], g["speed_d1"], g["speed_c2"], g["speed_d2"])
-    sway = g["sway_ms2"] * (np.cos(np.pi * phi) + g["sway_harmonic3"] * np.cos(3 * np.pi * phi))
+    a_up = a_up * (1.0 + asym_amp * np.cos(np.pi * phi)) * var["gain"]
+    c1, c2 = g["speed_c1"] * var["swing"], g["speed_c2"] * var["swing"]
+    a_m = motion_acceleration(u, u0, du_dt, length_m, c1, g["speed_d1"], c2, g["speed_d2"])
+    sway = g["sway_ms2"] * var["lateral"] * (np.cos(np.pi * phi) + g["sway_harmonic3"] * np.cos(3 * np.pi * phi))
     off = g["offset_rad"]
     a_right = a_m * np.sin(off) + sway
     a_fwd = a_m * np.cos(off)
@@ -110,6 +119,18 @@ def _pattern(tab: dict, m: np.ndarray, u, phi, du_dt, u0, length_m, asym_amp):
     roll_b = g["roll_bob_rad"] * np.cos(np.pi * phi)
     yaw_b = g["yaw_bob_rad"] * np.sin(np.pi * phi)
     return np.stack([a_right, a_fwd, a_up, pitch_b, roll_b, yaw_b])
+
+
+def _step_variation(subject: Subject, st: pd.DataFrame, k: np.ndarray, phi: np.ndarray, rng: np.random.Generator) -> dict:
+    """Per-sample step-to-step factors (see :mod:`gaitml.simulate.variability`)."""
+    idx = st["index"].to_numpy(np.int64)
+    speed_rel = st["speed_rel"].to_numpy(float) if "speed_rel" in st else np.ones(len(st))
+    gain_k = speed_gain(speed_rel)
+    gain = interpolate_knots(phi, step_knots(rng, idx, subject.step_amp_cv, base=gain_k))[:, 0]
+    shape = interpolate_knots(phi, step_knots(rng, idx, subject.step_shape_cv, n_channels=3))
+    lateral = interpolate_knots(phi, step_knots(rng, idx, subject.step_lateral_cv))[:, 0]
+    swing_k = np.exp(subject.step_lateral_cv * rng.standard_normal(len(st)))
+    return {"gain": gain, "shape": shape, "lateral": lateral, "swing": swing_k[k], "gain_step": gain_k, "swing_step": swing_k}
 
 
 def synthesize(
@@ -157,7 +178,8 @@ def synthesize(
     w_cur = np.where(is_step & (mode_prev[k] != mode_cur[k]), x, 1.0)
 
     tab = gait_table(subject, MOTION_MODES)
-    args = (u, phi, du_dt, u0, L[k], subject.asymmetry_amp)
+    var = _step_variation(subject, st, k, phi, rng)
+    args = (u, phi, du_dt, u0, L[k], subject.asymmetry_amp, var)
     pat = _pattern(tab, mode_cur[k], *args)
     change = w_cur < 1.0
     if change.any():
@@ -165,12 +187,19 @@ def synthesize(
         pat = w_cur * pat + (1.0 - w_cur) * pat_prev
     pat *= env
     a_right, a_fwd, a_up, pitch_b, roll_b, yaw_b = pat
+    # the varying gain and shape leave a small mean over each steady step: remove it with a
+    # sin^2 window (zero at the events, so the event stays the peak), no net vertical velocity
+    steady = is_step & ~first
+    if steady.any():
+        cnt = np.bincount(k[steady], minlength=len(st))
+        off_k = np.bincount(k[steady], weights=a_up[steady], minlength=len(st)) / np.maximum(cnt, 1)
+        a_up = a_up - np.where(steady, 2.0 * off_k[k] * np.sin(np.pi * u) ** 2, 0.0)
 
     # heel-strike impact: a narrow vertical spike centred on each step event (so the event
     # stays the peak), its area removed again over the step (no net vertical velocity)
     t_ev = st["t_s"].to_numpy(float)
     sig = subject.impact_width_s
-    b_imp = subject.impact_ms2 * tab["impact_scale"][mode_cur] * rng.uniform(0.6, 1.4, len(st))
+    b_imp = subject.impact_ms2 * tab["impact_scale"][mode_cur] * rng.uniform(0.6, 1.4, len(st)) * var["gain_step"]
     jn = np.clip(np.searchsorted(t_ev, t), 1, len(t_ev) - 1) if len(t_ev) > 1 else np.zeros(n, dtype=int)
     if len(t_ev) > 1:
         jn = np.where(np.abs(t - t_ev[jn - 1]) < np.abs(t - t_ev[jn]), jn - 1, jn)
@@ -203,6 +232,7 @@ def synthesize(
 
     # hand/arm vibration while moving (3-15 Hz), some tremor while standing
     shake = (0.15 + 0.85 * env) * np.where(moving, tab["jitter_scale"][mode_cur[k]], 1.0)
+    shake = shake * np.exp(subject.hand_jitter_drift * smooth_noise(rng, n, fs, 2.0)[:, 0])
     acc = acc + band_noise(rng, n, fs, 3.0, 15.0, 3) * (subject.hand_jitter_ms2 * shake)[:, None]
     gyr = gyr + band_noise(rng, n, fs, 3.0, 15.0, 3) * (0.1 * subject.hand_jitter_ms2 * shake)[:, None]
 
@@ -221,7 +251,8 @@ def synthesize(
     p_end = np.cumsum(d, axis=0)
     p_start = np.vstack([[0.0, 0.0], p_end[:-1]])
     gk = {kk: v[mode_cur[k]] for kk, v in tab.items() if kk.startswith("speed_")}
-    frac = displacement_fraction(np.where(is_step, u, 1.0), u0, gk["speed_c1"], gk["speed_d1"], gk["speed_c2"], gk["speed_d2"])
+    sw = var["swing"]
+    frac = displacement_fraction(np.where(is_step, u, 1.0), u0, gk["speed_c1"] * sw, gk["speed_d1"], gk["speed_c2"] * sw, gk["speed_d2"])
     frac = np.where(is_step, frac, 1.0)
     pos = p_start[k] + frac[:, None] * (p_end[k] - p_start[k])
     labels = np.where(kind == INTERVAL_PAUSE, STAND, st["mode"].to_numpy()[k])

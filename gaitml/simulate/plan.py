@@ -19,7 +19,13 @@ intervals the signal generator evaluates:
 
 Step durations scatter with the subject's ``step_jitter`` and alternate by
 ``1 +/- asymmetry_time`` between the left and right foot; step lengths
-scatter with the same coefficient of variation. The direction of travel of
+scatter with the same coefficient of variation. A slow speed drift
+(``speed_drift_cv`` over ``speed_drift_time_s``,
+:func:`gaitml.simulate.variability.speed_drift`) scales the step length by
+``sqrt(factor)`` and the step duration by ``1 / sqrt(factor)``; each step's
+speed relative to the subject's usual speed in that mode (jitter and drift,
+without the asymmetry or the turning stretch) is kept in ``speed_rel`` for the
+amplitude of the body acceleration. The direction of travel of
 a step is the path heading half way along the step (a chord of the path);
 the facing heading is that minus the mode's offset. When the mode changes
 to one with another offset (e.g. walk -> side_right: the body turns 90 deg
@@ -39,6 +45,7 @@ from gaitml.errors import InputError
 from gaitml.simulate.modes import MODE_OFFSET_RAD, STAND, check_modes, mode_gait
 from gaitml.simulate.route import Path
 from gaitml.simulate.subject import Subject
+from gaitml.simulate.variability import speed_drift
 
 __all__ = ["StepPlan", "mode_schedule", "plan_steps", "SEGMENT_S", "PAUSE_S"]
 
@@ -100,7 +107,9 @@ class StepPlan:
     ``step_length_m``, ``heading_rad`` (facing, clockwise from north),
     ``direction_rad`` (of travel), ``foot``, ``u0`` (start phase), ``index``
     (global step count, for the left/right alternation), ``prev_mode``
-    (mode of the previous step in the same bout, for the blended transition).
+    (mode of the previous step in the same bout, for the blended transition),
+    ``speed_rel`` (the step's speed relative to the subject's usual speed in
+    its mode, before the turning stretch).
     ``intervals``: ``kind, t_a, t_b, u_a, u_b, step`` (row of ``steps``).
     """
 
@@ -136,6 +145,7 @@ def plan_steps(
     seg_end = schedule["t_end_s"].to_numpy(dtype=float)
     total_len = path.total_length_m
     jit = subject.step_jitter
+    drift = speed_drift(rng, float(seg_end[-1]) + 10.0, subject.speed_drift_cv, subject.speed_drift_time_s)
 
     steps: list[tuple] = []
     intervals: list[tuple] = []
@@ -173,8 +183,10 @@ def plan_steps(
         foot = ("left" if mode == "side_left" else "right") if side else ("left" if k % 2 == 0 else "right")
         asym = 1.0 + (subject.asymmetry_time if foot == "left" else -subject.asymmetry_time)
         z1, z2 = rng.standard_normal(2)
-        T = min(max(asym / g.cadence_hz * (1.0 + jit * z1), 0.6 / g.cadence_hz), 1.4 / g.cadence_hz)
-        L = min(max(g.step_length_m * (1.0 + jit * z2), 0.5 * g.step_length_m), 1.5 * g.step_length_m)
+        sq = float(np.sqrt(drift(t)))
+        T = min(max(asym / g.cadence_hz * (1.0 + jit * z1) / sq, 0.6 / g.cadence_hz), 1.4 / g.cadence_hz)
+        L = min(max(g.step_length_m * (1.0 + jit * z2) * sq, 0.5 * g.step_length_m), 1.5 * g.step_length_m)
+        speed_rel = (L / g.step_length_m) / (T * g.cadence_hz / asym)
         first = not in_bout
         u0 = 0.5 if first else 0.0
         if prev_mode is not None and prev_mode != mode:
@@ -189,7 +201,7 @@ def plan_steps(
                 L = remaining
         if duration_s is not None and t + T + 0.5 * T > duration_s:
             break
-        steps.append((t, t + T, mode, L, s + L / 2, foot, u0, k, prev_mode if prev_mode is not None else mode))
+        steps.append((t, t + T, mode, L, s + L / 2, foot, u0, k, prev_mode if prev_mode is not None else mode, speed_rel))
         intervals.append((INTERVAL_STEP, t, t + T, u0, 1.0, len(steps) - 1))
         t += T
         s += L
@@ -208,7 +220,7 @@ def plan_steps(
         total = t
     steps_df = pd.DataFrame(
         steps,
-        columns=["t_start_s", "t_s", "mode", "step_length_m", "s_mid_m", "foot", "u0", "index", "prev_mode"],
+        columns=["t_start_s", "t_s", "mode", "step_length_m", "s_mid_m", "foot", "u0", "index", "prev_mode", "speed_rel"],
     )
     # direction of travel: the path heading half way along the step; facing = that - offset,
     # unwrapped (continuous, no 2 pi jumps between steps)

@@ -26,6 +26,24 @@ Ranges (the sources of the numbers):
   acc_y 1.4 m/s^2), 30-50 deg when "tilted" (reading posture);
 - hand vibration 0.25-0.65 m/s^2 per axis in 3-15 Hz (the real files have
   0.45-0.49 m/s^2 on x and y above their N = 5 moving average);
+- step-to-step and slow variability (applied by :mod:`.plan` and
+  :mod:`.dataset`, see :mod:`gaitml.simulate.variability`): step time and
+  length scatter 2-4.5 % (stride-time CV of healthy adults is about 2-4 %,
+  Hausdorff 2005; step length CV 2-5 %); the walking speed drifts slowly by
+  1.5-4 % (correlation time 3-8 s: people do not hold a constant speed, gait
+  speed CV within a walk is a few percent); the vertical acceleration of the
+  hand scales with the speed squared (inverted pendulum: vertical excursion
+  ~ L^2, frequency ~ cadence, so acceleration ~ (L f)^2 = v^2); on top,
+  every step's peak and mid-stance amplitude vary independently by 5-11 %
+  (``step_amp_cv``: foot placement, heel-strike force and above all the
+  compliant elbow/wrist between trunk and phone -- the real flat-held walks
+  have per-step peak and trough excursions of |acc| with a CV of 13-15 %,
+  about twice the 6-9 % the trunk-level model gives alone), the harmonic
+  content (waveform shape) by 15-35 % per step (``step_shape_cv``), the
+  lateral sway and forward speed swing by 10-25 % per step
+  (``step_lateral_cv``: arm swing and trunk sway are less regular than the
+  vertical bounce), and the hand vibration is modulated slowly by 20-40 %
+  (``hand_jitter_drift``: grip tension changes);
 - accelerometer noise 0.03-0.10 m/s^2, bias up to 0.12 m/s^2 per axis;
   gyroscope noise 0.002-0.008 rad/s, bias up to 0.015 rad/s per axis
   (consumer MEMS IMUs after factory calibration).
@@ -101,6 +119,13 @@ class Subject:
     gyr_bias_x_rads: float = 0.004
     gyr_bias_y_rads: float = -0.003
     gyr_bias_z_rads: float = 0.005
+    # step-to-step and slow variability (module docstring; gaitml.simulate.variability)
+    step_amp_cv: float = 0.08  # per half step (peak / mid-stance) amplitude variation, log-normal sd
+    step_shape_cv: float = 0.25  # per half step variation of the 2nd/3rd harmonics and the shoulder
+    step_lateral_cv: float = 0.18  # per step variation of lateral sway and forward speed swing
+    speed_drift_cv: float = 0.03  # slow walking-speed modulation, log-normal sd
+    speed_drift_time_s: float = 5.0  # its correlation time
+    hand_jitter_drift: float = 0.3  # slow modulation of the hand vibration amplitude, log-normal sd
 
     def __post_init__(self) -> None:
         if self.pose not in POSES:
@@ -113,6 +138,12 @@ class Subject:
             v = getattr(self, name)
             if not 0.05 <= v <= 2.5:
                 raise InputError(f"Subject.{name} must be 0.05-2.5 m, got {v!r}.")
+        for name in ("step_amp_cv", "step_shape_cv", "step_lateral_cv", "speed_drift_cv", "hand_jitter_drift"):
+            v = getattr(self, name)
+            if not 0.0 <= v <= 0.6:
+                raise InputError(f"Subject.{name} must be a relative variation in 0-0.6, got {v!r}.")
+        if not self.speed_drift_time_s > 0:
+            raise InputError(f"Subject.speed_drift_time_s must be > 0 s, got {self.speed_drift_time_s!r}.")
 
     # ------------------------------------------------------------------
     @classmethod
@@ -180,6 +211,13 @@ class Subject:
             gyr_bias_x_rads=sign() * u(0.0, 0.015),
             gyr_bias_y_rads=sign() * u(0.0, 0.015),
             gyr_bias_z_rads=sign() * u(0.0, 0.015),
+            # drawn last: the parameters above keep their values for a given seed
+            step_amp_cv=u(0.05, 0.11),
+            step_shape_cv=u(0.15, 0.35),
+            step_lateral_cv=u(0.10, 0.25),
+            speed_drift_cv=u(0.015, 0.04),
+            speed_drift_time_s=u(3.0, 8.0),
+            hand_jitter_drift=u(0.2, 0.4),
         )
 
     def with_pose(self, pose: str, rng: np.random.Generator | None = None) -> Subject:

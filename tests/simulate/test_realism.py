@@ -6,7 +6,16 @@ import numpy as np
 import pytest
 
 from gaitml.simulate import sample_subjects, simulate_recording
-from gaitml.simulate.realism import gait_statistics, real_statistics, realism_table, reference_walk
+from gaitml.simulate.realism import (
+    gait_statistics,
+    real_statistics,
+    real_window_variability,
+    realism_table,
+    reference_walk,
+    simulated_walkers,
+    variability_table,
+    window_variability,
+)
 from tests.conftest import shared
 
 pytestmark = pytest.mark.realdata
@@ -54,3 +63,44 @@ def test_realism_main_prints_the_table(capsys):
     out = capsys.readouterr().out
     assert rc == 0
     assert "real_1" in out and "simulated" in out and "cadence_hz" in out
+
+
+@pytest.fixture(scope="module")
+def variability():
+    return variability_table(shared(), simulated=simulated_walkers(4, seed=0, duration_s=120.0))
+
+
+def test_real_window_variability_is_measured():
+    real = real_window_variability(shared())
+    # the two real walks: window-variance CV about 0.22-0.23 at 0.5 s, 0.15-0.19 at 1.5 s
+    for r in real:
+        assert 0.15 < r["cv_acc_mag__var_0.5s"] < 0.35
+        assert r["cv_acc_mag__var_1.5s"] < r["cv_acc_mag__var_0.5s"]
+
+
+def test_window_variance_cv_matches_real_walks(variability):
+    # step-to-step variability: the CV across windows of the window variance of |acc|
+    for length in ("0.5s", "1.5s"):
+        row = variability.loc[f"cv_acc_mag__var_{length}"]
+        assert row["inside"], variability.to_string()
+        assert row["near"], variability.to_string()
+
+
+def test_window_max_min_cv_near_real_walks(variability):
+    assert variability["near"].all(), variability.to_string()
+
+
+def test_variability_comes_from_the_step_to_step_model():
+    # without the per-half-step amplitude/shape/lateral variation, the speed drift and the hand-shake
+    # drift (only step-time/length jitter, whose speed change sets the amplitude) windows are too alike
+    import dataclasses
+
+    from gaitml.simulate import Subject, simulate_recording
+
+    steady = dataclasses.replace(
+        Subject(), step_amp_cv=0.0, step_shape_cv=0.0, step_lateral_cv=0.0, speed_drift_cv=0.0, hand_jitter_drift=0.0
+    )
+    cv_steady = window_variability(simulate_recording(steady, modes=("walk",), duration_s=90.0, seed=0))
+    cv_var = window_variability(simulate_recording(Subject(), modes=("walk",), duration_s=90.0, seed=0))
+    assert cv_steady["cv_acc_mag__var_0.5s"] < 0.85 * cv_var["cv_acc_mag__var_0.5s"]
+    assert cv_steady["cv_acc_mag__var_1.5s"] < 0.7 * cv_var["cv_acc_mag__var_1.5s"]

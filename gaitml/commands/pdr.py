@@ -1,10 +1,45 @@
-"""`gaitml pdr INPUT [--model MODEL_DIR] [--out FILE] [--plot PNG] [--json]` (DESIGN sec. 5)."""
+"""`gaitml pdr INPUT [--model MODEL_DIR] [--out FILE] [--plot PNG] [--json]` (DESIGN sec. 5).
+
+Contract: every argument is checked before any work; notes are printed only once the
+dead reckoning has succeeded (a failing command prints its single error line); the
+trajectory CSV and the plot are rendered to temporary files beside their targets and
+renamed only at the end, so a failure leaves neither.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import os
+from pathlib import Path
+
 from gaitml.commands._util import emit_json, load_input, log
+from gaitml.errors import InputError
 from gaitml.evaluation.trajectory import end_point_error
-from gaitml.io import write_csv
+from gaitml.io import atomic_path
+
+
+def check_output_path(path: str, flag: str) -> Path:
+    """Raise InputError when ``path`` cannot be written as a file (checked before any work)."""
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(f"{flag} {path} is a directory; pass a file path.")
+    for parent in p.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise InputError(f"cannot write {flag} {path}: {parent} is a file, not a folder; choose another output path.")
+            if not os.access(parent, os.W_OK | os.X_OK):
+                raise InputError(f"cannot write {flag} {path}: folder {parent} is not writable; choose another output path.")
+            break
+    return p
+
+
+def _validate(args) -> None:
+    out = check_output_path(args.out, "--out") if args.out else None
+    plot = check_output_path(args.plot, "--plot") if args.plot else None
+    if out is not None and plot is not None and out.resolve() == plot.resolve():
+        raise InputError(f"--out and --plot are the same file {args.out}; give them different paths.")
+    if getattr(args, "modes", None) == "model" and not args.model:
+        raise InputError("--modes model needs a model; pass --model MODEL_DIR, or use --modes true (labels) or --modes forward.")
 
 
 def run(args) -> int:
@@ -12,32 +47,37 @@ def run(args) -> int:
     from gaitml.pdr import run_pdr
     from gaitml.pdr.step_length import StepLengthModel
 
-    rec = load_input(args)
+    _validate(args)
+    notes: list[str] = []
     model = None
-    modes = getattr(args, "modes", None)
     if args.model:
         from gaitml.models import load_model
 
         model = load_model(args.model)
+    step_length = StepLengthModel.load(args.step_length) if getattr(args, "step_length", None) else None
+    rec = load_input(args)
+    rec.require_gyr("PDR heading")
+    modes = getattr(args, "modes", None)
     if modes is None:
         if model is not None:
             modes = "model"
         elif rec.labels is not None:
             modes = "true"
-            log("note: no --model; using the recording's own per-sample labels as the motion modes (--modes true).")
+            notes.append("no --model; using the recording's own per-sample labels as the motion modes (--modes true).")
         else:
             modes = "forward"
-            log("note: no --model and no labels: every step is treated as a forward walk step (traditional PDR, --modes forward).")
-    step_length = StepLengthModel.load(args.step_length) if getattr(args, "step_length", None) else None
+            notes.append("no --model and no labels: every step is treated as a forward walk step (traditional PDR, --modes forward).")
+    if modes == "true" and rec.labels is None:
+        raise InputError(f"--modes true needs per-sample labels but {rec.name} has none; pass --model MODEL_DIR or use --modes forward.")
     if step_length is None:
-        log("note: step lengths from the uncalibrated default model (pass --step-length FILE.json for a calibrated one).")
+        notes.append("step lengths from the uncalibrated default model (pass --step-length FILE.json for a calibrated one).")
     h0 = getattr(args, "initial_heading_rad", None)
     truth = rec.reference.get("trajectory")
     if h0 is None:
         if truth is not None and len(truth) and "heading_rad" in truth:
             h0 = float(truth["heading_rad"].iloc[0])
-            log(
-                f"note: start heading {h0:.3f} rad taken from the input's reference trajectory (no compass; pass --initial-heading-rad to override)."
+            notes.append(
+                f"start heading {h0:.3f} rad taken from the input's reference trajectory (no compass; pass --initial-heading-rad to override)."
             )
         else:
             h0 = 0.0
@@ -50,15 +90,21 @@ def run(args) -> int:
         step_length=step_length,
         initial_heading_rad=h0,
     )
-    for note in res.info["notes"]:
-        log(f"note: {note}")
-    if args.out:
-        write_csv(args.out, res.trajectory)
-    if args.plot:
-        from gaitml.pdr.plot import plot_trajectory
+    notes += list(res.info["notes"])
+    # Both outputs are rendered to temporary files beside their targets; they are renamed
+    # only when both are complete (a failure removes both temporaries).
+    with contextlib.ExitStack() as stack:
+        if args.plot:
+            from gaitml.pdr.plot import plot_trajectory
 
-        title = f"{rec.name}: {res.n_steps} steps, heading {res.info['heading']}, modes {res.info['modes']}, update {res.info['update']}"
-        plot_trajectory(args.plot, res.trajectory, truth=truth, title=title)
+            tmp_plot = stack.enter_context(atomic_path(args.plot, suffix=".png"))
+            title = f"{rec.name}: {res.n_steps} steps, heading {res.info['heading']}, modes {res.info['modes']}, update {res.info['update']}"
+            plot_trajectory(tmp_plot, res.trajectory, truth=truth, title=title)
+        if args.out:
+            tmp_out = stack.enter_context(atomic_path(args.out, suffix=".csv"))
+            res.trajectory.to_csv(tmp_out, index=False)
+    for note in notes:
+        log(f"note: {note}")
     if args.json:
         emit_json(res.to_json_dict())
         return 0

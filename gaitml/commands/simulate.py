@@ -2,31 +2,57 @@
 
 from __future__ import annotations
 
+import math
+
 from gaitml.commands._util import log
 from gaitml.errors import InputError
 from gaitml.simulate import ROUTES, check_modes, sample_subjects, simulate_dataset, simulate_route, write_simulation
+from gaitml.simulate.dataset import MAX_DURATION_S, SAMPLING_RATE_RANGE_HZ
+from gaitml.simulate.subject import MAX_SUBJECTS
+
+#: Seconds per recording when ``--duration-s`` is not given (straight / random routes).
+DEFAULT_DURATION_S = 120.0
+
+
+def _validate(args) -> tuple[list[str], float, float | None]:
+    """Check every argument before any work; return (modes, sampling rate, duration)."""
+    modes = check_modes(args.modes)
+    if not 1 <= args.subjects <= MAX_SUBJECTS:
+        raise InputError(f"--subjects must be within 1-{MAX_SUBJECTS}, got {args.subjects}.")
+    if args.seed < 0:
+        raise InputError(f"--seed must be a non-negative integer, got {args.seed}; use e.g. --seed 0.")
+    if args.route not in ROUTES:
+        raise InputError(f"unknown --route {args.route!r}; choose from {', '.join(ROUTES)}.")
+    lo, hi = SAMPLING_RATE_RANGE_HZ
+    fs = 50.0 if args.sampling_rate_hz is None else float(args.sampling_rate_hz)
+    if not (math.isfinite(fs) and lo <= fs <= hi):
+        raise InputError(f"--sampling-rate-hz must be within {lo:g}-{hi:g} Hz, got {args.sampling_rate_hz}; phones log at 50-200 Hz.")
+    duration = getattr(args, "duration_s", None)
+    if duration is not None and not (math.isfinite(duration) and 2.0 <= duration <= MAX_DURATION_S):
+        raise InputError(f"--duration-s must be within 2-{MAX_DURATION_S:g} s (24 h per recording), got {duration}.")
+    return modes, fs, duration
 
 
 def run(args) -> int:
     """Simulate ``--subjects`` recordings along ``--route`` and write them to OUT_DIR.
 
-    ``straight`` and ``random`` routes last ``--duration-s`` each; the closed
-    ``rectangle`` (~262 m) and ``arc`` (~400 m) routes are walked once around
-    (their duration follows from the route; ``--duration-s`` is not used).
+    ``straight`` and ``random`` routes last ``--duration-s`` each (default 120 s); the
+    closed ``rectangle`` (~262 m) and ``arc`` (~400 m) routes are walked once around
+    (their duration follows from the route; a given ``--duration-s`` is not used).
     """
-    modes = check_modes(args.modes)
-    if args.subjects < 1:
-        raise InputError(f"--subjects must be at least 1, got {args.subjects}.")
-    if args.route not in ROUTES:
-        raise InputError(f"unknown --route {args.route!r}; choose from {', '.join(ROUTES)}.")
-    fs = 50.0 if args.sampling_rate_hz is None else float(args.sampling_rate_hz)
+    modes, fs, duration = _validate(args)
+    notes = []
     if args.route in ("rectangle", "arc"):
-        log(f"route {args.route}: one loop per subject; --duration-s is not used")
+        if duration is not None:
+            notes.append(f"note: route {args.route}: one loop per subject; --duration-s is not used")
         subjects = sample_subjects(args.subjects, args.seed, pose="flat")
         recs = [simulate_route(args.route, subject=s, modes=modes, sampling_rate_hz=fs, seed=args.seed + i) for i, s in enumerate(subjects)]
     else:
-        recs = simulate_dataset(args.subjects, args.duration_s, modes, sampling_rate_hz=fs, seed=args.seed, route=args.route)
+        duration = DEFAULT_DURATION_S if duration is None else duration
+        recs = simulate_dataset(args.subjects, duration, modes, sampling_rate_hz=fs, seed=args.seed, route=args.route)
     paths = write_simulation(recs, args.out_dir)
+    for note in notes:
+        log(note)
     n_steps = sum(int(r.reference["n_steps_true"]) for r in recs)
     log(f"wrote {len(paths)} recordings ({n_steps} true steps, {sum(r.duration_s for r in recs):.0f} s) to {args.out_dir}")
     return 0

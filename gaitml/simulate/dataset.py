@@ -63,6 +63,16 @@ _MODE_INDEX = {m: i for i, m in enumerate(MOTION_MODES)}
 _STEP_COLUMNS = ["t_s", "mode", "step_length_m", "heading_rad", "foot", "t_start_s", "x_m", "y_m"]
 
 
+#: Longest recording the simulator makes (argument validation: 24 h at 50 Hz is 4.3 M samples).
+MAX_DURATION_S = 24 * 3600.0
+
+
+def _check_seed(seed) -> None:
+    parts = [seed] if isinstance(seed, int | np.integer) else list(seed)
+    if not parts or any(int(p) != p or p < 0 for p in parts):
+        raise InputError(f"seed must be a non-negative integer (or a sequence of them), got {seed!r}; use e.g. seed=0.")
+
+
 def _check_rate(fs: float) -> float:
     fs = float(fs)
     lo, hi = SAMPLING_RATE_RANGE_HZ
@@ -307,8 +317,9 @@ def simulate_recording(
     fs = _check_rate(sampling_rate_hz)
     if route not in ROUTES:
         raise InputError(f"unknown route {route!r}; choose from {', '.join(ROUTES)}.")
-    if duration_s is not None and (not np.isfinite(duration_s) or duration_s < 2.0):
-        raise InputError(f"duration_s must be at least 2 s, got {duration_s!r}.")
+    if duration_s is not None and (not np.isfinite(duration_s) or not 2.0 <= duration_s <= MAX_DURATION_S):
+        raise InputError(f"duration_s must be within 2-{MAX_DURATION_S:g} s (24 h), got {duration_s!r}.")
+    _check_seed(seed)
     if duration_s is None and route not in ("rectangle", "arc"):
         raise InputError(f"route {route!r} has no end; give duration_s.")
     ss = np.random.SeedSequence(list(seed) if not isinstance(seed, int | np.integer) else int(seed))

@@ -265,6 +265,10 @@ class Subject:
         return out
 
 
+#: Upper bound on subjects per call (argument validation; each one is a separate recording).
+MAX_SUBJECTS = 1000
+
+
 def sample_subjects(n: int, seed: int = 0, *, pose: str | None = None) -> list[Subject]:
     """Draw ``n`` subjects ``S01``.. reproducibly from ``seed``.
 
@@ -273,5 +277,9 @@ def sample_subjects(n: int, seed: int = 0, *, pose: str | None = None) -> list[S
     """
     if int(n) != n or n < 1:
         raise InputError(f"the number of subjects must be a positive integer, got {n!r}.")
+    if int(n) > MAX_SUBJECTS:
+        raise InputError(f"the number of subjects must be at most {MAX_SUBJECTS}, got {n!r}; simulate fewer subjects per call.")
+    if int(seed) != seed or seed < 0:
+        raise InputError(f"seed must be a non-negative integer, got {seed!r}; use e.g. seed=0.")
     streams = np.random.SeedSequence([int(seed), 7919]).spawn(int(n))
     return [Subject.random(np.random.default_rng(s), subject=f"S{i + 1:02d}", pose=pose) for i, s in enumerate(streams)]

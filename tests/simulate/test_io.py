@@ -83,7 +83,7 @@ def test_cli_simulate_route(tmp_path):
         (["--modes", "walk,fly"], "unknown motion mode"),
         (["--route", "moon"], "unknown --route"),
         (["--subjects", "0"], "--subjects"),
-        (["--sampling-rate-hz", "3"], "sampling_rate_hz"),
+        (["--sampling-rate-hz", "3"], "--sampling-rate-hz"),
     ],
 )
 def test_cli_bad_arguments(tmp_path, capsys, argv, match):

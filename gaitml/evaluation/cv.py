@@ -89,7 +89,8 @@ class CVResult:
     Attributes
     ----------
     folds : DataFrame
-        One row per fold: ``fold``, ``test_groups``, ``n_train``, ``n_test``,
+        One row per fold: ``fold``, ``train_groups`` and ``test_groups`` (group
+        names joined by ``;``), ``n_train``, ``n_test``,
         ``accuracy``, ``macro_f1``, ``accuracy_corrected``, ``macro_f1_corrected``,
         ``fit_s``.
     predictions : DataFrame
@@ -204,7 +205,7 @@ def cross_validate(
         rows.append(
             {
                 "fold": k,
-                "train_groups": ";".join(sorted(set(groups[tr]))) if scheme == "train-one-test-rest" else "",
+                "train_groups": ";".join(sorted(set(groups[tr]))),
                 "test_groups": ";".join(sorted(set(groups[te]))),
                 "n_train": int(len(tr)),
                 "n_test": int(len(te)),

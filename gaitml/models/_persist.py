@@ -4,11 +4,15 @@
 it: the gaitml, scikit-learn, numpy and torch versions, the model kind, the
 feature set with its feature names in order (or the raw channels), the window
 length and overlap, the sampling rate, the label set, the training config, the
-cross-validation scores and the sha256 of ``model.joblib``.
+cross-validation scores, the sha256 of ``model.joblib`` and ``settings_sha256``, the
+sha256 of the canonical JSON of every other entry of ``model.json`` (sorted keys,
+compact separators; the two hash fields left out), so that an edit of the settings
+(say ``window.length_s``) is detected as well.
 
 :func:`load_model` refuses (``ModelError``) a missing or unreadable file, a
 hash mismatch (the joblib file was changed), a different gaitml/scikit-learn/
-torch major.minor version, or a feature set whose names no longer match.
+torch major.minor version, an edited ``model.json`` (settings hash mismatch), a
+missing required entry, or a feature set whose names no longer match.
 
 Security: ``model.joblib`` is a pickle. Loading a pickle runs code chosen by
 whoever wrote it; load model folders only from sources you trust. The hash
@@ -29,11 +33,29 @@ from typing import Any
 
 from gaitml.errors import ModelError
 
-__all__ = ["TrainedModel", "save_model", "load_model", "library_versions", "sha256_file", "MODEL_FORMAT_VERSION"]
+__all__ = ["TrainedModel", "save_model", "load_model", "library_versions", "sha256_file", "settings_sha256", "MODEL_FORMAT_VERSION"]
 
 MODEL_FORMAT_VERSION = 1
 JOBLIB_NAME = "model.joblib"
 JSON_NAME = "model.json"
+#: The entries of model.json that hold hashes (left out of the settings hash).
+HASH_KEYS = ("sha256", "settings_sha256")
+#: Entries a model.json must have to be used (``window`` also needs ``length_s`` and ``overlap``).
+REQUIRED_KEYS = ("model_kind", "input_kind", "feature_set", "feature_names", "window", "sampling_rate_hz", "labels", "versions")
+
+
+def settings_sha256(info: dict) -> str:
+    """Hex sha256 of the canonical JSON of ``info`` without its hash entries.
+
+    Canonical: ``json.dumps(..., sort_keys=True, separators=(",", ":"), ensure_ascii=True)``
+    of the JSON-decoded settings, so the value does not depend on indentation or key order.
+    """
+    from gaitml.io._atomic import _json_default
+
+    body = {k: v for k, v in info.items() if k not in HASH_KEYS}
+    body = json.loads(json.dumps(body, default=_json_default))  # numpy scalars, tuples -> plain JSON
+    text = json.dumps(body, sort_keys=True, separators=(",", ":"), ensure_ascii=True, allow_nan=True)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 def sha256_file(path: str | os.PathLike) -> str:
@@ -141,6 +163,7 @@ def save_model(path: str | os.PathLike, estimator: Any, info: dict) -> TrainedMo
     with atomic_dir(target) as tmp:
         joblib.dump(estimator, tmp / JOBLIB_NAME, compress=3)
         meta["sha256"] = sha256_file(tmp / JOBLIB_NAME)
+        meta["settings_sha256"] = settings_sha256(meta)
         from gaitml.io._atomic import _json_default
 
         (tmp / JSON_NAME).write_text(json.dumps(meta, indent=2, default=_json_default) + "\n", encoding="utf-8")
@@ -180,11 +203,30 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
         raise ModelError(
             f"model format version {info.get('format_version')!r} in {jpath} is not {MODEL_FORMAT_VERSION}; train the model again with this gaitml."
         )
+    missing = [k for k in REQUIRED_KEYS if k not in info]
+    if not missing and isinstance(info["window"], dict):
+        missing = [f"window.{k}" for k in ("length_s", "overlap") if k not in info["window"]]
+    elif not missing:
+        missing = ["window (an object with length_s and overlap)"]
+    if missing:
+        raise ModelError(
+            f"{jpath} lacks the required entry {', '.join(missing)}; the file was edited or is incomplete: retrain the model or restore model.json."
+        )
+    for key in HASH_KEYS:
+        if not isinstance(info.get(key), str):
+            raise ModelError(
+                f"{jpath} has no {key} entry, so the model cannot be verified; retrain the model (gaitml train) or restore model.json."
+            )
     digest = sha256_file(mpath)
     if digest != info.get("sha256"):
         raise ModelError(
             f"sha256 of {mpath.name} ({digest[:12]}...) does not match model.json ({str(info.get('sha256'))[:12]}...): "
             "the file was changed or corrupted; refusing to load it, train the model again."
+        )
+    if settings_sha256(info) != info["settings_sha256"]:
+        raise ModelError(
+            f"model.json was edited after training (its settings no longer match settings_sha256) in {p}; "
+            "settings such as window.length_s cannot be changed after training: retrain or restore it."
         )
     from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS
 
@@ -200,10 +242,15 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
     for lib in ("gaitml", "scikit-learn", "torch"):
         if lib not in current:
             continue
-        if lib not in saved or _minor(saved[lib]) != _minor(current[lib]):
+        if lib not in saved:
+            raise ModelError(
+                f"model.json records no {lib} version although model kind {kind!r} needs {lib}; the artifact is inconsistent: "
+                "retrain the model (gaitml train) or restore model.json."
+            )
+        if _minor(saved[lib]) != _minor(current[lib]):
             raise ModelError(
                 f"the model was saved with {lib} {saved.get(lib, 'unknown')} but this is {lib} {current[lib]}; "
-                f"retrain the model (gaitml train) or install {lib}=={saved.get(lib, '?')}."
+                f"retrain the model (gaitml train) or install {lib}=={saved[lib]}."
             )
     _check_feature_set(info, jpath)
     import joblib

@@ -80,6 +80,16 @@ def test_cross_validate_outputs():
     assert res.after["n"] == res.before["n"]
 
 
+def test_train_groups_are_filled_for_every_scheme():
+    recs = synth_set(3, seconds_per_mode=8.0)
+    groups = [r.meta["subject"] for r in recs]
+    ds = build_window_dataset(recs, groups=groups, length_s=1.5, overlap=0.5)
+    res = cross_validate(ds, "linear-ovo-svm", scheme="leave-one-group-out", progress=False)
+    for _, row in res.folds.iterrows():
+        train = set(row["train_groups"].split(";"))
+        assert train == set(groups) - {row["test_groups"]}, row
+
+
 from hypothesis import given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 

@@ -159,11 +159,54 @@ def test_tampered_bytes_refused(saved):
         load_model(saved)
 
 
+def _write_rehashed(folder, info):
+    """Write an edited model.json with a fresh settings hash (simulates another environment)."""
+    from gaitml.models._persist import settings_sha256
+
+    info["settings_sha256"] = settings_sha256(info)
+    (folder / "model.json").write_text(json.dumps(info))
+
+
+@pytest.mark.parametrize(
+    ("edit", "match"),
+    [
+        (lambda i: i["window"].update(length_s=3.0), "model.json was edited"),
+        (lambda i: i.update(sampling_rate_hz=100.0), "retrain or restore it"),
+        (lambda i: i.update(model_kind="mlp"), "model.json was edited"),
+        (lambda i: i.pop("window"), "lacks the required entry window"),
+        (lambda i: i["window"].pop("overlap"), "lacks the required entry window.overlap"),
+        (lambda i: i.pop("sha256"), "has no sha256 entry"),
+        (lambda i: i.pop("settings_sha256"), "has no settings_sha256 entry"),
+    ],
+)
+def test_edited_model_json_refused(saved, edit, match):
+    info = json.loads((saved / "model.json").read_text())
+    edit(info)
+    (saved / "model.json").write_text(json.dumps(info, indent=4))
+    with pytest.raises(ModelError, match=match):
+        load_model(saved)
+
+
+def test_reformatted_model_json_still_loads(saved):
+    info = json.loads((saved / "model.json").read_text())
+    (saved / "model.json").write_text(json.dumps(dict(reversed(list(info.items()))), indent=1))
+    assert load_model(saved).length_s == 1.5
+
+
+@needs_torch
+def test_torch_kind_without_torch_version_is_explained(saved):
+    info = json.loads((saved / "model.json").read_text())
+    info["model_kind"] = "mlp"
+    _write_rehashed(saved, info)
+    with pytest.raises(ModelError, match="records no torch version"):
+        load_model(saved)
+
+
 @pytest.mark.parametrize("lib", ["gaitml", "scikit-learn"])
 def test_wrong_version_refused(saved, lib):
     info = json.loads((saved / "model.json").read_text())
     info["versions"][lib] = "0.0.1"
-    (saved / "model.json").write_text(json.dumps(info))
+    _write_rehashed(saved, info)
     with pytest.raises(ModelError, match=f"saved with {lib} 0.0.1"):
         load_model(saved)
 
@@ -171,14 +214,14 @@ def test_wrong_version_refused(saved, lib):
 def test_other_feature_set_refused(saved):
     info = json.loads((saved / "model.json").read_text())
     info["feature_set"] = "paper34"  # names still the 52: the set no longer matches
-    (saved / "model.json").write_text(json.dumps(info))
+    _write_rehashed(saved, info)
     with pytest.raises(ModelError, match="feature names do not match feature set 'paper34'"):
         load_model(saved)
     info["feature_names"] = info["feature_names"][:34]
     from gaitml.features import feature_names
 
     info["feature_names"] = list(feature_names("paper34"))
-    (saved / "model.json").write_text(json.dumps(info))
+    _write_rehashed(saved, info)
     with pytest.raises(ModelError, match="takes 52 features but model.json lists 34"):
         load_model(saved)
 

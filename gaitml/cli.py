@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import select
 import sys
 import traceback
 
@@ -64,7 +65,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("simulate", help="simulate recordings with full ground truth")
     p.add_argument("out_dir", metavar="OUT_DIR")
     p.add_argument("--subjects", type=int, default=4)
-    p.add_argument("--duration-s", type=float, default=120.0)
+    p.add_argument("--duration-s", type=float, default=None, help="seconds per recording (default 120; straight/random routes only)")
     p.add_argument("--modes", default="walk,run,side_left,side_right,backward", help="comma-separated motion modes")
     p.add_argument("--route", default="straight", help="straight | rectangle | arc | random")
     p.add_argument("--sampling-rate-hz", type=float, default=None)
@@ -149,7 +150,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = parser.parse_args(argv)
         if args.command is None:
-            parser.print_help(sys.stderr)
+            print("gaitml: error: no command given; see 'gaitml --help' for the commands.", file=sys.stderr)
             return 2
         module = importlib.import_module(f"gaitml.commands.{args.command}")
         return int(module.run(args) or 0)
@@ -163,15 +164,34 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("gaitml: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:
-        return 0
+    except BrokenPipeError as exc:
+        if _stdout_closed():  # `gaitml ... | head`: the reader went away, not an error of ours
+            return 0
+        return _internal_error(exc)
+    except (PermissionError, IsADirectoryError, NotADirectoryError, FileExistsError) as exc:
+        where = f" {exc.filename}" if exc.filename else ""
+        print(f"gaitml: error: {exc.strerror or type(exc).__name__}:{where}; check the path and its permissions.", file=sys.stderr)
+        return 2
     except Exception as exc:  # an internal error: a bug to report
-        if os.environ.get("GAITML_DEBUG"):
-            traceback.print_exc()
-        print(
-            f"gaitml: internal error: {type(exc).__name__}: {exc} (set GAITML_DEBUG=1 for the traceback; please report it)", file=sys.stderr
-        )
-        return 1
+        return _internal_error(exc)
+
+
+def _stdout_closed() -> bool:
+    """Whether stdout is a pipe whose reading end was closed."""
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLERR)
+        return bool(poller.poll(0))
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def _internal_error(exc: BaseException) -> int:
+    if os.environ.get("GAITML_DEBUG"):
+        traceback.print_exception(exc)
+    msg = " ".join(str(exc).split())
+    print(f"gaitml: internal error: {type(exc).__name__}: {msg} (set GAITML_DEBUG=1 for the traceback; please report it)", file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -23,14 +23,21 @@ import numpy as np
 from gaitml.consts import DEG2RAD, GRAVITY_MS2
 from gaitml.errors import InputError
 
-__all__ = ["Recording", "check_acc_unit", "resample_uniform"]
+__all__ = ["Recording", "check_acc_unit", "check_rate", "resample_uniform", "MIN_RATE_HZ", "MAX_RATE_HZ"]
 
 #: A median |acc| between these bounds (m/s^2 read as-is) means the data is in g.
 _G_UNIT_BAND = (0.5, 2.0)
 #: A median |acc| above this cannot be m/s^2 with gravity (milli-g, raw counts...).
 _MAX_MEDIAN_ACC_MS2 = 50.0
-#: A 99th-percentile |gyr| above this (read as rad/s) means the data is in deg/s.
-_DEG_S_SUSPECT_RADS = 40.0
+#: A 99th-percentile |gyr| above this (read as rad/s) means the data is in deg/s:
+#: 20 rad/s is 1146 deg/s, above what a phone or even a running foot turns at
+#: for 1 % of the time (the gaitmap foot sensors stay below 10 rad/s).
+_DEG_S_SUSPECT_RADS = 20.0
+#: A median |acc| below this cannot include gravity (all zeros, or gravity removed).
+_MIN_MEDIAN_ACC_MS2 = 0.5
+#: Plausible uniform sampling rates for gait (steps at up to ~4 Hz need >= 5 Hz).
+MIN_RATE_HZ = 5.0
+MAX_RATE_HZ = 10_000.0
 #: A sampling interval more than this many times the median counts as a gap.
 GAP_FACTOR = 3.0
 
@@ -44,6 +51,11 @@ def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
     if len(acc) == 0:
         return
     med = float(np.median(np.linalg.norm(acc, axis=1)))
+    if med < _MIN_MEDIAN_ACC_MS2:
+        raise InputError(
+            f"{what} has no gravity (median |acc| = {med:.3g} m/s^2): gaitml needs the raw accelerometer with gravity "
+            "included, not linear acceleration or zeros; export the raw sensor."
+        )
     if _G_UNIT_BAND[0] <= med <= _G_UNIT_BAND[1]:
         raise InputError(
             f"{what} looks like it is in g, not m/s^2 (median |acc| = {med:.2f}); "
@@ -52,6 +64,22 @@ def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
     if med > _MAX_MEDIAN_ACC_MS2:
         raise InputError(
             f"{what} is implausibly large for m/s^2 with gravity (median |acc| = {med:.4g}; milli-g would give ~1000); convert it to m/s^2."
+        )
+
+
+def check_rate(fs: float, *, what: str = "the sampling rate") -> None:
+    """Raise InputError unless ``fs`` is a plausible sampling rate (MIN_RATE_HZ..MAX_RATE_HZ)."""
+    if not np.isfinite(fs) or fs <= 0:
+        raise InputError(f"{what} must be a positive number of Hz, got {fs!r}.")
+    if fs < MIN_RATE_HZ * (1 - 1e-6):
+        raise InputError(
+            f"{what} is {fs:.4g} Hz, too low for gait (>= {MIN_RATE_HZ:g} Hz needed); "
+            "if the time column is in ms or ns, convert it to seconds."
+        )
+    if fs > MAX_RATE_HZ * (1 + 1e-6):
+        raise InputError(
+            f"{what} is {fs:.4g} Hz, above {MAX_RATE_HZ:g} Hz; if the time column is not in seconds convert it, "
+            "or ask for a lower --sampling-rate-hz."
         )
 
 
@@ -142,8 +170,7 @@ class Recording:
             raise InputError("the recording has no samples; check the file is not empty.")
         _check_finite("acc", acc)
         fs = float(self.sampling_rate_hz)
-        if not np.isfinite(fs) or fs <= 0:
-            raise InputError(f"`sampling_rate_hz` must be a positive number, got {self.sampling_rate_hz!r}.")
+        check_rate(fs)
         gyr = None
         if self.gyr is not None:
             gyr = _as_2d3("gyr", self.gyr)
@@ -332,6 +359,9 @@ class Recording:
         acc, gyr_arr = _convert_units(acc, gyr_arr, acc_unit, gyr_unit)
         med = float(np.median(dt))
         original_rate = 1.0 / med
+        check_rate(original_rate, what="the rate of the timestamps")
+        if sampling_rate_hz is not None:
+            check_rate(float(sampling_rate_hz), what="the requested sampling rate")
         gap_mask = dt > GAP_FACTOR * med
         gaps = [[round(float(t[i] - t[0]), 6), round(float(dt[i]), 6)] for i in np.flatnonzero(gap_mask)]
         uniform = bool(np.all(np.abs(dt - med) <= uniform_tolerance * med))
@@ -351,8 +381,6 @@ class Recording:
             new_acc, new_gyr, new_labels = acc, gyr_arr, labels
         else:
             fs = float(sampling_rate_hz if sampling_rate_hz is not None else np.round(original_rate, 6))
-            if not np.isfinite(fs) or fs <= 0:
-                raise InputError(f"`sampling_rate_hz` must be a positive number, got {sampling_rate_hz!r}.")
             new_acc, new_gyr, new_labels = resample_uniform(t, acc, fs, gyr=gyr_arr, labels=labels)
             meta["resampled"] = True
             meta["resample_method"] = "linear interpolation"

@@ -15,7 +15,26 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from gaitml.errors import InputError
+
 __all__ = ["atomic_path", "atomic_dir", "write_text", "write_json", "write_csv"]
+
+#: A folder holding one of these files is a gaitml artifact that ``atomic_dir`` may replace.
+ARTIFACT_MARKERS = ("model.json", "metrics.json")
+
+
+def _prepare_parent(target: Path) -> None:
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError) as exc:
+        raise InputError(f"cannot write {target}: a part of its folder path is a file; choose another output path.") from exc
+    except PermissionError as exc:
+        raise InputError(f"cannot create the folder {target.parent}: permission denied; choose a writable output path.") from exc
+
+
+def _write_error(target: Path, exc: OSError) -> InputError:
+    why = exc.strerror or type(exc).__name__
+    return InputError(f"cannot write {target}: {why}; choose a writable output path (a file path, not a folder).")
 
 
 @contextlib.contextmanager
@@ -25,15 +44,23 @@ def atomic_path(path: str | os.PathLike, *, suffix: str | None = None) -> Iterat
     On any exception the temporary file is removed and ``path`` is untouched.
     """
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix or ".tmp", dir=target.parent)
+    _prepare_parent(target)
+    if target.is_dir():
+        raise InputError(f"cannot write {target}: it is a folder; give a file path.")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=suffix or ".tmp", dir=target.parent)
+    except OSError as exc:
+        raise _write_error(target, exc) from exc
     os.close(fd)
     tmp_path = Path(tmp)
     try:
         yield tmp_path
         if tmp_path.exists():
             os.chmod(tmp_path, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual mode
-        os.replace(tmp_path, target)
+        try:
+            os.replace(tmp_path, target)
+        except OSError as exc:
+            raise _write_error(target, exc) from exc
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             tmp_path.unlink()
@@ -44,11 +71,18 @@ def atomic_path(path: str | os.PathLike, *, suffix: str | None = None) -> Iterat
 def atomic_dir(path: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary folder beside ``path``; on success it replaces ``path``.
 
-    An existing folder at ``path`` is replaced only once the new one is complete.
+    An existing folder at ``path`` is replaced only once the new one is complete,
+    and only if it is empty or a gaitml artifact (holds one of
+    :data:`ARTIFACT_MARKERS`): a folder of other files, or a file, is never
+    deleted (InputError before any work is written).
     """
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
+    _prepare_parent(target)
+    check_replaceable_dir(target)
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
+    except OSError as exc:
+        raise _write_error(target, exc) from exc
     try:
         yield tmp
         os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp creates 0700
@@ -62,6 +96,18 @@ def atomic_dir(path: str | os.PathLike) -> Iterator[Path]:
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+
+
+def check_replaceable_dir(target: str | os.PathLike) -> None:
+    """Raise InputError unless ``target`` is absent, an empty folder or a gaitml artifact folder."""
+    t = Path(target)
+    if not t.exists():
+        return
+    if not t.is_dir():
+        raise InputError(f"{t} is an existing file; give a new folder path for the output.")
+    entries = [p for p in t.iterdir() if not p.name.startswith(".")]
+    if entries and not any((t / m).exists() for m in ARTIFACT_MARKERS):
+        raise InputError(f"{t} is a folder of other files ({len(entries)} entries) and would be replaced; give a new or empty folder.")
 
 
 def _umask() -> int:

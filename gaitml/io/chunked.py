@@ -85,6 +85,22 @@ def estimate_samples(path: str | os.PathLike) -> int:
     return int(size / (len(head) / lines))
 
 
+def _guarded(reader, path: Path):
+    """Iterate a pandas chunk reader, turning a truncated or corrupt file into an InputError."""
+    import gzip
+    import zlib
+
+    it = iter(reader)
+    while True:
+        try:
+            df = next(it)
+        except StopIteration:
+            return
+        except (EOFError, zlib.error, gzip.BadGzipFile, pd.errors.ParserError) as exc:
+            raise InputError(f"cannot read {path.name}: {exc}; the file is truncated or corrupt.") from exc
+        yield df
+
+
 def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str, gyr_unit: str):
     """Yield (acc, gyr, labels, meta) blocks on the uniform global grid."""
     reader = pd.read_csv(path, chunksize=_ROWS_PER_READ, skipinitialspace=True)
@@ -96,7 +112,7 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
     has_lab = None
     line = 2
     resampled = None
-    for df in reader:
+    for df in _guarded(reader, path):
         df.columns = [str(c).strip() for c in df.columns]
         missing = [c for c in (TIME_COL, *ACC_COLS) if c not in df.columns]
         if missing:

@@ -17,7 +17,9 @@ recording's ``meta``. Without a manifest, subject and session are the file stem.
 
 from __future__ import annotations
 
+import gzip
 import os
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -71,6 +73,8 @@ def read_gaitml_csv(
         raise InputError(f"the file is empty: {p}; record or export the data again.") from exc
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot parse {p} as CSV ({str(exc).splitlines()[0]}); check the file is a gaitml-csv.") from exc
+    except (EOFError, zlib.error, gzip.BadGzipFile) as exc:
+        raise InputError(f"cannot read {p}: {exc}; the compressed file is truncated or corrupt.") from exc
     df.columns = [str(c).strip() for c in df.columns]
     missing = [c for c in REQUIRED if c not in df.columns]
     if missing:

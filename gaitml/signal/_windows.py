@@ -14,6 +14,8 @@ def window_params(length_s: float, overlap: float, sampling_rate_hz: float) -> t
 
     ``overlap`` is the shared fraction of consecutive windows, in [0, 1).
     """
+    if not (np.isfinite(length_s) and length_s > 0):
+        raise InputError(f"the window length must be a positive number of seconds, got {length_s!r}; e.g. 1.5.")
     if not 0 <= overlap < 1:
         raise InputError(f"`overlap` must be in [0, 1), got {overlap}; e.g. 0.5 for half-overlapping windows.")
     length = int(round(length_s * sampling_rate_hz))

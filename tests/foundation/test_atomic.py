@@ -66,3 +66,38 @@ def test_killed_process_leaves_no_partial_output(tmp_path):
     assert res.returncode == -9
     assert not (tmp_path / "table.csv").exists()
     assert all(p.name.startswith(".table.csv.") for p in tmp_path.iterdir())
+
+
+def test_atomic_dir_never_deletes_foreign_folders_or_files(tmp_path):
+    from gaitml.errors import InputError
+
+    foreign = tmp_path / "mine"
+    foreign.mkdir()
+    (foreign / "important.txt").write_text("x")
+    with pytest.raises(InputError, match="folder of other files"):
+        with atomic_dir(foreign) as d:
+            (d / "model.json").write_text("{}")
+    assert (foreign / "important.txt").read_text() == "x"
+    f = tmp_path / "f.csv"
+    f.write_text("data")
+    with pytest.raises(InputError, match="existing file"):
+        with atomic_dir(f):
+            pass
+    assert f.read_text() == "data"
+    # an artifact folder of ours is replaced
+    art = tmp_path / "model"
+    with atomic_dir(art) as d:
+        (d / "model.json").write_text("{}")
+    with atomic_dir(art) as d:
+        (d / "model.json").write_text('{"v": 2}')
+    assert (art / "model.json").read_text() == '{"v": 2}'
+
+
+def test_write_errors_are_input_errors(tmp_path):
+    from gaitml.errors import InputError
+
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(InputError, match="part of its folder path is a file"):
+        write_json(tmp_path / "file" / "a.json", {})
+    with pytest.raises(InputError, match="it is a folder"):
+        write_json(tmp_path, {})

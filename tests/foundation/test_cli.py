@@ -140,3 +140,32 @@ def test_info_reads_every_shared_file_and_folder(capsys):
         assert d["kind"] in ("recording", "dataset", "table")
         if d["kind"] == "recording":
             assert d["n_samples"] > 0 and np.isfinite(d["sampling_rate_hz"])
+
+
+def test_no_command_is_one_line(capsys):
+    code, out, err = run(capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "no command" in err
+
+
+def test_truncated_gzip_csv_exit_2(tmp_path, capsys):
+    import gzip
+
+    from tests.conftest import ROOT
+
+    data = gzip.compress((ROOT / "data" / "samples" / "S02-mixed.csv").read_bytes())
+    p = tmp_path / "t.csv.gz"
+    p.write_bytes(data[: len(data) // 3])
+    code, _, err = run(capsys, "info", str(p))
+    assert code == 2 and "truncated" in err
+
+
+def test_broken_stdout_pipe_is_quiet():
+    from tests.conftest import ROOT
+
+    res = subprocess.run(
+        f"{sys.executable} -m gaitml.cli steps {ROOT / 'data' / 'samples' / 'S02-mixed.csv'} --json | head -c 10",
+        shell=True,
+        capture_output=True,
+        text=True,
+    )
+    assert "internal error" not in res.stderr and "Traceback" not in res.stderr

@@ -160,3 +160,34 @@ def test_require_helpers():
         rec.require_gyr("pseudo-std")
     with pytest.raises(InputError, match="too short for one window"):
         rec.require_samples(50, "one window")
+
+
+@pytest.mark.parametrize(
+    "fs, match",
+    [(0.05, "too low for gait.*ms or ns"), (2e6, "above 10000 Hz"), (float("inf"), "positive number")],
+)
+def test_implausible_rates(fs, match):
+    with pytest.raises(InputError, match=match):
+        Recording(acc=_acc(20), sampling_rate_hz=fs)
+
+
+def test_timestamps_in_ms_are_refused():
+    t_ms = np.arange(100) * 20.0  # 50 Hz written in ms
+    with pytest.raises(InputError, match="ms or ns"):
+        Recording.from_timestamps(t_ms, _acc(100))
+    with pytest.raises(InputError, match="above 10000"):
+        Recording.from_timestamps(np.arange(100) / 50.0, _acc(100), sampling_rate_hz=1e9)
+
+
+def test_acceleration_without_gravity_is_refused():
+    with pytest.raises(InputError, match="no gravity"):
+        Recording(acc=np.zeros((50, 3)), sampling_rate_hz=50)
+    with pytest.raises(InputError, match="no gravity"):
+        Recording(acc=np.random.default_rng(0).normal(0, 0.1, (50, 3)), sampling_rate_hz=50)
+
+
+def test_gyro_deg_s_on_an_ordinary_walk_is_refused():
+    t = np.arange(500) / 50
+    gyr_degs = np.column_stack([25 * np.sin(2 * np.pi * t), 30 * np.cos(2 * np.pi * t), np.full(500, 20.0)])
+    with pytest.raises(InputError, match="deg/s"):
+        Recording(acc=_acc(500), gyr=gyr_degs, sampling_rate_hz=50)

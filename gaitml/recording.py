@@ -183,7 +183,12 @@ class Recording:
             if labels.shape != (len(acc),):
                 raise InputError(f"`labels` must have shape ({len(acc)},), got {labels.shape}.")
         if self.check_units:
-            check_acc_unit(acc)
+            try:
+                check_acc_unit(acc)
+            except InputError as exc:
+                if "acc from g" in dict(self.meta).get("converted", []):
+                    raise InputError(f"{exc} (the data was converted from g as asked: drop --acc-unit g / acc_unit='g' if it is in m/s^2)") from exc
+                raise
             if gyr is not None:
                 _check_gyr_unit(gyr)
         acc.setflags(write=False)

@@ -180,7 +180,7 @@ def cross_validate(
     for k, (tr, _te) in enumerate(splits):
         if len(np.unique(y[tr])) < 2:
             raise InputError(
-                f"fold {k} of {scheme} has fewer than 2 classes in its training windows ({sorted(set(y[tr]))}); use another scheme or more data per group."
+                f"fold {k} of {scheme} has fewer than 2 classes in its training windows ({', '.join(sorted({str(c) for c in y[tr]}))}); use another scheme or more data per group."
             )
     tasks = (delayed(_fit_predict)(kind, params, seed, X[tr], y[tr], X[te]) for tr, te in splits)
     bar = tqdm(total=len(splits), desc=description, file=sys.stderr, disable=not progress, leave=False)

@@ -95,6 +95,18 @@ def _n_jobs(v):
     return None if v >= 1 or v == -1 else "must be >= 1, or -1 for all cores"
 
 
+def _subjects(v):
+    from gaitml.simulate.subject import MAX_SUBJECTS
+
+    return None if 1 <= v <= MAX_SUBJECTS else f"must be within 1-{MAX_SUBJECTS}"
+
+
+def _sim_duration(v):
+    from gaitml.simulate.dataset import MAX_DURATION_S
+
+    return None if 2.0 <= v <= MAX_DURATION_S else f"must be within 2-{MAX_DURATION_S:g} s (24 h per recording)"
+
+
 def _min2(v):
     return None if v >= 2 else "must be >= 2"
 
@@ -113,8 +125,8 @@ SCHEMA: dict[str, Any] = {
         "resample_hz": _Leaf(_NUM, 50.0, check=_pos),
         "where": _Leaf((dict,), {}),
         "simulated": {
-            "subjects": _Leaf((int,), 8, check=_pos),
-            "duration_s": _Leaf(_NUM, 120.0, check=_pos),
+            "subjects": _Leaf((int,), 8, check=_subjects),
+            "duration_s": _Leaf(_NUM, 120.0, check=_sim_duration),
             "modes": _Leaf((list,), list(MOTION_MODES), item_type=str),
         },
     },
@@ -152,9 +164,14 @@ def _type_names(types) -> str:
     return " or ".join(names.get(t, t.__name__) for t in types)
 
 
+def _a(noun: str) -> str:
+    """``noun`` with its indefinite article ("an integer", "a string")."""
+    return f"an {noun}" if noun[:1].lower() in "aeiou" else f"a {noun}"
+
+
 def _check_leaf(key: str, leaf: _Leaf, v):
     if not _type_ok(v, leaf.types):
-        raise ConfigError(f"{key} = {v!r} has the wrong type ({type(v).__name__}); expected a {_type_names(leaf.types)}.")
+        raise ConfigError(f"{key} = {v!r} has the wrong type ({type(v).__name__}); expected {_a(_type_names(leaf.types))}.")
     if leaf.allowed is not None and v not in leaf.allowed:
         raise ConfigError(f"{key} = {v!r} is not allowed; allowed: {', '.join(map(repr, leaf.allowed))}.")
     if leaf.item_type is not None:
@@ -349,6 +366,12 @@ def parse_config(
         bad = [x for x in d["labels"] if x not in d["simulated"]["modes"]]
         if bad:
             raise ConfigError(f"data.labels has {bad[0]!r}, which is not in data.simulated.modes {d['simulated']['modes']}.")
+        classes = sorted(set(d["labels"] or d["simulated"]["modes"]))
+        if len(classes) < 2:
+            key = "data.labels" if d["labels"] else "data.simulated.modes"
+            raise ConfigError(
+                f"{key} gives {len(classes)} class ({', '.join(classes) or 'none'}); a classifier needs at least 2: list at least two modes."
+            )
     _check_model(values)
     for point in sweep_grid(cfg):
         if point and any(k.startswith("model.") or k.startswith("data.") for k in point):
@@ -359,6 +382,8 @@ def parse_config(
 def load_config(path: str | os.PathLike) -> ExperimentConfig:
     """Read and validate a TOML experiment config (paths relative to its folder)."""
     p = Path(path)
+    if p.is_dir():
+        raise ConfigError(f"{p} is a directory, not a config file; pass a .toml file such as experiments/paper-svm.toml.")
     if not p.is_file():
         raise ConfigError(f"config file not found: {p}; pass a TOML file such as experiments/paper-svm.toml.")
     try:

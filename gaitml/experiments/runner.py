@@ -128,6 +128,12 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
     for x in d["labels"]:
         if x not in present:
             raise ConfigError(f"data.labels has {x!r}, which is not a label of the data; labels present: {', '.join(present)}.")
+    classes = sorted(set(d["labels"])) if d["labels"] else present
+    if len(classes) < 2:
+        raise ConfigError(
+            f"data.label = {label!r} has {len(classes)} class in the data ({', '.join(classes) or 'none'}); "
+            "a classifier needs at least 2: use data with two or more labels or another data.label."
+        )
     missing = [r.name for r in recs if group not in r.meta]
     if missing:
         raise ConfigError(f"data.group = {group!r} is not a meta/manifest column of recording {missing[0]!r}; columns: {', '.join(cols)}.")

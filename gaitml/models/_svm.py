@@ -155,7 +155,7 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         self.classes_ = np.unique(y)
         if len(self.classes_) < 2:
             raise InputError(
-                f"need at least 2 classes to train a classifier, got {list(self.classes_)}; check the labels of the training data."
+                f"need at least 2 classes to train a classifier, got {', '.join(map(str, self.classes_)) or 'none'}; check the labels of the training data."
             )
         self.n_features_in_ = X.shape[1]
         self.mean_ = X.mean(axis=0)

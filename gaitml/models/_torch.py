@@ -86,7 +86,9 @@ class _TorchClassifier(ClassifierMixin, BaseEstimator):
         y = np.asarray(y).astype(str)
         self.classes_ = np.unique(y)
         if len(self.classes_) < 2:
-            raise InputError(f"need at least 2 classes to train a classifier, got {list(self.classes_)}.")
+            raise InputError(
+                f"need at least 2 classes to train a classifier, got {', '.join(map(str, self.classes_)) or 'none'}; check the labels of the training data."
+            )
         Xp = self._prepare(X, fitting=True)
         if len(Xp) != len(y):
             raise InputError(f"X has {len(Xp)} rows but y has {len(y)} labels; they must match.")

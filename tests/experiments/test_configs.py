@@ -61,7 +61,7 @@ def test_sweep_grid_is_the_product():
 BAD = [
     ({"name": "x", "colour": 1}, r"unknown key colour .*allowed keys: name, seed"),
     ({"name": "x", "windows": {"length": 1}}, r"unknown key windows.length in \[windows\]; allowed keys: length_s"),
-    ({"name": "x", "windows": {"length_s": "1.5"}}, r"windows.length_s = '1.5' has the wrong type .*expected a integer or number"),
+    ({"name": "x", "windows": {"length_s": "1.5"}}, r"windows.length_s = '1.5' has the wrong type .*expected an integer or number"),
     ({"name": "x", "windows": {"length_s": -1}}, r"windows.length_s = -1 must be > 0"),
     ({"name": "x", "windows": {"overlap": 1.0}}, r"windows.overlap = 1.0 must be in \[0, 1\)"),
     ({"name": "x", "seed": True}, r"seed = True has the wrong type"),
@@ -82,6 +82,18 @@ BAD = [
     ({"name": "x", "sweep": {"features.set": ["all52", "paper35"]}}, r"'paper35' is not allowed"),
     ({"seed": 1}, r"the config has no name"),
     ({"name": "x", "model": {"params": {"C": -1}}}, r"model.params for 'linear-ovo-svm': `C` must be a positive number, got -1"),
+    (
+        {"name": "x", "data": {"simulated": {"subjects": 2.5}}},
+        r"data.simulated.subjects = 2.5 has the wrong type \(float\); expected an integer\.",
+    ),
+    ({"name": "x", "data": {"simulated": {"duration_s": 1.0}}}, r"data.simulated.duration_s = 1.0 must be within 2-86400 s"),
+    ({"name": "x", "data": {"simulated": {"duration_s": 1e7}}}, r"data.simulated.duration_s = 10000000.0 must be within"),
+    ({"name": "x", "data": {"simulated": {"subjects": 5000}}}, r"data.simulated.subjects = 5000 must be within 1-1000"),
+    (
+        {"name": "x", "data": {"simulated": {"modes": ["walk"]}}},
+        r"data.simulated.modes gives 1 class \(walk\); a classifier needs at least 2",
+    ),
+    ({"name": "x", "data": {"labels": ["run"]}}, r"data.labels gives 1 class \(run\)"),
 ]
 
 
@@ -130,6 +142,11 @@ DATA_BAD = [
     ({}, {"scheme": "group-kfold", "n_splits": 4}, r"n_splits = 4 needs at least 4 groups, but data.group = 'subject' has 3"),
     ({"where": {"room": "x"}}, {}, r"data.where key 'room' is not a meta/manifest column"),
     ({"where": {"position": "Purse"}}, {}, r"data.where = .* matches no recording; values present"),
+    (
+        {"label": "position", "where": {"position": "InHand"}},
+        {},
+        r"data.label = 'position' has 1 class in the data \(InHand\); a classifier needs at least 2",
+    ),
 ]
 
 
@@ -148,3 +165,8 @@ def test_meta_label_gives_one_label_per_recording(folder):
     for r in data.recordings:
         assert set(r.labels) == {r.meta["position"]}
     assert sorted(set(data.groups)) == ["u0", "u1", "u2"]
+
+
+def test_config_path_that_is_a_directory(tmp_path):
+    with pytest.raises(ConfigError, match=r"is a directory, not a config file; pass a .toml file"):
+        load_config(tmp_path)

@@ -76,8 +76,9 @@ def test_svm_refuses_wrong_width_and_one_class(dataset):
     m = LinearOVOSVM().fit(dataset.inputs("features"), dataset.y)
     with pytest.raises(InputError, match="expects 52 features"):
         m.predict(np.zeros((2, 34)))
-    with pytest.raises(InputError, match="at least 2 classes"):
+    with pytest.raises(InputError, match="at least 2 classes") as exc:
         LinearOVOSVM().fit(np.zeros((5, 3)) + np.arange(5)[:, None], ["a"] * 5)
+    assert "got a;" in str(exc.value) and "np.str_" not in str(exc.value)
 
 
 def test_make_model_errors():

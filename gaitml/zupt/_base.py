@@ -18,6 +18,7 @@ from gaitml.zupt._intervals import intervals_table
 
 __all__ = [
     "BaseZuptDetector",
+    "MIN_RECORDING_S",
     "REFERENCE_HALF_WIDTH_S",
     "empirical_upper_threshold",
     "labelled_samples",
@@ -29,6 +30,11 @@ __all__ = [
 #: minimum foot velocity per stride; +-50 ms around it is well inside foot-flat at
 #: walking speed (stance lasts about 0.6 s, foot-flat about 0.3 s).
 REFERENCE_HALF_WIDTH_S = 0.05
+
+#: Shortest recording a detector accepts (s), besides one full detector window: a
+#: zero-velocity interval of a walking foot lasts ~0.1-0.3 s, so shorter input cannot
+#: show both motion and rest, and a "100 % stationary" answer on it means nothing.
+MIN_RECORDING_S = 0.5
 
 
 def reference_zupt_mask(recording: Recording, *, half_width_s: float = REFERENCE_HALF_WIDTH_S) -> np.ndarray:
@@ -99,6 +105,14 @@ class BaseZuptDetector:
     def _mask(self, recording: Recording) -> tuple[np.ndarray, np.ndarray | None]:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def _window_samples(self, sampling_rate_hz: float) -> int:
+        """Samples of one full detector window (validates the window parameters)."""
+        return 1
+
+    def min_samples(self, sampling_rate_hz: float) -> int:
+        """Fewest samples ``detect`` accepts: one full window and ``MIN_RECORDING_S``."""
+        return max(int(self._window_samples(sampling_rate_hz)), int(np.ceil(MIN_RECORDING_S * sampling_rate_hz - 1e-9)))
+
     def detect(self, recording: Recording):
         """Detect zero-velocity samples and intervals; returns ``self``.
 
@@ -108,6 +122,12 @@ class BaseZuptDetector:
         """
         if not isinstance(recording, Recording):
             raise InputError(f"detect needs a gaitml Recording, got {type(recording).__name__}; read files with gaitml.io.read_recording.")
+        n_min = self.min_samples(recording.sampling_rate_hz)
+        if recording.n_samples < n_min:
+            raise InputError(
+                f"the recording is too short for the {self.name or type(self).__name__} detector: {recording.n_samples} samples "
+                f"< {n_min} needed (one detector window and at least {MIN_RECORDING_S:g} s); use a longer recording."
+            )
         mask, stat = self._mask(recording)
         self.per_sample_zupts_ = np.asarray(mask, dtype=bool)
         self.statistic_ = stat

@@ -103,6 +103,9 @@ class Method1ZuptDetector(BaseZuptDetector):
         self.acc_max_ms2 = acc_max_ms2
         self.half_window_s = half_window_s
 
+    def _window_samples(self, sampling_rate_hz: float) -> int:
+        return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
+
     def _mask(self, recording: Recording):
         gyr = recording.require_gyr("method 1 (gyro range + |a| maximum, paper 001)")
         s = half_window_samples(self.half_window_s, recording.sampling_rate_hz)

@@ -114,6 +114,9 @@ class Method2ZuptDetector(BaseZuptDetector):
         self.gyr_std_rads = gyr_std_rads
         self.half_window_s = half_window_s
 
+    def _window_samples(self, sampling_rate_hz: float) -> int:
+        return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
+
     def _mask(self, recording: Recording):
         gyr = recording.require_gyr("method 2 (acc/gyro magnitude and std, paper 001)")
         s = half_window_samples(self.half_window_s, recording.sampling_rate_hz)

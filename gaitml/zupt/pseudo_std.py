@@ -192,6 +192,9 @@ class PseudoStdZuptDetector(BaseZuptDetector):
             raise InputError(f"`threshold_rads` must be a positive number (rad/s), got {self.threshold_rads!r}.")
         return thr
 
+    def _window_samples(self, sampling_rate_hz: float) -> int:
+        return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
+
     def _mask(self, recording):
         stat = self._statistic(recording)
         thr = self._threshold()

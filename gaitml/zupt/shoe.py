@@ -132,6 +132,9 @@ class ShoeZuptDetector(BaseZuptDetector):
             raise InputError(f"`window_samples` must be an odd number >= 1 (a centred window), got {self.window_samples!r}.")
         return int(self.window_samples) // 2
 
+    def _window_samples(self, sampling_rate_hz: float) -> int:
+        return 2 * self._half(sampling_rate_hz) + 1
+
     def _statistic(self, recording: Recording) -> np.ndarray:
         gyr = recording.require_gyr("the SHOE zero-velocity detector")
         h = self._half(recording.sampling_rate_hz)

@@ -90,7 +90,7 @@ def test_pseudo_std_fit_sets_np_threshold_from_labelled_samples():
 
 def test_half_window_scales_with_rate():
     for fs, s in ((100.0, 5), (204.8, 10), (50.0, 2)):
-        rec = Recording(acc=np.tile([0, 0, GRAVITY_MS2], (50, 1)), gyr=np.zeros((50, 3)), sampling_rate_hz=fs)
+        rec = Recording(acc=np.tile([0, 0, GRAVITY_MS2], (150, 1)), gyr=np.zeros((150, 3)), sampling_rate_hz=fs)
         from gaitml.zupt._intervals import half_window_samples
 
         assert half_window_samples(PseudoStdZuptDetector().half_window_s, fs) == s
@@ -238,3 +238,23 @@ def test_quantile_fit_keeps_labelled_samples(name):
     label = (phase > 0.1) & (phase < 0.3)
     det = get_detector(name, eps=0.01).fit([rec], [label]).detect(rec)
     assert det.per_sample_zupts_[label].mean() >= 0.98
+
+
+@pytest.mark.parametrize("name", ["pseudo-std", "method1", "method2", "magnitude", "shoe"])
+@pytest.mark.parametrize("n", [2, 10])
+def test_too_short_recording_is_refused(name, n):
+    rec = synthetic_foot_walk(300).slice(0, n)
+    with pytest.raises(InputError, match=rf"too short for the {name} detector: {n} samples < \d+ needed.*use a longer recording"):
+        get_detector(name).detect(rec)
+
+
+def test_shortest_accepted_recording_is_one_window_and_half_a_second():
+    rec = synthetic_foot_walk(300)
+    fs = rec.sampling_rate_hz
+    det = get_detector("pseudo-std", half_window_s=0.5)
+    n_min = det.min_samples(fs)
+    assert n_min == 2 * round(0.5 * fs) + 1
+    det.detect(rec.slice(0, n_min))
+    with pytest.raises(InputError, match="too short"):
+        det.detect(rec.slice(0, n_min - 1))
+    assert get_detector("pseudo-std").min_samples(fs) == int(np.ceil(0.5 * fs))

@@ -49,9 +49,15 @@ def run(args) -> int:
         f"{rec.name}: {len(steps)} steps ({args.detector}, event {steps.attrs.get('event')}) in {rec.duration_s:.1f} s at {rec.sampling_rate_hz:g} Hz",
     ]
     if len(steps):
-        lines.append(
-            f"  step period: median {np.median(period):.3f} s, mean {np.mean(period):.3f} s; cadence {len(steps) / rec.duration_s * 60:.1f} steps/min"
-        )
+        # period_s is the span the detector gives each step; cadence comes from the
+        # intervals between step times, and the overall rate includes pauses
+        lines.append(f"  step period (period_s, the detector's step span): median {np.median(period):.3f} s, mean {np.mean(period):.3f} s")
+        rate = f"{len(steps) / rec.duration_s * 60:.1f} steps/min averaged over the whole {rec.duration_s:.1f} s (pauses included)"
+        if len(steps) >= 2:
+            interval = float(np.median(np.diff(t)))
+            lines.append(f"  step interval: median {interval:.3f} s = cadence {60.0 / interval:.1f} steps/min while stepping; {rate}")
+        else:
+            lines.append(f"  rate: {rate}")
     if ev is not None:
         s = f"  reference: {ev['n_true']} steps, count accuracy {100 * ev['count_accuracy']:.2f} %"
         if "f1" in ev:

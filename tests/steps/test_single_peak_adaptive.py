@@ -5,7 +5,7 @@ import pytest
 
 from gaitml.recording import Recording
 from gaitml.steps.adaptive import AdaptiveStepDetector
-from gaitml.steps.single_peak import SinglePeakStepDetector, zero_points
+from gaitml.steps.single_peak import SinglePeakStepDetector, lasting_crossings, zero_points
 from tests.conftest import shared
 from tests.steps.conftest import synthetic_walk
 
@@ -38,6 +38,28 @@ def test_zero_points_search_limits():
 
 def test_single_peak_paper_data_exact(ifsm_recs):
     assert [len(SinglePeakStepDetector().detect(r).steps_) for r in ifsm_recs] == [284, 319]
+
+
+def test_single_peak_period_is_the_step_cycle_on_paper_data(ifsm_recs):
+    # paper 003 sec. 2.2: left zero point .. second zero point after the peak = one step cycle,
+    # so the median period matches the median interval between consecutive steps
+    for r in ifsm_recs:
+        st = SinglePeakStepDetector().detect(r).steps_
+        interval = np.median(np.diff(st["t_peak_s"].to_numpy()))
+        period = st["period_s"].median()
+        assert abs(period - interval) <= 0.15 * interval, (r.name, period, interval)
+
+
+def test_lasting_crossings_ignore_brief_flips():
+    # + + + - + + (flip of 1 sample) - - - - - + + + + +
+    a = np.array([1, 1, 1, -1, 1, 1, -1, -1, -1, -1, -1, 1, 1, 1, 1, 1.0])
+    assert lasting_crossings(a, 1).tolist() == [3, 4, 6, 11]
+    assert lasting_crossings(a, 3).tolist() == [6, 11]
+    # a brief dip that returns to the held sign is no crossing at all
+    b = np.array([1, 1, -1, -1, 1, 1, 1, 1.0])
+    assert lasting_crossings(b, 3).tolist() == []
+    left, right, lf, rf = zero_points(a, np.array([1]), 3, 12, min_lobe_samples=3)
+    assert (right[0], rf[0]) == (11, True)
 
 
 def test_adaptive_synthetic_walk_and_still():

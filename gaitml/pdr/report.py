@@ -49,7 +49,10 @@ VARIANTS = (
     ("multi / true modes / dwpca", {"modes": "true", "heading": "dwpca"}),
     ("multi / true modes / dwpca-hde", {"modes": "true", "heading": "dwpca-hde"}),
     ("multi / true modes / hde / true lengths", {"modes": "true", "heading": "hde", "step_length": "reference"}),
-    ("multi / true modes / paper HDE (no drift fit)", {"modes": "true", "heading": "hde", "hde_kwargs": {"drift_rate": "none"}}),
+    (
+        "multi / true modes / paper HDE (no drift fit)",
+        {"modes": "true", "heading": "hde", "hde_kwargs": {"drift_rate": "none", "max_error_rad": np.pi}},
+    ),
     ("multi / true modes / gyro / true gyro bias removed", {"modes": "true", "heading": "gyro", "remove_true_gyro_bias": True}),
 )
 CALIBRATION_S = 150.0

@@ -70,12 +70,29 @@ def test_hde_removes_a_constant_offset_on_straight_legs():
     n = 60
     truth = np.repeat([0.0, np.pi / 2, np.pi, -np.pi / 2], n)
     raw = truth + np.deg2rad(6.0) + np.random.default_rng(0).normal(0, np.deg2rad(1.0), 4 * n)
-    corr, delta, straight = hde_correct(raw, np.full(4 * n, 0.5))
+    # a 6 deg offset is beyond the default error gate (5 deg): the literal rule (gate off) removes it
+    corr, delta, straight = hde_correct(raw, np.full(4 * n, 0.5), max_error_rad=np.pi)
     err_raw = np.abs(wrap_angle(raw - truth))[-n // 2 :].mean()
     err = np.abs(wrap_angle(corr - truth))[-n // 2 :].mean()
     assert np.degrees(err_raw) > 5.5
     assert np.degrees(err) < 1.5  # the 1 deg step noise alone gives ~0.8 deg
     assert straight.mean() > 0.8
+
+
+def test_hde_error_gate_corrects_small_offsets_and_leaves_off_direction_legs():
+    n = 60
+    truth = np.repeat([0.0, np.pi / 2, np.pi, -np.pi / 2], n)
+    noise = np.random.default_rng(0).normal(0, np.deg2rad(1.0), 4 * n)
+    raw = truth + np.deg2rad(3.0) + noise
+    corr, _, _ = hde_correct(raw, np.full(4 * n, 0.5))
+    assert np.degrees(np.abs(wrap_angle(corr - truth))[-n // 2 :].mean()) < 1.5
+    # a straight leg 10 deg off every dominant direction: the gate keeps the feedback off
+    leg = np.deg2rad(10.0) + noise
+    corr, delta, straight = hde_correct(leg, np.full(4 * n, 0.5))
+    assert straight.mean() > 0.8
+    assert np.all(delta == 0.0)
+    corr, delta, _ = hde_correct(leg, np.full(4 * n, 0.5), max_error_rad=np.pi)
+    assert np.degrees(np.abs(wrap_angle(corr))[-n:].mean()) < 2.0  # literal rule pulls it to 0 deg
 
 
 def test_hde_stays_off_on_a_gentle_curve():
@@ -88,6 +105,8 @@ def test_hde_stays_off_on_a_gentle_curve():
 def test_hde_bad_input():
     with pytest.raises(InputError, match="feedback_per"):
         hde_correct([0.0, 0.1], feedback_per="minute")
+    with pytest.raises(InputError, match="max_error_rad"):
+        hde_correct([0.0, 0.1], max_error_rad=0.0)
 
 
 @pytest.mark.parametrize("direction_deg", [0.0, 37.0, 135.0, -100.0])

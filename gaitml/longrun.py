@@ -127,7 +127,6 @@ def long_zupts(
 
 def _window_chunks(path, length_s, overlap, chunk_s, progress, desc, **read_kwargs) -> Iterator[tuple[Chunk, int, int]]:
     """Chunks whose cores and margins are multiples of the window hop."""
-    from gaitml.io import detect_format
     from gaitml.signal import window_params
 
     # the hop depends on the rate, known after the first block: peek at it
@@ -137,7 +136,6 @@ def _window_chunks(path, length_s, overlap, chunk_s, progress, desc, **read_kwar
         fs_probe = first.recording.sampling_rate_hz
     length, hop = window_params(length_s, overlap, fs_probe)
     margin_samples = math.ceil(length / hop) * hop
-    _ = detect_format
     chunks = iter_chunks(
         path,
         chunk_s=chunk_s,

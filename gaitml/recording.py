@@ -123,6 +123,13 @@ def _convert_units(acc, gyr, acc_unit: str, gyr_unit: str):
     return acc, gyr
 
 
+def _note_conversions(meta: dict, acc_unit: str, gyr_from_degs: bool) -> None:
+    """Record in ``meta['converted']`` which unit conversions were applied."""
+    conv = [c for c, applied in (("acc from g", acc_unit == "g"), ("gyr from deg/s", gyr_from_degs)) if applied]
+    if conv:
+        meta["converted"] = conv
+
+
 @dataclasses.dataclass(frozen=True, eq=False)
 class Recording:
     """One uniformly sampled IMU recording in SI units.
@@ -187,7 +194,9 @@ class Recording:
                 check_acc_unit(acc)
             except InputError as exc:
                 if "acc from g" in dict(self.meta).get("converted", []):
-                    raise InputError(f"{exc} (the data was converted from g as asked: drop --acc-unit g / acc_unit='g' if it is in m/s^2)") from exc
+                    raise InputError(
+                        f"{exc} (the data was converted from g as asked: drop --acc-unit g / acc_unit='g' if it is in m/s^2)"
+                    ) from exc
                 raise
             if gyr is not None:
                 _check_gyr_unit(gyr)
@@ -289,9 +298,7 @@ class Recording:
         gyr_arr = None if gyr is None else _as_2d3("gyr", gyr)
         acc, gyr_arr = _convert_units(acc, gyr_arr, acc_unit, gyr_unit)
         meta = dict(meta or {})
-        conv = [c for c, u in (("acc from g", acc_unit == "g"), ("gyr from deg/s", gyr is not None and gyr_unit == "deg/s")) if u]
-        if conv:
-            meta["converted"] = conv
+        _note_conversions(meta, acc_unit, gyr is not None and gyr_unit == "deg/s")
         return cls(acc=acc, gyr=gyr_arr, labels=labels, sampling_rate_hz=sampling_rate_hz, meta=meta, reference=dict(reference or {}))
 
     @classmethod
@@ -395,9 +402,7 @@ class Recording:
                 ref[key] = np.asarray(val, dtype=float) - t[0]
             else:
                 ref[key] = val
-        conv = [c for c, u in (("acc from g", acc_unit == "g"), ("gyr from deg/s", gyr is not None and gyr_unit == "deg/s")) if u]
-        if conv:
-            meta["converted"] = conv
+        _note_conversions(meta, acc_unit, gyr is not None and gyr_unit == "deg/s")
         return cls(acc=new_acc, gyr=new_gyr, labels=new_labels, sampling_rate_hz=fs, meta=meta, reference=ref)
 
 

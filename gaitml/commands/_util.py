@@ -12,14 +12,7 @@ from gaitml.io._atomic import _json_default
 
 def load_input(args) -> Any:
     """Read ``args.input`` with the common input options."""
-    return read_recording(
-        args.input,
-        format=getattr(args, "format", None),
-        sensor=getattr(args, "sensor", "left"),
-        sampling_rate_hz=getattr(args, "sampling_rate_hz", None),
-        acc_unit=getattr(args, "acc_unit", "m/s^2"),
-        gyr_unit=getattr(args, "gyr_unit", "rad/s"),
-    )
+    return read_recording(args.input, **read_kwargs(args))
 
 
 def emit_json(obj: Any) -> None:

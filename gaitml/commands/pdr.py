@@ -98,7 +98,9 @@ def run(args) -> int:
             from gaitml.pdr.plot import plot_trajectory
 
             tmp_plot = stack.enter_context(atomic_path(args.plot, suffix=".png"))
-            title = f"{rec.name}: {res.n_steps} steps, heading {res.info['heading']}, modes {res.info['modes']}, update {res.info['update']}"
+            title = (
+                f"{rec.name}: {res.n_steps} steps, heading {res.info['heading']}, modes {res.info['modes']}, update {res.info['update']}"
+            )
             plot_trajectory(tmp_plot, res.trajectory, truth=truth, title=title)
         if args.out:
             tmp_out = stack.enter_context(atomic_path(args.out, suffix=".csv"))

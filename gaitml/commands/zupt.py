@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from gaitml.commands._util import emit_json, load_input, log
-from gaitml.errors import GaitmlError, InputError
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+from gaitml.errors import InputError
 from gaitml.io import write_csv
 from gaitml.zupt import get_detector
 
@@ -65,19 +65,10 @@ def zupt_summary(rec, detector: str = "pseudo-std", threshold_rads: float | None
     return det, obj
 
 
-def _is_large(args) -> bool:
-    from gaitml.io.chunked import LARGE_INPUT_SAMPLES, estimate_samples
-
-    try:
-        return estimate_samples(args.input) > LARGE_INPUT_SAMPLES
-    except (GaitmlError, OSError):
-        return False
-
-
 def run(args) -> int:
     """Detect zero-velocity intervals; print a summary or the JSON contract; optionally write the table."""
     params = detector_params(args.detector, args.threshold_rads)
-    if _is_large(args):
+    if is_large_input(args):
         from gaitml.longrun import long_zupts
 
         mask, table, fs = long_zupts(
@@ -85,11 +76,7 @@ def run(args) -> int:
             args.detector,
             detector_params=params,
             progress=True,
-            format=args.format,
-            sampling_rate_hz=args.sampling_rate_hz,
-            acc_unit=args.acc_unit,
-            gyr_unit=args.gyr_unit,
-            sensor=args.sensor,
+            **read_kwargs(args),
         )
         thr = getattr(get_detector(args.detector, **params), "_threshold", lambda: None)()
         obj = summary(args.detector, mask, table, fs, threshold_rads=thr)

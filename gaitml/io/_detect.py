@@ -112,7 +112,9 @@ def read_recording(
     if fmt == "gaitmap":
         return read_gaitmap_csv(p, sensor=sensor, sampling_rate_hz=sampling_rate_hz)
     if fmt == "gaitmap-table":
-        raise InputError(f"{p.name} is a gaitmap reference table (annotations or motion capture), not an IMU recording; pass the imu_sample*.csv.gz file beside it.")
+        raise InputError(
+            f"{p.name} is a gaitmap reference table (annotations or motion capture), not an IMU recording; pass the imu_sample*.csv.gz file beside it."
+        )
     n = len(list_dataset(p))
     raise InputError(f"{p} is a data set of {n} recordings; pass one recording file or folder of it.")
 

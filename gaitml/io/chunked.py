@@ -34,7 +34,7 @@ from gaitml.consts import ACC_COLS, GYR_COLS, LABEL_COL, TIME_COL
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._detect import detect_format, read_recording
-from gaitml.recording import Recording, check_acc_unit
+from gaitml.recording import Recording, _convert_units, check_acc_unit
 
 __all__ = ["Chunk", "iter_chunks", "estimate_samples", "LARGE_INPUT_SAMPLES"]
 
@@ -132,10 +132,7 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
         acc = vals[:, 1:4]
         gyr = vals[:, 4:7] if has_gyr else None
         lab = df[LABEL_COL].astype(str).to_numpy() if has_lab else None
-        if acc_unit == "g":
-            acc = acc * 9.80665
-        if gyr is not None and gyr_unit == "deg/s":
-            gyr = np.deg2rad(gyr)
+        acc, gyr = _convert_units(acc, gyr, acc_unit, gyr_unit)
         if prev is not None:
             t = np.concatenate([[prev[0]], t])
             acc = np.vstack([prev[1], acc])

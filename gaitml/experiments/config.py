@@ -21,6 +21,8 @@ Keys (defaults in brackets)::
     where = {}                       # keep recordings whose meta matches, e.g. { surface = "Hard" }
     [data.simulated]
     subjects = 8
+    sessions = 1                     # recordings per subject (later sessions vary a little: another day)
+    pose = "flat"                    # "flat" | "tilted" | "mixed" (drawn per subject)
     duration_s = 120.0
     modes = ["walk", "run", "side_left", "side_right", "backward"]
     [windows]
@@ -62,6 +64,8 @@ __all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOU
 
 SOURCES = ("simulated", "folder")
 FEATURE_SET_NAMES = ("all52", "paper34", "all52+gyro")
+#: Phone poses of simulated subjects (gaitml.simulate.POSES plus "mixed": drawn per subject).
+SIM_POSES = ("flat", "tilted", "mixed")
 CV_SCHEMES = ("train-one-test-rest", "leave-one-group-out", "group-kfold")
 MODEL_KIND_NAMES = ("linear-ovo-svm", "mlp", "cnn1d")
 
@@ -107,6 +111,10 @@ def _sim_duration(v):
     return None if 2.0 <= v <= MAX_DURATION_S else f"must be within 2-{MAX_DURATION_S:g} s (24 h per recording)"
 
 
+def _sessions(v):
+    return None if 1 <= v <= 100 else "must be within 1-100"
+
+
 def _min2(v):
     return None if v >= 2 else "must be >= 2"
 
@@ -126,6 +134,8 @@ SCHEMA: dict[str, Any] = {
         "where": _Leaf((dict,), {}),
         "simulated": {
             "subjects": _Leaf((int,), 8, check=_subjects),
+            "sessions": _Leaf((int,), 1, check=_sessions),
+            "pose": _Leaf((str,), "flat", allowed=SIM_POSES),
             "duration_s": _Leaf(_NUM, 120.0, check=_sim_duration),
             "modes": _Leaf((list,), list(MOTION_MODES), item_type=str),
         },

@@ -55,10 +55,16 @@ def _load_recordings(cfg: ExperimentConfig):
 
         s = d["simulated"]
         recs = simulate_dataset(
-            n_subjects=s["subjects"], duration_s=s["duration_s"], modes=tuple(s["modes"]), sampling_rate_hz=fs, seed=cfg.seed
+            n_subjects=s["subjects"],
+            n_sessions=s["sessions"],
+            pose=s["pose"],
+            duration_s=s["duration_s"],
+            modes=tuple(s["modes"]),
+            sampling_rate_hz=fs,
+            seed=cfg.seed,
         )
         notes.append(
-            f"simulated: {s['subjects']} subjects, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}"
+            f"simulated: {s['subjects']} subjects x {s['sessions']} session(s), phone pose {s['pose']}, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}"
         )
         return list(recs), notes
     from gaitml.io import read_dataset

@@ -125,6 +125,12 @@ def build_parser() -> argparse.ArgumentParser:
         choices=("model", "true", "forward"),
         help="motion modes per step (default: model with --model, else the labels, else forward)",
     )
+    p.add_argument(
+        "--mode-boundaries",
+        choices=("refine", "nearest"),
+        default="refine",
+        help="with --model: re-place each mode change at the most likely step (refine, default) or keep the nearest window's mode (nearest)",
+    )
     p.add_argument("--detector", choices=STEP_DETECTORS, default="single-peak", help="step detector (default single-peak)")
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
     p.add_argument(

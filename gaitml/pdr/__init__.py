@@ -5,6 +5,7 @@
 - :mod:`~gaitml.pdr.hde`: buffered heuristic drift elimination.
 - :mod:`~gaitml.pdr.dwpca`: dynamic-window PCA step direction.
 - :mod:`~gaitml.pdr.update`: multi-state and forward-only position updates.
+- :mod:`~gaitml.pdr.step_modes`: per-step modes from window predictions, mode-boundary refinement.
 - :mod:`~gaitml.pdr.pipeline`: :func:`run_pdr`, recording -> trajectory.
 - :mod:`~gaitml.pdr.calibrate`: per-subject step length / DW-PCA calibration.
 - :mod:`~gaitml.pdr.plot`, :mod:`~gaitml.pdr.report` (``python -m gaitml.pdr.report``).
@@ -14,12 +15,14 @@ from gaitml.pdr.attitude import AttitudeEstimator, compass_heading, initial_atti
 from gaitml.pdr.calibrate import Calibration, calibrate_from_reference, calibrate_walk_distance
 from gaitml.pdr.dwpca import DwPcaHeading, dwpca_check_and_average, pca_step_directions
 from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate, hde_correct
-from gaitml.pdr.pipeline import HEADING_SOURCES, MODE_SOURCES, PdrResult, modes_from_labels, modes_from_windows, run_pdr
+from gaitml.pdr.pipeline import HEADING_SOURCES, MODE_SOURCES, PdrResult, modes_from_labels, run_pdr
 from gaitml.pdr.step_length import StepLengthModel, linear_step_length, step_length_features, weinberg_step_length
+from gaitml.pdr.step_modes import MODE_ASSIGNMENTS, modes_from_windows, pair_margin, refine_mode_boundaries
 from gaitml.pdr.update import MODE_OFFSET_RAD, dead_reckon, forward_update, mode_offsets_rad, multi_state_update
 
 __all__ = [
     "HEADING_SOURCES",
+    "MODE_ASSIGNMENTS",
     "MODE_OFFSET_RAD",
     "MODE_SOURCES",
     "AttitudeEstimator",
@@ -43,7 +46,9 @@ __all__ = [
     "modes_from_labels",
     "modes_from_windows",
     "multi_state_update",
+    "pair_margin",
     "pca_step_directions",
+    "refine_mode_boundaries",
     "run_pdr",
     "step_headings",
     "step_length_features",

@@ -5,7 +5,8 @@ Paper 003 sec. 4 (with paper 002 sec. 3 as an alternative heading source), DESIG
 - Steps: a registered step detector (``single-peak`` by default, paper 003 sec. 2.2), or a
   step table given by the caller.
 - Mode per step: from a saved model's window predictions (the window containing the step
-  time; with overlapping windows the one whose centre is nearest), from the recording's
+  time; with overlapping windows the one whose centre is nearest; then every mode change
+  is re-placed at the most likely step, :mod:`gaitml.pdr.step_modes`), from the recording's
   true per-sample labels (majority over the step window), or ``forward`` (no recognition:
   every step is a walk step and the traditional update is used, the baseline of paper
   003 sec. 4.3).
@@ -28,6 +29,7 @@ from gaitml.pdr.attitude import AttitudeEstimator, step_headings, wrap_angle
 from gaitml.pdr.dwpca import DwPcaHeading
 from gaitml.pdr.hde import HeuristicDriftElimination
 from gaitml.pdr.step_length import StepLengthModel, step_length_features
+from gaitml.pdr.step_modes import MODE_ASSIGNMENTS, modes_from_windows, refine_mode_boundaries
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
 from gaitml.recording import Recording
 
@@ -94,37 +96,6 @@ def modes_from_labels(labels: np.ndarray, start, end) -> np.ndarray:
     return classes[np.argmax(counts, axis=1)]
 
 
-def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:
-    """Mode of the window containing each step time (nearest window centre).
-
-    Parameters
-    ----------
-    windows : DataFrame with ``t_start_s``, ``t_end_s``, ``mode`` (model predictions).
-    step_t_s : (m,) step times.
-
-    Notes
-    -----
-    With overlapping windows a step lies in two; the window whose centre is nearest to
-    the step time is used (it sees the step best). Steps before the first or after the
-    last window take the nearest window.
-    """
-    for c in ("t_start_s", "t_end_s", "mode"):
-        if c not in windows:
-            raise InputError(f"the window table has no `{c}` column; pass gaitml.models.predict_recording output.")
-    t = np.asarray(step_t_s, dtype=float)
-    if len(windows) == 0:
-        raise InputError("the model predicted no windows (recording shorter than one window); use --modes true or forward.")
-    centre = 0.5 * (windows["t_start_s"].to_numpy(float) + windows["t_end_s"].to_numpy(float))
-    order = np.argsort(centre)
-    centre = centre[order]
-    modes = windows["mode"].to_numpy().astype(str)[order]
-    j = np.searchsorted(centre, t)
-    lo = np.clip(j - 1, 0, len(centre) - 1)
-    hi = np.clip(j, 0, len(centre) - 1)
-    pick = np.where(np.abs(t - centre[lo]) <= np.abs(centre[hi] - t), lo, hi)
-    return modes[pick]
-
-
 def _detect(recording: Recording, detector):
     from gaitml.steps import get_detector
 
@@ -169,6 +140,7 @@ def run_pdr(
     steps: pd.DataFrame | None = None,
     heading: str = "hde",
     modes: str = "model",
+    mode_boundaries: str = "refine",
     step_length=None,
     update: str | None = None,
     initial_heading_rad: float = 0.0,
@@ -191,6 +163,11 @@ def run_pdr(
     modes : {'model', 'true', 'forward'}
         ``model`` requires ``model``; ``true`` requires per-sample labels; ``forward``
         treats every step as a walk step (traditional PDR).
+    mode_boundaries : {'refine', 'nearest'}
+        With ``modes='model'``: each step takes the mode of the nearest (corrected)
+        window, then ``refine`` re-places every mode change at the most likely step
+        (:func:`gaitml.pdr.step_modes.refine_mode_boundaries`, ours); ``nearest`` stops
+        after the nearest-window assignment (paper 003 sec. 4.1 as written).
     step_length : None (stated defaults), StepLengthModel, JSON path, or ``'reference'``
         (nearest true step length from ``reference['steps']``, for diagnostics only).
     update : {'multi', 'forward'}, default ``'forward'`` when ``modes='forward'`` else ``'multi'``.
@@ -208,6 +185,8 @@ def run_pdr(
         raise InputError(f"unknown heading source {heading!r}; use one of {', '.join(HEADING_SOURCES)}.")
     if modes not in MODE_SOURCES:
         raise InputError(f"unknown mode source {modes!r}; use one of {', '.join(MODE_SOURCES)}.")
+    if mode_boundaries not in MODE_ASSIGNMENTS:
+        raise InputError(f"unknown mode_boundaries {mode_boundaries!r}; use one of {', '.join(MODE_ASSIGNMENTS)}.")
     update = update or ("forward" if modes == "forward" else "multi")
     if update not in ("multi", "forward"):
         raise InputError(f"`update` must be 'multi' or 'forward', got {update!r}.")
@@ -242,6 +221,8 @@ def run_pdr(
 
         windows = predict_recording(model, recording, correction=True)
         step_modes = modes_from_windows(windows, t_step) if n else np.zeros(0, dtype=str)
+        if mode_boundaries == "refine" and n > 1:
+            step_modes = refine_mode_boundaries(model, recording, t_step, step_modes)
     else:
         step_modes = np.full(n, "walk", dtype=object)
     step_modes = np.asarray(step_modes).astype(str)
@@ -310,6 +291,7 @@ def run_pdr(
         "detector": det_name,
         "heading": heading,
         "modes": modes,
+        "mode_boundaries": mode_boundaries if modes == "model" else None,
         "update": update,
         "step_length": sl_source,
         "initial_heading_rad": float(initial_heading_rad),

@@ -1,0 +1,168 @@
+"""Per-step modes from window predictions and the mode-boundary refinement (gaitml.pdr.step_modes)."""
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from gaitml.errors import InputError
+from gaitml.models import LinearOVOSVM
+from gaitml.pdr.step_modes import mode_runs, pair_margin, refine_mode_boundaries
+from gaitml.recording import Recording
+
+FS = 50.0
+ROOT = Path(__file__).resolve().parents[2]
+
+
+class SignOfMeanX:
+    """A two-class 'model' whose evidence for A is the mean of acc x over the window (feature 0)."""
+
+    classes_ = np.array(["A", "B"])
+
+    def predict_proba(self, X):
+        z = 4.0 * np.asarray(X)[:, 0]
+        p = 1.0 / (1.0 + np.exp(-z))
+        return np.c_[p, 1.0 - p]
+
+    def predict(self, X):
+        return np.where(np.asarray(X)[:, 0] > 0, "A", "B")
+
+
+def fake_model(estimator=None, input_kind="features"):
+    return SimpleNamespace(
+        estimator=estimator or SignOfMeanX(),
+        sampling_rate_hz=FS,
+        length_s=1.5,
+        input_kind=input_kind,
+        feature_set="all52",
+        raw_channels=["acc_x", "acc_y", "acc_z"],
+        labels=["A", "B"],
+    )
+
+
+def two_mode_recording(change_s: float, duration_s: float = 12.0) -> Recording:
+    """acc x = +1 before ``change_s`` (mode A) and -1 after it (mode B), gravity on z."""
+    t = np.arange(int(duration_s * FS)) / FS
+    acc = np.zeros((len(t), 3))
+    acc[:, 0] = np.where(t < change_s, 1.0, -1.0) + 0.05 * np.sin(2 * np.pi * 2.0 * t)
+    acc[:, 2] = 9.81
+    return Recording.from_arrays(acc, FS, gyr=np.zeros_like(acc))
+
+
+def test_mode_runs():
+    assert mode_runs(["a", "a", "b", "a"]) == [(0, 2, "a"), (2, 3, "b"), (3, 4, "a")]
+    assert mode_runs([]) == []
+
+
+@pytest.mark.parametrize("shift", [-3, -2, -1, 1, 2, 3])
+def test_a_misplaced_change_moves_to_the_step_at_the_true_change(shift):
+    steps = np.arange(0.5, 11.5, 0.5)
+    change = 6.0  # a step peak: this step and the later ones are mode B
+    rec = two_mode_recording(change)
+    truth = np.where(steps < change, "A", "B")
+    j = int(np.searchsorted(steps, change))
+    initial = np.where(np.arange(len(steps)) < j + shift, "A", "B")
+    out = refine_mode_boundaries(fake_model(), rec, steps, initial)
+    assert out.tolist() == truth.tolist()
+
+
+def test_a_short_third_mode_between_two_modes_is_a_transition_artefact():
+    steps = np.arange(0.5, 11.5, 0.5)
+    rec = two_mode_recording(6.0)
+    est = SignOfMeanX()
+    est.classes_ = np.array(["A", "B", "C"])
+    proba = est.predict_proba
+
+    def proba3(X):
+        p = proba(X)
+        return np.c_[p[:, 0], p[:, 1], np.full(len(p), 1e-6)]
+
+    est.predict_proba = proba3
+    model = fake_model(est)
+    model.labels = ["A", "B", "C"]
+    initial = np.array(["A"] * 10 + ["C", "C"] + ["B"] * 10)  # C covers 0.5 s < one window
+    out = refine_mode_boundaries(model, rec, steps, initial)
+    assert out.tolist() == ["A"] * 11 + ["B"] * 11
+    # a third mode lasting longer than one window is a real segment: its boundaries may
+    # move (here the evidence says A and B everywhere) but never past its middle
+    long_c = np.array(["A"] * 6 + ["C"] * 6 + ["B"] * 10)
+    out = refine_mode_boundaries(model, rec, steps, long_c)
+    assert out.tolist() == ["A"] * 8 + ["C"] * 2 + ["B"] * 12
+
+
+def test_nothing_to_refine_without_a_change():
+    steps = np.arange(0.5, 11.5, 0.5)
+    rec = two_mode_recording(6.0)
+    same = np.array(["A"] * len(steps))
+    assert refine_mode_boundaries(fake_model(), rec, steps, same).tolist() == same.tolist()
+    assert refine_mode_boundaries(fake_model(), rec, steps[:1], same[:1]).tolist() == ["A"]
+
+
+def test_refinement_with_a_raw_input_model_uses_full_windows():
+    class RawMeanX(SignOfMeanX):
+        def predict_proba(self, X):
+            return super().predict_proba(np.asarray(X)[:, :, 0].mean(axis=1, keepdims=True))
+
+    steps = np.arange(0.5, 11.5, 0.5)
+    rec = two_mode_recording(6.0)
+    initial = np.where(steps < 7.0, "A", "B")
+    out = refine_mode_boundaries(fake_model(RawMeanX(), input_kind="raw"), rec, steps, initial)
+    assert out.tolist() == np.where(steps < 6.0, "A", "B").tolist()
+
+
+def test_pair_margin_of_the_linear_ovo_svm_is_the_pair_machine():
+    rng = np.random.default_rng(0)
+    X = np.r_[rng.normal(-2, 1, (60, 2)), rng.normal(2, 1, (60, 2)), rng.normal([2, -6], 1, (60, 2))]
+    y = np.array(["a"] * 60 + ["b"] * 60 + ["c"] * 60)
+    svm = LinearOVOSVM().fit(X, y)
+    m_ab = pair_margin(svm, X, "a", "b")
+    assert np.all(m_ab == -pair_margin(svm, X, "b", "a"))
+    assert np.mean(m_ab[:60] > 0) > 0.95 and np.mean(m_ab[60:120] < 0) > 0.95
+    with pytest.raises(InputError, match="classes of the model"):
+        pair_margin(svm, X, "a", "z")
+
+
+def test_pair_margin_falls_back_to_hard_predictions():
+    class HardOnly:
+        classes_ = np.array(["A", "B"])
+
+        def predict(self, X):
+            return np.where(np.asarray(X)[:, 0] > 0, "A", "B")
+
+    assert pair_margin(HardOnly(), np.array([[1.0], [-1.0]]), "A", "B").tolist() == [1.0, -1.0]
+
+
+def test_bad_input_is_refused():
+    rec = two_mode_recording(6.0)
+    with pytest.raises(InputError, match="one mode per step"):
+        refine_mode_boundaries(fake_model(), rec, [1.0, 2.0], ["A"])
+    with pytest.raises(InputError, match="increasing"):
+        refine_mode_boundaries(fake_model(), rec, [2.0, 1.0], ["A", "B"])
+    with pytest.raises(InputError, match="not classes of the model"):
+        refine_mode_boundaries(fake_model(), rec, [1.0, 2.0], ["A", "run"])
+
+
+@pytest.mark.skipif(not (ROOT / "models" / "demo" / "model.json").is_file(), reason="models/demo is not trained")
+def test_refinement_fixes_steps_at_mode_changes_of_a_simulated_walk():
+    """Shipped model, a walker it was not trained on (route seed 12 is outside the selection seeds 0-9)."""
+    from gaitml.models import load_model
+    from gaitml.pdr import run_pdr
+    from gaitml.simulate import simulate_route
+
+    model = load_model(ROOT / "models" / "demo")
+    rec = simulate_route("straight", seed=12, duration_s=240.0)
+    truth = run_pdr(rec, modes="true", heading="gyro").steps
+    true_modes, t = truth["mode"].to_numpy(), truth["t_peak_s"].to_numpy()
+    labels = rec.labels.astype(str)
+    changes = np.flatnonzero(labels[1:] != labels[:-1]) / rec.sampling_rate_hz
+    at_change = np.min(np.abs(t[:, None] - changes[None, :]), axis=1) < 0.8
+    nearest = run_pdr(rec, model=model, modes="model", heading="gyro", mode_boundaries="nearest").steps["mode"].to_numpy()
+    refined = run_pdr(rec, model=model, modes="model", heading="gyro").steps["mode"].to_numpy()
+    wrong_nearest, wrong_refined = nearest != true_modes, refined != true_modes
+    assert wrong_refined[at_change].sum() <= wrong_nearest[at_change].sum() / 2, (
+        wrong_nearest[at_change].sum(),
+        wrong_refined[at_change].sum(),
+    )
+    assert wrong_refined[~at_change].sum() <= wrong_nearest[~at_change].sum()
+    assert 1 - wrong_refined.mean() >= 0.98

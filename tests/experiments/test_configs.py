@@ -170,3 +170,46 @@ def test_meta_label_gives_one_label_per_recording(folder):
 def test_config_path_that_is_a_directory(tmp_path):
     with pytest.raises(ConfigError, match=r"is a directory, not a config file; pass a .toml file"):
         load_config(tmp_path)
+
+
+def _gait(subject) -> tuple:
+    """A subject's parameters without its name and pose (the pose is drawn last)."""
+    import dataclasses
+
+    return tuple(v for k, v in dataclasses.asdict(subject).items() if k not in ("subject", "pose"))
+
+
+def test_the_demo_model_never_saw_the_walkers_it_is_evaluated_on():
+    """The shipped model is trained on other subjects than the PDR route table (seeds 0-19) and the demo walker."""
+    from gaitml.demo import DEMO_SETTINGS
+    from gaitml.simulate import sample_subjects
+
+    cfg = load_config(ROOT / "experiments" / "demo.toml")
+    sim = cfg["data"]["simulated"]
+    trained = {_gait(s) for s in sample_subjects(sim["subjects"], cfg.seed)}
+    walkers = {seed: _gait(sample_subjects(1, seed)[0]) for seed in [*range(20), DEMO_SETTINGS["route_seed"]]}
+    assert not [seed for seed, g in walkers.items() if g in trained]
+    # and the check can fail: a seed-0 training set contains the walker of route seed 0
+    assert walkers[0] in {_gait(s) for s in sample_subjects(sim["subjects"], 0)}
+
+
+def test_simulated_sessions_and_pose_keys(tmp_path):
+    text = (ROOT / "experiments" / "demo.toml").read_text()
+    cfg = parse_config(tomllib.loads(text), base_dir=ROOT / "experiments")
+    assert cfg["data"]["simulated"]["pose"] == "mixed"
+    bad = text.replace('pose = "mixed"', 'pose = "upside-down"')
+    with pytest.raises(ConfigError, match="data.simulated.pose"):
+        parse_config(tomllib.loads(bad), base_dir=ROOT / "experiments")
+    bad = text.replace('pose = "mixed"', 'pose = "mixed"\nsessions = 0')
+    with pytest.raises(ConfigError, match="data.simulated.sessions"):
+        parse_config(tomllib.loads(bad), base_dir=ROOT / "experiments")
+
+
+def test_sessions_of_one_simulated_subject_are_the_groups():
+    raw = {
+        "name": "sessions",
+        "data": {"source": "simulated", "group": "session", "simulated": {"subjects": 1, "sessions": 3, "duration_s": 20.0}},
+        "cv": {"scheme": "leave-one-group-out", "n_jobs": 1},
+    }
+    data = prepare_data(parse_config(raw, base_dir=ROOT), use_cache=False)
+    assert sorted({r.meta["session"] for r in data.recordings}) == ["S01-R1", "S01-R2", "S01-R3"]

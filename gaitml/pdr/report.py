@@ -117,7 +117,8 @@ def route_table(rows: list[dict]) -> pd.DataFrame:
     for route in dict.fromkeys(df["route"]):
         tab[(route, "mean")] = tab[route].mean(axis=1)
         tab[(route, "max")] = tab[route].drop(columns=["mean"], errors="ignore").max(axis=1)
-    return tab[sorted(tab.columns, key=lambda c: (c[0], str(c[1]) if not isinstance(c[1], str) else "~" + c[1]))]
+    # seeds in numeric order, then max and mean, per route
+    return tab[sorted(tab.columns, key=lambda c: (c[0], 1, c[1], 0) if isinstance(c[1], str) else (c[0], 0, "", c[1]))]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -121,7 +121,9 @@ the seed, subject index and session).
 
 Realism: :mod:`gaitml.simulate.realism` compares a simulated flat-held walk
 with the two real flat-held walks of ``ifsm-flat-phone``
-(``python -m gaitml.simulate.realism``).
+(``python -m gaitml.simulate.realism``); :mod:`gaitml.simulate.shortwin`
+compares the growth of feature noise from 1.5 s to 0.5 s windows and the per-step
+shape spread with real walking (``python -m gaitml.simulate.shortwin DATA_DIR``).
 
 References
 ----------

@@ -274,3 +274,22 @@ def test_dataset_skips_recordings_shorter_than_a_window_and_counts_drops():
     w0 = ds.windows.iloc[0]
     r0 = recs[int(w0["recording"])]
     np.testing.assert_allclose(ds.raw[0, :, 3], np.linalg.norm(r0.acc[w0["start"] : w0["end"]], axis=1) - 9.80665)
+
+
+def test_shipped_gyro_model_on_accelerometer_only_data_names_the_fix(tmp_path, capsys):
+    from pathlib import Path
+
+    from gaitml.cli import main
+    from gaitml.io import write_gaitml_csv
+    from gaitml.recording import Recording
+
+    root = Path(__file__).resolve().parents[2]
+    if not (root / "models" / "demo" / "model.json").is_file():
+        pytest.skip("models/demo is not trained")
+    t = np.arange(500) / 50.0
+    acc = np.c_[0.3 * np.sin(2 * np.pi * 2 * t), np.zeros_like(t), 9.81 + np.sin(2 * np.pi * 2 * t)]
+    path = tmp_path / "acc_only.csv"
+    write_gaitml_csv(Recording.from_arrays(acc, 50.0), path)
+    assert main(["predict", str(root / "models" / "demo"), str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "needs a gyroscope" in err and "'all52'" in err

@@ -87,7 +87,7 @@ def run(args) -> int:
         detector=getattr(args, "detector", "single-peak"),
         heading=getattr(args, "heading", "hde"),
         modes=modes,
-        mode_boundaries=getattr(args, "mode_boundaries", "refine"),
+        mode_boundaries=getattr(args, "mode_boundaries", "auto"),
         step_length=step_length,
         initial_heading_rad=h0,
     )

@@ -140,7 +140,7 @@ def run_pdr(
     steps: pd.DataFrame | None = None,
     heading: str = "hde",
     modes: str = "model",
-    mode_boundaries: str = "refine",
+    mode_boundaries: str = "auto",
     step_length=None,
     update: str | None = None,
     initial_heading_rad: float = 0.0,
@@ -163,11 +163,14 @@ def run_pdr(
     modes : {'model', 'true', 'forward'}
         ``model`` requires ``model``; ``true`` requires per-sample labels; ``forward``
         treats every step as a walk step (traditional PDR).
-    mode_boundaries : {'refine', 'nearest'}
+    mode_boundaries : {'auto', 'refine', 'nearest'}
         With ``modes='model'``: each step takes the mode of the nearest (corrected)
         window, then ``refine`` re-places every mode change at the most likely step
         (:func:`gaitml.pdr.step_modes.refine_mode_boundaries`, ours); ``nearest`` stops
-        after the nearest-window assignment (paper 003 sec. 4.1 as written).
+        after the nearest-window assignment (paper 003 sec. 4.1 as written). ``auto``
+        (default) refines when the step times are peaks (``t_peak_s``: single-peak,
+        adaptive) and keeps ``nearest`` otherwise (the FSM detectors time a step by its
+        end, where the nearest window already does better than the refinement).
     step_length : None (stated defaults), StepLengthModel, JSON path, or ``'reference'``
         (nearest true step length from ``reference['steps']``, for diagnostics only).
     update : {'multi', 'forward'}, default ``'forward'`` when ``modes='forward'`` else ``'multi'``.
@@ -200,10 +203,14 @@ def run_pdr(
         det_name = detector if isinstance(detector, str) else type(detector).__name__
     else:
         det_name = "given"
-    steps = steps.reset_index(drop=True).copy()
     event = steps.attrs.get("event", "t_peak_s")
     if event not in steps:
         event = "t_peak_s"
+    if len(steps) > 1 and np.any(np.diff(steps[event].to_numpy(float)) < 0):
+        steps = steps.sort_values(event, kind="stable")
+        notes.append(f"the step table was not in time order; sorted by {event}")
+    steps = steps.reset_index(drop=True).copy()
+    steps.attrs["event"] = event
     t_step = steps[event].to_numpy(float)
     start = steps["start"].to_numpy(np.int64)
     end = steps["end"].to_numpy(np.int64)
@@ -221,8 +228,12 @@ def run_pdr(
 
         windows = predict_recording(model, recording, correction=True)
         step_modes = modes_from_windows(windows, t_step) if n else np.zeros(0, dtype=str)
-        if mode_boundaries == "refine" and n > 1:
+        refine = mode_boundaries == "refine" or (mode_boundaries == "auto" and event == "t_peak_s")
+        if refine and n > 1:
             step_modes = refine_mode_boundaries(model, recording, t_step, step_modes)
+        elif mode_boundaries == "auto":
+            notes.append(f"step times are {event}, not peaks: modes from the nearest window, without boundary refinement")
+        mode_boundaries = "refine" if refine else "nearest"
     else:
         step_modes = np.full(n, "walk", dtype=object)
     step_modes = np.asarray(step_modes).astype(str)

@@ -158,7 +158,7 @@ def main(argv: list[str] | None = None) -> int:
         if "mode_accuracy" in long:
             acc = long.dropna(subset=["mode_accuracy"]).pivot_table(index="variant", columns="route", values="mode_accuracy")
             print("per-step mode accuracy of the model (mean over seeds):")
-            print(acc.round(4))
+            print(acc.to_string(float_format="{:.3f}".format))
     if args.csv:
         from gaitml.io import write_csv
 

@@ -166,3 +166,80 @@ def test_refinement_fixes_steps_at_mode_changes_of_a_simulated_walk():
     )
     assert wrong_refined[~at_change].sum() <= wrong_nearest[~at_change].sum()
     assert 1 - wrong_refined.mean() >= 0.98
+
+
+def test_more_input_checks():
+    rec = two_mode_recording(6.0)
+    with pytest.raises(InputError, match="finite"):
+        refine_mode_boundaries(fake_model(), rec, [1.0, np.nan], ["A", "B"])
+    with pytest.raises(InputError, match="not classes of the model"):
+        refine_mode_boundaries(fake_model(), rec, [1.0], ["run"])
+    with pytest.raises(InputError, match="search_s"):
+        refine_mode_boundaries(fake_model(), rec, [1.0, 2.0], ["A", "B"], search_s=-1)
+    with pytest.raises(InputError, match="raw-input model"):
+        refine_mode_boundaries(fake_model(input_kind="raw"), rec, [1.0, 2.0], ["A", "B"], short_window_s=0.5)
+    with pytest.raises(InputError, match="shorter than the evidence window"):
+        refine_mode_boundaries(fake_model(), rec.slice(0, 30), [0.1, 0.3], ["A", "B"])
+
+
+def test_two_adjacent_artefacts_both_go():
+    """A, C, D, B with C and D each shorter than a window: the later one must not take C's mode."""
+    steps = np.arange(0.5, 11.5, 0.5)
+    rec = two_mode_recording(6.0)
+    est = SignOfMeanX()
+    est.classes_ = np.array(["A", "B", "C", "D"])
+    proba = est.predict_proba
+    est.predict_proba = lambda X: np.c_[proba(X), np.full((len(X), 2), 1e-6)]
+    model = fake_model(est)
+    model.labels = ["A", "B", "C", "D"]
+    initial = np.array(["A"] * 10 + ["C", "D"] + ["B"] * 10)
+    out = refine_mode_boundaries(model, rec, steps, initial)
+    assert out.tolist() == ["A"] * 11 + ["B"] * 11
+
+
+def test_run_pdr_mode_boundaries_options_and_cli(tmp_path, capsys):
+    import json
+
+    from gaitml.cli import main
+    from gaitml.io import write_gaitml_csv
+    from gaitml.pdr import run_pdr
+    from gaitml.simulate import simulate_route
+
+    if not (ROOT / "models" / "demo" / "model.json").is_file():
+        pytest.skip("models/demo is not trained")
+    from gaitml.models import load_model
+
+    model = load_model(ROOT / "models" / "demo")
+    rec = simulate_route("straight", seed=13, duration_s=40.0)
+    with pytest.raises(InputError, match="mode_boundaries"):
+        run_pdr(rec, model=model, modes="model", mode_boundaries="guess")
+    assert run_pdr(rec, model=model, modes="model").info["mode_boundaries"] == "refine"  # single-peak: peaks
+    fsm = run_pdr(rec, model=model, modes="model", detector="ifsm")
+    assert fsm.info["mode_boundaries"] == "nearest" and any("not peaks" in n for n in fsm.info["notes"])
+    assert run_pdr(rec, model=model, modes="model", detector="ifsm", mode_boundaries="refine").info["mode_boundaries"] == "refine"
+    assert run_pdr(rec, modes="true").info["mode_boundaries"] is None
+    path = tmp_path / "walk.csv"
+    write_gaitml_csv(rec, path)
+    capsys.readouterr()
+    outs = {}
+    for mb in ("nearest", "refine"):
+        assert main(["pdr", str(path), "--model", str(ROOT / "models" / "demo"), "--mode-boundaries", mb, "--json"]) == 0
+        outs[mb] = json.loads(capsys.readouterr().out)
+    assert len(outs["nearest"]["trajectory"]) == len(outs["refine"]["trajectory"])
+
+
+def test_an_unsorted_step_table_is_sorted_with_a_note():
+    from gaitml.pdr import run_pdr
+    from gaitml.steps import get_detector
+    from tests.pdr.synth import synth_walk
+
+    rec = synth_walk([("walk", 12, 0.0)], pitch_deg=10, noise=0.02)
+    det = get_detector("single-peak")
+    det.detect(rec)
+    steps = det.steps_
+    shuffled = steps.iloc[::-1]
+    shuffled.attrs.update(steps.attrs)
+    a = run_pdr(rec, steps=steps, modes="true", heading="gyro")
+    b = run_pdr(rec, steps=shuffled, modes="true", heading="gyro")
+    assert np.allclose(a.trajectory[["x_m", "y_m"]], b.trajectory[["x_m", "y_m"]])
+    assert any("not in time order" in n for n in b.info["notes"])

@@ -57,7 +57,7 @@ window is already at 0.984-0.988 and the refinement loses 0.4-0.8 points, so
 
 The mean end-point error with single-peak steps drops on three of the four
 route/seed sets (arc 0.83 -> 0.62 % and rectangle 0.84 -> 0.82 % on seeds 0-9,
-rectangle 1.61 -> 1.30 % on seeds 10-19) and rises on one (arc 1.02 -> 1.12 % on seeds
+rectangle 1.61 -> 1.30 % on seeds 10-19) and rises on one (arc 1.02 -> 1.15 % on seeds
 10-19): a walker whose modes are misread for several windows (route seed 10: 93-95 % of
 steps right) can end further off once its boundaries move (arc 1.51 -> 3.85 %).
 Reproduce: ``python -m gaitml.pdr.report --seeds 0 1 ... 19 --csv FILE`` (rows

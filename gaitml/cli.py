@@ -127,10 +127,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--mode-boundaries",
-        choices=("auto", "refine", "nearest"),
+        choices=("auto", "refine", "nearest", "middle"),
         default="auto",
-        help="with --model: re-place each mode change at the most likely step (refine) or keep the nearest window's mode (nearest); "
-        "auto (default) refines when steps are timed by their peaks",
+        help="with --model: re-place each mode change at the most likely step (refine) or keep the nearest window's mode (nearest), "
+        "or take the window nearest the middle of each step (middle); auto (default) refines when steps are timed by their peaks",
     )
     p.add_argument("--detector", choices=STEP_DETECTORS, default="single-peak", help="step detector (default single-peak)")
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")

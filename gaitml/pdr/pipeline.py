@@ -163,11 +163,12 @@ def run_pdr(
     modes : {'model', 'true', 'forward'}
         ``model`` requires ``model``; ``true`` requires per-sample labels; ``forward``
         treats every step as a walk step (traditional PDR).
-    mode_boundaries : {'auto', 'refine', 'nearest'}
+    mode_boundaries : {'auto', 'refine', 'nearest', 'middle'}
         With ``modes='model'``: each step takes the mode of the nearest (corrected)
         window, then ``refine`` re-places every mode change at the most likely step
         (:func:`gaitml.pdr.step_modes.refine_mode_boundaries`, ours); ``nearest`` stops
-        after the nearest-window assignment (paper 003 sec. 4.1 as written). ``auto``
+        after the nearest-window assignment (paper 003 sec. 4.1 as written); ``middle``
+        looks up the window nearest the middle between a step time and the next. ``auto``
         (default) refines when the step times are peaks (``t_peak_s``: single-peak,
         adaptive) and keeps ``nearest`` otherwise (the FSM detectors time a step by its
         end, where the nearest window already does better than the refinement).
@@ -227,13 +228,16 @@ def run_pdr(
         from gaitml.models import predict_recording
 
         windows = predict_recording(model, recording, correction=True)
-        step_modes = modes_from_windows(windows, t_step) if n else np.zeros(0, dtype=str)
+        t_look = t_step
+        if mode_boundaries == "middle" and n > 1:
+            t_look = 0.5 * (t_step + np.r_[t_step[1:], t_step[-1] + np.median(np.diff(t_step))])
+        step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
         refine = mode_boundaries == "refine" or (mode_boundaries == "auto" and event == "t_peak_s")
         if refine and n > 1:
             step_modes = refine_mode_boundaries(model, recording, t_step, step_modes)
         elif mode_boundaries == "auto":
             notes.append(f"step times are {event}, not peaks: modes from the nearest window, without boundary refinement")
-        mode_boundaries = "refine" if refine else "nearest"
+        mode_boundaries = "refine" if refine else ("middle" if mode_boundaries == "middle" else "nearest")
     else:
         step_modes = np.full(n, "walk", dtype=object)
     step_modes = np.asarray(step_modes).astype(str)

@@ -15,6 +15,8 @@ Then the variants:
   mode changes re-placed step by step (:mod:`gaitml.pdr.step_modes`).
 - ``multi / model modes / hde / nearest window``: the same without that refinement (each
   step takes the mode of the nearest corrected window, paper 003 as written).
+- ``multi / model modes / hde / window at step middle``: the window nearest the middle
+  between the step peak and the next one.
 - ``forward-only / hde``: traditional PDR, every step a walk step (paper 003's baseline).
 - ``multi / true modes / gyro``, ``dwpca``, ``dwpca-hde``: other heading sources.
 - ``multi / true modes / hde / true lengths``: the step lengths of the reference (isolates
@@ -47,6 +49,7 @@ VARIANTS = (
     ("multi / true modes / hde", {"modes": "true", "heading": "hde"}),
     ("multi / model modes / hde", {"modes": "model", "heading": "hde"}),
     ("multi / model modes / hde / nearest window", {"modes": "model", "heading": "hde", "mode_boundaries": "nearest"}),
+    ("multi / model modes / hde / window at step middle", {"modes": "model", "heading": "hde", "mode_boundaries": "middle"}),
     ("forward-only / hde", {"modes": "forward", "heading": "hde"}),
     ("forward-only / gyro", {"modes": "forward", "heading": "gyro"}),
     ("multi / true modes / gyro", {"modes": "true", "heading": "gyro"}),

@@ -42,7 +42,7 @@ its defaults were chosen on route seeds 0-9, seeds 10-19 are held out):
 single-peak steps (step time = peak)                        seeds 0-9        seeds 10-19
 ==========================================================  ===============  ===============
 nearest window at the peak (paper 003 as written)           0.966 / 0.968    0.965 / 0.960
-nearest window at the middle of the step (peak to next)     0.981 / 0.983    0.980 / 0.977
+nearest window at the middle of the step (``middle``)       0.981 / 0.983    0.980 / 0.977
 refined                                                     0.984 / 0.983    0.978 / 0.981
 ==========================================================  ===============  ===============
 
@@ -61,8 +61,9 @@ rectangle 1.61 -> 1.30 % on seeds 10-19) and rises on one (arc 1.02 -> 1.15 % on
 10-19): a walker whose modes are misread for several windows (route seed 10: 93-95 % of
 steps right) can end further off once its boundaries move (arc 1.51 -> 3.85 %).
 Reproduce: ``python -m gaitml.pdr.report --seeds 0 1 ... 19 --csv FILE`` (rows
-``model modes / hde`` and ``model modes / hde / nearest window``; the accuracies are in
-the ``mode_accuracy`` column of the CSV).
+``model modes / hde``, ``... / nearest window`` and ``... / window at step middle``;
+the accuracies are in the ``mode_accuracy`` column of the CSV; other detectors:
+``run_pdr(..., detector="ifsm", mode_boundaries=...)``).
 """
 
 from __future__ import annotations
@@ -76,8 +77,10 @@ from gaitml.recording import Recording
 __all__ = ["modes_from_windows", "pair_margin", "refine_mode_boundaries", "mode_runs", "MODE_ASSIGNMENTS"]
 
 #: Ways to turn window predictions into per-step modes (``run_pdr(mode_boundaries=...)``):
-#: ``auto`` refines when the step times are peaks (``t_peak_s``), else keeps ``nearest``.
-MODE_ASSIGNMENTS = ("auto", "refine", "nearest")
+#: ``nearest`` (window nearest the step time), ``middle`` (window nearest the middle
+#: between the step time and the next one), ``refine`` (:func:`refine_mode_boundaries`
+#: after ``nearest``), ``auto`` (``refine`` when the step times are peaks, else ``nearest``).
+MODE_ASSIGNMENTS = ("auto", "refine", "nearest", "middle")
 
 
 def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:

@@ -218,6 +218,15 @@ def test_run_pdr_mode_boundaries_options_and_cli(tmp_path, capsys):
     assert fsm.info["mode_boundaries"] == "nearest" and any("not peaks" in n for n in fsm.info["notes"])
     assert run_pdr(rec, model=model, modes="model", detector="ifsm", mode_boundaries="refine").info["mode_boundaries"] == "refine"
     assert run_pdr(rec, modes="true").info["mode_boundaries"] is None
+    # middle: the window nearest the middle between a step and the next one
+    from gaitml.models import predict_recording
+    from gaitml.pdr.step_modes import modes_from_windows
+
+    mid = run_pdr(rec, model=model, modes="model", mode_boundaries="middle")
+    t = mid.steps["t_peak_s"].to_numpy()
+    t_mid = 0.5 * (t + np.r_[t[1:], t[-1] + np.median(np.diff(t))])
+    assert mid.info["mode_boundaries"] == "middle"
+    assert mid.steps["mode"].tolist() == modes_from_windows(predict_recording(model, rec), t_mid).tolist()
     path = tmp_path / "walk.csv"
     write_gaitml_csv(rec, path)
     capsys.readouterr()

@@ -238,10 +238,11 @@ class Recording:
         """A short identifier: ``meta['id']``, else ``meta['session']``, else 'recording'."""
         return str(self.meta.get("id") or self.meta.get("session") or "recording")
 
-    def require_gyr(self, what: str) -> np.ndarray:
-        """Return the gyroscope or raise an InputError naming ``what`` needs it."""
+    def require_gyr(self, what: str, alternative: str | None = None) -> np.ndarray:
+        """Return the gyroscope or raise an InputError naming ``what`` needs it (and ``alternative``, another fix)."""
         if self.gyr is None:
-            raise InputError(f"{what} needs a gyroscope but the recording has none; use a recording with gyr_x, gyr_y, gyr_z.")
+            other = f", or {alternative}" if alternative else ""
+            raise InputError(f"{what} needs a gyroscope but the recording has none; use a recording with gyr_x, gyr_y, gyr_z{other}.")
         return self.gyr
 
     def require_samples(self, n_min: int, what: str) -> None:

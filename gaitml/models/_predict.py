@@ -72,10 +72,9 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     rec = resample_recording(recording, model.sampling_rate_hz)
     length = int(round(model.length_s * model.sampling_rate_hz))
     rec.require_samples(length, f"one {model.length_s} s window of the model")
-    if "gyro" in model.feature_set and rec.gyr is None:
-        raise InputError(
-            f"the model's feature set {model.feature_set!r} needs a gyroscope but the recording has none; "
-            "use a recording with gyr_x, gyr_y, gyr_z, or a model trained on feature set 'all52' (e.g. experiments/paper-svm.toml)."
+    if "gyro" in model.feature_set:
+        rec.require_gyr(
+            f"the model's feature set {model.feature_set!r}", "a model trained on feature set 'all52' (e.g. experiments/paper-svm.toml)"
         )
     w = _windows_for(rec, model.length_s, model.overlap)
     X = model_inputs(model, rec, w)

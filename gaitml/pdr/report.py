@@ -40,7 +40,7 @@ import pandas as pd
 from gaitml.evaluation.trajectory import end_point_error, path_length
 from gaitml.pdr.calibrate import calibrate_from_reference
 from gaitml.pdr.hde import HeuristicDriftElimination
-from gaitml.pdr.pipeline import run_pdr
+from gaitml.pdr.pipeline import modes_from_labels, run_pdr
 
 __all__ = ["VARIANTS", "evaluate_route", "main", "route_table"]
 
@@ -104,7 +104,8 @@ def evaluate_route(route: str, seed: int, *, model=None, variants=VARIANTS, keep
             "end_error_pct": pct,
         }
         if kw.get("modes") == "model":
-            true_modes = run_pdr(rec, modes="true", heading="gyro", initial_heading_rad=h0).steps["mode"].to_numpy()
+            start = res.steps["start"].to_numpy()
+            true_modes = modes_from_labels(rec.labels, start, np.maximum(res.steps["end"].to_numpy(), start + 1))
             row["mode_accuracy"] = float(np.mean(true_modes == res.steps["mode"].to_numpy()))
         if keep_results:
             row["result"] = res

@@ -74,7 +74,7 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 
-__all__ = ["modes_from_windows", "pair_margin", "refine_mode_boundaries", "mode_runs", "MODE_ASSIGNMENTS"]
+__all__ = ["modes_from_windows", "pair_margin", "refine_mode_boundaries", "mode_runs", "next_step_times", "MODE_ASSIGNMENTS"]
 
 #: Ways to turn window predictions into per-step modes (``run_pdr(mode_boundaries=...)``):
 #: ``nearest`` (window nearest the step time), ``middle`` (window nearest the middle
@@ -112,6 +112,15 @@ def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:
     hi = np.clip(j, 0, len(centre) - 1)
     pick = np.where(np.abs(t - centre[lo]) <= np.abs(centre[hi] - t), lo, hi)
     return modes[pick]
+
+
+def next_step_times(step_t_s) -> np.ndarray:
+    """The time of the step after each step (the last one gets its time plus the median interval).
+
+    ``step_t_s`` has at least two increasing times.
+    """
+    t = np.asarray(step_t_s, dtype=float)
+    return np.r_[t[1:], t[-1] + np.median(np.diff(t))]
 
 
 def mode_runs(modes) -> list[tuple[int, int, str]]:
@@ -240,11 +249,10 @@ def refine_mode_boundaries(
     if length > n:
         raise InputError(f"the recording ({n / fs:g} s) is shorter than the evidence window ({win_s:g} s); use a longer recording.")
 
-    interval = np.median(np.diff(t))
-    t_next = np.r_[t, t[-1] + interval]  # a run lasts until the next step after it
-    m = _merge_transition_artefacts(m, t_next, max_blip_s)
+    t_next = next_step_times(t)
+    m = _merge_transition_artefacts(m, np.r_[t, t_next[-1]], max_blip_s)  # a run lasts until the next step after it
     peak = np.round(t * fs).astype(np.int64)
-    next_peak = np.r_[peak[1:], peak[-1] + int(round(interval * fs))]
+    next_peak = np.round(t_next * fs).astype(np.int64)
 
     def inputs(starts: np.ndarray) -> np.ndarray:
         starts = np.clip(starts, 0, n - length)

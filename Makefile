@@ -30,12 +30,13 @@ test: $(VENV)/.torch
 test-fast: $(VENV)/.installed
 	$(PY) -m pytest -q -m "not slow"
 
+# benchmarks/ is in the checkout, not the installed package: gaitml bench runs it from here.
 bench: $(VENV)/.installed
 	$(VENV)/bin/gaitml bench --out bench-out
 
 lint: $(VENV)/.installed
-	$(VENV)/bin/ruff check gaitml tests
-	$(VENV)/bin/ruff format --check gaitml tests
+	$(VENV)/bin/ruff check gaitml tests benchmarks experiments
+	$(VENV)/bin/ruff format --check gaitml tests benchmarks experiments
 
 clean:
 	rm -rf $(VENV) demo-out bench-out runs .pytest_cache

@@ -75,7 +75,7 @@ def run_demo(out_dir: str | Path = "demo-out", *, settings: dict | None = None, 
     from gaitml.experiments.runner import evaluate_config, train_config
     from gaitml.models import load_model, predict_recording
     from gaitml.pdr.plot import plot_trajectory
-    from gaitml.pdr.report import evaluate_route
+    from gaitml.experiments.pdr_routes import evaluate_route
     from gaitml.simulate import simulate_dataset, simulate_route, write_simulation
 
     s = {**DEMO_SETTINGS, **(settings or {})}
@@ -117,7 +117,7 @@ def run_demo(out_dir: str | Path = "demo-out", *, settings: dict | None = None, 
 
     _log("[5/5] multi-state PDR with predicted modes, true modes and forward-only ...")
     t0 = time.perf_counter()
-    from gaitml.pdr.report import VARIANTS
+    from gaitml.experiments.pdr_routes import VARIANTS
 
     wanted = ("multi / model modes / hde", "multi / true modes / hde", "forward-only / hde")
     variants = tuple(v for v in VARIANTS if v[0] in wanted)

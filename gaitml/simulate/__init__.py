@@ -86,7 +86,7 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    continuous and the step event stays the peak. Sized against the real
    flat-held walks' window statistics: the CV across 0.5 s / 1.5 s windows
    of the window variance of ``|acc|`` is 0.22-0.23 / 0.15-0.19 in the real
-   walks (:func:`gaitml.simulate.realism.variability_table`).
+   walks (``experiments/scripts/realism.py``, ``variability_table``).
 4. *Phone and sensor* (:mod:`.sensor`): attitude ``Rz(-theta + yaw bob +
    wander) Rx(pitch) Ry(roll)`` with gait-induced bobbing (pitch at the step
    frequency, roll and yaw at half of it) and a smooth random wander; the
@@ -119,11 +119,11 @@ Reproducibility: the same seed gives the same arrays and byte-identical
 files (every random draw comes from a ``numpy`` ``SeedSequence`` spawned from
 the seed, subject index and session).
 
-Realism: :mod:`gaitml.simulate.realism` compares a simulated flat-held walk
-with the two real flat-held walks of ``ifsm-flat-phone``
-(``python -m gaitml.simulate.realism``); :mod:`gaitml.simulate.shortwin`
-compares the growth of feature noise from 1.5 s to 0.5 s windows and the per-step
-shape spread with real walking (``python -m gaitml.simulate.shortwin DATA_DIR``).
+Realism (lab scripts of the repository, not installed): ``python -m
+experiments.scripts.realism`` compares a simulated flat-held walk with the two
+real flat-held walks of ``ifsm-flat-phone``; ``python -m experiments.scripts.shortwin
+DATA_DIR`` compares the growth of feature noise from 1.5 s to 0.5 s windows and
+the per-step shape spread with real walking.
 
 References
 ----------

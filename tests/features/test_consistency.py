@@ -10,7 +10,7 @@ from hypothesis.extra import numpy as hnp
 
 from gaitml.errors import InputError
 from gaitml.features import StreamingFeatureExtractor, extract_features, feature_names, features_from_arrays, make_windows
-from gaitml.features._reference import reference_features
+from tests.reference.features import reference_features
 from gaitml.recording import Recording
 
 TOL = {"rtol": 1e-9, "atol": 1e-9}

@@ -2,7 +2,7 @@
 
 import pytest
 
-from gaitml.pdr.report import VARIANTS, evaluate_route, route_table
+from gaitml.experiments.pdr_routes import VARIANTS, evaluate_route, route_table
 
 
 @pytest.mark.slow

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from gaitml.simulate import sample_subjects, simulate_recording
-from gaitml.simulate.realism import (
+from experiments.scripts.realism import (
     gait_statistics,
     real_statistics,
     real_window_variability,
@@ -57,7 +57,7 @@ def test_variation_across_subjects_spans_the_real_walkers(real_stats):
 
 
 def test_realism_main_prints_the_table(capsys):
-    from gaitml.simulate.realism import main
+    from experiments.scripts.realism import main
 
     rc = main([str(shared())])
     out = capsys.readouterr().out

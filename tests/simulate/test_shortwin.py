@@ -1,4 +1,4 @@
-"""Short-window variability (gaitml.simulate.shortwin): known-answer signals, the table logic, real IFSM values."""
+"""Short-window variability (experiments.scripts.shortwin): known-answer signals, the table logic, real IFSM values."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import scipy.stats
 from gaitml.consts import GRAVITY_MS2
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.simulate import shortwin
-from gaitml.simulate.shortwin import (
+from experiments.scripts import shortwin
+from experiments.scripts.shortwin import (
     GROUP_KEY,
     per_recording_table,
     ratio_summary,

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from gaitml.bench.zupt import synthetic_foot_walk
+from tests.synthetic import synthetic_foot_walk
 from gaitml.cli import main
 from gaitml.consts import GRAVITY_MS2
 from gaitml.io import write_gaitml_csv

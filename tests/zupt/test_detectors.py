@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from gaitml.bench.zupt import synthetic_foot_walk
+from tests.synthetic import synthetic_foot_walk
 from gaitml.consts import GRAVITY_MS2, ZUPT_COLUMNS
 from gaitml.errors import InputError
 from gaitml.recording import Recording

@@ -43,7 +43,7 @@ def test_every_detector_runs_and_finds_stances(feet, name):
 
 
 def test_zupt_magnitude_step_count_within_one_of_strides(feet):
-    from gaitml.zupt.report import step_count_table
+    from experiments.scripts.zupt_report import step_count_table
 
     rows = step_count_table(shared("gaitmap-example", "imu_sample.csv.gz"))
     for row in rows:

@@ -18,7 +18,7 @@ With these settings the detector finds exactly the published 284 and 319
 steps in the two real files. :func:`realism_table` puts real 1, real 2 and a
 simulated flat-held walk side by side with the accepted range: the span of
 the two real values widened by 25 % of that span on each side (the magnitude
-mean: 9.8 +/- 0.3 m/s^2). Run ``python -m gaitml.simulate.realism``.
+mean: 9.8 +/- 0.3 m/s^2). Run ``python -m experiments.scripts.realism`` from the repository root.
 
 Window-to-window variability (:func:`window_variability`): the coefficient
 of variation (std / |mean| across the windows of one recording) of the window
@@ -279,7 +279,7 @@ def plot_comparison(shared_data: str | Path, path: str | Path, *, seconds: float
 def main(argv: list[str] | None = None) -> int:
     """Print the realism table.
 
-    Usage: ``python -m gaitml.simulate.realism [SHARED_DATA] [--plot PNG]``
+    Usage: ``python -m experiments.scripts.realism [SHARED_DATA] [--plot PNG]``
     (SHARED_DATA defaults to ../shared/data beside the repository).
     """
     argv = list(sys.argv[1:] if argv is None else argv)

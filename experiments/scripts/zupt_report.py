@@ -1,6 +1,6 @@
 """The zero-velocity table on the gaitmap example walk (both feet, every detector).
 
-Run ``python -m gaitml.zupt.report`` (``--json`` for one JSON object, ``--data``
+Run ``python -m experiments.scripts.zupt_report`` (``--json`` for one JSON object, ``--data``
 for another copy of ``imu_sample.csv.gz``). For each detector and foot: the share
 of strides whose motion-capture ``min_vel`` sample lies inside a detected
 zero-velocity interval, the share of strides whose stance ``[pre_ic, tc)`` is split
@@ -23,7 +23,7 @@ from gaitml.zupt import DETECTORS, get_detector, reference_zupt_mask
 
 __all__ = ["default_data_path", "zupt_table", "step_count_table", "format_markdown", "main"]
 
-#: the issue-5 acceptance bounds
+#: pass bounds of the table: min_vel recall and the share of split stances
 MIN_RECALL = 0.95
 MAX_SPLIT = 0.05
 
@@ -160,7 +160,7 @@ STEP_COLUMNS = ["foot", "n_strides", "n_steps", "n_steps_in_span", "error_in_spa
 
 def main(argv: list[str] | None = None) -> int:
     """Print the tables (markdown, or one JSON object with ``--json``)."""
-    ap = argparse.ArgumentParser(prog="python -m gaitml.zupt.report", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m experiments.scripts.zupt_report", description=__doc__.splitlines()[0])
     ap.add_argument("--data", help="path of gaitmap's imu_sample.csv.gz (default: ../shared/data/gaitmap-example/)")
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--sensitivity", action="store_true", help="also the pseudo-std half-window sensitivity")

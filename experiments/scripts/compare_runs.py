@@ -1,4 +1,4 @@
-"""One table from several run folders (``python -m gaitml.experiments.compare RUN_DIR ...``).
+"""One table from several run folders (``python -m experiments.scripts.compare_runs RUN_DIR ...``).
 
 Each run's ``metrics.json`` gives one row, or one row per sweep point: name,
 model kind, feature set, window length, scheme, accuracy and macro-F1 before and

@@ -1,4 +1,4 @@
-"""Benchmark: linear OVO SVM training time and streaming prediction latency (issue 6 targets).
+"""Benchmark: linear OVO SVM training time and streaming prediction latency.
 
 Measurements (one dict each, COMMON bench contract):
 
@@ -18,7 +18,7 @@ Measurements (one dict each, COMMON bench contract):
   (target <= 1 ms per window). Reference: the same loop with a scikit-learn
   ``make_pipeline(StandardScaler(), SVC(kernel='linear'))`` predicting each row.
 
-Run: ``python -m gaitml.bench.models [--quick]``.
+Run: ``python -m benchmarks.models [--quick]`` from the repository root.
 """
 
 from __future__ import annotations
@@ -100,7 +100,7 @@ def run(quick: bool = False) -> list[dict]:
             "throughput_per_s": n / t,
             "note": f"LinearOVOSVM fit, {X.shape[1]} features, {len(set(y))} classes, liblinear primal per class pair; target <= 60 s at 100000 windows",
         }
-        # the libsvm reference at every size (about 35 s at 100,000 windows on a 2-core machine)
+        # the libsvm reference at every size (the slowest part of the full run; see benchmarks/README.md)
         tr = _time(lambda Xn=Xn, yn=yn: LinearOVOSVM(solver="libsvm").fit(Xn, yn))
         row.update(reference_seconds=tr, ratio=tr / t)
         row["note"] += "; reference: SVC(kernel='linear') (libsvm OVO) on the same rows"

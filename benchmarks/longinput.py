@@ -1,6 +1,7 @@
-"""Peak memory and time of the CLI on a day-long recording (issue: large input).
+"""Peak memory and time of the CLI on a day-long recording.
 
-Run ``python -m gaitml.bench.longinput --hours 24 --out bench-out/long`` to
+Run ``python -m benchmarks.longinput --hours 24 --out bench-out/long`` (from the
+repository root) to
 
 1. write a ``hours``-long gaitml-csv at 100 Hz with gyro and labels (a
    simulated 10-minute mixed-mode walk, repeated with continuous time), and
@@ -110,7 +111,7 @@ def measure(hours: float, out: Path, *, model_dir: str = "models/demo", keep: bo
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m gaitml.bench.longinput", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m benchmarks.longinput", description=__doc__.splitlines()[0])
     p.add_argument("--hours", type=float, default=24.0)
     p.add_argument("--out", default="bench-out/long")
     p.add_argument("--model", default="models/demo")

@@ -1,7 +1,6 @@
 """Throughput of the gait simulator (samples/s of synthesized IMU data).
 
-Measurements: one 120 s recording at 50 Hz (the brief's target: well under a
-second), the classification data set of 8 subjects x 120 s at 50 Hz (what the
+Measurements: one 120 s recording at 50 Hz (target: well under a second), the classification data set of 8 subjects x 120 s at 50 Hz (what the
 classification and demo code simulate repeatedly), one 120 s recording at
 200 Hz and the 262 m rectangle route. Each is the best of a few repeats. There
 is no plain reference implementation of the simulator, so there is no ratio.

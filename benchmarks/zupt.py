@@ -13,27 +13,13 @@ import time
 
 import numpy as np
 
-from gaitml.consts import GRAVITY_MS2
 from gaitml.recording import Recording
 from gaitml.zupt import DETECTORS, get_detector
 from gaitml.zupt import _reference as ref
 from gaitml.zupt._intervals import half_window_samples
+from tests.synthetic import synthetic_foot_walk
 
-__all__ = ["run", "synthetic_foot_walk"]
-
-
-def synthetic_foot_walk(n_samples: int, sampling_rate_hz: float = 100.0, seed: int = 0) -> Recording:
-    """A foot-mounted-like recording: stance (still) 40 % of each 1 s stride, swing 60 %."""
-    rng = np.random.default_rng(seed)
-    t = np.arange(n_samples) / sampling_rate_hz
-    phase = t % 1.0
-    swing = phase >= 0.4
-    env = np.where(swing, np.sin(np.pi * (phase - 0.4) / 0.6) ** 2, 0.0)
-    gyr = np.column_stack([2.0 * env, 5.0 * env * np.sin(2 * np.pi * (phase - 0.4) / 0.6), 0.5 * env])
-    acc = np.column_stack([8.0 * env * np.cos(2 * np.pi * phase), 2.0 * env, GRAVITY_MS2 + 6.0 * env * np.sin(4 * np.pi * phase)])
-    acc += rng.normal(0, 0.05, acc.shape)
-    gyr += rng.normal(0, 0.01, gyr.shape)
-    return Recording(acc=acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta={"id": "synthetic-foot"}, check_units=False)
+__all__ = ["run"]
 
 
 def _reference_fn(name: str, det, rec: Recording):

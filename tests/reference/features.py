@@ -1,11 +1,11 @@
-"""A plain per-window reference implementation of the 52 features (tests and benchmark only).
+"""A plain per-window reference implementation of the 52 features (for the tests and ``benchmarks/features.py``).
 
 Written independently of the vectorised extractor: a Python loop over windows,
 each window handled by textbook numpy/scipy calls (``np.percentile``,
 ``scipy.stats.skew``/``kurtosis``, ``np.corrcoef``, ``np.unique``,
 ``gaitml.signal.moving_average``). It defines the same statistics (see
 :mod:`gaitml.features._catalogue`) and is what the extractor is checked against
-to 1e-9 and timed against in ``gaitml/bench/features.py``.
+to 1e-9 and timed against in ``benchmarks/features.py``.
 """
 
 from __future__ import annotations

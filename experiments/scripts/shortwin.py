@@ -5,7 +5,7 @@ Paper 003 sec. 3.3 (Table 2) recognises the motion mode from windows of
 (sec. 3.2, subset ``all52``) vary more from window to window than those of a
 1.5 s window. A simulator that trains or tests a classifier should reproduce
 how much more. For every recording (walking part only: first to last step
-peak of ``|acc|``, the cut of :mod:`gaitml.simulate.realism`) and feature
+peak of ``|acc|``, the cut of :mod:`experiments.scripts.realism`) and feature
 this module measures
 
 ``ratio = sd(0.5 s) / sd(1.5 s)``
@@ -44,24 +44,9 @@ minimum of the forward (y) acceleration divided by std(y) over the walk, and
 the coefficient of variation of the per-step peak excursion ``peak - g``.
 ``real_over_sim`` = median of the real values / simulated median.
 
-Measured (``python -m gaitml.simulate.shortwin ../shared/data``, about 7 s):
+Measured figures: ``experiments/scripts/README.md``.
 
-- ratio: 46/52 features within +/-30 %, median difference +0 %; flags
-  ``REAL>SIM``: ``acc_mag__mean`` (real 2.05 / 1.45 / 2.01 against simulated
-  1.45, +39 %), ``acc_x__var`` (+42 %), ``acc_x__max`` (+57 %), ``acc_yz__corr``
-  (+41 %); ``REAL<SIM``: ``acc_xz__corr`` (-32 %). The x-axis flags come from
-  too much slow lateral acceleration in the simulated walk (route turns,
-  roll wander), which raises its 1.5 s dispersion, not from a short-window
-  deficit.
-- step shape (IFSM 1 / IFSM 2 / Oxford median against simulated median):
-  per-step skewness sd 0.300 / 0.397 / 0.382 vs 0.203; kurtosis sd
-  0.443 / 1.083 / 0.566 vs 0.380; forward-minimum sd / std(y)
-  0.745 / 0.706 / 0.808 vs 0.389; peak CV 0.236 / 0.411 / 0.337 vs 0.193.
-  The simulated step-to-step variation of the waveform shape is 1.5-2 x too
-  small; since it is too small at 1.5 s as well, the ratios of the shape
-  features (skew, kurt) still agree.
-
-Run ``python -m gaitml.simulate.shortwin DATA_DIR [--out DIR] [--subjects N]``
+Run ``python -m experiments.scripts.shortwin DATA_DIR [--out DIR] [--subjects N]``
 (DATA_DIR: the shared data folder, e.g. ``../shared/data``); ``--out`` writes
 ``ratio.csv``, ``step_shape.csv`` and ``per_recording.csv``.
 """
@@ -80,7 +65,7 @@ import scipy.signal
 from gaitml.consts import GRAVITY_MS2
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.simulate.realism import MIN_PEAK_DISTANCE_S, PEAK_ABOVE_G_MS2, REAL_FILES, count_peaks
+from experiments.scripts.realism import MIN_PEAK_DISTANCE_S, PEAK_ABOVE_G_MS2, REAL_FILES, count_peaks
 
 __all__ = [
     "FLAG_PCT",
@@ -371,10 +356,10 @@ def _format_ratio(table: pd.DataFrame) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command line: ``python -m gaitml.simulate.shortwin DATA_DIR [--out DIR] [--subjects N]``."""
+    """Command line: ``python -m experiments.scripts.shortwin DATA_DIR [--out DIR] [--subjects N]``."""
     from gaitml.io import write_csv
 
-    p = argparse.ArgumentParser(prog="python -m gaitml.simulate.shortwin", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m experiments.scripts.shortwin", description=__doc__.splitlines()[0])
     p.add_argument("data_dir", metavar="DATA_DIR", help="the shared data folder (e.g. ../shared/data)")
     p.add_argument("--out", help="write ratio.csv, step_shape.csv and per_recording.csv into this folder")
     p.add_argument("--subjects", type=int, default=SIM_SUBJECTS, help=f"simulated walkers (default {SIM_SUBJECTS}, seed {SIM_SEED})")

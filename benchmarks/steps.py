@@ -1,4 +1,4 @@
-"""Step detector throughput: samples per second on a 1-hour recording (issue 4).
+"""Step detector throughput: samples per second on a 1-hour recording.
 
 The recording is a real Oxford hand-held walk (100 Hz) tiled to one hour, or a
 synthetic walk when the shared data is absent. Each detector's ``detect`` is
@@ -28,7 +28,7 @@ _ORIGIN = "Pixel_Jamie_Hard_InHand_1"
 
 def bench_recording(duration_s: float) -> tuple[Recording, str]:
     """A walking recording of ``duration_s`` seconds (tiled real data when available)."""
-    root = Path(os.environ.get("GAITML_SHARED_DATA", Path(__file__).resolve().parents[3] / "shared" / "data"))
+    root = Path(os.environ.get("GAITML_SHARED_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
     folder = root / "oxford-step-counter" / "optimisation" / "data" / _ORIGIN
     if folder.is_dir():
         from gaitml.io import read_recording

@@ -1,0 +1,1 @@
+"""Lab scripts and experiment configs of the repository (not part of the installed package)."""

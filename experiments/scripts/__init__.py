@@ -1,0 +1,1 @@
+"""Report and lab scripts: run from the repository root, ``python -m experiments.scripts.<name> --help``."""

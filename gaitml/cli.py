@@ -98,9 +98,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("config", metavar="CONFIG")
     p.add_argument("--out", metavar="MODEL_DIR")
 
-    p = sub.add_parser("evaluate", help="cross-validate an experiment config")
+    p = sub.add_parser("evaluate", help="run an experiment config (cross-validation, or the step-detector evaluation)")
     p.add_argument("config", metavar="CONFIG")
     p.add_argument("--out", metavar="RUN_DIR")
+    p.add_argument("--data", metavar="DIR", help="read the data from DIR instead of the config's data.path")
     p.add_argument("--json", action="store_true")
     p.add_argument("--backend", default="joblib", help="joblib | dask")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (with --backend dask)")

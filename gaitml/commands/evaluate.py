@@ -1,6 +1,8 @@
-"""`gaitml evaluate CONFIG [--out RUN_DIR] [--json]`: cross-validate a config and write its run folder."""
+"""`gaitml evaluate CONFIG [--out RUN_DIR] [--data DIR] [--json]`: run a config and write its run folder."""
 
 from __future__ import annotations
+
+from pathlib import Path
 
 from gaitml.commands._util import emit_json, log
 
@@ -9,7 +11,18 @@ def run(args) -> int:
     from gaitml.experiments import evaluate_config, load_config
     from gaitml.parallel import parallel_backend
 
-    cfg = load_config(args.config)
+    data = getattr(args, "data", None)
+    cfg = load_config(args.config, check_paths=data is None)
+    if data is not None:
+        cfg = cfg.with_data_path(data)
+    if cfg.task == "steps":
+        result = evaluate_config(cfg, out_dir=args.out)
+        if args.json:
+            emit_json(result)
+        else:
+            print(Path(result["run_dir"], "report.md").read_text(), end="")
+            log(f"gaitml evaluate {cfg.name}: {len(cfg['steps']['detectors'])} step detectors; run folder {result['run_dir']}")
+        return 0
     backend = getattr(args, "backend", "joblib") or "joblib"
     with parallel_backend(backend, getattr(args, "scheduler", None)) as info:
         n_jobs = -1 if info["backend"] == "dask" else None

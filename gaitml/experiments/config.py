@@ -6,11 +6,17 @@ naming the key, the bad value and what is allowed. Paths are relative to the
 config file. Checks that need the data (label present, enough groups) are done
 by :func:`gaitml.experiments.runner.prepare_data`, still before any training.
 
-Keys (defaults in brackets)::
+Every committed config (``experiments/*.toml``) follows this one schema. The
+names a key may take (features, model kinds, cross-validation schemes, step
+detectors) come from the package's registries, so a new entry there is valid
+here without an edit.
+
+Keys (defaults in brackets) of ``task = "classification"``::
 
     name = "..."                     # required; run folder runs/<name>/<timestamp>/
     seed = 0
     description = ""
+    task = "classification"          # | "steps" (below)
     [data]
     source = "simulated"             # "simulated" | "folder"
     path = "../data/set"             # "folder": any data set the readers understand
@@ -45,6 +51,17 @@ Keys (defaults in brackets)::
     cross_validate = true            # record CV scores in model.json
     [sweep]
     "windows.length_s" = [0.5, 1.0]  # grid: every combination of the listed values
+
+``task = "steps"``: every listed step detector on the shared real step
+recordings (:mod:`gaitml.experiments.steps_real`), keys::
+
+    name, seed, description, task = "steps"
+    [data]
+    path = "../../shared/data"       # required: the folder holding the data sets below
+    sets = ["ifsm-flat-phone", "oxford-step-counter"]
+    [steps]
+    detectors = [...]                # step detector names (default: every registered one)
+    tolerance_s = 0.25               # one-to-one matching tolerance of precision / recall / F1
 """
 
 from __future__ import annotations
@@ -60,23 +77,64 @@ from typing import Any
 from gaitml.consts import MOTION_MODES
 from gaitml.errors import ConfigError, GaitmlError, InputError
 
-__all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "FEATURE_SET_NAMES"]
+__all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "TASKS", "STEP_DATA_SETS"]
 
 SOURCES = ("simulated", "folder")
-FEATURE_SET_NAMES = ("all52", "paper34", "all52+gyro")
-#: Phone poses of simulated subjects (gaitml.simulate.POSES plus "mixed": drawn per subject).
-SIM_POSES = ("flat", "tilted", "mixed")
-CV_SCHEMES = ("train-one-test-rest", "leave-one-group-out", "group-kfold")
-MODEL_KIND_NAMES = ("linear-ovo-svm", "mlp", "cnn1d")
+#: What a config runs: cross-validated classification (the default) or the step-detector evaluation.
+TASKS = ("classification", "steps")
+#: Data sets of ``task = "steps"``, folders below ``data.path``.
+STEP_DATA_SETS = ("ifsm-flat-phone", "oxford-step-counter")
+#: Default matching tolerance of ``task = "steps"`` (s).
+STEP_TOLERANCE_S = 0.25
+
+
+# Allowed names, read from the registries when a config is checked.
+def _feature_set_names() -> tuple[str, ...]:
+    from gaitml.features import FEATURE_SETS
+
+    return tuple(FEATURE_SETS)
+
+
+def _model_kind_names() -> tuple[str, ...]:
+    from gaitml.models import MODEL_KINDS
+
+    return tuple(MODEL_KINDS)
+
+
+def _cv_scheme_names() -> tuple[str, ...]:
+    from gaitml.evaluation.cv import CV_SCHEMES
+
+    return tuple(CV_SCHEMES)
+
+
+def _sim_pose_names() -> tuple[str, ...]:
+    """The simulator's phone poses plus "mixed" (drawn per subject)."""
+    from gaitml.simulate.subject import POSES
+
+    return (*POSES, "mixed")
+
+
+def _step_detector_names() -> tuple[str, ...]:
+    from gaitml.steps import detector_names
+
+    return tuple(detector_names())
 
 
 @dataclasses.dataclass(frozen=True)
 class _Leaf:
     types: tuple
-    default: Any
-    allowed: tuple | None = None
+    default: Any  # a value, or a callable returning it
+    allowed: Any = None  # tuple of values, or a callable returning one (a registry)
     check: Any = None  # callable(value) -> error text or None
     item_type: type | None = None  # for lists
+    item_allowed: Any = None  # for lists: allowed items, tuple or callable
+
+    def allowed_values(self, items: bool = False) -> tuple | None:
+        a = self.item_allowed if items else self.allowed
+        return a() if callable(a) else a
+
+    def default_value(self):
+        return self.default() if callable(self.default) else copy.deepcopy(self.default)
 
 
 def _pos(v):
@@ -120,10 +178,14 @@ def _min2(v):
 
 
 _NUM = (int, float)
-SCHEMA: dict[str, Any] = {
+_COMMON: dict[str, Any] = {
     "name": _Leaf((str,), None, check=lambda v: None if v.strip() and "/" not in v else "must be a non-empty name without '/'"),
     "seed": _Leaf((int,), 0, check=_nonneg_int),
     "description": _Leaf((str,), ""),
+    "task": _Leaf((str,), "classification", allowed=TASKS),
+}
+SCHEMA: dict[str, Any] = {
+    **_COMMON,
     "data": {
         "source": _Leaf((str,), "simulated", allowed=SOURCES),
         "path": _Leaf((str,), ""),
@@ -135,7 +197,7 @@ SCHEMA: dict[str, Any] = {
         "simulated": {
             "subjects": _Leaf((int,), 8, check=_subjects),
             "sessions": _Leaf((int,), 1, check=_sessions),
-            "pose": _Leaf((str,), "flat", allowed=SIM_POSES),
+            "pose": _Leaf((str,), "flat", allowed=_sim_pose_names),
             "duration_s": _Leaf(_NUM, 120.0, check=_sim_duration),
             "modes": _Leaf((list,), list(MOTION_MODES), item_type=str),
         },
@@ -145,13 +207,13 @@ SCHEMA: dict[str, Any] = {
         "overlap": _Leaf(_NUM, 0.5, check=_overlap),
         "min_label_fraction": _Leaf(_NUM, 0.5, check=_fraction),
     },
-    "features": {"set": _Leaf((str,), "all52", allowed=FEATURE_SET_NAMES)},
+    "features": {"set": _Leaf((str,), "all52", allowed=_feature_set_names)},
     "model": {
-        "kind": _Leaf((str,), "linear-ovo-svm", allowed=MODEL_KIND_NAMES),
+        "kind": _Leaf((str,), "linear-ovo-svm", allowed=_model_kind_names),
         "params": _Leaf((dict,), {}),
     },
     "cv": {
-        "scheme": _Leaf((str,), "leave-one-group-out", allowed=CV_SCHEMES),
+        "scheme": _Leaf((str,), "leave-one-group-out", allowed=_cv_scheme_names),
         "n_splits": _Leaf((int,), 5, check=_min2),
         "n_jobs": _Leaf((int,), 1, check=_n_jobs),
     },
@@ -161,6 +223,21 @@ SCHEMA: dict[str, Any] = {
         "cross_validate": _Leaf((bool,), True),
     },
 }
+
+
+STEPS_SCHEMA: dict[str, Any] = {
+    **_COMMON,
+    "data": {
+        "path": _Leaf((str,), ""),
+        "sets": _Leaf((list,), list(STEP_DATA_SETS), item_type=str, item_allowed=STEP_DATA_SETS),
+    },
+    "steps": {
+        "detectors": _Leaf((list,), lambda: list(_step_detector_names()), item_type=str, item_allowed=_step_detector_names),
+        "tolerance_s": _Leaf(_NUM, STEP_TOLERANCE_S, check=_pos),
+    },
+}
+#: task -> its schema
+SCHEMAS = {"classification": SCHEMA, "steps": STEPS_SCHEMA}
 
 
 def _type_ok(v, types) -> bool:
@@ -182,12 +259,17 @@ def _a(noun: str) -> str:
 def _check_leaf(key: str, leaf: _Leaf, v):
     if not _type_ok(v, leaf.types):
         raise ConfigError(f"{key} = {v!r} has the wrong type ({type(v).__name__}); expected {_a(_type_names(leaf.types))}.")
-    if leaf.allowed is not None and v not in leaf.allowed:
-        raise ConfigError(f"{key} = {v!r} is not allowed; allowed: {', '.join(map(repr, leaf.allowed))}.")
+    allowed = leaf.allowed_values()
+    if allowed is not None and v not in allowed:
+        raise ConfigError(f"{key} = {v!r} is not allowed; allowed: {', '.join(map(repr, allowed))}.")
     if leaf.item_type is not None:
         bad = [x for x in v if not isinstance(x, leaf.item_type)]
         if bad:
             raise ConfigError(f"{key} = {v!r} must list {_type_names((leaf.item_type,))}s; {bad[0]!r} is not one.")
+        allowed = leaf.allowed_values(items=True)
+        bad = [x for x in v if allowed is not None and x not in allowed]
+        if bad:
+            raise ConfigError(f"{key} has {bad[0]!r}, which is not allowed; allowed: {', '.join(map(repr, allowed))}.")
     if leaf.check is not None:
         msg = leaf.check(v)
         if msg:
@@ -214,7 +296,7 @@ def _fill(raw: dict, schema: dict, prefix: str) -> dict:
         else:
             if spec.default is None:
                 raise ConfigError(f'the config has no {key}; add e.g. {key} = "my-experiment".')
-            out[k] = copy.deepcopy(spec.default)
+            out[k] = spec.default_value()
     return out
 
 
@@ -254,6 +336,11 @@ class ExperimentConfig:
         return self.values["name"]
 
     @property
+    def task(self) -> str:
+        """What the config runs: ``'classification'`` or ``'steps'``."""
+        return self.values["task"]
+
+    @property
     def seed(self) -> int:
         return self.values["seed"]
 
@@ -290,6 +377,25 @@ class ExperimentConfig:
             node[parts[-1]] = v
         return parse_config(raw, base_dir=self.base_dir, source=self.source, check_paths=False)
 
+    def with_data_path(self, path: str | os.PathLike) -> ExperimentConfig:
+        """A copy reading its data from ``path`` (relative to the current folder), sweep kept.
+
+        Raises
+        ------
+        ConfigError
+            The config simulates its data, or ``path`` does not exist.
+        """
+        if self.task == "classification" and self["data"]["source"] != "folder":
+            raise ConfigError(f"{self.name} simulates its data (data.source = 'simulated'); a data folder applies to folder configs only.")
+        p = Path(path).resolve()
+        if not p.exists():
+            raise ConfigError(f"data folder {path} does not exist; pass an existing folder.")
+        raw = copy.deepcopy(self.values)
+        raw["data"]["path"] = str(p)
+        if self.sweep:
+            raw["sweep"] = copy.deepcopy(self.sweep)
+        return parse_config(raw, base_dir=self.base_dir, source=self.source)
+
 
 def sweep_grid(cfg: ExperimentConfig) -> list[dict[str, Any]]:
     """Every combination of the ``[sweep]`` values (one empty dict without a sweep)."""
@@ -308,7 +414,7 @@ def _check_sweep(raw_sweep, values: dict) -> dict:
             leaf = None
         else:
             leaf = _leaf_at(path)
-            if leaf is None or path in ("name",):
+            if leaf is None or path in ("name", "task"):
                 raise ConfigError(
                     f"sweep key {path!r} is not a config key; use a dotted key such as 'windows.length_s', 'features.set' or 'model.params.C'."
                 )
@@ -353,9 +459,22 @@ def parse_config(
     """
     raw = dict(raw)
     raw_sweep = raw.pop("sweep", {})
-    values = _fill(raw, SCHEMA, "")
-    sweep = _check_sweep(raw_sweep, values)
+    task = _check_leaf("task", _COMMON["task"], raw.get("task", "classification"))
+    values = _fill(raw, SCHEMAS[task], "")
     base = Path(base_dir)
+    if task == "steps":
+        if raw_sweep:
+            raise ConfigError("[sweep] is for task 'classification'; a 'steps' config evaluates every listed detector: remove [sweep].")
+        cfg = ExperimentConfig(values=values, sweep={}, base_dir=base, source=None if source is None else Path(source))
+        if not values["data"]["path"]:
+            raise ConfigError("task 'steps' needs data.path (the shared data folder, relative to the config file).")
+        if check_paths and not cfg.data_path.is_dir():
+            raise ConfigError(
+                f"data.path = {values['data']['path']!r} is not a folder (resolved to {cfg.data_path}); fix the path "
+                "(it is relative to the config file) or pass --data."
+            )
+        return cfg
+    sweep = _check_sweep(raw_sweep, values)
     cfg = ExperimentConfig(values=values, sweep=sweep, base_dir=base, source=None if source is None else Path(source))
     d = values["data"]
     if d["source"] == "folder":
@@ -389,8 +508,12 @@ def parse_config(
     return cfg
 
 
-def load_config(path: str | os.PathLike) -> ExperimentConfig:
-    """Read and validate a TOML experiment config (paths relative to its folder)."""
+def load_config(path: str | os.PathLike, *, check_paths: bool = True) -> ExperimentConfig:
+    """Read and validate a TOML experiment config (paths relative to its folder).
+
+    ``check_paths=False`` skips the check that ``data.path`` exists (for a config
+    whose data folder is given later, e.g. by ``gaitml evaluate --data``).
+    """
     p = Path(path)
     if p.is_dir():
         raise ConfigError(f"{p} is a directory, not a config file; pass a .toml file such as experiments/paper-svm.toml.")
@@ -402,4 +525,4 @@ def load_config(path: str | os.PathLike) -> ExperimentConfig:
         raise ConfigError(f"{p.name} is not valid TOML: {exc}; fix the syntax.") from exc
     except (OSError, UnicodeDecodeError) as exc:
         raise ConfigError(f"cannot read config {p}: {exc}.") from exc
-    return parse_config(raw, base_dir=p.resolve().parent, source=p.resolve())
+    return parse_config(raw, base_dir=p.resolve().parent, source=p.resolve(), check_paths=check_paths)

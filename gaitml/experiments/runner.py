@@ -250,9 +250,15 @@ def evaluate_config(
         point) and ``best`` (the grid point with the highest accuracy, whose
         numbers are the headline).
 
-    ``n_jobs`` overrides ``cv.n_jobs`` (the Dask backend uses -1).
+    ``n_jobs`` overrides ``cv.n_jobs`` (the Dask backend uses -1). A ``task = "steps"``
+    config runs :func:`gaitml.experiments.steps_real.evaluate_steps_config` instead.
     """
     from gaitml.experiments.report import write_run
+
+    if cfg.task == "steps":
+        from gaitml.experiments.steps_real import evaluate_steps_config
+
+        return evaluate_steps_config(cfg, out_dir=out_dir, progress=progress)
 
     if n_jobs is not None:
         cfg = cfg.with_values({"cv.n_jobs": n_jobs}) if not cfg.sweep else _with_sweep(cfg, {"cv.n_jobs": n_jobs})
@@ -339,6 +345,8 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
     from gaitml.features import feature_names
     from gaitml.models import make_model, save_model
 
+    if cfg.task != "classification":
+        raise ConfigError(f"gaitml train needs a classification config; {cfg.name} has task = {cfg.task!r}: run it with gaitml evaluate.")
     if cfg.sweep:
         raise ConfigError(
             f"gaitml train takes one setting but the config has a [sweep] over {', '.join(cfg.sweep)}; remove [sweep] or pick one value."

@@ -1,6 +1,6 @@
-"""Step detectors on the shared real recordings: per-recording tables and summaries (issue 4).
+"""Step detectors on the shared real recordings: the ``task = "steps"`` experiment.
 
-Runs every registered step detector on
+Runs every step detector a config lists on
 
 - the IFSM flat-held phone files (paper 000, 284 / 319 true steps), and
 - the 48 Oxford step counter optimisation recordings (hard floor and carpet
@@ -12,31 +12,29 @@ offset, period error), ``oxford_by_position.csv`` (mean per detector, surface
 and position), ``summary.json`` and ``report.md`` into the output folder
 (atomically). Credit: "Oxford step counter data set, Salvi et al." (CC BY 4.0).
 
-Run: ``python -m gaitml.experiments.steps_real [--config experiments/steps-real.toml] [--out DIR]
-[--detectors a,b] [--data DIR]`` (command-line options override the config).
+Run: ``gaitml evaluate experiments/steps-real.toml [--out DIR] [--data DIR]`` (the
+config's keys: :mod:`gaitml.experiments.config`).
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
-import tomllib
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from gaitml.errors import ConfigError
 from gaitml.evaluation.steps import evaluate_steps
+from gaitml.experiments.config import STEP_DATA_SETS, STEP_TOLERANCE_S, ExperimentConfig
 from gaitml.io import atomic_dir, read_recording
 from gaitml.io.oxford import list_oxford_folders
 from gaitml.steps import detector_names, get_detector
 
-__all__ = ["run_steps_real", "evaluate_recording", "summarise_oxford", "load_steps_config", "main"]
+__all__ = ["run_steps_real", "evaluate_recording", "evaluate_steps_config", "summarise_oxford", "load_recordings"]
 
-TOLERANCE_S = 0.25
+TOLERANCE_S = STEP_TOLERANCE_S
 #: paper 000 Table 2 (true, AD-FSM, autocorrelation, IFSM) per IFSM file
 PAPER_TABLE2 = {
     "acceleration_flat_holding_1": {"true": 284, "adfsm": 282, "autocorr": 279, "ifsm": 284},
@@ -44,7 +42,6 @@ PAPER_TABLE2 = {
 }
 #: paper 000 Table 3: manually read durations of the first 10 steps of file 1 (s)
 PAPER_TABLE3_MANUAL_S = np.array([0.64, 0.56, 0.58, 0.50, 0.54, 0.50, 0.54, 0.52, 0.54, 0.50])
-DEFAULT_DETECTORS = ("single-peak", "ifsm", "ifsm-literal", "adfsm", "autocorr", "fsm-selflearn", "adaptive", "zupt-magnitude")
 
 
 def evaluate_recording(rec, detector: str, *, tolerance_s: float = TOLERANCE_S) -> dict:
@@ -148,7 +145,7 @@ def _report(table: pd.DataFrame, by_pos: pd.DataFrame, tolerance_s: float = TOLE
     return "\n".join(lines) + "\n"
 
 
-DATA_SETS = ("ifsm-flat-phone", "oxford-step-counter")
+DATA_SETS = STEP_DATA_SETS
 
 
 def load_recordings(data_dir: Path, sets=DATA_SETS) -> list:
@@ -163,44 +160,18 @@ def load_recordings(data_dir: Path, sets=DATA_SETS) -> list:
     return recs
 
 
-def load_steps_config(path: str | Path) -> dict:
-    """Read and validate ``experiments/steps-real.toml``; returns detectors, tolerance_s, data_dir, sets, name."""
-    p = Path(path)
-    try:
-        raw = tomllib.loads(p.read_text())
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        raise ConfigError(f"cannot read the steps config {p}: {exc}; fix the TOML.") from exc
-    allowed = {"name", "detectors", "tolerance_s", "data"}
-    extra = set(raw) - allowed
-    if extra:
-        raise ConfigError(f"unknown key(s) {sorted(extra)} in {p.name}; allowed: {sorted(allowed)}.")
-    dets = raw.get("detectors", list(DEFAULT_DETECTORS))
-    bad = [d for d in dets if d not in detector_names()]
-    if bad:
-        raise ConfigError(f"`detectors` has unknown name(s) {bad} in {p.name}; allowed: {', '.join(detector_names())}.")
-    tol = raw.get("tolerance_s", TOLERANCE_S)
-    if not isinstance(tol, int | float) or tol <= 0:
-        raise ConfigError(f"`tolerance_s` must be a positive number in {p.name}, got {tol!r}.")
-    data = raw.get("data", {})
-    sets = data.get("sets", list(DATA_SETS))
-    bad = [s for s in sets if s not in DATA_SETS]
-    if bad:
-        raise ConfigError(f"`data.sets` has unknown set(s) {bad} in {p.name}; allowed: {list(DATA_SETS)}.")
-    data_dir = (p.parent / data["path"]).resolve() if "path" in data else None
-    return {"name": raw.get("name", p.stem), "detectors": list(dets), "tolerance_s": float(tol), "data_dir": data_dir, "sets": list(sets)}
-
-
 def run_steps_real(
     out_dir: str | Path,
     *,
     data_dir: str | Path,
-    detectors=DEFAULT_DETECTORS,
+    detectors=None,
     recordings=None,
     progress=None,
     tolerance_s: float = TOLERANCE_S,
     sets=DATA_SETS,
 ) -> dict:
-    """Evaluate ``detectors`` on the shared step recordings and write the tables to ``out_dir``."""
+    """Evaluate ``detectors`` (default: every registered one) on the shared step recordings and write the tables to ``out_dir``."""
+    detectors = detector_names() if detectors is None else detectors
     recs = recordings if recordings is not None else load_recordings(Path(data_dir), sets)
     rows = []
     for det in detectors:
@@ -238,43 +209,30 @@ def run_steps_real(
     return summary
 
 
-def main(argv=None) -> int:
-    """Command line: ``python -m gaitml.experiments.steps_real``."""
-    root = Path(__file__).resolve().parents[2]
-    p = argparse.ArgumentParser(prog="python -m gaitml.experiments.steps_real", description=__doc__.splitlines()[0])
-    p.add_argument("--config", help="a steps TOML (experiments/steps-real.toml)")
-    p.add_argument("--out", help="output folder (replaced atomically; default runs/<name>)")
-    p.add_argument("--data", help="the shared data folder (default: the config's, else ../shared/data)")
-    p.add_argument("--detectors", help="comma-separated detector names (default: the config's, else all)")
-    a = p.parse_args(argv)
-    try:
-        cfg = (
-            load_steps_config(a.config)
-            if a.config
-            else {
-                "name": "steps-real",
-                "detectors": list(DEFAULT_DETECTORS),
-                "tolerance_s": TOLERANCE_S,
-                "data_dir": None,
-                "sets": list(DATA_SETS),
-            }
-        )
-    except ConfigError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    dets = [d.strip() for d in a.detectors.split(",") if d.strip()] if a.detectors else cfg["detectors"]
-    bad = [d for d in dets if d not in detector_names()]
-    if bad:
-        print(f"error: unknown detector(s) {bad}; valid: {', '.join(detector_names())}", file=sys.stderr)
-        return 2
-    data = Path(a.data) if a.data else (cfg["data_dir"] or root.parent / "shared" / "data")
-    out = Path(a.out) if a.out else Path("runs") / cfg["name"]
-    run_steps_real(
-        out, data_dir=data, detectors=dets, tolerance_s=cfg["tolerance_s"], sets=cfg["sets"], progress=lambda m: print(m, file=sys.stderr)
+def evaluate_steps_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, progress=None) -> dict:
+    """Run a ``task = "steps"`` config and write its run folder.
+
+    Parameters
+    ----------
+    cfg : ExperimentConfig
+        A validated config with ``task = "steps"``.
+    out_dir : path, optional
+        The run folder (replaced atomically); default ``runs/<name>/<UTC timestamp>/``.
+    progress : bool or callable, optional
+        Called with one line per finished detector (``True``: printed on stderr).
+
+    Returns
+    -------
+    dict
+        The summary written to ``summary.json`` plus ``name``, ``task`` and ``run_dir``.
+    """
+    from gaitml.experiments.runner import default_run_dir
+
+    out = Path(out_dir) if out_dir is not None else default_run_dir(cfg)
+    if progress is True:
+        progress = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
+    s = cfg["steps"]
+    summary = run_steps_real(
+        out, data_dir=cfg.data_path, detectors=s["detectors"], tolerance_s=s["tolerance_s"], sets=cfg["data"]["sets"], progress=progress
     )
-    print((out / "report.md").read_text())
-    return 0
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    return {"name": cfg.name, "task": cfg.task, **summary, "run_dir": str(out)}

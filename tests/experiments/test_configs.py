@@ -23,18 +23,36 @@ def test_the_committed_configs_are_there():
 
 @pytest.mark.parametrize("path", CONFIGS, ids=lambda p: p.name)
 def test_committed_config_builds(path):
+    """Every committed config, of every task, through the one loader (the data folder is checked when it is there)."""
     raw = tomllib.loads(path.read_text())
     if raw.get("model", {}).get("kind") in ("mlp", "cnn1d") and not torch_available():
         pytest.skip("torch extra not installed")
-    if raw.get("data", {}).get("source") == "folder" and not (path.parent / raw["data"]["path"]).exists():
-        pytest.skip(f"data folder {raw['data']['path']} not present")
-    if path.name == "steps-real.toml":
-        pytest.skip("steps-real.toml belongs to the steps runner, not the classification schema")
-    cfg = load_config(path)
+    data_path = raw.get("data", {}).get("path")
+    cfg = load_config(path, check_paths=bool(data_path) and (path.parent / data_path).exists())
     assert cfg.name == path.stem
+    assert cfg.task in ("classification", "steps")
+    if cfg.task == "steps":
+        assert cfg["steps"]["detectors"] and cfg["steps"]["tolerance_s"] > 0
+        return
     for point in sweep_grid(cfg):
         pcfg = cfg.with_values(point) if point else cfg
         assert pcfg["windows"]["length_s"] > 0
+
+
+def test_config_names_come_from_the_registries():
+    """The names a config accepts are the registries' (no hand-copied list)."""
+    from gaitml.evaluation.cv import CV_SCHEMES
+    from gaitml.experiments.config import SCHEMA, STEPS_SCHEMA
+    from gaitml.features import FEATURE_SETS
+    from gaitml.models import MODEL_KINDS
+    from gaitml.simulate.subject import POSES
+    from gaitml.steps import detector_names
+
+    assert SCHEMA["features"]["set"].allowed_values() == tuple(FEATURE_SETS)
+    assert SCHEMA["model"]["kind"].allowed_values() == tuple(MODEL_KINDS)
+    assert SCHEMA["cv"]["scheme"].allowed_values() == tuple(CV_SCHEMES)
+    assert SCHEMA["data"]["simulated"]["pose"].allowed_values() == (*POSES, "mixed")
+    assert STEPS_SCHEMA["steps"]["detectors"].allowed_values(items=True) == tuple(detector_names())
 
 
 def test_window_sweep_covers_the_paper_widths():

@@ -72,10 +72,10 @@ def _config(data_dir: Path, out_dir: Path, settings: dict) -> Any:
 
 def run_demo(out_dir: str | Path = "demo-out", *, settings: dict | None = None, progress: bool = True) -> dict:
     """Run the demo and return its summary (also written to ``summary.json``)."""
+    from gaitml.experiments.pdr_routes import evaluate_route
     from gaitml.experiments.runner import evaluate_config, train_config
     from gaitml.models import load_model, predict_recording
     from gaitml.pdr.plot import plot_trajectory
-    from gaitml.experiments.pdr_routes import evaluate_route
     from gaitml.simulate import simulate_dataset, simulate_route, write_simulation
 
     s = {**DEMO_SETTINGS, **(settings or {})}

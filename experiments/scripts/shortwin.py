@@ -62,10 +62,10 @@ import numpy as np
 import pandas as pd
 import scipy.signal
 
+from experiments.scripts.realism import MIN_PEAK_DISTANCE_S, PEAK_ABOVE_G_MS2, REAL_FILES, count_peaks
 from gaitml.consts import GRAVITY_MS2
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from experiments.scripts.realism import MIN_PEAK_DISTANCE_S, PEAK_ABOVE_G_MS2, REAL_FILES, count_peaks
 
 __all__ = [
     "FLAG_PCT",

@@ -27,7 +27,9 @@ def load_benchmarks():
         sys.path.insert(0, str(root))
     mod = importlib.import_module("benchmarks")
     if Path(mod.__file__).resolve().parent != root / "benchmarks":
-        raise NotAvailableError(f"another 'benchmarks' package ({mod.__file__}) shadows {root / 'benchmarks'}; run from the repository root.")
+        raise NotAvailableError(
+            f"another 'benchmarks' package ({mod.__file__}) shadows {root / 'benchmarks'}; run from the repository root."
+        )
     return mod
 
 

@@ -10,8 +10,8 @@ from hypothesis.extra import numpy as hnp
 
 from gaitml.errors import InputError
 from gaitml.features import StreamingFeatureExtractor, extract_features, feature_names, features_from_arrays, make_windows
-from tests.reference.features import reference_features
 from gaitml.recording import Recording
+from tests.reference.features import reference_features
 
 TOL = {"rtol": 1e-9, "atol": 1e-9}
 

@@ -7,10 +7,10 @@ import dataclasses
 import numpy as np
 import pytest
 
+from experiments.scripts.realism import count_peaks
 from gaitml.consts import GRAVITY_MS2
 from gaitml.simulate import Subject, sample_subjects, simulate_recording
 from gaitml.simulate.modes import MODE_OFFSET_RAD, displacement_fraction, mode_gait, motion_acceleration, vertical_waveform
-from experiments.scripts.realism import count_peaks
 
 #: A subject holding the phone exactly level, without wander, so phone axes = body axes.
 LEVEL = dataclasses.replace(Subject(), pitch_rad=0.0, roll_rad=0.0, wander_rad=1e-6, acc_noise_ms2=0.01)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gaitml.simulate import sample_subjects, simulate_recording
 from experiments.scripts.realism import (
     gait_statistics,
     real_statistics,
@@ -16,6 +15,7 @@ from experiments.scripts.realism import (
     variability_table,
     window_variability,
 )
+from gaitml.simulate import sample_subjects, simulate_recording
 from tests.conftest import shared
 
 pytestmark = pytest.mark.realdata

@@ -7,9 +7,6 @@ import pandas as pd
 import pytest
 import scipy.stats
 
-from gaitml.consts import GRAVITY_MS2
-from gaitml.errors import InputError
-from gaitml.recording import Recording
 from experiments.scripts import shortwin
 from experiments.scripts.shortwin import (
     GROUP_KEY,
@@ -23,6 +20,9 @@ from experiments.scripts.shortwin import (
     walking_part,
     window_dispersion,
 )
+from gaitml.consts import GRAVITY_MS2
+from gaitml.errors import InputError
+from gaitml.recording import Recording
 from tests.conftest import shared
 
 FS = 50.0

@@ -8,13 +8,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from tests.synthetic import synthetic_foot_walk
 from gaitml.cli import main
 from gaitml.consts import GRAVITY_MS2
 from gaitml.io import write_gaitml_csv
 from gaitml.recording import Recording
 from gaitml.steps.zupt_magnitude import ZuptMagnitudeStepDetector, steps_from_zupts
 from tests.conftest import shared
+from tests.synthetic import synthetic_foot_walk
 
 
 @pytest.fixture

@@ -6,7 +6,6 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from tests.synthetic import synthetic_foot_walk
 from gaitml.consts import GRAVITY_MS2, ZUPT_COLUMNS
 from gaitml.errors import InputError
 from gaitml.recording import Recording
@@ -29,6 +28,7 @@ from gaitml.zupt import (
 )
 from gaitml.zupt import _reference as ref
 from gaitml.zupt.pseudo_std import PAPER_EPS, PAPER_MU1_RADS, PAPER_S1_RADS, fit_zero_velocity_normal
+from tests.synthetic import synthetic_foot_walk
 
 
 # ---------------------------------------------------------------- paper 001

@@ -14,13 +14,100 @@ import os
 import select
 import sys
 import traceback
+from collections.abc import Callable, Sequence
 
 from gaitml.errors import GaitmlError
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "REGISTRY_CHOICES", "STEP_DETECTORS", "ZUPT_DETECTORS"]
 
-STEP_DETECTORS = ("single-peak", "ifsm", "ifsm-literal", "adfsm", "autocorr", "fsm-selflearn", "zupt-magnitude", "adaptive")
-ZUPT_DETECTORS = ("pseudo-std", "magnitude", "method1", "method2", "shoe")
+
+class _Names(Sequence):
+    """Choices read from a registry on first use, so that building the parser imports no algorithm.
+
+    argparse reads choices only to check a given value and to format help or an
+    error; the options that use them set a ``metavar`` so that nothing is read
+    while the parser is built.
+    """
+
+    def __init__(self, load: Callable[[], object]):
+        self._load = load
+        self._names: tuple[str, ...] | None = None
+
+    def _get(self) -> tuple[str, ...]:
+        if self._names is None:
+            self._names = tuple(self._load())
+        return self._names
+
+    def __getitem__(self, i):
+        return self._get()[i]
+
+    def __len__(self) -> int:
+        return len(self._get())
+
+    def __contains__(self, x) -> bool:
+        return x in self._get()
+
+    def __iter__(self):
+        return iter(self._get())
+
+    def __repr__(self) -> str:
+        return repr(self._get())
+
+
+def _step_detectors():
+    from gaitml.steps import detector_names
+
+    return detector_names()
+
+
+def _zupt_detectors():
+    from gaitml.zupt import DETECTORS
+
+    return DETECTORS
+
+
+def _heading_sources():
+    from gaitml.pdr import HEADING_SOURCES
+
+    return HEADING_SOURCES
+
+
+def _mode_sources():
+    from gaitml.pdr import MODE_SOURCES
+
+    return MODE_SOURCES
+
+
+def _mode_assignments():
+    from gaitml.pdr.step_modes import MODE_ASSIGNMENTS
+
+    return MODE_ASSIGNMENTS
+
+
+def _formats():
+    from gaitml.io import FORMATS
+
+    return FORMATS
+
+
+def _feature_sets():
+    from gaitml.features import FEATURE_SETS
+    from gaitml.features._catalogue import SUBSET_ALIASES
+
+    return (*FEATURE_SETS, *SUBSET_ALIASES)
+
+
+#: Names of the step and zero-velocity detectors: lazy views of the registries.
+STEP_DETECTORS = _Names(_step_detectors)
+ZUPT_DETECTORS = _Names(_zupt_detectors)
+#: The registry behind each option with fixed choices: ``{(command, option): names}``.
+REGISTRY_CHOICES: dict[tuple[str, str], Sequence] = {}
+
+
+def _choices(command: str, option: str, load: Callable[[], object]) -> dict:
+    """``add_argument`` keywords for an option whose choices come from a registry."""
+    names = REGISTRY_CHOICES.setdefault((command, option), _Names(load))
+    return {"choices": names, "metavar": option.lstrip("-").replace("-", "_").upper()}
 
 
 class _UsageError(Exception):
@@ -37,7 +124,9 @@ class _Parser(argparse.ArgumentParser):
 def _input_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("input")
     g.add_argument(
-        "--format", choices=("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap"), help="input format (default: detected from the content)"
+        "--format",
+        **_choices(p.prog.split()[-1], "--format", _formats),
+        help="input format: %(choices)s (default: detected from the content)",
     )
     g.add_argument("--sensor", choices=("left", "right"), default="left", help="foot of a two-sensor gaitmap file (default: left)")
     g.add_argument(
@@ -73,14 +162,18 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("steps", help="detect steps")
     p.add_argument("input", metavar="INPUT")
-    p.add_argument("--detector", choices=STEP_DETECTORS, default="single-peak")
+    p.add_argument(
+        "--detector", **_choices("steps", "--detector", _step_detectors), default="single-peak", help="%(choices)s (default %(default)s)"
+    )
     p.add_argument("--out", metavar="FILE", help="write the step table as CSV")
     p.add_argument("--json", action="store_true")
     _input_options(p)
 
     p = sub.add_parser("zupt", help="detect zero-velocity intervals")
     p.add_argument("input", metavar="INPUT")
-    p.add_argument("--detector", choices=ZUPT_DETECTORS, default="pseudo-std")
+    p.add_argument(
+        "--detector", **_choices("zupt", "--detector", _zupt_detectors), default="pseudo-std", help="%(choices)s (default %(default)s)"
+    )
     p.add_argument("--threshold-rads", type=float, help="detector threshold in rad/s (pseudo-std)")
     p.add_argument("--out", metavar="FILE", help="write the interval table as CSV")
     p.add_argument("--json", action="store_true")
@@ -90,7 +183,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("input", metavar="INPUT")
     p.add_argument("--window-s", type=float, default=1.5)
     p.add_argument("--overlap", type=float, default=0.5)
-    p.add_argument("--subset", default="all52", help="all52 | paper34 | all52+gyro (alias: all = all52)")
+    p.add_argument("--subset", **_choices("features", "--subset", _feature_sets), default="all52", help="%(choices)s (default %(default)s)")
     p.add_argument("--out", metavar="FILE", help="write the feature table as CSV")
     _input_options(p)
 
@@ -120,20 +213,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="FILE")
     p.add_argument("--plot", metavar="PNG")
     p.add_argument("--json", action="store_true")
-    p.add_argument("--heading", choices=("hde", "dwpca", "gyro", "dwpca-hde"), default="hde", help="heading source (default hde)")
+    p.add_argument(
+        "--heading", **_choices("pdr", "--heading", _heading_sources), default="hde", help="heading source: %(choices)s (default hde)"
+    )
     p.add_argument(
         "--modes",
-        choices=("model", "true", "forward"),
-        help="motion modes per step (default: model with --model, else the labels, else forward)",
+        **_choices("pdr", "--modes", _mode_sources),
+        help="motion modes per step: %(choices)s (default: model with --model, else the labels, else forward)",
     )
     p.add_argument(
         "--mode-boundaries",
-        choices=("auto", "refine", "nearest", "middle"),
+        **_choices("pdr", "--mode-boundaries", _mode_assignments),
         default="auto",
         help="with --model: re-place each mode change at the most likely step (refine) or keep the nearest window's mode (nearest), "
         "or take the window nearest the middle of each step (middle); auto (default) refines when steps are timed by their peaks",
     )
-    p.add_argument("--detector", choices=STEP_DETECTORS, default="single-peak", help="step detector (default single-peak)")
+    p.add_argument(
+        "--detector",
+        **_choices("pdr", "--detector", _step_detectors),
+        default="single-peak",
+        help="step detector: %(choices)s (default single-peak)",
+    )
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
     p.add_argument(
         "--initial-heading-rad",

@@ -52,7 +52,9 @@ def test_building_the_parser_imports_no_algorithm():
     """`gaitml --help` stays fast: the registries are read only when a value is checked."""
     import subprocess
 
-    code = "import sys; from gaitml.cli import build_parser; build_parser(); print(sorted(m for m in sys.modules if m.startswith('gaitml.')))"
+    code = (
+        "import sys; from gaitml.cli import build_parser; build_parser(); print(sorted(m for m in sys.modules if m.startswith('gaitml.')))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert not {"gaitml.steps", "gaitml.zupt", "gaitml.pdr", "gaitml.features"} & set(eval(out))
 

@@ -1,8 +1,13 @@
 """Experiment configs (TOML), cross-validation runs, sweeps, training and run reports.
 
-- :func:`load_config` / :func:`parse_config`: validated :class:`ExperimentConfig`;
-- :func:`evaluate_config`: cross-validate (every ``[sweep]`` point), write the run folder;
-- :func:`train_config`: fit on all windows and save a model artifact.
+- :func:`load_config` / :func:`parse_config`: validated :class:`ExperimentConfig` (one
+  schema for every config; ``task = "classification"`` or ``"steps"``);
+- :func:`evaluate_config`: cross-validate (every ``[sweep]`` point), or for a steps
+  config evaluate the step detectors on the real recordings
+  (:mod:`~gaitml.experiments.steps_real`), and write the run folder;
+- :func:`train_config`: fit on all windows and save a model artifact;
+- :mod:`~gaitml.experiments.pdr_routes`: PDR variants on simulated routes (the demo and
+  ``experiments/scripts/pdr_report.py``).
 """
 
 from gaitml.experiments.config import ExperimentConfig, load_config, parse_config, sweep_grid

@@ -9,9 +9,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from gaitml import InputError, Recording
+from gaitml import InputError
 from gaitml.consts import GRAVITY_MS2
 from gaitml.io import detect_format, read_dataset, read_recording, write_gaitml_csv, write_manifest
+from gaitml.recording import Recording
 from tests.conftest import shared
 
 

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gaitml import InputError, Recording
+from gaitml import InputError
 from gaitml.consts import GRAVITY_MS2
+from gaitml.recording import Recording
 
 
 def _acc(n, rng=None):

@@ -14,8 +14,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gaitml import InputError, Recording
+from gaitml import InputError
 from gaitml.consts import GRAVITY_MS2
+from gaitml.recording import Recording
 
 EXAMPLES = int(os.environ.get("GAITML_HYPOTHESIS_EXAMPLES", "60"))
 SETTINGS = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])

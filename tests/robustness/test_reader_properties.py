@@ -7,8 +7,9 @@ import pandas as pd
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gaitml import InputError, Recording
+from gaitml import InputError
 from gaitml.io import read_recording, write_gaitml_csv
+from gaitml.recording import Recording
 
 SETTINGS = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 

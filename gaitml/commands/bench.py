@@ -9,15 +9,20 @@ from pathlib import Path
 from gaitml.errors import NotAvailableError
 
 
-def load_benchmarks():
+def load_benchmarks(root: str | Path | None = None):
     """The top-level ``benchmarks`` package of the checkout this ``gaitml`` was imported from.
+
+    Parameters
+    ----------
+    root : path, optional
+        The checkout (default: the folder holding this ``gaitml`` package).
 
     Raises
     ------
     NotAvailableError
         When ``gaitml`` is installed without its source checkout (no ``benchmarks/`` beside ``gaitml/``).
     """
-    root = Path(__file__).resolve().parents[2]
+    root = Path(__file__).resolve().parents[2] if root is None else Path(root).resolve()
     if not (root / "benchmarks" / "__init__.py").is_file():
         raise NotAvailableError(
             f"gaitml bench needs a source checkout (no benchmarks/ folder in {root}); clone the repository, "

@@ -15,14 +15,13 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from gaitml.errors import InputError
 from gaitml.recording import Recording
+from gaitml.signal import moving_average
+from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import (
     acc_magnitude,
     as_recording,
-    check_positive,
     map_indices,
-    moving_average_fast,
     resample_signal,
     segment_argmax,
 )
@@ -131,7 +130,7 @@ def adfsm_steps(
     return np.asarray(out, dtype=np.int64).reshape(-1, 2)
 
 
-class ADFSMStepDetector:
+class ADFSMStepDetector(BaseStepDetector):
     """AD-FSM step detector (paper 000's baseline, its ref. [24]).
 
     Parameters
@@ -167,6 +166,9 @@ class ADFSMStepDetector:
     """
 
     name = "adfsm"
+    _positive = ("min_rises", "min_falls", "smoothing_samples")
+    _non_negative = ("flat_diff_ms2",)
+    _integer = ("min_rises", "min_falls", "smoothing_samples")
 
     def __init__(
         self,
@@ -183,15 +185,12 @@ class ADFSMStepDetector:
 
     def detect(self, recording: Recording) -> ADFSMStepDetector:
         """Detect steps in ``recording``; results in ``steps_``."""
+        params = self._validate_params()
+        smoothing = int(params.pop("smoothing_samples"))
         rec = as_recording(recording, "adfsm step detection")
-        for name in ("min_rises", "min_falls", "smoothing_samples"):
-            v = getattr(self, name)
-            if int(v) != v or v < 1:
-                raise InputError(f"`{name}` must be a positive integer, got {v!r}.")
-        check_positive("flat_diff_ms2", self.flat_diff_ms2, allow_zero=True)
         fs = rec.sampling_rate_hz
-        A = moving_average_fast(resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ), int(self.smoothing_samples))
-        ev = adfsm_steps(A, min_rises=int(self.min_rises), min_falls=int(self.min_falls), flat_diff_ms2=float(self.flat_diff_ms2))
+        A = moving_average(resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ), smoothing)
+        ev = adfsm_steps(A, **params)
         trough, end = ev[:, 0], ev[:, 1]
         start = np.empty_like(end)
         if len(end):

@@ -20,7 +20,9 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive, map_indices, moving_average_fast, resample_signal
+from gaitml.signal import moving_average
+from gaitml.steps._base import BaseStepDetector
+from gaitml.steps._common import acc_magnitude, as_recording, map_indices, resample_signal
 from gaitml.steps._table import make_step_table
 
 __all__ = ["IFSMStepDetector", "IFSMLiteralStepDetector", "ifsm_steps", "ifsm_steps_loop", "IFSM_READINGS"]
@@ -230,7 +232,7 @@ def ifsm_steps(
     return np.asarray(out, dtype=np.int64).reshape(-1, 4)
 
 
-class IFSMStepDetector:
+class IFSMStepDetector(BaseStepDetector):
     """Improved finite state machine step detector (paper 000 sec. 2, Table 1).
 
     Parameters
@@ -299,6 +301,9 @@ class IFSMStepDetector:
     """
 
     name = "ifsm"
+    _positive = ("first_climbs", "descents", "second_climbs", "disturb_descents", "smoothing_samples")
+    _non_negative = ("diff_threshold_ms2", "end_tolerance_ms2")
+    _integer = _positive
 
     def __init__(
         self,
@@ -323,36 +328,23 @@ class IFSMStepDetector:
         self.end_tolerance_ms2 = end_tolerance_ms2
         self.smoothing_samples = smoothing_samples
 
-    def _params(self) -> dict:
-        if self.reading not in IFSM_READINGS:
-            raise InputError(f"`reading` must be one of {sorted(IFSM_READINGS)}, got {self.reading!r}.")
-        for name in ("first_climbs", "descents", "second_climbs", "disturb_descents", "smoothing_samples"):
-            v = getattr(self, name)
-            if int(v) != v or v < 1:
-                raise InputError(f"`{name}` must be a positive integer, got {v!r}.")
-        check_positive("diff_threshold_ms2", self.diff_threshold_ms2, allow_zero=True)
-        check_positive("end_tolerance_ms2", self.end_tolerance_ms2, allow_zero=True)
-        count_entry, inclusive, end_condition = IFSM_READINGS[self.reading]
-        return dict(
-            magnitude_threshold_ms2=float(self.magnitude_threshold_ms2),
-            diff_threshold_ms2=float(self.diff_threshold_ms2),
-            first_climbs=int(self.first_climbs),
-            descents=int(self.descents),
-            second_climbs=int(self.second_climbs),
-            disturb_descents=int(self.disturb_descents),
-            end_tolerance_ms2=float(self.end_tolerance_ms2),
-            count_entry=count_entry,
-            inclusive=inclusive,
-            end_condition=end_condition,
-        )
+    def _core_params(self) -> dict:
+        """The keyword arguments of :func:`ifsm_steps` (validated parameters, reading resolved)."""
+        params = self._validate_params()
+        reading = params.pop("reading")
+        if reading not in IFSM_READINGS:
+            raise InputError(f"`reading` must be one of {sorted(IFSM_READINGS)}, got {reading!r}.")
+        del params["smoothing_samples"]
+        count_entry, inclusive, end_condition = IFSM_READINGS[reading]
+        return dict(params, count_entry=count_entry, inclusive=inclusive, end_condition=end_condition)
 
     def detect(self, recording: Recording) -> IFSMStepDetector:
         """Detect steps in ``recording``; results in ``steps_``."""
         rec = as_recording(recording, f"{self.name} step detection")
-        params = self._params()
+        params = self._core_params()
         fs = rec.sampling_rate_hz
         A = resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ)
-        A = moving_average_fast(A, int(self.smoothing_samples))
+        A = moving_average(A, int(self.smoothing_samples))
         ev = ifsm_steps(A, **params)
         n = rec.n_samples
         t0, kp, kt, te = (map_indices(ev[:, i], DESIGN_RATE_HZ, fs, n) for i in range(4))
@@ -363,10 +355,54 @@ class IFSMStepDetector:
 
 
 class IFSMLiteralStepDetector(IFSMStepDetector):
-    """The IFSM of paper 000 with its text read literally (see :class:`IFSMStepDetector` Notes)."""
+    """The IFSM of paper 000 with its text read literally (see :class:`IFSMStepDetector` Notes).
+
+    Parameters
+    ----------
+    reading : {'literal', 'reproduce'}, default 'literal'
+        How to read the printed text (:class:`IFSMStepDetector` Notes).
+    magnitude_threshold_ms2 : float, default 9.81
+        A_T (Table 1).
+    diff_threshold_ms2 : float, default 0.04
+        A_D^T (Table 1).
+    first_climbs, descents, second_climbs : int, default 4 / 7 / 5
+        T_C^1, T_D^T, T_C^2 (Table 1), samples at 50 Hz.
+    disturb_descents : int, default 3
+        T_C^D (Table 1).
+    end_tolerance_ms2 : float, default 0.2
+        delta (Table 1).
+    smoothing_samples : int, default 5
+        Moving average (sec. 2.1), centred, at 50 Hz.
+
+    Attributes
+    ----------
+    steps_ : DataFrame
+        As :class:`IFSMStepDetector`.
+    """
 
     name = "ifsm-literal"
 
-    def __init__(self, **params):
-        params.setdefault("reading", "literal")
-        super().__init__(**params)
+    def __init__(
+        self,
+        *,
+        reading: str = "literal",
+        magnitude_threshold_ms2: float = MAGNITUDE_THRESHOLD_MS2,
+        diff_threshold_ms2: float = DIFF_THRESHOLD_MS2,
+        first_climbs: int = FIRST_CLIMBS,
+        descents: int = DESCENTS,
+        second_climbs: int = SECOND_CLIMBS,
+        disturb_descents: int = DISTURB_DESCENTS,
+        end_tolerance_ms2: float = END_TOLERANCE_MS2,
+        smoothing_samples: int = SMOOTHING_SAMPLES,
+    ):
+        super().__init__(
+            reading=reading,
+            magnitude_threshold_ms2=magnitude_threshold_ms2,
+            diff_threshold_ms2=diff_threshold_ms2,
+            first_climbs=first_climbs,
+            descents=descents,
+            second_climbs=second_climbs,
+            disturb_descents=disturb_descents,
+            end_tolerance_ms2=end_tolerance_ms2,
+            smoothing_samples=smoothing_samples,
+        )

@@ -29,6 +29,8 @@ from typing import Any
 
 import numpy as np
 
+from gaitml._base import BaseAlgorithm
+
 __all__ = ["adjacent_window_correction", "AdjacentWindowCorrector"]
 
 _MISSING = object()
@@ -79,23 +81,37 @@ def adjacent_window_correction(labels) -> np.ndarray:
     return np.asarray(out, dtype=arr.dtype) if len(out) else arr.copy()
 
 
-class AdjacentWindowCorrector:
-    """Streaming adjacent-window correction with a one-window delay.
+class AdjacentWindowCorrector(BaseAlgorithm):
+    """Adjacent-window correction as an algorithm object: offline ``correct`` and streaming ``push``.
 
-    ``push(label_k)`` takes the classifier output of window k and returns the
-    final (corrected) label of window k - 1, or ``None`` on the first push.
-    ``flush()`` returns the final label of the last pushed window (kept as is:
-    it has no successor) or ``None`` if nothing is pending. Pushing a whole
-    sequence and flushing gives :func:`adjacent_window_correction`.
+    ``correct(labels)`` corrects a whole sequence (sets ``labels_``, returns ``self``;
+    the input is not modified). For streaming, ``push(label_k)`` takes the classifier
+    output of window k and returns the final (corrected) label of window k - 1, or
+    ``None`` on the first push; ``flush()`` returns the final label of the last pushed
+    window (kept as is: it has no successor) or ``None`` if nothing is pending.
+    Pushing a whole sequence and flushing gives :func:`adjacent_window_correction`.
+
+    Parameters
+    ----------
+    None: the rule of paper 003 sec. 3.4 has no parameters.
 
     Attributes
     ----------
+    labels_ : ndarray
+        The corrected labels of the last ``correct`` call.
     history_ : list
         The last (up to two) corrected labels output: W1, W2 of the next decision.
     """
 
+    _action_method = "correct"
+
     def __init__(self) -> None:
-        self.reset()
+        pass
+
+    def correct(self, labels) -> AdjacentWindowCorrector:
+        """Correct a whole sequence of window labels; sets ``labels_`` and returns ``self``."""
+        self.labels_ = adjacent_window_correction(labels)
+        return self
 
     def reset(self) -> AdjacentWindowCorrector:
         """Start a new sequence."""
@@ -105,6 +121,8 @@ class AdjacentWindowCorrector:
 
     def push(self, label: Any) -> Any:
         """Add the current window's label; return the corrected previous label or None."""
+        if not hasattr(self, "history_"):
+            self.reset()
         if self._pending is _MISSING:
             self._pending = label
             return None
@@ -120,7 +138,7 @@ class AdjacentWindowCorrector:
 
     def flush(self) -> Any:
         """Return the last pending label unchanged (no successor) and clear it."""
-        if self._pending is _MISSING:
+        if getattr(self, "_pending", _MISSING) is _MISSING:
             return None
         out = self._pending
         self.history_ = [*self.history_, out][-2:]

@@ -2,6 +2,7 @@
 
 - :mod:`~gaitml.pdr.step_length`: linear and Weinberg step length models per mode.
 - :mod:`~gaitml.pdr.attitude`: quaternion gyro integration, heading of the phone's forward axis.
+- :mod:`~gaitml.pdr.heading`: the heading-source base (``estimate(recording, steps)``) and the raw gyro heading.
 - :mod:`~gaitml.pdr.hde`: buffered heuristic drift elimination.
 - :mod:`~gaitml.pdr.dwpca`: dynamic-window PCA step direction.
 - :mod:`~gaitml.pdr.update`: multi-state and forward-only position updates.
@@ -13,8 +14,9 @@
 
 from gaitml.pdr.attitude import AttitudeEstimator, compass_heading, initial_attitude, integrate_gyro, step_headings, wrap_angle
 from gaitml.pdr.calibrate import Calibration, calibrate_from_reference, calibrate_walk_distance
-from gaitml.pdr.dwpca import DwPcaHeading, dwpca_check_and_average, pca_step_directions
-from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate, hde_correct
+from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading, dwpca_check_and_average, pca_step_directions
+from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate, hde_correct, hde_heading
+from gaitml.pdr.heading import BaseHeadingSource, GyroHeading
 from gaitml.pdr.pipeline import HEADING_SOURCES, MODE_SOURCES, PdrResult, modes_from_labels, run_pdr
 from gaitml.pdr.step_length import StepLengthModel, linear_step_length, step_length_features, weinberg_step_length
 from gaitml.pdr.step_modes import MODE_ASSIGNMENTS, modes_from_windows, pair_margin, refine_mode_boundaries
@@ -26,8 +28,11 @@ __all__ = [
     "MODE_OFFSET_RAD",
     "MODE_SOURCES",
     "AttitudeEstimator",
+    "BaseHeadingSource",
     "Calibration",
+    "DwPcaHdeHeading",
     "DwPcaHeading",
+    "GyroHeading",
     "HeuristicDriftElimination",
     "PdrResult",
     "StepLengthModel",
@@ -39,6 +44,7 @@ __all__ = [
     "estimate_drift_rate",
     "forward_update",
     "hde_correct",
+    "hde_heading",
     "initial_attitude",
     "integrate_gyro",
     "linear_step_length",

@@ -30,6 +30,7 @@ import math
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from gaitml._base import BaseAlgorithm
 from gaitml.errors import InputError
 from gaitml.signal import gravity_direction
 
@@ -206,12 +207,12 @@ def step_headings(heading_rad: np.ndarray, start: np.ndarray, end: np.ndarray) -
     return wrap_angle((c[end] - c[start]) / (end - start))
 
 
-class AttitudeEstimator:
+class AttitudeEstimator(BaseAlgorithm):
     """Attitude and heading of a hand-held phone from acc + gyro.
 
     Parameters
     ----------
-    initial_heading_rad : float
+    initial_heading_rad : float, default 0.0
         Compass heading of the phone's forward axis at the first sample. Without a
         magnetometer it is unobservable; 0 means "the first direction is north", which
         suits heuristic drift elimination when the walk starts along a corridor.
@@ -222,13 +223,18 @@ class AttitudeEstimator:
         integration as in paper 003). Default 0.5 1/s (time constant 2 s).
     gravity_cutoff_hz : float
         Low-pass cutoff of the measured gravity direction.
-    forward_axis_body : (3,) phone axis taken as forward.
+    forward_axis_body : (3,) float
+        Phone axis taken as forward (default the y axis).
 
     Attributes
     ----------
     rotation_ : scipy Rotation, n body-to-navigation attitudes.
     heading_rad_ : (n,) compass heading of the projected forward axis, wrapped to [-pi, pi).
     """
+
+    _action_method = "estimate"
+    _positive = ("init_window_s", "gravity_cutoff_hz")
+    _non_negative = ("gravity_gain_hz",)
 
     def __init__(
         self,
@@ -246,6 +252,8 @@ class AttitudeEstimator:
         self.forward_axis_body = forward_axis_body
 
     def estimate(self, recording) -> AttitudeEstimator:
+        """Integrate the attitude over ``recording``; sets ``rotation_`` and ``heading_rad_``, returns ``self``."""
+        self._validate_params()
         gyr = recording.require_gyr("gyro heading (attitude integration)")
         fs = recording.sampling_rate_hz
         if self.gravity_gain_hz < 0:

@@ -87,7 +87,8 @@ def calibrate_from_reference(recording: Recording, *, detector="single-peak", mi
     lin = att.linear_acc_nav(recording)[:, :2]
     motion = r["heading_rad"].to_numpy(float) + mode_offsets_rad(modes, unknown="forward")
     end = np.maximum(st["end"].to_numpy(np.int64), st["start"].to_numpy(np.int64) + 1)
-    dw = DwPcaHeading().fit_polarity(lin, st["start"].to_numpy(np.int64), end, motion, modes, min_steps=min_steps)
+    learned = DwPcaHeading().fit_polarity(lin, st["start"].to_numpy(np.int64), end, motion, modes, min_steps=min_steps).polarity_
+    dw = DwPcaHeading(polarity=learned)
     return Calibration(slm, dw, int(ok.sum()), len(steps))
 
 

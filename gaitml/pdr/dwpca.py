@@ -40,9 +40,12 @@ from __future__ import annotations
 import numpy as np
 
 from gaitml.errors import InputError
-from gaitml.pdr.attitude import wrap_angle
+from gaitml.pdr.attitude import AttitudeEstimator, wrap_angle
+from gaitml.pdr.hde import HeuristicDriftElimination, hde_heading
+from gaitml.pdr.heading import BaseHeadingSource
+from gaitml.pdr.update import mode_offsets_rad
 
-__all__ = ["DwPcaHeading", "dwpca_check_and_average", "pca_step_directions"]
+__all__ = ["DwPcaHeading", "DwPcaHdeHeading", "dwpca_check_and_average", "pca_step_directions"]
 
 #: paper 002 sec. 3.4: left/right foot directions differ by less than 30 deg.
 GYRO_CHECK_RAD = np.deg2rad(30.0)
@@ -175,25 +178,35 @@ def dwpca_check_and_average(
     return h, fixed
 
 
-class DwPcaHeading:
+class DwPcaHeading(BaseHeadingSource):
     """DW-PCA facing heading per step (paper 002 sec. 3) for the multi-state update.
 
     Parameters
     ----------
-    check_rad : gyro check threshold (paper 002: 30 deg).
-    average : adjacent averaging (paper 002 sec. 3.4).
-    reanchor_steps : see :func:`dwpca_check_and_average` (our addition; 0 = Algorithm 3 only).
+    check_rad : float, default 30 deg
+        Gyro check threshold (paper 002: 30 deg).
+    average : bool, default True
+        Adjacent averaging (paper 002 sec. 3.4).
     polarity : dict mode -> +1/-1, optional
         Sign of the concavity rule per motion mode (default +1 for every mode: the paper's
         rule, derived for walking). :meth:`fit_polarity` learns it from steps of known
-        direction; the rule does not hold for every gait (see Notes).
+        direction (into ``polarity_``); the rule does not hold for every gait (see Notes).
+    reanchor_steps : int, default 3
+        See :func:`dwpca_check_and_average` (our addition; 0 = Algorithm 3 only).
+    drift_correction : HeuristicDriftElimination, optional
+        HDE applied to the DW-PCA headings afterwards (``dwpca-hde``): DW-PCA works in the
+        gyro-integrated navigation frame, so it inherits the gyro's yaw drift (paper 002
+        used the magnetometer-aided rotation vector). Only its HDE parameters are used.
+    attitude : AttitudeEstimator, optional
+        Gyro attitude: navigation frame of the PCA and the gyro check (default ``AttitudeEstimator()``).
 
     Attributes
     ----------
     motion_rad_ : (m,) PCA motion direction after 180-degree disambiguation.
     axis_rad_ : (m,) raw first-eigenvector direction.
-    heading_rad_ : (m,) facing heading after mode offset, gyro check and averaging.
+    heading_rad_ : (m,) facing heading after mode offset, gyro check and averaging (and HDE).
     gyro_fixed_ : (m,) bool.
+    polarity_ : dict, after :meth:`fit_polarity` (used by later ``estimate`` calls instead of ``polarity``).
 
     Notes
     -----
@@ -203,24 +216,41 @@ class DwPcaHeading:
     every running step; a learned per-mode polarity fixes that.
     """
 
-    def __init__(self, *, check_rad: float = GYRO_CHECK_RAD, average: bool = True, polarity: dict | None = None, reanchor_steps: int = 3):
+    name = "dwpca"
+    _non_negative = ("check_rad", "reanchor_steps")
+    _integer = ("reanchor_steps",)
+
+    def __init__(
+        self,
+        *,
+        check_rad: float = GYRO_CHECK_RAD,
+        average: bool = True,
+        polarity: dict | None = None,
+        reanchor_steps: int = 3,
+        drift_correction=None,
+        attitude: AttitudeEstimator | None = None,
+    ):
         self.check_rad = check_rad
         self.average = average
         self.polarity = polarity
         self.reanchor_steps = reanchor_steps
+        self.drift_correction = drift_correction
+        self.attitude = attitude
 
     def _polarity(self, modes, m: int) -> np.ndarray:
-        if modes is None or not self.polarity:
+        polarity = getattr(self, "polarity_", self.polarity)
+        if modes is None or not polarity:
             return np.ones(m)
         modes = np.asarray(modes).astype(str)
-        return np.array([float(self.polarity.get(x, 1.0)) for x in modes])
+        return np.array([float(polarity.get(x, 1.0)) for x in modes])
 
     def fit_polarity(self, lin_acc_h, start, end, motion_rad, modes, *, min_steps: int = 5) -> DwPcaHeading:
         """Learn the concavity polarity per mode from steps whose motion direction is known.
 
         For each mode the majority vote of "the paper's rule pointed the right way" (within
         90 deg of the known direction) sets the polarity to +1, else -1. Modes with fewer
-        than ``min_steps`` steps keep +1.
+        than ``min_steps`` steps keep +1. Sets ``polarity_`` (``polarity`` is left as given);
+        ``clone(self).set_params(polarity=self.polarity_)`` makes a configured copy.
         """
         d, _, _ = pca_step_directions(lin_acc_h, start, end)
         modes = np.asarray(modes).astype(str)
@@ -230,11 +260,35 @@ class DwPcaHeading:
         for mode in map(str, np.unique(modes)):
             sel = ok & (modes == mode)
             pol[mode] = 1.0 if sel.sum() < min_steps or right[sel].mean() >= 0.5 else -1.0
-        self.polarity = pol
         self.polarity_ = pol
         return self
 
-    def estimate(self, lin_acc_h, start, end, gyro_step_heading_rad, mode_offset_rad=None, modes=None) -> DwPcaHeading:
+    def _heading(self, recording, steps, gyro_h, t_step, dur):
+        n = len(steps)
+        start = steps["start"].to_numpy(np.int64)
+        end = np.maximum(steps["end"].to_numpy(np.int64), start + 1)
+        if {"window_start", "window_end"} <= set(steps.columns):
+            start = steps["window_start"].to_numpy(np.int64)
+            end = steps["window_end"].to_numpy(np.int64)
+        modes = steps["mode"].to_numpy() if "mode" in steps else None
+        if "mode_offset_rad" in steps:
+            offsets = steps["mode_offset_rad"].to_numpy(float)
+        elif modes is not None:
+            offsets = mode_offsets_rad(modes, unknown="forward")
+        else:
+            offsets = np.zeros(n)
+        lin = self.attitude_.linear_acc_nav(recording)[:, :2]
+        theta = self.directions(lin, start, end, gyro_h, offsets, modes)
+        hde = self._drift_correction()
+        if hde is not None:
+            if not hasattr(hde, "hde_params"):
+                raise InputError(f"`drift_correction` must be a HeuristicDriftElimination or None, got {type(hde).__name__}.")
+            hde._validate_params()
+            theta, self.correction_rad_, self.straight_, self.drift_rate_rads_ = hde_heading(theta, dur, t_step, **hde.hde_params())
+        return theta
+
+    def directions(self, lin_acc_h, start, end, gyro_step_heading_rad, mode_offset_rad=None, modes=None) -> np.ndarray:
+        """The DW-PCA core on arrays: facing heading per window (sets ``motion_rad_``, ``axis_rad_``, ``gyro_fixed_``)."""
         start = np.asarray(start, dtype=np.int64)
         motion, axis, expl = pca_step_directions(lin_acc_h, start, end, self._polarity(modes, len(start)))
         off = np.zeros(len(motion)) if mode_offset_rad is None else np.asarray(mode_offset_rad, dtype=float)
@@ -244,7 +298,41 @@ class DwPcaHeading:
         self.motion_rad_ = motion
         self.axis_rad_ = axis
         self.explained_ = expl
-        self.heading_rad_, self.gyro_fixed_ = dwpca_check_and_average(
+        heading, self.gyro_fixed_ = dwpca_check_and_average(
             facing, gyro_step_heading_rad, check_rad=self.check_rad, average=self.average, reanchor_steps=self.reanchor_steps
         )
-        return self
+        return heading
+
+    def _drift_correction(self):
+        return self.drift_correction
+
+
+class DwPcaHdeHeading(DwPcaHeading):
+    """DW-PCA followed by buffered HDE (``dwpca-hde``): :class:`DwPcaHeading` with a default ``drift_correction``.
+
+    Parameters
+    ----------
+    check_rad : float, default 30 deg
+        Gyro check threshold (paper 002: 30 deg).
+    average : bool, default True
+        Adjacent averaging (paper 002 sec. 3.4).
+    polarity : dict mode -> +1/-1, optional
+        Concavity polarity per mode (:class:`DwPcaHeading`).
+    reanchor_steps : int, default 3
+        See :func:`dwpca_check_and_average`.
+    drift_correction : HeuristicDriftElimination, optional
+        The HDE applied afterwards (default ``HeuristicDriftElimination()``).
+    attitude : AttitudeEstimator, optional
+        Gyro attitude (default ``AttitudeEstimator()``).
+
+    Attributes
+    ----------
+    heading_rad_ : (m,) DW-PCA heading corrected by HDE.
+    """
+
+    name = "dwpca-hde"
+
+    def _drift_correction(self):
+        if self.drift_correction is not None:
+            return self.drift_correction
+        return HeuristicDriftElimination()

@@ -65,9 +65,10 @@ from __future__ import annotations
 import numpy as np
 
 from gaitml.errors import InputError
-from gaitml.pdr.attitude import wrap_angle
+from gaitml.pdr.attitude import AttitudeEstimator, wrap_angle
+from gaitml.pdr.heading import BaseHeadingSource
 
-__all__ = ["HeuristicDriftElimination", "estimate_drift_rate", "hde_correct"]
+__all__ = ["HeuristicDriftElimination", "estimate_drift_rate", "hde_correct", "hde_heading"]
 
 #: paper 003 sec. 4.2: 12 dominant directions (30 deg sectors).
 N_DIRECTIONS = 12
@@ -207,20 +208,77 @@ def hde_correct(
     return wrap_angle(corrected), correction, straight
 
 
-class HeuristicDriftElimination:
-    """Buffered HDE on per-step headings (paper 003 sec. 4.2); see :func:`hde_correct`.
+def hde_heading(
+    heading_rad,
+    step_duration_s=None,
+    step_t_s=None,
+    *,
+    drift_rate: str = "fit",
+    n_directions: int = N_DIRECTIONS,
+    reference_rad: float = 0.0,
+    **hde_params,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Remove a fitted constant drift rate (``drift_rate='fit'``, module Notes step 5), then :func:`hde_correct`.
+
+    Returns
+    -------
+    heading_rad, correction_rad, straight : as :func:`hde_correct`
+    drift_rate_rads : the constant rate removed first (0 with ``drift_rate='none'``)
+    """
+    psi = np.asarray(heading_rad, dtype=float).reshape(-1)
+    if drift_rate not in ("fit", "none"):
+        raise InputError(f"`drift_rate` must be 'fit' or 'none', got {drift_rate!r}.")
+    rate = 0.0
+    if drift_rate == "fit" and len(psi) > 1:
+        t = np.cumsum(np.full(len(psi), 0.5) if step_duration_s is None else step_duration_s) if step_t_s is None else step_t_s
+        t = np.asarray(t, dtype=float)
+        rate = estimate_drift_rate(psi, t, n_directions=n_directions, reference_rad=reference_rad)
+        psi = psi - rate * (t - t[0])
+    h, corr, straight = hde_correct(psi, step_duration_s, n_directions=n_directions, reference_rad=reference_rad, **hde_params)
+    return h, corr, straight, rate
+
+
+class HeuristicDriftElimination(BaseHeadingSource):
+    """Buffered HDE on the per-step gyro heading (paper 003 sec. 4.2); see :func:`hde_correct`.
+
+    Parameters
+    ----------
+    n_directions : int, default 12
+        Number of dominant directions, ``2 pi / n`` apart (paper 003: 12).
+    reference_rad : float, default 0.0
+        One dominant direction (rad, compass); the others follow every ``2 pi / n``.
+    feedback : float, default 0.01
+        Feedback coefficient (paper 003: 0.01).
+    feedback_per : {'sample', 'step'}, default 'sample'
+        Whether the feedback acts per sample or per step (module Notes, step 4).
+    buffer_steps : int, default 10
+        Length of the step buffer.
+    straight_spread_rad, straight_trend_rad : float, default 8 / 2 deg
+        Straight-walk tests on the buffer (module Notes, step 2).
+    lookahead_steps : int, default 0
+        Steps after the current one included in the buffer (offline only).
+    persist_steps : int, default 3
+        Consecutive straight steps before the feedback acts.
+    max_error_rad : float, default 5 deg
+        Larger errors against the nearest dominant direction are ignored.
+    drift_rate : {'fit', 'none'}, default 'fit'
+        Remove a fitted constant drift rate first (module Notes, step 5).
+    attitude : AttitudeEstimator, optional
+        Source of the gyro heading (default ``AttitudeEstimator()``).
 
     Attributes
     ----------
     heading_rad_ : corrected step headings.
+    gyro_heading_rad_ : the raw (gyro) step headings corrected.
     correction_rad_ : correction applied per step.
     straight_ : bool per step, buffer judged straight.
     drift_rate_rads_ : fitted constant drift rate removed first (0 with ``drift_rate='none'``).
-
-    Parameters
-    ----------
-    See :func:`hde_correct`; ``drift_rate`` : {'fit', 'none'} (module Notes, step 5).
     """
+
+    name = "hde"
+    _positive = ("n_directions", "buffer_steps", "straight_spread_rad", "straight_trend_rad", "max_error_rad")
+    _non_negative = ("feedback", "lookahead_steps", "persist_steps")
+    _integer = ("n_directions", "buffer_steps", "lookahead_steps", "persist_steps")
 
     def __init__(
         self,
@@ -236,6 +294,7 @@ class HeuristicDriftElimination:
         persist_steps: int = 3,
         max_error_rad: float = np.deg2rad(5.0),
         drift_rate: str = "fit",
+        attitude: AttitudeEstimator | None = None,
     ):
         self.n_directions = n_directions
         self.reference_rad = reference_rad
@@ -248,29 +307,14 @@ class HeuristicDriftElimination:
         self.persist_steps = persist_steps
         self.max_error_rad = max_error_rad
         self.drift_rate = drift_rate
+        self.attitude = attitude
 
-    def correct(self, heading_rad, step_duration_s=None, step_t_s=None) -> HeuristicDriftElimination:
-        psi = np.asarray(heading_rad, dtype=float).reshape(-1)
-        if self.drift_rate not in ("fit", "none"):
-            raise InputError(f"`drift_rate` must be 'fit' or 'none', got {self.drift_rate!r}.")
-        self.drift_rate_rads_ = 0.0
-        if self.drift_rate == "fit" and len(psi) > 1:
-            t = np.cumsum(np.full(len(psi), 0.5) if step_duration_s is None else step_duration_s) if step_t_s is None else step_t_s
-            t = np.asarray(t, dtype=float)
-            self.drift_rate_rads_ = estimate_drift_rate(psi, t, n_directions=self.n_directions, reference_rad=self.reference_rad)
-            psi = psi - self.drift_rate_rads_ * (t - t[0])
-        self.heading_rad_, self.correction_rad_, self.straight_ = hde_correct(
-            psi,
-            step_duration_s,
-            n_directions=self.n_directions,
-            reference_rad=self.reference_rad,
-            feedback=self.feedback,
-            feedback_per=self.feedback_per,
-            buffer_steps=self.buffer_steps,
-            straight_spread_rad=self.straight_spread_rad,
-            straight_trend_rad=self.straight_trend_rad,
-            lookahead_steps=self.lookahead_steps,
-            persist_steps=self.persist_steps,
-            max_error_rad=self.max_error_rad,
-        )
-        return self
+    def hde_params(self) -> dict:
+        """The keyword arguments of :func:`hde_heading`: every parameter but ``attitude``."""
+        params = self.get_params(deep=False)
+        del params["attitude"]
+        return params
+
+    def _heading(self, recording, steps, gyro_h, t_step, dur):
+        h, self.correction_rad_, self.straight_, self.drift_rate_rads_ = hde_heading(gyro_h, dur, t_step, **self.hde_params())
+        return h

@@ -23,11 +23,13 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from sklearn.base import clone
 
 from gaitml.errors import InputError
-from gaitml.pdr.attitude import AttitudeEstimator, step_headings, wrap_angle
-from gaitml.pdr.dwpca import DwPcaHeading
+from gaitml.pdr.attitude import AttitudeEstimator, wrap_angle
+from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading
 from gaitml.pdr.hde import HeuristicDriftElimination
+from gaitml.pdr.heading import BaseHeadingSource, GyroHeading
 from gaitml.pdr.step_length import StepLengthModel, step_length_features
 from gaitml.pdr.step_modes import MODE_ASSIGNMENTS, modes_from_windows, next_step_times, refine_mode_boundaries
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
@@ -35,7 +37,13 @@ from gaitml.recording import Recording
 
 __all__ = ["HEADING_SOURCES", "MODE_SOURCES", "PdrResult", "modes_from_labels", "modes_from_windows", "run_pdr"]
 
-HEADING_SOURCES = ("hde", "dwpca", "gyro", "dwpca-hde")
+#: name -> heading source class (``run_pdr(heading=...)``, ``gaitml pdr --heading``)
+HEADING_SOURCES: dict[str, type[BaseHeadingSource]] = {
+    "hde": HeuristicDriftElimination,
+    "dwpca": DwPcaHeading,
+    "gyro": GyroHeading,
+    "dwpca-hde": DwPcaHdeHeading,
+}
 MODE_SOURCES = ("model", "true", "forward")
 TRAJECTORY_COLUMNS = ("t_s", "x_m", "y_m", "heading_rad", "mode", "step_length_m")
 
@@ -97,11 +105,51 @@ def modes_from_labels(labels: np.ndarray, start, end) -> np.ndarray:
 
 
 def _detect(recording: Recording, detector):
+    """Run a step detector given by name or as an object (a clone: the caller's object is not modified)."""
     from gaitml.steps import get_detector
 
-    det = get_detector(detector) if isinstance(detector, str) else detector
+    det = get_detector(detector) if isinstance(detector, str) else clone(detector)
     det.detect(recording)
     return det.steps_, getattr(det, "segments_", None)
+
+
+def _heading_source(heading, *, attitude, hde, dwpca, initial_heading_rad: float) -> BaseHeadingSource:
+    """A new heading source: a registry name resolved with the optional ``hde`` / ``dwpca`` / ``attitude``
+    objects, or a clone of the given source; without an attitude of its own it gets ``attitude`` or
+    ``AttitudeEstimator(initial_heading_rad)``. The caller's objects are never modified."""
+    if isinstance(heading, str):
+        if heading not in HEADING_SOURCES:
+            raise InputError(f"unknown heading source {heading!r}; use one of {', '.join(HEADING_SOURCES)}.")
+        drift = clone(hde) if hde is not None else HeuristicDriftElimination(reference_rad=initial_heading_rad)
+        if heading == "gyro":
+            src = GyroHeading()
+        elif heading == "hde":
+            src = drift
+        else:
+            src = HEADING_SOURCES[heading](**(_dwpca_params(dwpca) if dwpca is not None else {}))
+            if heading == "dwpca-hde":
+                src.set_params(drift_correction=drift)
+    elif isinstance(heading, BaseHeadingSource):
+        src = (
+            HEADING_SOURCES.get(heading.name, type(heading))(**_dwpca_params(heading))
+            if isinstance(heading, DwPcaHeading)
+            else clone(heading)
+        )
+    else:
+        raise InputError(f"`heading` must be a heading source name ({', '.join(HEADING_SOURCES)}) or object, got {type(heading).__name__}.")
+    if src.attitude is None:
+        src.set_params(attitude=clone(attitude) if attitude is not None else AttitudeEstimator(initial_heading_rad=initial_heading_rad))
+    return src
+
+
+def _dwpca_params(dwpca: DwPcaHeading) -> dict:
+    """Parameters of a (fitted) DW-PCA source for a new one; a learned ``polarity_`` becomes ``polarity``."""
+    if not isinstance(dwpca, DwPcaHeading):
+        raise InputError(f"`dwpca` must be a DwPcaHeading, got {type(dwpca).__name__}.")
+    params = clone(dwpca).get_params(deep=False)
+    if hasattr(dwpca, "polarity_"):
+        params["polarity"] = dict(dwpca.polarity_)
+    return params
 
 
 def _resolve_step_length(step_length) -> tuple[StepLengthModel | None, str]:
@@ -155,11 +203,13 @@ def run_pdr(
     ----------
     recording : Recording with acc and gyro.
     model : TrainedModel, optional (needed for ``modes='model'``).
-    detector : str or detector object (``detect(rec).steps_``); default ``single-peak``.
+    detector : str or step detector object; default ``single-peak``.
+        A name is resolved by :data:`gaitml.steps.DETECTORS`; an object is cloned.
     steps : DataFrame, optional; a step table to use instead of running a detector.
-    heading : {'hde', 'dwpca', 'gyro', 'dwpca-hde'}
+    heading : {'hde', 'dwpca', 'gyro', 'dwpca-hde'} or heading source object
         Buffered HDE on the gyro heading (paper 003), DW-PCA step direction (paper 002),
-        the raw gyro heading, or DW-PCA followed by HDE.
+        the raw gyro heading, or DW-PCA followed by HDE (:data:`HEADING_SOURCES`); or a
+        configured :class:`~gaitml.pdr.heading.BaseHeadingSource` (cloned).
     modes : {'model', 'true', 'forward'}
         ``model`` requires ``model``; ``true`` requires per-sample labels; ``forward``
         treats every step as a walk step (traditional PDR).
@@ -173,11 +223,15 @@ def run_pdr(
         adaptive) and keeps ``nearest`` otherwise (the FSM detectors time a step by its
         end, where the nearest window already does better than the refinement).
     step_length : None (stated defaults), StepLengthModel, JSON path, or ``'reference'``
-        (nearest true step length from ``reference['steps']``, for diagnostics only).
+        (nearest true step length from ``reference['steps']``, for diagnostics only). A
+        given model is only read (``predict``), so its fitted coefficients are used.
     update : {'multi', 'forward'}, default ``'forward'`` when ``modes='forward'`` else ``'multi'``.
     initial_heading_rad : compass heading at the first sample (no magnetometer).
     start_xy_m : start position.
-    attitude, hde, dwpca : configured estimators (defaults otherwise).
+    attitude, hde, dwpca : configured estimators used with a heading *name* (defaults
+        otherwise: ``AttitudeEstimator(initial_heading_rad)``,
+        ``HeuristicDriftElimination(reference_rad=initial_heading_rad)``, ``DwPcaHeading()``);
+        cloned, never modified.
 
     Returns
     -------
@@ -185,8 +239,7 @@ def run_pdr(
     """
     if not isinstance(recording, Recording):
         raise InputError(f"`recording` must be a gaitml Recording, got {type(recording).__name__}.")
-    if heading not in HEADING_SOURCES:
-        raise InputError(f"unknown heading source {heading!r}; use one of {', '.join(HEADING_SOURCES)}.")
+    source = _heading_source(heading, attitude=attitude, hde=hde, dwpca=dwpca, initial_heading_rad=initial_heading_rad)
     if modes not in MODE_SOURCES:
         raise InputError(f"unknown mode source {modes!r}; use one of {', '.join(MODE_SOURCES)}.")
     if mode_boundaries not in MODE_ASSIGNMENTS:
@@ -254,30 +307,16 @@ def run_pdr(
     lengths = np.where(np.isfinite(lengths), lengths, 0.0)
 
     # ---- heading
-    att = attitude or AttitudeEstimator(initial_heading_rad=initial_heading_rad)
-    att.estimate(recording)
-    gyro_h = step_headings(att.heading_rad_, start, np.maximum(end, start + 1)) if n else np.zeros(0)
-    dur = np.maximum(end - start, 1) / fs
-    if heading == "gyro":
-        theta = gyro_h
-    elif heading == "hde":
-        h = hde or HeuristicDriftElimination(reference_rad=initial_heading_rad)
-        theta = h.correct(gyro_h, dur, t_step).heading_rad_ if n else np.zeros(0)
-    else:  # dwpca, dwpca-hde
-        d = dwpca or DwPcaHeading()
-        win_start, win_end = start, np.maximum(end, start + 1)
-        if segments is not None and len(segments) == n and {"start", "end"} <= set(segments.columns):
-            win_start = segments["start"].to_numpy(np.int64)
-            win_end = segments["end"].to_numpy(np.int64)
-            notes.append("DW-PCA windows: the detector's S2..S6 segments")
-        lin = att.linear_acc_nav(recording)[:, :2]
-        pca_offsets = offsets if update == "multi" else np.zeros(n)
-        theta = d.estimate(lin, win_start, win_end, gyro_h, pca_offsets, step_modes).heading_rad_ if n else np.zeros(0)
-        if heading == "dwpca-hde" and n:
-            # DW-PCA works in the gyro-integrated navigation frame, so it inherits the gyro's
-            # yaw drift (paper 002 used the magnetometer-aided rotation vector); HDE removes it
-            h = hde or HeuristicDriftElimination(reference_rad=initial_heading_rad)
-            theta = h.correct(theta, dur, t_step).heading_rad_
+    heading_steps = steps.assign(mode=step_modes, mode_offset_rad=offsets if update == "multi" else np.zeros(n))
+    heading_steps.attrs = dict(steps.attrs)
+    if isinstance(source, DwPcaHeading) and segments is not None and len(segments) == n and {"start", "end"} <= set(segments.columns):
+        heading_steps = heading_steps.assign(
+            window_start=segments["start"].to_numpy(np.int64), window_end=segments["end"].to_numpy(np.int64)
+        )
+        notes.append("DW-PCA windows: the detector's S2..S6 segments")
+    source.estimate(recording, heading_steps)
+    gyro_h = source.gyro_heading_rad_
+    theta = source.heading_rad_
 
     # ---- positions
     if update == "multi":
@@ -302,7 +341,7 @@ def run_pdr(
     steps["heading_rad"] = wrap_angle(theta)
     info = {
         "detector": det_name,
-        "heading": heading,
+        "heading": heading if isinstance(heading, str) else source.name or type(source).__name__,
         "modes": modes,
         "mode_boundaries": mode_boundaries if modes == "model" else None,
         "update": update,

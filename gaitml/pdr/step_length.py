@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from gaitml._base import BaseAlgorithm
 from gaitml.consts import GRAVITY_MS2
 from gaitml.errors import InputError
 from gaitml.io import write_json
@@ -111,7 +112,7 @@ def step_length_features(acc: np.ndarray, steps: pd.DataFrame, sampling_rate_hz:
     return pd.DataFrame({"freq_hz": freq, "var_ms2sq": var, "a_max_ms2": amax, "a_min_ms2": amin}, index=steps.index)
 
 
-class StepLengthModel:
+class StepLengthModel(BaseAlgorithm):
     """Per-mode step length: linear eq. (12) for walk/side/backward, Weinberg eq. (13) for run.
 
     Parameters
@@ -131,30 +132,49 @@ class StepLengthModel:
     Paper 003 sec. 4.1, eqs. (12)-(13).
     """
 
+    _action_method = "fit"
+
     def __init__(self, coefficients: dict | None = None):
         self.coefficients = coefficients
-        self.coefficients_ = {m: ("linear", tuple(p)) for m, p in DEFAULT_LINEAR.items()}
-        self.coefficients_["run"] = ("weinberg", (DEFAULT_WEINBERG_K,))
-        for m, (kind, params) in (coefficients or {}).items():
-            self.coefficients_[m] = _validate_coef(m, kind, params)
-        self.fitted_modes_: list[str] = []
+
+    def _configured(self) -> dict:
+        """The stated defaults overridden by ``coefficients`` (validated)."""
+        coef = {m: ("linear", tuple(p)) for m, p in DEFAULT_LINEAR.items()}
+        coef["run"] = ("weinberg", (DEFAULT_WEINBERG_K,))
+        if self.coefficients is not None and not isinstance(self.coefficients, dict):
+            raise InputError(f"`coefficients` must be a dict mode -> (kind, params) or None, got {type(self.coefficients).__name__}.")
+        for m, value in (self.coefficients or {}).items():
+            try:
+                kind, params = value
+            except (TypeError, ValueError):
+                raise InputError(f"`coefficients` for mode {m!r} must be (kind, params), got {value!r}.") from None
+            coef[m] = _validate_coef(m, kind, params)
+        return coef
+
+    def coefficients_in_use(self) -> dict:
+        """The coefficients in use: fitted / calibrated ones, else the configured ones."""
+        return self.coefficients_ if hasattr(self, "coefficients_") else self._configured()
 
     # ------------------------------------------------------------------ fit
     def fit(self, features: pd.DataFrame, step_length_m, modes, *, min_steps: int = 5) -> StepLengthModel:
         """Least-squares fit per mode from steps with known lengths.
 
-        Modes with fewer than ``min_steps`` steps keep their current coefficients.
+        Starts from the configured coefficients (``coefficients`` over the stated
+        defaults); modes with fewer than ``min_steps`` steps keep them. Sets
+        ``coefficients_`` and ``fitted_modes_``.
         The linear model is fitted with ``numpy.linalg.lstsq`` on ``[1, f, var]``;
         when the design is rank deficient (e.g. constant cadence) the minimum-norm
         solution is used. Weinberg's K is the closed-form least-squares slope
         through the origin of L against ``(a_max - a_min)^(1/4)``.
         """
+        coef = self._configured()
         feats = _check_features(features)
         L = np.asarray(step_length_m, dtype=float).reshape(-1)
         modes = np.asarray(modes).astype(str).reshape(-1)
         if not (len(L) == len(modes) == len(feats)):
             raise InputError(f"features, step_length_m and modes must have the same length, got {len(feats)}, {len(L)}, {len(modes)}.")
         ok = np.isfinite(L) & np.isfinite(feats.to_numpy()).all(axis=1)
+        fitted: list[str] = []
         for m in map(str, np.unique(modes)):
             sel = ok & (modes == m)
             if sel.sum() < min_steps:
@@ -163,13 +183,14 @@ class StepLengthModel:
             if m in WEINBERG_MODES:
                 r = (np.maximum(f["a_max_ms2"] - f["a_min_ms2"], 0.0) ** 0.25).to_numpy()
                 k = float(r @ L[sel] / max(r @ r, 1e-12))
-                self.coefficients_[m] = ("weinberg", (k,))
+                coef[m] = ("weinberg", (k,))
             else:
                 X = np.column_stack([np.ones(sel.sum()), f["freq_hz"], f["var_ms2sq"]])
-                coef, *_ = np.linalg.lstsq(X, L[sel], rcond=None)
-                self.coefficients_[m] = ("linear", tuple(float(c) for c in coef))
-            if m not in self.fitted_modes_:
-                self.fitted_modes_.append(m)
+                c, *_ = np.linalg.lstsq(X, L[sel], rcond=None)
+                coef[m] = ("linear", tuple(float(v) for v in c))
+            fitted.append(m)
+        self.coefficients_ = coef
+        self.fitted_modes_ = fitted
         return self
 
     def calibrate(self, features: pd.DataFrame, modes, distance_m: float) -> StepLengthModel:
@@ -187,17 +208,22 @@ class StepLengthModel:
         if total <= 0:
             raise InputError("the calibration walk has no steps with a positive predicted length; check the step table.")
         s = distance_m / total
+        coef = dict(self.coefficients_in_use())
+        fitted = list(getattr(self, "fitted_modes_", []))
         for m in map(str, np.unique(np.asarray(modes).astype(str))):
             kind, params = self._coef(m)
-            self.coefficients_[m] = (kind, tuple(p * s for p in params))
-            if m not in self.fitted_modes_:
-                self.fitted_modes_.append(m)
+            coef[m] = (kind, tuple(p * s for p in params))
+            if m not in fitted:
+                fitted.append(m)
+        self.coefficients_ = coef
+        self.fitted_modes_ = fitted
         self.scale_ = s
         return self
 
     # -------------------------------------------------------------- predict
     def _coef(self, mode: str) -> tuple[str, tuple[float, ...]]:
-        return self.coefficients_.get(mode, self.coefficients_["walk"])
+        coef = self.coefficients_in_use()
+        return coef.get(mode, coef["walk"])
 
     def predict(self, features: pd.DataFrame, modes) -> np.ndarray:
         """Step length (m) per step, by its mode; shape (n,). Negative values clip to 0."""
@@ -220,8 +246,8 @@ class StepLengthModel:
     def to_dict(self) -> dict:
         return {
             "format": "gaitml-step-length-v1",
-            "coefficients": {m: {"kind": k, "params": list(p)} for m, (k, p) in self.coefficients_.items()},
-            "fitted_modes": list(self.fitted_modes_),
+            "coefficients": {m: {"kind": k, "params": list(p)} for m, (k, p) in self.coefficients_in_use().items()},
+            "fitted_modes": list(getattr(self, "fitted_modes_", [])),
         }
 
     @classmethod
@@ -231,6 +257,7 @@ class StepLengthModel:
                 "not a gaitml step length model (expected format 'gaitml-step-length-v1'); save one with StepLengthModel.save."
             )
         model = cls({m: (c["kind"], tuple(c["params"])) for m, c in d["coefficients"].items()})
+        model.coefficients_ = model._configured()
         model.fitted_modes_ = list(d.get("fitted_modes", []))
         return model
 

@@ -34,36 +34,11 @@ half windows because the features are per-sample statistics (means, variances,
 quantiles, correlations). Models on raw windows (``cnn1d``) need their own length, so
 for them the short windows are full model windows.
 
-Measured on the simulated routes of :mod:`gaitml.pdr.report` with the shipped demo
-model (per-step mode accuracy against the true labels, arc / rectangle; the method and
-its defaults were chosen on route seeds 0-9, seeds 10-19 are held out):
-
-==========================================================  ===============  ===============
-single-peak steps (step time = peak)                        seeds 0-9        seeds 10-19
-==========================================================  ===============  ===============
-nearest window at the peak (paper 003 as written)           0.966 / 0.968    0.965 / 0.960
-nearest window at the middle of the step (``middle``)       0.981 / 0.983    0.980 / 0.976
-refined                                                     0.984 / 0.983    0.978 / 0.981
-==========================================================  ===============  ===============
-
-Most of the gain over the paper's lookup is *where* the step looks: a step's motion
-runs from its peak to the next one, so a window centred on the peak already half
-belongs to the previous step. The refinement adds 0.0-0.4 points on top on three of
-the four sets and loses 0.2 on one. With ``adaptive`` steps (also peaks) it gives
-0.974 / 0.975 -> 0.983 / 0.987 (seeds 0-9). The FSM detectors (``ifsm``,
-``fsm-selflearn``, ``adfsm``, ``autocorr``) time a step by its *end*, where the nearest
-window is already at 0.984-0.988 and the refinement loses 0.4-0.8 points, so
-:func:`gaitml.pdr.run_pdr` (``mode_boundaries='auto'``) refines only peak-timed steps.
-
-The mean end-point error with single-peak steps drops on three of the four
-route/seed sets (arc 0.83 -> 0.62 % and rectangle 0.84 -> 0.82 % on seeds 0-9,
-rectangle 1.61 -> 1.30 % on seeds 10-19) and rises on one (arc 1.02 -> 1.15 % on seeds
-10-19): a walker whose modes are misread for several windows (route seed 10: 93-95 % of
-steps right) can end further off once its boundaries move (arc 1.51 -> 3.85 %).
-Reproduce: ``python -m gaitml.pdr.report --seeds 0 1 ... 19 --csv FILE`` (rows
-``model modes / hde``, ``... / nearest window`` and ``... / window at step middle``;
-the accuracies are in the ``mode_accuracy`` column of the CSV; other detectors:
-``run_pdr(..., detector="ifsm", mode_boundaries=...)``).
+:func:`gaitml.pdr.run_pdr` (``mode_boundaries='auto'``) refines only peak-timed steps
+(single-peak, adaptive): the FSM detectors time a step by its end, where the nearest
+window already does better than the refinement. The measured per-step mode accuracies
+and end-point errors of the three assignments, seed by seed, with the commands that
+reproduce them, are in ``experiments/reports/pdr-step-modes.md``.
 """
 
 from __future__ import annotations

@@ -1,12 +1,13 @@
 """Signal utilities: magnitude, smoothing, Butterworth filters, strided windows, gravity."""
 
-from gaitml.signal._basic import bandpass, butter_filter, lowpass, magnitude, moving_average
+from gaitml.signal._basic import bandpass, butter_filter, centered_window_sums, lowpass, magnitude, moving_average
 from gaitml.signal._orientation import gravity_components, gravity_direction, tilt_angles
 from gaitml.signal._windows import sliding_windows, window_params, window_starts
 
 __all__ = [
     "bandpass",
     "butter_filter",
+    "centered_window_sums",
     "gravity_components",
     "gravity_direction",
     "lowpass",

@@ -5,6 +5,7 @@ its parameters in ``__init__`` and has ``detect(recording) -> self`` leaving the
 DESIGN step table in ``steps_``.
 """
 
+from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._registry import DETECTORS, detect_steps, detector_names, get_detector
 from gaitml.steps._table import empty_step_table, make_step_table
 from gaitml.steps.adaptive import AdaptiveStepDetector
@@ -13,16 +14,19 @@ from gaitml.steps.autocorr import AutocorrStepDetector
 from gaitml.steps.fsm_selflearn import SelfLearningFSMStepDetector
 from gaitml.steps.ifsm import IFSMLiteralStepDetector, IFSMStepDetector
 from gaitml.steps.single_peak import SinglePeakStepDetector
+from gaitml.steps.zupt_magnitude import ZuptMagnitudeStepDetector
 
 __all__ = [
     "DETECTORS",
     "ADFSMStepDetector",
     "AdaptiveStepDetector",
     "AutocorrStepDetector",
+    "BaseStepDetector",
     "IFSMLiteralStepDetector",
     "IFSMStepDetector",
     "SelfLearningFSMStepDetector",
     "SinglePeakStepDetector",
+    "ZuptMagnitudeStepDetector",
     "detect_steps",
     "detector_names",
     "empty_step_table",

@@ -89,29 +89,3 @@ def segment_argmax(x: np.ndarray, start: np.ndarray, end: np.ndarray, *, minimum
     first = hit[np.concatenate([[True], seg[hit][1:] != seg[hit][:-1]])]
     out[nz] = pos[first]
     return out
-
-
-def moving_average_fast(x: np.ndarray, n_samples: int) -> np.ndarray:
-    """Centred moving average with slicing (same values as :func:`gaitml.signal.moving_average` ``mode='centered'``).
-
-    The window shrinks to the existing samples at the edges; for even
-    ``n_samples`` it reaches one more sample into the past.
-    """
-    x = np.asarray(x, dtype=float)
-    n = int(n_samples)
-    m = len(x)
-    if n <= 1 or m == 0:
-        return x.copy()
-    back = n // 2
-    fwd = n - 1 - back
-    c = np.concatenate([[0.0], np.cumsum(x)])
-    idx = np.arange(m)
-    out = np.empty(m)
-    lo_i, hi_i = back, m - fwd  # interior: full windows
-    if hi_i > lo_i:
-        out[lo_i:hi_i] = (c[lo_i + fwd + 1 : hi_i + fwd + 1] - c[lo_i - back : hi_i - back]) / n
-    edge = np.concatenate([idx[: min(lo_i, m)], idx[max(hi_i, lo_i, 0) :]])
-    lo = np.maximum(edge - back, 0)
-    hi = np.minimum(edge + fwd + 1, m)
-    out[edge] = (c[hi] - c[lo]) / (hi - lo)
-    return out

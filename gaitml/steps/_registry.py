@@ -2,78 +2,49 @@
 
 from __future__ import annotations
 
-import importlib
-
 import pandas as pd
 
-from gaitml.errors import InputError, NotAvailableError
+from gaitml.errors import InputError
 from gaitml.recording import Recording
+from gaitml.steps._base import BaseStepDetector
+from gaitml.steps.adaptive import AdaptiveStepDetector
+from gaitml.steps.adfsm import ADFSMStepDetector
+from gaitml.steps.autocorr import AutocorrStepDetector
+from gaitml.steps.fsm_selflearn import SelfLearningFSMStepDetector
+from gaitml.steps.ifsm import IFSMLiteralStepDetector, IFSMStepDetector
+from gaitml.steps.single_peak import SinglePeakStepDetector
+from gaitml.steps.zupt_magnitude import ZuptMagnitudeStepDetector
 
 __all__ = ["DETECTORS", "get_detector", "detect_steps", "detector_names"]
 
-#: CLI name -> (module, class name); imported on first use.
-_SPECS = {
-    "single-peak": ("gaitml.steps.single_peak", "SinglePeakStepDetector"),
-    "ifsm": ("gaitml.steps.ifsm", "IFSMStepDetector"),
-    "ifsm-literal": ("gaitml.steps.ifsm", "IFSMLiteralStepDetector"),
-    "adfsm": ("gaitml.steps.adfsm", "ADFSMStepDetector"),
-    "autocorr": ("gaitml.steps.autocorr", "AutocorrStepDetector"),
-    "fsm-selflearn": ("gaitml.steps.fsm_selflearn", "SelfLearningFSMStepDetector"),
-    "adaptive": ("gaitml.steps.adaptive", "AdaptiveStepDetector"),
-    "zupt-magnitude": ("gaitml.steps.zupt_magnitude", "ZuptMagnitudeStepDetector"),
+#: CLI name -> step detector class
+DETECTORS: dict[str, type[BaseStepDetector]] = {
+    "single-peak": SinglePeakStepDetector,
+    "ifsm": IFSMStepDetector,
+    "ifsm-literal": IFSMLiteralStepDetector,
+    "adfsm": ADFSMStepDetector,
+    "autocorr": AutocorrStepDetector,
+    "fsm-selflearn": SelfLearningFSMStepDetector,
+    "adaptive": AdaptiveStepDetector,
+    "zupt-magnitude": ZuptMagnitudeStepDetector,
 }
-#: detectors written elsewhere: imported lazily, a clear error when missing
-_LAZY = ("zupt-magnitude",)
 
 
 def detector_names() -> tuple[str, ...]:
     """All registered step detector names."""
-    return tuple(_SPECS)
+    return tuple(DETECTORS)
 
 
-def _load(name: str) -> type:
-    module, cls = _SPECS[name]
-    try:
-        mod = importlib.import_module(module)
-    except ModuleNotFoundError as exc:
-        if exc.name == module:
-            raise NotAvailableError(
-                f"the step detector {name!r} is not available in this checkout ({module} is missing); choose another --detector."
-            ) from exc
-        raise
-    try:
-        return getattr(mod, cls)
-    except AttributeError as exc:
-        raise NotAvailableError(f"the step detector {name!r} is not available: {module} has no {cls}; choose another --detector.") from exc
-
-
-class _Detectors(dict):
-    """``{name: class}`` for the built-in detectors (``zupt-magnitude`` resolves lazily)."""
-
-    def __missing__(self, key):
-        if key in _LAZY:
-            return _load(key)
-        raise KeyError(key)
-
-    def __contains__(self, key):
-        return dict.__contains__(self, key) or key in _LAZY
-
-
-DETECTORS = _Detectors({name: _load(name) for name in _SPECS if name not in _LAZY})
-
-
-def get_detector(name: str, **params):
+def get_detector(name: str, **params) -> BaseStepDetector:
     """Instantiate the step detector registered as ``name`` with ``params``.
 
     Raises
     ------
     InputError
-        For an unknown name (the message lists the valid ones) or bad parameters.
-    NotAvailableError
-        If ``zupt-magnitude`` is requested but its module is not in this checkout.
+        For an unknown name (the message lists the valid ones) or unknown parameters.
     """
-    if name not in _SPECS:
-        raise InputError(f"unknown step detector {name!r}; valid names: {', '.join(_SPECS)}.")
+    if name not in DETECTORS:
+        raise InputError(f"unknown step detector {name!r}; valid names: {', '.join(DETECTORS)}.")
     cls = DETECTORS[name]
     try:
         return cls(**params)

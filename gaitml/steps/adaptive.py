@@ -36,7 +36,8 @@ import scipy.signal
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import bandpass, sliding_windows
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive
+from gaitml.steps._base import BaseStepDetector
+from gaitml.steps._common import acc_magnitude, as_recording
 from gaitml.steps._table import make_step_table
 
 __all__ = ["AdaptiveStepDetector", "local_step_period", "adaptive_steps"]
@@ -169,12 +170,13 @@ def adaptive_steps(
     return {"peak": peaks, "y": y, "period_s": np.interp(peaks, centres, per), "correlation": np.interp(peaks, centres, corr)}
 
 
-class AdaptiveStepDetector:
+class AdaptiveStepDetector(BaseStepDetector):
     """Step detector for any carrying position: band-pass, cadence, adaptive peak picking.
 
     Parameters
     ----------
     band_hz : (float, float), default (0.5, 3.0)
+        Gait band of the zero-phase Butterworth band-pass (Hz).
     window_s, hop_s : float, default 4.0 / 1.0
         Cadence windows.
     min_period_s, max_period_s : float, default 0.3 / 0.8
@@ -201,6 +203,7 @@ class AdaptiveStepDetector:
     """
 
     name = "adaptive"
+    _positive = ("window_s", "hop_s", "min_period_s", "max_period_s", "rms_window_s", "min_distance_ratio")
 
     def __init__(
         self,
@@ -231,30 +234,15 @@ class AdaptiveStepDetector:
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
         """Detect steps in ``recording``; results in ``steps_``."""
+        params = self._validate_params()
         rec = as_recording(recording, "adaptive step detection", min_duration_s=2.0)
         fs = rec.sampling_rate_hz
-        for name in ("window_s", "hop_s", "min_period_s", "max_period_s", "rms_window_s", "min_distance_ratio"):
-            check_positive(name, getattr(self, name))
         lo, hi = (float(v) for v in self.band_hz)
         if not 0 < lo < hi:
             raise InputError(f"`band_hz` must be (low, high) with 0 < low < high, got {self.band_hz!r}.")
         if self.min_period_s >= self.max_period_s:
             raise InputError(f"`min_period_s` ({self.min_period_s}) must be below `max_period_s` ({self.max_period_s}).")
-        r = adaptive_steps(
-            acc_magnitude(rec),
-            fs,
-            band_hz=(lo, hi),
-            window_s=float(self.window_s),
-            hop_s=float(self.hop_s),
-            min_period_s=float(self.min_period_s),
-            max_period_s=float(self.max_period_s),
-            half_lag_ratio=float(self.half_lag_ratio),
-            prominence_ratio=float(self.prominence_ratio),
-            rms_window_s=float(self.rms_window_s),
-            min_correlation=float(self.min_correlation),
-            min_rms_ms2=float(self.min_rms_ms2),
-            min_distance_ratio=float(self.min_distance_ratio),
-        )
+        r = adaptive_steps(acc_magnitude(rec), fs, **params)
         p = r["peak"]
         per = r["period_s"]
         half = np.rint(per * fs / 2).astype(np.int64)

@@ -15,20 +15,19 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from gaitml.errors import InputError
 from gaitml.recording import Recording
+from gaitml.signal import moving_average
+from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import (
     acc_magnitude,
     as_recording,
-    check_positive,
     map_indices,
-    moving_average_fast,
     resample_signal,
     segment_argmax,
 )
 from gaitml.steps._table import make_step_table
 
-__all__ = ["ADFSMStepDetector", "adfsm_steps", "adfsm_steps_loop"]
+__all__ = ["ADFSMStepDetector", "adfsm_steps"]
 
 #: our choice (paper 000 gives none): consecutive rising differences that confirm a climb (50 Hz samples)
 MIN_RISES = 5
@@ -42,10 +41,10 @@ SMOOTHING_SAMPLES = 5
 DESIGN_RATE_HZ = 50.0
 
 
-def adfsm_steps_loop(
+def adfsm_steps(
     A: np.ndarray, *, min_rises: int = MIN_RISES, min_falls: int = MIN_FALLS, flat_diff_ms2: float = FLAT_DIFF_MS2
 ) -> np.ndarray:
-    """AD-FSM as a plain per-sample loop (reference for :func:`adfsm_steps`).
+    """The AD-FSM over a smoothed magnitude ``A`` (m/s^2, 50 Hz samples).
 
     States: 0 valley (count consecutive rises; a fall clears the count; at
     ``min_rises`` -> 1), 1 rising (a fall -> 2 with one fall counted), 2 falling
@@ -54,43 +53,13 @@ def adfsm_steps_loop(
     counted, otherwise the fall was a pseudo-peak -> 1). Flat differences
     (``|d| <= flat_diff_ms2``) change nothing.
 
-    Returns int array (n_steps, 2): trough sample and completion sample.
-    """
-    A = np.asarray(A, dtype=float).tolist()
-    s, pc, nc = 0, 0, 0
-    out = []
-    for k in range(1, len(A)):
-        d = A[k] - A[k - 1]
-        if d > flat_diff_ms2:
-            if s == 0:
-                pc += 1
-                if pc >= min_rises:
-                    s = 1
-            elif s == 2:
-                if nc >= min_falls:
-                    out.append((k - 1, k))
-                    s, pc = 0, 1
-                    if pc >= min_rises:
-                        s = 1
-                else:
-                    s = 1
-        elif d < -flat_diff_ms2:
-            if s == 0:
-                pc = 0
-            elif s == 1:
-                s, nc = 2, 1
-            else:
-                nc += 1
-    return np.asarray(out, dtype=np.int64).reshape(-1, 2)
-
-
-def adfsm_steps(
-    A: np.ndarray, *, min_rises: int = MIN_RISES, min_falls: int = MIN_FALLS, flat_diff_ms2: float = FLAT_DIFF_MS2
-) -> np.ndarray:
-    """AD-FSM over runs of equal-sign differences (same result as :func:`adfsm_steps_loop`).
-
     The signs of the differences are computed with numpy and grouped into runs
-    (flat differences dropped); the three-state machine then steps once per run.
+    (flat differences dropped); the machine then steps once per run, which gives
+    the same result as stepping once per sample (``tests/steps/reference_fsm.py``).
+
+    Returns
+    -------
+    int array (n_steps, 2): trough sample and completion sample.
     """
     A = np.asarray(A, dtype=float)
     if len(A) < 2:
@@ -131,7 +100,7 @@ def adfsm_steps(
     return np.asarray(out, dtype=np.int64).reshape(-1, 2)
 
 
-class ADFSMStepDetector:
+class ADFSMStepDetector(BaseStepDetector):
     """AD-FSM step detector (paper 000's baseline, its ref. [24]).
 
     Parameters
@@ -167,6 +136,9 @@ class ADFSMStepDetector:
     """
 
     name = "adfsm"
+    _positive = ("min_rises", "min_falls", "smoothing_samples")
+    _non_negative = ("flat_diff_ms2",)
+    _integer = ("min_rises", "min_falls", "smoothing_samples")
 
     def __init__(
         self,
@@ -183,15 +155,12 @@ class ADFSMStepDetector:
 
     def detect(self, recording: Recording) -> ADFSMStepDetector:
         """Detect steps in ``recording``; results in ``steps_``."""
+        params = self._validate_params()
+        smoothing = int(params.pop("smoothing_samples"))
         rec = as_recording(recording, "adfsm step detection")
-        for name in ("min_rises", "min_falls", "smoothing_samples"):
-            v = getattr(self, name)
-            if int(v) != v or v < 1:
-                raise InputError(f"`{name}` must be a positive integer, got {v!r}.")
-        check_positive("flat_diff_ms2", self.flat_diff_ms2, allow_zero=True)
         fs = rec.sampling_rate_hz
-        A = moving_average_fast(resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ), int(self.smoothing_samples))
-        ev = adfsm_steps(A, min_rises=int(self.min_rises), min_falls=int(self.min_falls), flat_diff_ms2=float(self.flat_diff_ms2))
+        A = moving_average(resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ), smoothing)
+        ev = adfsm_steps(A, **params)
         trough, end = ev[:, 0], ev[:, 1]
         start = np.empty_like(end)
         if len(end):

@@ -27,7 +27,9 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive, moving_average_fast
+from gaitml.signal import moving_average
+from gaitml.steps._base import BaseStepDetector
+from gaitml.steps._common import acc_magnitude, as_recording, check_positive
 from gaitml.steps._table import make_step_table
 
 __all__ = ["AutocorrStepDetector", "window_step_periods", "autocorr_steps"]
@@ -94,13 +96,23 @@ def autocorr_steps(period_samples_per_window: np.ndarray, window_samples: int, n
     return ends.astype(np.int64), per[ends]
 
 
-class AutocorrStepDetector:
+class AutocorrStepDetector(BaseStepDetector):
     """Autocorrelation step counter (paper 000's baseline, its ref. [14]).
 
     Parameters
     ----------
-    window_s, min_period_s, max_period_s, min_correlation, dominance, min_std_ms2, smoothing_s
-        See the module docstring; all ours except the smoothing of paper 000.
+    window_s : float, default 2.0
+        Fixed analysis window (s), ours.
+    min_period_s, max_period_s : float, default 0.3 / 1.0
+        Step periods searched (s), ours.
+    min_correlation : float, default 0.3
+        Normalised autocorrelation a walking window reaches, ours.
+    dominance : float, default 0.7
+        A "dominant" peak reaches this fraction of the largest one in range, ours.
+    min_std_ms2 : float, default 0.5
+        A still window has a smaller standard deviation of |acc| (m/s^2), ours.
+    smoothing_s : float, default 0.1
+        Moving average of |acc| (paper 000 sec. 2.1: 5 samples at 50 Hz).
 
     Attributes
     ----------
@@ -120,6 +132,8 @@ class AutocorrStepDetector:
     """
 
     name = "autocorr"
+    _positive = ("window_s", "min_period_s", "max_period_s", "smoothing_s")
+    _non_negative = ("min_std_ms2",)
 
     def __init__(
         self,
@@ -142,6 +156,7 @@ class AutocorrStepDetector:
 
     def detect(self, recording: Recording) -> AutocorrStepDetector:
         """Detect steps in ``recording``; results in ``steps_`` and ``windows_``."""
+        self._validate_params()
         rec = as_recording(recording, "autocorr step detection", min_duration_s=float(self.window_s))
         fs = rec.sampling_rate_hz
         check_positive("window_s", self.window_s)
@@ -153,7 +168,7 @@ class AutocorrStepDetector:
                 f"need 1 <= min_period_s * fs < max_period_s * fs < window_s * fs - 2, got {lo}, {hi}, {L} samples; "
                 "choose a window longer than the longest period."
             )
-        x = moving_average_fast(acc_magnitude(rec), max(1, int(round(self.smoothing_s * fs))))
+        x = moving_average(acc_magnitude(rec), max(1, int(round(self.smoothing_s * fs))))
         per, rpk = window_step_periods(
             x,
             fs,

@@ -28,6 +28,7 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import lowpass
+from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, check_positive, segment_argmax
 from gaitml.steps._table import make_step_table
 
@@ -312,7 +313,7 @@ def learn_thresholds(a, thresholds, *, max_step_samples, end_timeout_samples, al
     return th, hist
 
 
-class SelfLearningFSMStepDetector:
+class SelfLearningFSMStepDetector(BaseStepDetector):
     """FSM step detector with threshold self-learning (paper 002 sec. 2).
 
     Parameters
@@ -321,7 +322,7 @@ class SelfLearningFSMStepDetector:
         Initial Thr, Thrpp, Thrnp, Thrneg (paper 002 Table 1: 10.3 / 10.4 / 9.3 / 9.4).
     alpha, beta : float, default 0.9 / 1.3
         Tolerance factors of eqs. (2)-(3) (alpha < 1, beta > 1; values ours, see
-    the module constants).
+        the module constants).
     learn_steps : int, default 15
         Length of the learning phase in steps (sec. 2.3: about 15 steps / 10 s).
         0 disables learning (fixed thresholds).
@@ -368,6 +369,9 @@ class SelfLearningFSMStepDetector:
     """
 
     name = "fsm-selflearn"
+    _positive = ("lowpass_hz", "max_step_s", "end_timeout_s")
+    _non_negative = ("learn_steps",)
+    _integer = ("learn_steps",)
 
     def __init__(
         self,
@@ -396,6 +400,7 @@ class SelfLearningFSMStepDetector:
 
     def detect(self, recording: Recording) -> SelfLearningFSMStepDetector:
         """Learn the thresholds on the start of ``recording``, then count its steps."""
+        self._validate_params()
         rec = as_recording(recording, "fsm-selflearn step detection")
         fs = rec.sampling_rate_hz
         if int(self.learn_steps) != self.learn_steps or self.learn_steps < 0:

@@ -20,10 +20,12 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive, map_indices, moving_average_fast, resample_signal
+from gaitml.signal import moving_average
+from gaitml.steps._base import BaseStepDetector
+from gaitml.steps._common import acc_magnitude, as_recording, map_indices, resample_signal
 from gaitml.steps._table import make_step_table
 
-__all__ = ["IFSMStepDetector", "IFSMLiteralStepDetector", "ifsm_steps", "ifsm_steps_loop", "IFSM_READINGS"]
+__all__ = ["IFSMStepDetector", "IFSMLiteralStepDetector", "ifsm_steps", "IFSM_READINGS"]
 
 #: paper 000 Table 1: A_Thr = 9.81 m/s^2 (enter s1)
 MAGNITUDE_THRESHOLD_MS2 = 9.81
@@ -56,68 +58,6 @@ def _check_reading(count_entry, inclusive, end_condition):
         raise InputError(f"`end_condition` must be 'recovered' or 'always', got {end_condition!r}.")
 
 
-def ifsm_steps_loop(
-    A: np.ndarray,
-    *,
-    magnitude_threshold_ms2: float = MAGNITUDE_THRESHOLD_MS2,
-    diff_threshold_ms2: float = DIFF_THRESHOLD_MS2,
-    first_climbs: int = FIRST_CLIMBS,
-    descents: int = DESCENTS,
-    second_climbs: int = SECOND_CLIMBS,
-    disturb_descents: int = DISTURB_DESCENTS,
-    end_tolerance_ms2: float = END_TOLERANCE_MS2,
-    count_entry: bool = True,
-    inclusive: bool = True,
-    end_condition: str = "recovered",
-) -> np.ndarray:
-    """The IFSM as a plain per-sample loop (reference for :func:`ifsm_steps`).
-
-    Returns an int array (n_steps, 4): ``t0`` (s0 -> s1), peak (s2), trough (s4)
-    and ``t_e`` (s6) sample of each step. See :func:`ifsm_steps` for the states.
-    """
-    _check_reading(count_entry, inclusive, end_condition)
-    A = np.asarray(A, dtype=float).tolist()
-    n = len(A)
-    off = 0 if inclusive else 1
-    c1, cd, c2 = first_climbs + off, descents + off, second_climbs + off
-    at, ad = magnitude_threshold_ms2, diff_threshold_ms2
-    lo_end = at - end_tolerance_ms2
-    s = 0
-    tc = td = 0
-    t0 = kp = kt = 0
-    out = []
-    for k in range(1, n - 1):
-        a = A[k]
-        d = a - A[k - 1]
-        if s == 0:
-            tc = td = 0
-            if a > at:
-                s, t0 = 1, k
-                if not count_entry:
-                    continue
-        if s == 1:
-            if d > ad:
-                tc += 1
-            elif d < -ad:
-                td += 1
-            if td >= disturb_descents:  # noise: back to s0
-                s = 0
-            elif tc >= c1 and a > A[k - 1] and a > A[k + 1]:  # s2 peak, then s3
-                s, td, kp = 3, 0, k
-        elif s == 3:
-            if d < -ad:
-                td += 1
-            if td >= cd and a < A[k - 1] and a < A[k + 1]:  # s4 trough, then s5
-                s, tc, kt = 5, 0, k
-        elif s == 5:
-            if d > ad:
-                tc += 1
-            if tc >= c2 and (end_condition == "always" or a > lo_end):  # s6: one step
-                out.append((t0, kp, kt, k))
-                s = 0
-    return np.asarray(out, dtype=np.int64).reshape(-1, 4)
-
-
 def ifsm_steps(
     A: np.ndarray,
     *,
@@ -144,8 +84,9 @@ def ifsm_steps(
     end s6 when they pass ``second_climbs`` and the end condition holds; s6
     counts the step (``t_e``) and returns to s0.
 
-    The machine is evaluated exactly as the per-sample loop
-    :func:`ifsm_steps_loop` would, but the Python loop runs over steps. The
+    The machine is evaluated exactly as a per-sample loop over the states would
+    (``tests/steps/reference_fsm.py`` keeps that loop as the test reference), but
+    the Python loop runs over steps. The
     counters are cumulative sums, so "the first sample where a counter reaches
     c" is a binary search; the outcome of s1 (peak or noise reset) depends only
     on t_0 and is computed for every candidate t_0 at once, the trough for
@@ -174,6 +115,7 @@ def ifsm_steps(
     d = np.empty(n)
     d[0] = 0.0
     np.subtract(A[1:], A[:-1], out=d[1:])
+    # eq. (2): climbs / descents counted as cumulative sums, so 'the first k where a counter reaches c' is a search
     CU = np.cumsum(d > diff_threshold_ms2)
     CD = np.cumsum(d < -diff_threshold_ms2)
     last = n - 2
@@ -212,6 +154,8 @@ def ifsm_steps(
     end_of = next_in(ends, np.searchsorted(CU, CU[lmin] + c2, side="left"))
     above_l, succ_l, kpeak_l = above.tolist(), succ.tolist(), k_peak.tolist()
     lmax_l, lmin_l, trough_l, end_l = lmax.tolist(), lmin.tolist(), trough_of.tolist(), end_of.tolist()
+    # one iteration per detected step: from sample `cur` the first t0 whose s1 ends in a peak (s0 -> s1 -> s2),
+    # then that peak's trough (s3 -> s4) and that trough's end (s5 -> s6); s6 hands back to s0 at ke + 1
     out = []
     cur = 1
     while True:
@@ -230,7 +174,7 @@ def ifsm_steps(
     return np.asarray(out, dtype=np.int64).reshape(-1, 4)
 
 
-class IFSMStepDetector:
+class IFSMStepDetector(BaseStepDetector):
     """Improved finite state machine step detector (paper 000 sec. 2, Table 1).
 
     Parameters
@@ -299,6 +243,9 @@ class IFSMStepDetector:
     """
 
     name = "ifsm"
+    _positive = ("first_climbs", "descents", "second_climbs", "disturb_descents", "smoothing_samples")
+    _non_negative = ("diff_threshold_ms2", "end_tolerance_ms2")
+    _integer = _positive
 
     def __init__(
         self,
@@ -323,36 +270,23 @@ class IFSMStepDetector:
         self.end_tolerance_ms2 = end_tolerance_ms2
         self.smoothing_samples = smoothing_samples
 
-    def _params(self) -> dict:
-        if self.reading not in IFSM_READINGS:
-            raise InputError(f"`reading` must be one of {sorted(IFSM_READINGS)}, got {self.reading!r}.")
-        for name in ("first_climbs", "descents", "second_climbs", "disturb_descents", "smoothing_samples"):
-            v = getattr(self, name)
-            if int(v) != v or v < 1:
-                raise InputError(f"`{name}` must be a positive integer, got {v!r}.")
-        check_positive("diff_threshold_ms2", self.diff_threshold_ms2, allow_zero=True)
-        check_positive("end_tolerance_ms2", self.end_tolerance_ms2, allow_zero=True)
-        count_entry, inclusive, end_condition = IFSM_READINGS[self.reading]
-        return dict(
-            magnitude_threshold_ms2=float(self.magnitude_threshold_ms2),
-            diff_threshold_ms2=float(self.diff_threshold_ms2),
-            first_climbs=int(self.first_climbs),
-            descents=int(self.descents),
-            second_climbs=int(self.second_climbs),
-            disturb_descents=int(self.disturb_descents),
-            end_tolerance_ms2=float(self.end_tolerance_ms2),
-            count_entry=count_entry,
-            inclusive=inclusive,
-            end_condition=end_condition,
-        )
+    def _core_params(self) -> dict:
+        """The keyword arguments of :func:`ifsm_steps` (validated parameters, reading resolved)."""
+        params = self._validate_params()
+        reading = params.pop("reading")
+        if reading not in IFSM_READINGS:
+            raise InputError(f"`reading` must be one of {sorted(IFSM_READINGS)}, got {reading!r}.")
+        del params["smoothing_samples"]
+        count_entry, inclusive, end_condition = IFSM_READINGS[reading]
+        return dict(params, count_entry=count_entry, inclusive=inclusive, end_condition=end_condition)
 
     def detect(self, recording: Recording) -> IFSMStepDetector:
         """Detect steps in ``recording``; results in ``steps_``."""
         rec = as_recording(recording, f"{self.name} step detection")
-        params = self._params()
+        params = self._core_params()
         fs = rec.sampling_rate_hz
         A = resample_signal(acc_magnitude(rec), fs, DESIGN_RATE_HZ)
-        A = moving_average_fast(A, int(self.smoothing_samples))
+        A = moving_average(A, int(self.smoothing_samples))
         ev = ifsm_steps(A, **params)
         n = rec.n_samples
         t0, kp, kt, te = (map_indices(ev[:, i], DESIGN_RATE_HZ, fs, n) for i in range(4))
@@ -363,10 +297,54 @@ class IFSMStepDetector:
 
 
 class IFSMLiteralStepDetector(IFSMStepDetector):
-    """The IFSM of paper 000 with its text read literally (see :class:`IFSMStepDetector` Notes)."""
+    """The IFSM of paper 000 with its text read literally (see :class:`IFSMStepDetector` Notes).
+
+    Parameters
+    ----------
+    reading : {'literal', 'reproduce'}, default 'literal'
+        How to read the printed text (:class:`IFSMStepDetector` Notes).
+    magnitude_threshold_ms2 : float, default 9.81
+        A_T (Table 1).
+    diff_threshold_ms2 : float, default 0.04
+        A_D^T (Table 1).
+    first_climbs, descents, second_climbs : int, default 4 / 7 / 5
+        T_C^1, T_D^T, T_C^2 (Table 1), samples at 50 Hz.
+    disturb_descents : int, default 3
+        T_C^D (Table 1).
+    end_tolerance_ms2 : float, default 0.2
+        delta (Table 1).
+    smoothing_samples : int, default 5
+        Moving average (sec. 2.1), centred, at 50 Hz.
+
+    Attributes
+    ----------
+    steps_ : DataFrame
+        As :class:`IFSMStepDetector`.
+    """
 
     name = "ifsm-literal"
 
-    def __init__(self, **params):
-        params.setdefault("reading", "literal")
-        super().__init__(**params)
+    def __init__(
+        self,
+        *,
+        reading: str = "literal",
+        magnitude_threshold_ms2: float = MAGNITUDE_THRESHOLD_MS2,
+        diff_threshold_ms2: float = DIFF_THRESHOLD_MS2,
+        first_climbs: int = FIRST_CLIMBS,
+        descents: int = DESCENTS,
+        second_climbs: int = SECOND_CLIMBS,
+        disturb_descents: int = DISTURB_DESCENTS,
+        end_tolerance_ms2: float = END_TOLERANCE_MS2,
+        smoothing_samples: int = SMOOTHING_SAMPLES,
+    ):
+        super().__init__(
+            reading=reading,
+            magnitude_threshold_ms2=magnitude_threshold_ms2,
+            diff_threshold_ms2=diff_threshold_ms2,
+            first_climbs=first_climbs,
+            descents=descents,
+            second_climbs=second_climbs,
+            disturb_descents=disturb_descents,
+            end_tolerance_ms2=end_tolerance_ms2,
+            smoothing_samples=smoothing_samples,
+        )

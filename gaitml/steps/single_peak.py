@@ -35,7 +35,9 @@ import scipy.signal
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.steps._common import acc_magnitude, as_recording, check_positive, moving_average_fast
+from gaitml.signal import moving_average
+from gaitml.steps._base import BaseStepDetector
+from gaitml.steps._common import acc_magnitude, as_recording, check_positive
 from gaitml.steps._table import make_step_table
 
 __all__ = ["SinglePeakStepDetector", "single_peak_steps", "zero_points"]
@@ -169,7 +171,7 @@ def single_peak_steps(
     check_positive("left_zero_search_s", left_zero_search_s, allow_zero=True)
     check_positive("right_zero_search_s", right_zero_search_s, allow_zero=True)
     check_positive("min_lobe_s", min_lobe_s, allow_zero=True)
-    a = moving_average_fast(x - gravity_ms2, _samples(smoothing_s, fs))
+    a = moving_average(x - gravity_ms2, _samples(smoothing_s, fs))
     peaks, _ = scipy.signal.find_peaks(a, height=peak_threshold_ms2, distance=_samples(min_peak_distance_s, fs))
     left, right, lf, rf = zero_points(
         a, peaks, _samples(left_zero_search_s, fs, 0), _samples(right_zero_search_s, fs, 0), _samples(min_lobe_s, fs, 1)
@@ -177,7 +179,7 @@ def single_peak_steps(
     return {"peak": peaks.astype(np.int64), "start": left, "end": right, "left_found": lf, "right_found": rf, "a": a}
 
 
-class SinglePeakStepDetector:
+class SinglePeakStepDetector(BaseStepDetector):
     """Single-peak step detector with zero points (paper 003 sec. 2.2).
 
     Parameters
@@ -220,6 +222,8 @@ class SinglePeakStepDetector:
     """
 
     name = "single-peak"
+    _positive = ("min_peak_distance_s", "smoothing_s")
+    _non_negative = ("left_zero_search_s", "right_zero_search_s", "min_lobe_s")
 
     def __init__(
         self,
@@ -242,19 +246,10 @@ class SinglePeakStepDetector:
 
     def detect(self, recording: Recording) -> SinglePeakStepDetector:
         """Detect steps in ``recording``; results in ``steps_``."""
+        self._validate_params()
         rec = as_recording(recording, "single-peak step detection")
         fs = rec.sampling_rate_hz
-        r = single_peak_steps(
-            acc_magnitude(rec),
-            fs,
-            peak_threshold_ms2=self.peak_threshold_ms2,
-            min_peak_distance_s=self.min_peak_distance_s,
-            left_zero_search_s=self.left_zero_search_s,
-            right_zero_search_s=self.right_zero_search_s,
-            smoothing_s=self.smoothing_s,
-            gravity_ms2=self.gravity_ms2,
-            min_lobe_s=self.min_lobe_s,
-        )
+        r = single_peak_steps(acc_magnitude(rec), fs, **self._validate_params())
         self.steps_: pd.DataFrame = make_step_table(
             r["start"],
             r["peak"],

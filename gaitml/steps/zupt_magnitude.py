@@ -13,6 +13,7 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
+from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._table import make_step_table
 from gaitml.zupt.magnitude import DEFAULT_T_MAX_MS2, DEFAULT_T_MIN_MS2, MIN_RUN_FRACTION_OF_FS, MagnitudeZuptDetector
 
@@ -60,12 +61,12 @@ def steps_from_zupts(
     return make_step_table(start, peak, end, fs, event="t_start_s", period_s=period, duration_s=(end - start) / fs)
 
 
-class ZuptMagnitudeStepDetector:
+class ZuptMagnitudeStepDetector(BaseStepDetector):
     """The ``zupt-magnitude`` step detector: paper 004's step counter.
 
     Parameters
     ----------
-    t_min_ms2, t_max_ms2 : float
+    t_min_ms2, t_max_ms2 : float, default 9.0 / 11.0
         |a| band of paper 004 eq. (3) (default 9-11 m/s^2, gravity included; see
         :mod:`gaitml.zupt.magnitude` for why, the paper prints no values).
     min_run_fraction : float
@@ -93,6 +94,9 @@ class ZuptMagnitudeStepDetector:
     Paper 004 (Chen & Yang, 2017), sec. 2.2, Fig. 6.
     """
 
+    name = "zupt-magnitude"
+    _positive = ("min_run_fraction",)
+
     def __init__(
         self,
         *,
@@ -108,14 +112,12 @@ class ZuptMagnitudeStepDetector:
 
     def detect(self, recording: Recording) -> ZuptMagnitudeStepDetector:
         """Detect steps; sets ``steps_`` and ``zupts_`` and returns ``self``."""
+        params = self._validate_params()
         if not isinstance(recording, Recording):
             raise InputError(f"detect needs a gaitml Recording, got {type(recording).__name__}.")
-        det = MagnitudeZuptDetector(t_min_ms2=self.t_min_ms2, t_max_ms2=self.t_max_ms2, min_run_fraction=self.min_run_fraction).detect(
-            recording
-        )
+        count_leading = params.pop("count_leading")
+        det = MagnitudeZuptDetector(**params).detect(recording)
         self.zupts_ = det.zupts_
         self.per_sample_zupts_ = det.per_sample_zupts_
-        self.steps_ = steps_from_zupts(
-            det.zupts_, recording.sampling_rate_hz, n_samples=recording.n_samples, count_leading=self.count_leading
-        )
+        self.steps_ = steps_from_zupts(det.zupts_, recording.sampling_rate_hz, n_samples=recording.n_samples, count_leading=count_leading)
         return self

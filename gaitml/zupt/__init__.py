@@ -1,8 +1,10 @@
 """Zero-velocity (ZUPT) detectors, one algorithm per module, behind one API.
 
 Detectors (DESIGN sec. 4/5 names): ``pseudo-std`` (paper 001), ``magnitude``
-(paper 004), ``method1`` and ``method2`` (paper 001's baselines) and ``shoe``
-(Skog et al. 2010). Each has ``detect(recording) -> self`` setting
+(paper 004), ``gyro-range`` and ``magnitude-std`` (paper 001's baselines, its
+"method 1" and "method 2", named by the statistics they threshold; the old names
+``method1`` / ``method2`` are still accepted by :func:`get_detector`, deprecated)
+and ``shoe`` (Skog et al. 2010). Each has ``detect(recording) -> self`` setting
 ``per_sample_zupts_`` and ``zupts_``; ``pseudo-std``, ``magnitude`` and ``shoe``
 also ``fit(recordings, reference)`` their threshold on labelled zero-velocity
 samples.
@@ -14,12 +16,14 @@ samples.
 
 from __future__ import annotations
 
+import warnings
+
 from gaitml.errors import InputError
 from gaitml.zupt._base import BaseZuptDetector, reference_zupt_mask
 from gaitml.zupt._intervals import intervals_table, intervals_to_mask, mask_runs, remove_short_runs
+from gaitml.zupt.gyro_range import GyroRangeZuptDetector, gyro_range_zupts
 from gaitml.zupt.magnitude import MagnitudeZuptDetector, magnitude_zupts
-from gaitml.zupt.method1 import Method1ZuptDetector, method1_zupts
-from gaitml.zupt.method2 import Method2ZuptDetector, method2_zupts
+from gaitml.zupt.magnitude_std import MagnitudeStdZuptDetector, magnitude_std_zupts
 from gaitml.zupt.pseudo_std import PAPER_THRESHOLD_RADS, PseudoStdZuptDetector, np_threshold, pseudo_std, pseudo_std_tangent
 from gaitml.zupt.segment import label_strides, segment_strides
 from gaitml.zupt.shoe import ShoeZuptDetector, shoe_statistic
@@ -28,9 +32,10 @@ __all__ = [
     "DETECTORS",
     "PAPER_THRESHOLD_RADS",
     "BaseZuptDetector",
+    "DEPRECATED_NAMES",
+    "GyroRangeZuptDetector",
+    "MagnitudeStdZuptDetector",
     "MagnitudeZuptDetector",
-    "Method1ZuptDetector",
-    "Method2ZuptDetector",
     "PseudoStdZuptDetector",
     "ShoeZuptDetector",
     "detect_zupts",
@@ -38,10 +43,10 @@ __all__ = [
     "intervals_table",
     "intervals_to_mask",
     "label_strides",
+    "gyro_range_zupts",
+    "magnitude_std_zupts",
     "magnitude_zupts",
     "mask_runs",
-    "method1_zupts",
-    "method2_zupts",
     "np_threshold",
     "pseudo_std",
     "pseudo_std_tangent",
@@ -55,14 +60,22 @@ __all__ = [
 DETECTORS: dict[str, type[BaseZuptDetector]] = {
     "pseudo-std": PseudoStdZuptDetector,
     "magnitude": MagnitudeZuptDetector,
-    "method1": Method1ZuptDetector,
-    "method2": Method2ZuptDetector,
+    "gyro-range": GyroRangeZuptDetector,
+    "magnitude-std": MagnitudeStdZuptDetector,
     "shoe": ShoeZuptDetector,
 }
+
+#: old name -> registry name; accepted by :func:`get_detector` with a DeprecationWarning, not listed in DETECTORS
+DEPRECATED_NAMES = {"method1": "gyro-range", "method2": "magnitude-std"}
 
 
 def get_detector(name: str, **params) -> BaseZuptDetector:
     """A detector instance by registry name; unknown names or parameters raise InputError."""
+    if name in DEPRECATED_NAMES:
+        warnings.warn(
+            f"the zero-velocity detector name {name!r} is deprecated; use {DEPRECATED_NAMES[name]!r}.", DeprecationWarning, stacklevel=2
+        )
+        name = DEPRECATED_NAMES[name]
     try:
         cls = DETECTORS[name]
     except KeyError:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gaitml._base import BaseAlgorithm
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.zupt._intervals import intervals_table
@@ -96,9 +97,10 @@ def labelled_samples(recordings, reference) -> list[tuple[Recording, np.ndarray]
     return list(zip(recs, masks, strict=True))
 
 
-class BaseZuptDetector:
-    """Base class: ``detect`` runs ``_mask(recording)`` and builds the interval table."""
+class BaseZuptDetector(BaseAlgorithm):
+    """Base class: ``detect`` runs ``_mask(recording)`` and builds the interval table (results ``zupts_``, ``per_sample_zupts_``)."""
 
+    _action_method = "detect"
     #: registry name (DESIGN sec. 5)
     name: str = ""
 
@@ -120,6 +122,7 @@ class BaseZuptDetector:
         ``start``, ``end`` exclusive, ``t_start_s``, ``t_end_s``), ``statistic_``
         (the thresholded per-sample statistic, or None) and ``sampling_rate_hz_``.
         """
+        self._validate_params()
         if not isinstance(recording, Recording):
             raise InputError(f"detect needs a gaitml Recording, got {type(recording).__name__}; read files with gaitml.io.read_recording.")
         n_min = self.min_samples(recording.sampling_rate_hz)
@@ -134,14 +137,6 @@ class BaseZuptDetector:
         self.sampling_rate_hz_ = recording.sampling_rate_hz
         self.zupts_ = intervals_table(self.per_sample_zupts_, recording.sampling_rate_hz)
         return self
-
-    def get_params(self) -> dict:
-        """The constructor parameters (public attributes without a trailing underscore)."""
-        return {k: v for k, v in vars(self).items() if not k.endswith("_") and not k.startswith("_")}
-
-    def __repr__(self) -> str:
-        params = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items())
-        return f"{type(self).__name__}({params})"
 
 
 def empirical_upper_threshold(values: np.ndarray, eps: float) -> float:

@@ -1,6 +1,6 @@
 """Shared helpers of the zero-velocity detectors: centred window sums and run tables.
 
-All of these are vectorised (cumulative sums, ``np.diff`` on the mask); nothing
+All of these are vectorised; the window sums are :func:`gaitml.signal.centered_window_sums` (cumulative sums, ``np.diff`` on the mask); nothing
 loops over samples.
 """
 
@@ -11,6 +11,7 @@ import pandas as pd
 
 from gaitml.consts import ZUPT_COLUMNS
 from gaitml.errors import InputError
+from gaitml.signal import centered_window_sums
 
 __all__ = [
     "centered_sums",
@@ -36,30 +37,13 @@ def half_window_samples(half_window_s: float, sampling_rate_hz: float, *, what: 
 def centered_sums(x: np.ndarray, half: int) -> tuple[np.ndarray, np.ndarray]:
     """Sums of ``x`` over ``[i - half, i + half]`` along axis 0 and the window counts.
 
-    At the edges the window is truncated to the samples that exist (count < 2 half + 1).
-    Computed from one cumulative sum (O(n)).
-
-    Returns
-    -------
-    sums : ndarray, same shape as ``x``
-    counts : ndarray, shape (n,), int
+    :func:`gaitml.signal.centered_window_sums` with the odd window ``2 half + 1``
+    (truncated at the edges).
     """
-    arr = np.asarray(x, dtype=float)
-    n = arr.shape[0]
     h = int(half)
     if h < 0:
         raise InputError(f"`half` must be >= 0, got {half}.")
-    c = np.empty((n + 1 + 2 * h,) + arr.shape[1:])
-    # c[h + j] = sum of the first j samples (j = 0..n), padded with the first/last value on
-    # both sides so that the window edges can be read with two plain slices (no gather).
-    c[: h + 1] = 0.0
-    np.cumsum(arr, axis=0, out=c[h + 1 : h + 1 + n])
-    c[h + 1 + n :] = c[h + n]
-    sums = c[2 * h + 1 :] - c[:n]
-    counts = np.full(n, 2 * h + 1, dtype=np.int64)
-    edge = np.unique(np.concatenate([np.arange(min(h, n)), np.arange(max(n - h, 0), n)]))
-    counts[edge] = np.minimum(edge + h + 1, n) - np.maximum(edge - h, 0)
-    return sums, counts
+    return centered_window_sums(x, 2 * h + 1)
 
 
 def mask_runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

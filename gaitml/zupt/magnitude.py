@@ -86,6 +86,8 @@ class MagnitudeZuptDetector(BaseZuptDetector):
     """
 
     name = "magnitude"
+    _positive = ("eps",)
+    _non_negative = ("min_run_fraction",)
 
     def __init__(
         self,
@@ -113,6 +115,7 @@ class MagnitudeZuptDetector(BaseZuptDetector):
 
     def fit(self, recordings, reference=None) -> MagnitudeZuptDetector:
         """Set ``(t_min, t_max)`` to the ``eps/2`` and ``1 - eps/2`` quantiles of |a| on labelled samples."""
+        self._validate_params()
         if not 0 < self.eps < 1:
             raise InputError(f"`eps` must be in (0, 1), got {self.eps!r}.")
         pairs = labelled_samples(recordings, reference)

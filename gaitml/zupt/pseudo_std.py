@@ -160,6 +160,7 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     """
 
     name = "pseudo-std"
+    _positive = ("half_window_s", "eps")
 
     def __init__(
         self,
@@ -217,6 +218,7 @@ class PseudoStdZuptDetector(BaseZuptDetector):
         self, with ``mu1_rads_``, ``s1_rads_`` and ``fitted_threshold_rads_ = mu1 + u_{1-eps} S1``
             (used by later ``detect`` calls instead of ``threshold_rads``).
         """
+        self._validate_params()
         pairs = labelled_samples(recordings, reference)
         vals = np.concatenate([self._statistic(r)[m] for r, m in pairs])
         self.mu1_rads_, self.s1_rads_ = fit_zero_velocity_normal(vals)

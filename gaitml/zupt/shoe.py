@@ -105,6 +105,8 @@ class ShoeZuptDetector(BaseZuptDetector):
     """
 
     name = "shoe"
+    _positive = ("gamma", "sigma_a_ms2", "sigma_w_rads", "window_samples", "eps")
+    _integer = ("window_samples",)
 
     def __init__(
         self,
@@ -152,6 +154,7 @@ class ShoeZuptDetector(BaseZuptDetector):
 
     def fit(self, recordings, reference=None) -> ShoeZuptDetector:
         """Set gamma to the ``1 - eps`` quantile of T on labelled zero-velocity samples."""
+        self._validate_params()
         pairs = labelled_samples(recordings, reference)
         vals = np.concatenate([self._statistic(r)[m] for r, m in pairs])
         self.fitted_gamma_ = empirical_upper_threshold(vals, self.eps)

@@ -138,7 +138,7 @@ def test_gyro_check_fixes_a_flip_and_confirms_a_turn():
 
 
 def test_drift_rate_fit_recovers_a_constant_gyro_drift_and_hde_then_removes_it():
-    from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate
+    from gaitml.pdr.hde import estimate_drift_rate, hde_heading
 
     n = 400
     t = np.arange(n) * 0.5
@@ -146,12 +146,12 @@ def test_drift_rate_fit_recovers_a_constant_gyro_drift_and_hde_then_removes_it()
     drift = 0.02  # rad/s, 1.1 deg/s: an uncalibrated phone gyro
     raw = wrap_angle(truth + drift * t)
     assert estimate_drift_rate(raw, t) == pytest.approx(drift, abs=5e-4)
-    h = HeuristicDriftElimination().correct(raw, np.full(n, 0.5), t)
-    assert h.drift_rate_rads_ == pytest.approx(drift, abs=5e-4)
-    assert np.degrees(np.abs(wrap_angle(h.heading_rad_ - truth))).max() < 1.0
+    h, _, _, rate = hde_heading(raw, np.full(n, 0.5), t)
+    assert rate == pytest.approx(drift, abs=5e-4)
+    assert np.degrees(np.abs(wrap_angle(h - truth))).max() < 1.0
     # the paper's buffered HDE alone cannot follow that drift
-    h0 = HeuristicDriftElimination(drift_rate="none").correct(raw, np.full(n, 0.5), t)
-    assert np.degrees(np.abs(wrap_angle(h0.heading_rad_ - truth))).max() > 10.0
+    h0, _, _, _ = hde_heading(raw, np.full(n, 0.5), t, drift_rate="none")
+    assert np.degrees(np.abs(wrap_angle(h0 - truth))).max() > 10.0
 
 
 def test_dwpca_reanchors_after_consistent_disagreement():
@@ -178,5 +178,5 @@ def test_fit_polarity_learns_a_reversed_rule():
     modes = ["walk"] * 6 + ["run"] * 6
     dw = DwPcaHeading().fit_polarity(a, start, start + n, np.full(12, d), modes)
     assert dw.polarity_ == {"walk": 1.0, "run": -1.0}
-    out = dw.estimate(a, start, start + n, np.full(12, d), None, modes)
-    assert np.allclose(wrap_angle(out.motion_rad_ - d), 0.0, atol=1e-6)
+    dw.directions(a, start, start + n, np.full(12, d), None, modes)
+    assert np.allclose(wrap_angle(dw.motion_rad_ - d), 0.0, atol=1e-6)

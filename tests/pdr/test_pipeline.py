@@ -47,7 +47,7 @@ def test_closure_is_scale_free_through_the_pipeline(rec):
     from gaitml.pdr.step_length import StepLengthModel
 
     a = run_pdr(rec, heading="gyro", modes="true")
-    big = StepLengthModel({m: (k, tuple(2.5 * p for p in params)) for m, (k, params) in StepLengthModel().coefficients_.items()})
+    big = StepLengthModel({m: (k, tuple(2.5 * p for p in params)) for m, (k, params) in StepLengthModel().coefficients_in_use().items()})
     b = run_pdr(rec, heading="gyro", modes="true", step_length=big)
     assert closure_error(b.trajectory[["x_m", "y_m"]].to_numpy())[1] == pytest.approx(
         closure_error(a.trajectory[["x_m", "y_m"]].to_numpy())[1]
@@ -98,7 +98,7 @@ def test_calibration_from_reference_steps_fits_lengths_and_polarity():
     feats_modes = ["walk"] * 30 + ["backward"] * 30
     res = run_pdr(rec, modes="true", heading="gyro", step_length=cal.step_length)
     assert np.allclose(res.steps["step_length_m"], 0.62, atol=1e-6)
-    assert cal.dwpca.polarity_ == {"backward": 1.0, "walk": 1.0}
+    assert cal.dwpca.polarity == {"backward": 1.0, "walk": 1.0}  # the learned polarity, as a parameter of the configured source
     assert res.steps["mode"].tolist() == feats_modes
     m = calibrate_walk_distance(synth_walk([("walk", 40, 0.0)]), 30.0)
     assert run_pdr(synth_walk([("walk", 40, 0.0)]), modes="true", heading="gyro", step_length=m).distance_m == pytest.approx(30.0)

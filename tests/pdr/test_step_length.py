@@ -43,7 +43,7 @@ def test_fit_recovers_linear_and_weinberg_coefficients():
     assert np.allclose(model.predict(f, modes), L, atol=2e-3)
     assert sorted(model.fitted_modes_) == ["backward", "run", "side_left", "walk"]
     # side_right had no data: keeps its default
-    assert model.coefficients_["side_right"] == StepLengthModel().coefficients_["side_right"]
+    assert model.coefficients_["side_right"] == StepLengthModel().coefficients_in_use()["side_right"]
 
 
 def test_defaults_give_plausible_lengths():
@@ -65,7 +65,7 @@ def test_save_load_roundtrip(tmp_path):
     model = StepLengthModel({"walk": ("linear", (0.2, 0.3, 0.01)), "run": ("weinberg", (0.6,))})
     p = model.save(tmp_path / "sl.json")
     back = StepLengthModel.load(p)
-    assert back.coefficients_ == model.coefficients_
+    assert back.coefficients_in_use() == model.coefficients_in_use()
 
 
 def test_features_from_acc():
@@ -83,7 +83,7 @@ def test_features_from_acc():
 @pytest.mark.parametrize(
     ("call", "match"),
     [
-        (lambda: StepLengthModel({"walk": ("quadratic", (1.0,))}), "must be"),
+        (lambda: StepLengthModel({"walk": ("quadratic", (1.0,))}).predict(_features(3, np.random.default_rng(0)), ["walk"] * 3), "must be"),
         (lambda: StepLengthModel().calibrate(_features(3, np.random.default_rng(0)), ["walk"] * 3, -1.0), "positive"),
         (lambda: StepLengthModel().predict(pd.DataFrame({"x": [1]}), ["walk"]), "columns"),
         (lambda: StepLengthModel.from_dict({"format": "other"}), "not a gaitml step length model"),

@@ -3,9 +3,10 @@
 import numpy as np
 import pytest
 
-from gaitml.steps.adfsm import ADFSMStepDetector, adfsm_steps, adfsm_steps_loop
+from gaitml.steps.adfsm import ADFSMStepDetector, adfsm_steps
 from gaitml.steps.autocorr import AutocorrStepDetector
 from tests.steps.conftest import synthetic_walk
+from tests.steps.reference_fsm import adfsm_steps_loop
 
 IMPLS = [adfsm_steps, adfsm_steps_loop]
 KW = dict(min_rises=3, min_falls=3, flat_diff_ms2=0.0)  # exact small sequences: no flat band

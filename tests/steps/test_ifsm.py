@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from gaitml.recording import Recording
-from gaitml.steps.ifsm import IFSM_READINGS, IFSMLiteralStepDetector, IFSMStepDetector, ifsm_steps, ifsm_steps_loop
+from gaitml.steps.ifsm import IFSM_READINGS, IFSMLiteralStepDetector, IFSMStepDetector, ifsm_steps
+from tests.steps.reference_fsm import ifsm_steps_loop
 
 IMPLS = [ifsm_steps, ifsm_steps_loop]
 REPRO = dict(zip(("count_entry", "inclusive", "end_condition"), IFSM_READINGS["reproduce"], strict=True))

@@ -87,7 +87,7 @@ def test_adaptive_hard_positions(name):
 
 @pytest.mark.slow
 def test_adaptive_oxford_sweep_targets():
-    """Issue 4 target: mean count accuracy >= 97 % over the hard-floor positions, none below 93 %."""
+    """Target of the adaptive detector: mean count accuracy >= 97 % over the hard-floor positions, none below 93 %."""
     from gaitml.experiments.steps_real import evaluate_recording, summarise_oxford
     from gaitml.io import read_recording
     from gaitml.io.oxford import list_oxford_folders

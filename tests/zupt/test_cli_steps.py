@@ -47,7 +47,7 @@ def test_cli_out_and_threshold(walk_csv, tmp_path, capsys):
     assert not list(tmp_path.glob("*.tmp*"))
 
 
-@pytest.mark.parametrize("name", ["magnitude", "method1", "method2", "shoe"])
+@pytest.mark.parametrize("name", ["magnitude", "gyro-range", "magnitude-std", "shoe"])
 def test_cli_every_detector(walk_csv, capsys, name):
     assert main(["zupt", str(walk_csv), "--detector", name]) == 0
     assert "zero-velocity intervals" in capsys.readouterr().out
@@ -108,7 +108,7 @@ def test_cli_large_input_path_equals_whole_file(walk_csv, capsys, monkeypatch):
     assert chunked["zero_velocity_fraction"] == whole["zero_velocity_fraction"]
 
 
-@pytest.mark.parametrize("name", ["pseudo-std", "magnitude", "method1", "method2", "shoe"])
+@pytest.mark.parametrize("name", ["pseudo-std", "magnitude", "gyro-range", "magnitude-std", "shoe"])
 def test_chunked_detection_equals_whole_file(walk_csv, name):
     from gaitml.io import read_recording
     from gaitml.longrun import long_zupts

@@ -130,9 +130,9 @@ def test_vectorised_equals_per_sample_reference(name):
         stat = ref.reference_shoe(acc, gyr, 1, det.sigma_a_ms2, det.sigma_w_rads)
         np.testing.assert_allclose(det.statistic_, stat, rtol=1e-6, atol=1e-3)
         want = stat < det.gamma
-    elif name == "method1":
+    elif name == "gyro-range":
         want = ref.reference_method1(acc, gyr, 5, det.gyr_range_rads, det.acc_max_ms2)
-    elif name == "method2":
+    elif name == "magnitude-std":
         want = ref.reference_method2(acc, gyr, 5, det.acc_min_ms2, det.acc_max_ms2, det.acc_std_ms2, det.gyr_max_rads, det.gyr_std_rads)
     else:
         want = ref.reference_magnitude(acc, fs, det.t_min_ms2, det.t_max_ms2, det.min_run_fraction)
@@ -187,13 +187,13 @@ def test_detector_api(name):
 
 
 def test_get_detector_unknown_name_lists_names():
-    with pytest.raises(InputError, match="pseudo-std, magnitude, method1, method2, shoe"):
+    with pytest.raises(InputError, match="pseudo-std, magnitude, gyro-range, magnitude-std, shoe"):
         get_detector("nope")
     with pytest.raises(InputError, match="bad parameters"):
         get_detector("shoe", threshold_rads=1.0)
 
 
-@pytest.mark.parametrize("name", ["pseudo-std", "method1", "method2", "shoe"])
+@pytest.mark.parametrize("name", ["pseudo-std", "gyro-range", "magnitude-std", "shoe"])
 def test_gyro_detectors_need_gyro(name):
     rec = Recording(acc=np.tile([0, 0, GRAVITY_MS2], (100, 1)), sampling_rate_hz=100.0)
     with pytest.raises(InputError, match="needs a gyroscope"):
@@ -240,7 +240,7 @@ def test_quantile_fit_keeps_labelled_samples(name):
     assert det.per_sample_zupts_[label].mean() >= 0.98
 
 
-@pytest.mark.parametrize("name", ["pseudo-std", "method1", "method2", "magnitude", "shoe"])
+@pytest.mark.parametrize("name", ["pseudo-std", "gyro-range", "magnitude-std", "magnitude", "shoe"])
 @pytest.mark.parametrize("n", [2, 10])
 def test_too_short_recording_is_refused(name, n):
     rec = synthetic_foot_walk(300).slice(0, n)

@@ -1,4 +1,4 @@
-"""Issue 5 acceptance on the gaitmap example walk (both feet, motion-capture min_vel)."""
+"""ZUPT bars on the gaitmap example walk (both feet, motion-capture min_vel)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,6 @@
-"""Paper 001's baseline "method 1": three-axis gyro range OR acceleration-magnitude maximum.
+"""Gyro-range ZUPT detector (``gyro-range``): three-axis gyro range OR acceleration-magnitude maximum.
+
+Paper 001's baseline "method 1" (formerly registered as ``method1``).
 
 Paper 001 (Dai et al., 2018), introduction and sec. 3, citing its ref. [8]
 (Wan et al., 2015): over a sampling window, the range (max - min) of each gyro
@@ -19,7 +21,7 @@ from gaitml.signal import magnitude
 from gaitml.zupt._base import BaseZuptDetector
 from gaitml.zupt._intervals import apply_blockwise, half_window_samples
 
-__all__ = ["Method1ZuptDetector", "method1_zupts", "DEFAULT_GYR_RANGE_RADS", "DEFAULT_ACC_MAX_MS2"]
+__all__ = ["GyroRangeZuptDetector", "gyro_range_zupts", "DEFAULT_GYR_RANGE_RADS", "DEFAULT_ACC_MAX_MS2"]
 
 #: Threshold on the largest per-axis gyro range in the window (rad/s). Neither paper 001
 #: nor this package's sources print the values of ref. [8]; 0.5 rad/s (29 deg/s) is our choice.
@@ -38,7 +40,7 @@ def _window_min(x: np.ndarray, half: int) -> np.ndarray:
     return minimum_filter1d(x, size=2 * half + 1, axis=-1, mode="nearest")
 
 
-def method1_zupts(
+def gyro_range_zupts(
     acc_ms2: np.ndarray,
     gyr_rads: np.ndarray,
     half_window_samples: int,
@@ -70,17 +72,17 @@ def method1_zupts(
     return (gyr_range < gyr_range_rads) | (acc_max < acc_max_ms2), gyr_range, acc_max
 
 
-class Method1ZuptDetector(BaseZuptDetector):
-    """Paper 001's method 1 (gyro range OR |a| maximum, fixed thresholds).
+class GyroRangeZuptDetector(BaseZuptDetector):
+    """Gyro-range detector, paper 001's method 1 (gyro range OR |a| maximum, fixed thresholds).
 
     Parameters
     ----------
-    gyr_range_rads : float
-        Threshold on the largest per-axis gyro range in the window (default 0.5 rad/s).
-    acc_max_ms2 : float
-        Threshold on the window maximum of |a| (default g + 0.5 m/s^2).
-    half_window_s : float
-        Half-window in seconds (default 0.05 s; s = round(0.05 fs)).
+    gyr_range_rads : float, default 0.5
+        Threshold on the largest per-axis gyro range in the window (rad/s).
+    acc_max_ms2 : float, default g + 0.5
+        Threshold on the window maximum of |a| (m/s^2).
+    half_window_s : float, default 0.05
+        Half-window in seconds (s = round(0.05 fs)).
 
     Notes
     -----
@@ -90,7 +92,8 @@ class Method1ZuptDetector(BaseZuptDetector):
     thresholds (that is the point of its comparison, Table 1).
     """
 
-    name = "method1"
+    name = "gyro-range"
+    _positive = ("half_window_s",)
 
     def __init__(
         self,
@@ -107,10 +110,9 @@ class Method1ZuptDetector(BaseZuptDetector):
         return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
 
     def _mask(self, recording: Recording):
-        gyr = recording.require_gyr("method 1 (gyro range + |a| maximum, paper 001)")
-        s = half_window_samples(self.half_window_s, recording.sampling_rate_hz)
-        mask, gyr_range, acc_max = apply_blockwise(
-            lambda a, w: method1_zupts(a, w, s, gyr_range_rads=self.gyr_range_rads, acc_max_ms2=self.acc_max_ms2), (recording.acc, gyr), s
-        )
+        gyr = recording.require_gyr("the gyro-range detector (gyro range + |a| maximum, paper 001 method 1)")
+        thresholds = self.get_params()
+        s = half_window_samples(thresholds.pop("half_window_s"), recording.sampling_rate_hz)
+        mask, gyr_range, acc_max = apply_blockwise(lambda a, w: gyro_range_zupts(a, w, s, **thresholds), (recording.acc, gyr), s)
         self.acc_max_ms2_series_ = acc_max
         return mask, gyr_range

@@ -1,4 +1,6 @@
-"""Paper 001's baseline "method 2": four conditions on acc and gyro magnitude and std.
+"""Magnitude-and-std ZUPT detector (``magnitude-std``): four conditions on acc and gyro magnitude and std.
+
+Paper 001's baseline "method 2" (formerly registered as ``method2``).
 
 Paper 001 (Dai et al., 2018), introduction and sec. 3, citing its ref. [11]
 (Huang et al., 2017): "acc magnitude + acc standard deviation + gyro magnitude +
@@ -16,7 +18,7 @@ from gaitml.signal import magnitude
 from gaitml.zupt._base import BaseZuptDetector
 from gaitml.zupt._intervals import apply_blockwise, centered_sums, half_window_samples
 
-__all__ = ["Method2ZuptDetector", "method2_zupts"]
+__all__ = ["MagnitudeStdZuptDetector", "magnitude_std_zupts"]
 
 #: |a| band (m/s^2): Jimenez et al. 2009 condition C1, 9 < |a| < 11 (paper 001 prints no values).
 DEFAULT_ACC_MIN_MS2 = 9.0
@@ -37,7 +39,7 @@ def _window_std(x: np.ndarray, half: int) -> np.ndarray:
     return np.sqrt(np.maximum(sums[:, 1] / counts - mean * mean, 0.0))
 
 
-def method2_zupts(
+def magnitude_std_zupts(
     acc_ms2: np.ndarray,
     gyr_rads: np.ndarray,
     half_window_samples: int,
@@ -72,21 +74,21 @@ def method2_zupts(
     )
 
 
-class Method2ZuptDetector(BaseZuptDetector):
-    """Paper 001's method 2 (four fixed-threshold conditions, AND).
+class MagnitudeStdZuptDetector(BaseZuptDetector):
+    """Magnitude-and-std detector, paper 001's method 2 (four fixed-threshold conditions, AND).
 
     Parameters
     ----------
-    acc_min_ms2, acc_max_ms2 : float
-        |a| band (default 9-11 m/s^2, Jimenez et al. 2009 C1).
-    acc_std_ms2 : float
-        Window std of |a| (default 1.0 m/s^2).
-    gyr_max_rads : float
-        |w| bound (default 50 deg/s, Jimenez et al. 2009 C3).
-    gyr_std_rads : float
-        Window std of |w| (default 0.3 rad/s).
-    half_window_s : float
-        Half-window in seconds (default 0.05 s).
+    acc_min_ms2, acc_max_ms2 : float, default 9.0 / 11.0
+        |a| band (m/s^2, Jimenez et al. 2009 C1).
+    acc_std_ms2 : float, default 1.0
+        Window std of |a| (m/s^2).
+    gyr_max_rads : float, default 50 deg/s
+        |w| bound (rad/s, Jimenez et al. 2009 C3).
+    gyr_std_rads : float, default 0.3
+        Window std of |w| (rad/s).
+    half_window_s : float, default 0.05
+        Half-window in seconds.
 
     Notes
     -----
@@ -95,7 +97,8 @@ class Method2ZuptDetector(BaseZuptDetector):
     No ``fit`` (fixed thresholds, as compared in paper 001 Table 1).
     """
 
-    name = "method2"
+    name = "magnitude-std"
+    _positive = ("half_window_s",)
 
     def __init__(
         self,
@@ -118,20 +121,8 @@ class Method2ZuptDetector(BaseZuptDetector):
         return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
 
     def _mask(self, recording: Recording):
-        gyr = recording.require_gyr("method 2 (acc/gyro magnitude and std, paper 001)")
-        s = half_window_samples(self.half_window_s, recording.sampling_rate_hz)
-        mask = apply_blockwise(
-            lambda a, w: method2_zupts(
-                a,
-                w,
-                s,
-                acc_min_ms2=self.acc_min_ms2,
-                acc_max_ms2=self.acc_max_ms2,
-                acc_std_ms2=self.acc_std_ms2,
-                gyr_max_rads=self.gyr_max_rads,
-                gyr_std_rads=self.gyr_std_rads,
-            ),
-            (recording.acc, gyr),
-            s,
-        )
+        gyr = recording.require_gyr("the magnitude-std detector (acc/gyro magnitude and std, paper 001 method 2)")
+        thresholds = self.get_params()
+        s = half_window_samples(thresholds.pop("half_window_s"), recording.sampling_rate_hz)
+        mask = apply_blockwise(lambda a, w: magnitude_std_zupts(a, w, s, **thresholds), (recording.acc, gyr), s)
         return mask, magnitude(gyr)

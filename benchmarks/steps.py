@@ -5,7 +5,8 @@ synthetic walk when the shared data is absent. Each detector's ``detect`` is
 timed end to end (magnitude, filtering, resampling, the state machine, the step
 table). Where a plain reference exists it is timed in the same run on the same
 input: a naive per-sample Python loop of single-peak, and the per-sample loop
-versions of the FSMs (``ifsm_steps_loop``, ``adfsm_steps_loop``, the
+versions of the FSMs (``ifsm_steps_loop``, ``adfsm_steps_loop`` in
+``tests/steps/reference_fsm.py``, the
 self-learning FSM without jumping); ``ratio = reference_seconds / seconds``.
 """
 
@@ -96,9 +97,9 @@ def naive_single_peak(acc: np.ndarray, fs: float) -> list[tuple[int, int, int]]:
 
 def _references(rec: Recording) -> dict:
     from gaitml.steps._common import resample_signal
-    from gaitml.steps.adfsm import adfsm_steps_loop
     from gaitml.steps.fsm_selflearn import SelfLearningFSMStepDetector, learn_thresholds, selflearn_fsm_run
-    from gaitml.steps.ifsm import IFSM_READINGS, ifsm_steps_loop
+    from gaitml.steps.ifsm import IFSM_READINGS
+    from tests.steps.reference_fsm import adfsm_steps_loop, ifsm_steps_loop
 
     fs = rec.sampling_rate_hz
 

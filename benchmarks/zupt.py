@@ -2,7 +2,7 @@
 
 Input: a synthetic foot-mounted walk (1 Hz strides: 40 % still, 60 % swing with
 large rotation and acceleration, plus sensor noise) at 100 Hz, 3 million
-samples (quick: 200 000). The reference loops (:mod:`gaitml.zupt._reference`)
+samples (quick: 200 000). The reference loops (:mod:`tests.reference.zupt`)
 run on a 20 000-sample prefix (quick: 5 000) and their time is scaled linearly
 to the full length for ``reference_seconds`` (they are O(n)).
 """
@@ -15,7 +15,7 @@ import numpy as np
 
 from gaitml.recording import Recording
 from gaitml.zupt import DETECTORS, get_detector
-from gaitml.zupt import _reference as ref
+from tests.reference import zupt as ref
 from gaitml.zupt._intervals import half_window_samples
 from tests.synthetic import synthetic_foot_walk
 
@@ -30,12 +30,12 @@ def _reference_fn(name: str, det, rec: Recording):
         return lambda: ref.reference_pseudo_std(gyr, s) < det._threshold()
     if name == "shoe":
         return lambda: ref.reference_shoe(acc, gyr, det._half(fs), det.sigma_a_ms2, det.sigma_w_rads) < det.gamma
-    if name == "method1":
+    if name == "gyro-range":
         s = half_window_samples(det.half_window_s, fs)
-        return lambda: ref.reference_method1(acc, gyr, s, det.gyr_range_rads, det.acc_max_ms2)
-    if name == "method2":
+        return lambda: ref.reference_gyro_range(acc, gyr, s, det.gyr_range_rads, det.acc_max_ms2)
+    if name == "magnitude-std":
         s = half_window_samples(det.half_window_s, fs)
-        return lambda: ref.reference_method2(
+        return lambda: ref.reference_magnitude_std(
             acc, gyr, s, det.acc_min_ms2, det.acc_max_ms2, det.acc_std_ms2, det.gyr_max_rads, det.gyr_std_rads
         )
     if name == "magnitude":

@@ -4,7 +4,7 @@ The paper classifies the five motion modes with a linear-kernel SVM, trained one
 pair of classes at a time (OVO: m (m - 1) / 2 binary machines, majority vote),
 on its time-domain features, with a penalty factor (called M in eq. 5, C here).
 
-Implementation choice (measured, see ``gaitml/bench/models.py``): each pairwise
+Implementation choice (measured, see ``benchmarks/models.py``): each pairwise
 machine is a :class:`sklearn.svm.LinearSVC` (liblinear) solved in the primal
 (``dual=False``), which is linear in the number of windows; libsvm's
 ``SVC(kernel='linear')`` (also one-vs-one) grows faster than linearly (on

@@ -9,7 +9,7 @@
 - :mod:`~gaitml.pdr.step_modes`: per-step modes from window predictions, mode-boundary refinement.
 - :mod:`~gaitml.pdr.pipeline`: :func:`run_pdr`, recording -> trajectory.
 - :mod:`~gaitml.pdr.calibrate`: per-subject step length / DW-PCA calibration.
-- :mod:`~gaitml.pdr.plot`, :mod:`~gaitml.pdr.report` (``python -m gaitml.pdr.report``).
+- :mod:`~gaitml.pdr.plot`; the simulated-route report is ``python -m experiments.scripts.pdr_report`` (source checkout).
 """
 
 from gaitml.pdr.attitude import AttitudeEstimator, compass_heading, initial_attitude, integrate_gyro, step_headings, wrap_angle

@@ -52,7 +52,7 @@ The correction of step k uses only steps up to k (causal), so it can run online.
 Defaults of the buffer tests (10 steps, 8 deg spread, 2 deg trend between the buffer's
 halves, 3 consecutive passes) are ours (chosen on simulated seeds 0-2 and 10-13, checked
 on seeds 3-7 and 10-15): they separate straight legs from the 32 m radius bends of the 400 m
-arc route (0.7-1.3 deg per step), see ``python -m gaitml.pdr.report``.
+arc route (0.7-1.3 deg per step), see ``python -m experiments.scripts.pdr_report``.
 
 References
 ----------

@@ -24,7 +24,7 @@ position. It combines three ideas:
    peak replaces it if higher, else is dropped.
 
 Tuned only on the Oxford step counter optimisation recordings (Salvi et al.,
-CC BY 4.0); evaluated there per position (see ``gaitml.experiments.steps_real``).
+CC BY 4.0); evaluated there per position (``gaitml evaluate experiments/steps-real.toml``).
 """
 
 from __future__ import annotations
@@ -199,7 +199,7 @@ class AdaptiveStepDetector(BaseStepDetector):
     -----
     Our own detector (module docstring); tuned on the Oxford optimisation
     recordings only: hard-floor mean count accuracy 97.9 %, worst position
-    (swinging arm) 95.0 % (``python -m gaitml.experiments.steps_real``).
+    (swinging arm) 95.0 % (``gaitml evaluate experiments/steps-real.toml``).
     """
 
     name = "adaptive"

@@ -3,7 +3,7 @@
 Straightforward loops over samples (one window at a time, as the papers and
 OpenShoe's GLRT loop describe them). They exist to check the vectorised
 detectors (tests: equal outputs on random data) and as the baseline of the
-benchmark ratio (``gaitml.bench.zupt``). Not for production use: ~1000x slower.
+benchmark ratio (``benchmarks/zupt.py``). Not for production use: ~1000x slower.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import numpy as np
 
 from gaitml.consts import GRAVITY_MS2
 
-__all__ = ["reference_pseudo_std", "reference_shoe", "reference_method1", "reference_method2", "reference_magnitude"]
+__all__ = ["reference_pseudo_std", "reference_shoe", "reference_gyro_range", "reference_magnitude_std", "reference_magnitude"]
 
 
 def _window(n: int, i: int, h: int) -> slice:
@@ -45,8 +45,8 @@ def reference_shoe(acc: np.ndarray, gyr: np.ndarray, h: int, sigma_a: float, sig
     return out
 
 
-def reference_method1(acc: np.ndarray, gyr: np.ndarray, s: int, gyr_range_rads: float, acc_max_ms2: float) -> np.ndarray:
-    """Method 1 per sample: max axis range of gyr < thr OR max |a| < thr over the window."""
+def reference_gyro_range(acc: np.ndarray, gyr: np.ndarray, s: int, gyr_range_rads: float, acc_max_ms2: float) -> np.ndarray:
+    """Gyro-range detector (paper 001 baseline 1) per sample: max axis range of gyr < thr OR max |a| < thr over the window."""
     n = len(acc)
     am = np.sqrt(np.sum(acc * acc, axis=1))
     out = np.empty(n, dtype=bool)
@@ -58,8 +58,8 @@ def reference_method1(acc: np.ndarray, gyr: np.ndarray, s: int, gyr_range_rads: 
     return out
 
 
-def reference_method2(acc, gyr, s, acc_min, acc_max, acc_std, gyr_max, gyr_std) -> np.ndarray:
-    """Method 2 per sample: the four conditions, stds over the window."""
+def reference_magnitude_std(acc, gyr, s, acc_min, acc_max, acc_std, gyr_max, gyr_std) -> np.ndarray:
+    """Magnitude-std detector (paper 001 baseline 2) per sample: the four conditions, stds over the window."""
     n = len(acc)
     am = np.sqrt(np.sum(acc * acc, axis=1))
     wm = np.sqrt(np.sum(gyr * gyr, axis=1))

@@ -266,7 +266,11 @@ def _svm_graph(model):
 
 
 def _torch_graph(model, path: Path):
-    """Export a torch kind via torch.onnx.export: double input standardised, float32 network, softmax."""
+    """Export a torch kind via torch.onnx.export (torch.export based; needs onnxscript).
+
+    Double input, standardised in double as ``predict_proba`` does, then the float32
+    network and the softmax.
+    """
     _require_onnx()
     import onnx
     import torch
@@ -297,10 +301,10 @@ def _torch_graph(model, path: Path):
             str(path),
             input_names=["features"],
             output_names=["probabilities"],
-            dynamic_axes={"features": {0: "N"}, "probabilities": {0: "N"}},
-            dynamo=False,
+            dynamic_shapes=({0: torch.export.Dim("N")},),
+            dynamo=True,
         )
-    except ImportError as exc:
+    except ImportError as exc:  # onnxscript missing
         raise ModelError(f"torch's ONNX exporter needs a package that is missing ({exc}); {ONNX_HINT}.") from exc
     return onnx.load(str(path))
 

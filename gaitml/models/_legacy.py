@@ -48,15 +48,16 @@ def load_legacy_model(path: str | os.PathLike) -> TrainedModel:
     """
     p = Path(path)
     jpath, mpath = p / JSON_NAME, p / LEGACY_NAME
-    for f in (jpath, mpath):
-        if not f.is_file():
-            raise ModelError(f"{f} not found; 'gaitml model convert' takes an old model folder with model.json and model.joblib.")
+    if not jpath.is_file():
+        raise ModelError(f"{jpath} not found; 'gaitml model convert' takes an old model folder with model.json and model.joblib.")
     try:
         info = json.loads(jpath.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ModelError(f"cannot read {jpath} ({exc}); the old model is corrupt.") from exc
     if not isinstance(info, dict) or info.get("format") != "gaitml-model" or info.get("format_version") != 1:
         raise ModelError(f"{jpath} is not an old (format_version 1) gaitml model; a current model needs no conversion.")
+    if not mpath.is_file():
+        raise ModelError(f"{mpath} not found; 'gaitml model convert' takes an old model folder with model.json and model.joblib.")
     for key in ("sha256", "settings_sha256"):
         if not isinstance(info.get(key), str):
             raise ModelError(f"{jpath} has no {key} entry, so the old model cannot be verified; it cannot be converted.")

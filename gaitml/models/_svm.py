@@ -226,7 +226,9 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
             ``X`` is not a finite numeric (n, ``n_features_in_``) table.
         """
         check_is_fitted(self, "coef_")
-        X = validate_predict(self, X)
+        return self._pairwise(validate_predict(self, X))
+
+    def _pairwise(self, X: np.ndarray) -> np.ndarray:
         return X @ self.coef_.T + self.intercept_
 
     def _scores(self, pairwise: np.ndarray) -> np.ndarray:
@@ -251,7 +253,7 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
     def predict(self, X) -> np.ndarray:
         """Class label of every row by one-vs-one voting (labels of the type given to ``fit``)."""
         check_is_fitted(self, "coef_")
-        scores = self._scores(self.pairwise_decision_function(X))
+        scores = self._scores(self._pairwise(validate_predict(self, X)))
         return self.classes_[np.argmax(scores, axis=1)]
 
     def _get_state(self) -> tuple[dict, dict[str, np.ndarray]]:

@@ -67,7 +67,7 @@ def load_legacy_model(path: str | os.PathLike) -> TrainedModel:
             f"sha256 of {mpath.name} ({digest[:12]}...) does not match model.json: the file was changed; refusing to unpickle it."
         )
     body = {k: v for k, v in info.items() if k not in ("sha256", "settings_sha256")}
-    if settings_sha256({**body, "files": None}) != info["settings_sha256"]:
+    if settings_sha256(body) != info["settings_sha256"]:
         raise ModelError(f"model.json in {p} was edited after training (settings_sha256 mismatch); refusing to convert it.")
     check_versions(info)
     _check_feature_set(info, jpath)

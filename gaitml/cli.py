@@ -243,6 +243,23 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _input_options(p)
 
+    # --- gaitml model convert|export|card (gaitml/commands/model.py) ---
+    p = sub.add_parser("model", help="convert, export or describe a saved model")
+    msub = p.add_subparsers(dest="model_command", metavar="SUBCOMMAND", parser_class=_Parser, required=True)
+    q = msub.add_parser(
+        "convert", help="convert an old pickle model (model.joblib) to the data-only format; UNPICKLES it: trusted models only"
+    )
+    q.add_argument("old_dir", metavar="OLD_DIR")
+    q.add_argument("new_dir", metavar="NEW_DIR")
+    q = msub.add_parser("export", help="portable export: self-describing JSON (linear OVO SVM) or ONNX (extra gaitml[onnx])")
+    q.add_argument("model_dir", metavar="MODEL_DIR")
+    q.add_argument("--format", choices=("json", "onnx"), required=True)
+    q.add_argument("--out", metavar="FILE", required=True)
+    q = msub.add_parser("card", help="the model card (markdown) to stdout or --out")
+    q.add_argument("model_dir", metavar="MODEL_DIR")
+    q.add_argument("--out", metavar="FILE")
+    # --- end gaitml model ---
+
     p = sub.add_parser("demo", help="the main job end to end on simulated data")
     p.add_argument("--out", metavar="DIR", default="demo-out")
 

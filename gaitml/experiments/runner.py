@@ -357,7 +357,13 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
     if cfg["train"]["cross_validate"]:
         r = _evaluate_point(cfg, data, progress, f"{cfg.name} cv")
         s = r["cv"].summary()
-        cv_scores = {"scheme": cfg["cv"]["scheme"], **s, "folds": r["cv"].folds.to_dict(orient="records")}
+        cv_scores = {
+            "scheme": cfg["cv"]["scheme"],
+            **s,
+            "per_class_before": r["cv"].before["per_class"],  # for the model card (MODEL.md)
+            "per_class_after": r["cv"].after["per_class"],
+            "folds": r["cv"].folds.to_dict(orient="records"),
+        }
     ds = build_dataset(cfg, data)
     kind = cfg["model"]["kind"]
     model = make_model(kind, cfg["model"]["params"], seed=cfg.seed)

@@ -4,13 +4,18 @@
   one-vs-one (paper 003 sec. 3.1, 3.3).
 - ``mlp``, ``cnn1d``: small torch baselines (optional extra ``gaitml[torch]``).
 - :func:`make_model` builds one by kind; :func:`save_model` / :func:`load_model`
-  write and check the artifact folder (DESIGN sec. 3); :func:`predict_recording`
-  gives per-window modes of a recording. Model files are pickles: load them only
-  from trusted sources.
+  write and check the data-only artifact folder (DESIGN sec. 3; no pickle is
+  loaded); :func:`convert_model` turns an old pickle model into one (trusted
+  models only); :func:`model_card` writes its ``MODEL.md``; :func:`export_json` /
+  :func:`export_onnx` give portable exports; :func:`predict_recording` gives
+  per-window modes of a recording.
 """
 
+from gaitml.models._card import model_card
 from gaitml.models._dataset import WindowDataset, build_window_dataset, raw_window_channels, raw_windows, resample_recording
-from gaitml.models._persist import TrainedModel, library_versions, load_model, save_model, sha256_file
+from gaitml.models._export import export_json, export_onnx
+from gaitml.models._legacy import convert_model
+from gaitml.models._persist import TrainedModel, library_versions, load_model, read_model_json, save_model, sha256_file
 from gaitml.models._predict import model_inputs, predict_recording
 from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS, make_model, model_class, model_param_names
 from gaitml.models._svm import LinearOVOSVM, ovo_vote
@@ -25,16 +30,21 @@ __all__ = [
     "TrainedModel",
     "WindowDataset",
     "build_window_dataset",
+    "convert_model",
+    "export_json",
+    "export_onnx",
     "library_versions",
     "load_model",
     "make_model",
     "model_class",
+    "model_card",
     "model_inputs",
     "model_param_names",
     "ovo_vote",
     "predict_recording",
     "raw_window_channels",
     "raw_windows",
+    "read_model_json",
     "require_torch",
     "resample_recording",
     "save_model",

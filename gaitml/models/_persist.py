@@ -1,23 +1,39 @@
-"""Model artifacts: a folder with ``model.joblib`` and ``model.json`` (DESIGN sec. 3).
+"""Model artifacts: a folder of data-only files that loading never unpickles (DESIGN sec. 3).
 
-``model.json`` records what is needed to use the model correctly and to trust
-it: the gaitml, scikit-learn, numpy and torch versions, the model kind, the
-feature set with its feature names in order (or the raw channels), the window
-length and overlap, the sampling rate, the label set, the training config, the
-cross-validation scores, the sha256 of ``model.joblib`` and ``settings_sha256``, the
-sha256 of the canonical JSON of every other entry of ``model.json`` (sorted keys,
-compact separators; the two hash fields left out), so that an edit of the settings
-(say ``window.length_s``) is detected as well.
+Layout (``format_version`` 2)::
 
-:func:`load_model` refuses (``ModelError``) a missing or unreadable file, a
-hash mismatch (the joblib file was changed), a different gaitml/scikit-learn/
-torch major.minor version, an edited ``model.json`` (settings hash mismatch), a
-missing required entry, or a feature set whose names no longer match.
+    MODEL_DIR/
+      model.json   settings, versions, the estimator's class, parameters and fitted
+                   scalars, ``files`` (sha256 of every data file), ``settings_sha256``
+      arrays.npz   the fitted arrays (scaler mean and scale, weights, intercepts,
+                   class pairs, classes) as a numpy .npz, read with allow_pickle=False
+      weights.pt   torch kinds only: the network's state_dict, read with
+                   torch.load(weights_only=True); the architecture comes from the
+                   parameters in model.json
+      MODEL.md     the model card (documentation generated from model.json; not read)
 
-Security: ``model.joblib`` is a pickle. Loading a pickle runs code chosen by
-whoever wrote it; load model folders only from sources you trust. The hash
-check detects accidental corruption and edits that did not update
-``model.json``; it is not a signature.
+``model.json`` records what is needed to use the model correctly and to trust it:
+the gaitml, scikit-learn, numpy and torch versions, the model kind, the feature
+set with its feature names in order (or the raw channels), the window length and
+overlap, the sampling rate, the label set, the training config, the
+cross-validation scores, the sha256 of every data file and ``settings_sha256``,
+the sha256 of the canonical JSON of every other entry of ``model.json`` (sorted
+keys, compact separators; the two hash entries left out), so that an edit of the
+settings (say ``window.length_s``) is detected as well.
+
+:func:`load_model` refuses (``ModelError``) a missing or unreadable file, a hash
+mismatch, a different gaitml/scikit-learn/torch major.minor version, an edited
+``model.json``, a missing required entry, a feature set whose names no longer
+match, and an old pickle model (``format_version`` 1, ``model.joblib``), naming
+the one-line conversion ``gaitml model convert OLD_DIR NEW_DIR`` (see
+:mod:`gaitml.models._legacy`, the only code that unpickles, for trusted models).
+
+Security: loading reads numbers only. ``arrays.npz`` must be a zip of ``.npy``
+arrays and is opened with ``allow_pickle=False``; ``weights.pt`` must be a torch
+zip archive and is opened with ``weights_only=True`` (torch's restricted
+unpickler, which accepts tensors and containers only). No file of the folder is
+passed to ``pickle`` or ``joblib``. The hashes detect corruption and edits; they
+are not a signature.
 """
 
 from __future__ import annotations
@@ -31,17 +47,47 @@ import platform
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from gaitml.errors import ModelError
 
-__all__ = ["TrainedModel", "save_model", "load_model", "library_versions", "sha256_file", "settings_sha256", "MODEL_FORMAT_VERSION"]
+__all__ = [
+    "TrainedModel",
+    "save_model",
+    "load_model",
+    "library_versions",
+    "sha256_file",
+    "settings_sha256",
+    "MODEL_FORMAT_VERSION",
+    "legacy_message",
+]
 
-MODEL_FORMAT_VERSION = 1
-JOBLIB_NAME = "model.joblib"
+MODEL_FORMAT_VERSION = 2
 JSON_NAME = "model.json"
+ARRAYS_NAME = "arrays.npz"
+TORCH_NAME = "weights.pt"
+CARD_NAME = "MODEL.md"
+#: The pickle of format version 1 (never read by load_model).
+LEGACY_NAME = "model.joblib"
 #: The entries of model.json that hold hashes (left out of the settings hash).
-HASH_KEYS = ("sha256", "settings_sha256")
+HASH_KEYS = ("files", "settings_sha256")
 #: Entries a model.json must have to be used (``window`` also needs ``length_s`` and ``overlap``).
-REQUIRED_KEYS = ("model_kind", "input_kind", "feature_set", "feature_names", "window", "sampling_rate_hz", "labels", "versions")
+REQUIRED_KEYS = (
+    "model_kind",
+    "input_kind",
+    "feature_set",
+    "feature_names",
+    "window",
+    "sampling_rate_hz",
+    "labels",
+    "versions",
+    "estimator",
+)
+SECURITY_NOTE = (
+    "data-only model: arrays.npz is read with numpy (allow_pickle=False) and weights.pt, if any, with torch.load(weights_only=True); "
+    "loading runs no code from the folder. The sha256 entries detect changes; they are not a signature."
+)
+_ZIP_MAGIC = b"PK\x03\x04"
 
 
 def settings_sha256(info: dict) -> str:
@@ -80,6 +126,16 @@ def library_versions(with_torch: bool) -> dict[str, str]:
 
         v["torch"] = torch.__version__
     return v
+
+
+def legacy_message(path: str | os.PathLike) -> str:
+    """The one-line refusal of an old pickle model, naming the conversion command."""
+    p = Path(path)
+    new = p.with_name(p.name + "-v2")
+    return (
+        f"{p} is an old pickle model (model.joblib), which gaitml no longer loads because unpickling can run code; "
+        f"if you trust its source, convert it once with: gaitml model convert {p} {new}"
+    )
 
 
 @dataclasses.dataclass
@@ -127,46 +183,104 @@ class TrainedModel:
         return list(self.info["labels"])
 
 
-def save_model(path: str | os.PathLike, estimator: Any, info: dict) -> TrainedModel:
-    """Write a model folder atomically (a failed write leaves no half model).
+def _plain_array(name: str, a) -> np.ndarray:
+    """``a`` as an array numpy can save without pickle (object arrays of str become unicode)."""
+    arr = np.asarray(a)
+    if arr.dtype == object:
+        try:
+            arr = np.asarray(arr.tolist())
+        except Exception:  # noqa: BLE001 - any failure means: not plain data
+            pass
+    if arr.dtype == object or arr.dtype.kind not in "biufU":
+        raise ModelError(
+            f"fitted array {name} has dtype {arr.dtype}, which cannot be saved without pickle; use str or numeric class labels."
+        )
+    return arr
+
+
+def _json_params(est) -> dict:
+    """Constructor parameters as JSON values (a RandomState instance is recorded as None)."""
+    out = {}
+    for k, v in est.get_params(deep=False).items():
+        if isinstance(v, np.random.RandomState):
+            v = None
+        elif isinstance(v, tuple):
+            v = list(v)
+        elif isinstance(v, np.generic):
+            v = v.item()
+        out[k] = v
+    json.dumps(out)  # fails loudly on anything else
+    return out
+
+
+def _params_from_json(kind: str, params: dict) -> dict:
+    p = dict(params)
+    for k in ("hidden", "channels"):
+        if isinstance(p.get(k), list):
+            p[k] = tuple(p[k])
+    return p
+
+
+def save_model(path: str | os.PathLike, estimator: Any, info: dict, *, created_utc: str | None = None, card: bool = True) -> TrainedModel:
+    """Write a data-only model folder atomically (a failed write leaves no half model).
 
     Parameters
     ----------
     path : folder to create or replace
-    estimator : fitted gaitml estimator
+    estimator : fitted gaitml estimator (a kind of :data:`gaitml.models.MODEL_KINDS`)
     info : dict
         At least ``model_kind``, ``input_kind``, ``feature_set``,
         ``feature_names``, ``window`` (``length_s``, ``overlap``),
         ``sampling_rate_hz``, ``labels``; usually also ``training_config``,
-        ``cv_scores``, ``n_train_windows``. Versions, the hash and the creation
-        time are added here.
+        ``training_data``, ``cv_scores``. Versions, the estimator's state, the
+        hashes and the creation time are added here.
+    created_utc : str, optional
+        Creation time to record (``gaitml model convert`` keeps the training time).
+    card : bool, default True
+        Also write ``MODEL.md`` (:func:`gaitml.models.model_card`).
     """
-    import joblib
-
     from gaitml.io import atomic_dir
+    from gaitml.io._atomic import _json_default
+    from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS
 
     need = ("model_kind", "input_kind", "feature_set", "feature_names", "window", "sampling_rate_hz", "labels")
     missing = [k for k in need if k not in info]
     if missing:
         raise ModelError(f"model info lacks {', '.join(missing)}; pass them to save_model.")
-    from gaitml.models._registry import TORCH_KINDS
-
+    kind = info["model_kind"]
+    cls = MODEL_KINDS.get(kind)
+    if cls is None or type(estimator) is not cls:
+        raise ModelError(
+            f"save_model takes a fitted {getattr(cls, '__name__', kind)} for model kind {kind!r}, got {type(estimator).__name__}."
+        )
+    is_torch = kind in TORCH_KINDS
+    state = estimator._get_state()
+    scalars, arrays = state[0], {k: _plain_array(k, v) for k, v in state[1].items()}
     meta = {
         "format": "gaitml-model",
         "format_version": MODEL_FORMAT_VERSION,
-        **info,
-        "versions": library_versions(info["model_kind"] in TORCH_KINDS),
-        "created_utc": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "security_note": "model.joblib is a pickle: load it only from a trusted source.",
+        **{k: v for k, v in info.items() if k not in (*HASH_KEYS, "format", "format_version", "versions", "created_utc", "estimator")},
+        "estimator": {"class": cls.__name__, "params": _json_params(estimator), "state": scalars},
+        "versions": library_versions(is_torch),
+        "created_utc": created_utc or _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "security_note": SECURITY_NOTE,
     }
     target = Path(path)
     with atomic_dir(target) as tmp:
-        joblib.dump(estimator, tmp / JOBLIB_NAME, compress=3)
-        meta["sha256"] = sha256_file(tmp / JOBLIB_NAME)
-        meta["settings_sha256"] = settings_sha256(meta)
-        from gaitml.io._atomic import _json_default
+        np.savez_compressed(tmp / ARRAYS_NAME, **arrays)
+        files = {ARRAYS_NAME: sha256_file(tmp / ARRAYS_NAME)}
+        if is_torch:
+            import torch
 
+            torch.save(state[2], tmp / TORCH_NAME)
+            files[TORCH_NAME] = sha256_file(tmp / TORCH_NAME)
+        meta["files"] = files
+        meta["settings_sha256"] = settings_sha256(meta)
         (tmp / JSON_NAME).write_text(json.dumps(meta, indent=2, default=_json_default) + "\n", encoding="utf-8")
+        if card:
+            from gaitml.models._card import model_card
+
+            (tmp / CARD_NAME).write_text(model_card(meta), encoding="utf-8")
     return TrainedModel(estimator=estimator, info=meta, path=target)
 
 
@@ -174,34 +288,36 @@ def _minor(v: str) -> str:
     return ".".join(str(v).split("+")[0].split(".")[:2])
 
 
-def load_model(path: str | os.PathLike) -> TrainedModel:
-    """Load a model folder after checking its hash, versions and feature set.
+def read_model_json(path: str | os.PathLike) -> tuple[Path, dict]:
+    """Read and check a model folder's ``model.json`` and the sha256 of its data files (none is opened).
 
-    Only load model folders from trusted sources: ``model.joblib`` is a pickle.
-
-    Raises
-    ------
-    ModelError
-        Missing folder or files, unreadable model.json, sha256 mismatch,
-        different gaitml / scikit-learn / torch major.minor version, unknown
-        model kind, or feature names that no longer match the feature set.
+    Used by ``gaitml model card``; :func:`load_model` runs the same checks.
     """
+    p, info = _read_info(path)
+    _verify_files(p, info)
+    return p, info
+
+
+def _read_info(path: str | os.PathLike) -> tuple[Path, dict]:
+    """Read ``model.json``: format, old pickle model refused (:func:`legacy_message`), required entries, settings hash."""
     p = Path(path)
     if not p.is_dir():
         raise ModelError(f"model folder not found: {p}; train one with 'gaitml train CONFIG --out {p}'.")
-    jpath, mpath = p / JSON_NAME, p / JOBLIB_NAME
-    for f in (jpath, mpath):
-        if not f.is_file():
-            raise ModelError(f"{f.name} is missing from the model folder {p}; the artifact is incomplete, train it again.")
+    jpath = p / JSON_NAME
+    if not jpath.is_file():
+        raise ModelError(f"{jpath.name} is missing from the model folder {p}; the artifact is incomplete, train it again.")
     try:
         info = json.loads(jpath.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ModelError(f"cannot read {jpath} ({exc}); the artifact is corrupt, train it again.") from exc
     if not isinstance(info, dict) or info.get("format") != "gaitml-model":
         raise ModelError(f"{jpath} is not a gaitml model description (no format = 'gaitml-model'); train the model again.")
-    if info.get("format_version") != MODEL_FORMAT_VERSION:
+    version = info.get("format_version")
+    if version == 1 or (version != MODEL_FORMAT_VERSION and (p / LEGACY_NAME).exists()):
+        raise ModelError(legacy_message(p))
+    if version != MODEL_FORMAT_VERSION:
         raise ModelError(
-            f"model format version {info.get('format_version')!r} in {jpath} is not {MODEL_FORMAT_VERSION}; train the model again with this gaitml."
+            f"model format version {version!r} in {jpath} is not {MODEL_FORMAT_VERSION}; train the model again with this gaitml."
         )
     missing = [k for k in REQUIRED_KEYS if k not in info]
     if not missing and isinstance(info["window"], dict):
@@ -212,27 +328,48 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
         raise ModelError(
             f"{jpath} lacks the required entry {', '.join(missing)}; the file was edited or is incomplete: retrain the model or restore model.json."
         )
-    for key in HASH_KEYS:
-        if not isinstance(info.get(key), str):
-            raise ModelError(
-                f"{jpath} has no {key} entry, so the model cannot be verified; retrain the model (gaitml train) or restore model.json."
-            )
-    digest = sha256_file(mpath)
-    if digest != info.get("sha256"):
+    if not isinstance(info.get("settings_sha256"), str) or not isinstance(info.get("files"), dict):
+        key = "settings_sha256" if not isinstance(info.get("settings_sha256"), str) else "files"
         raise ModelError(
-            f"sha256 of {mpath.name} ({digest[:12]}...) does not match model.json ({str(info.get('sha256'))[:12]}...): "
-            "the file was changed or corrupted; refusing to load it, train the model again."
+            f"{jpath} has no {key} entry, so the model cannot be verified; retrain the model (gaitml train) or restore model.json."
         )
     if settings_sha256(info) != info["settings_sha256"]:
         raise ModelError(
             f"model.json was edited after training (its settings no longer match settings_sha256) in {p}; "
             "settings such as window.length_s cannot be changed after training: retrain or restore it."
         )
+    return p, info
+
+
+def _verify_files(p: Path, info: dict) -> None:
+    """The data files listed in ``files`` are exactly the kind's, present, with matching sha256."""
+    from gaitml.models._registry import TORCH_KINDS
+
+    expected = {ARRAYS_NAME} | ({TORCH_NAME} if info.get("model_kind") in TORCH_KINDS else set())
+    if set(info["files"]) != expected or not all(isinstance(v, str) for v in info["files"].values()):
+        raise ModelError(
+            f"model.json in {p} lists the files {sorted(info['files'])} but model kind {info.get('model_kind')!r} has {sorted(expected)}; "
+            "the artifact is inconsistent: retrain the model."
+        )
+    for name in sorted(expected):
+        f = p / name
+        if not f.is_file():
+            raise ModelError(f"{name} is missing from the model folder {p}; the artifact is incomplete, train it again.")
+        digest = sha256_file(f)
+        if digest != info["files"][name]:
+            raise ModelError(
+                f"sha256 of {name} ({digest[:12]}...) does not match model.json ({info['files'][name][:12]}...): "
+                "the file was changed or corrupted; refusing to load it, train the model again."
+            )
+
+
+def check_versions(info: dict) -> None:
+    """Refuse a model saved with another gaitml / scikit-learn / torch major.minor version."""
     from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS
 
     kind = info.get("model_kind")
     if kind not in MODEL_KINDS:
-        raise ModelError(f"model kind {kind!r} in {jpath} is unknown to this gaitml; known: {', '.join(MODEL_KINDS)}.")
+        raise ModelError(f"model kind {kind!r} in model.json is unknown to this gaitml; known: {', '.join(MODEL_KINDS)}.")
     if kind in TORCH_KINDS:
         from gaitml.models._torch import require_torch
 
@@ -252,13 +389,79 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
                 f"the model was saved with {lib} {saved.get(lib, 'unknown')} but this is {lib} {current[lib]}; "
                 f"retrain the model (gaitml train) or install {lib}=={saved[lib]}."
             )
-    _check_feature_set(info, jpath)
-    import joblib
 
+
+def _read_npz(path: Path) -> dict[str, np.ndarray]:
+    """The arrays of an .npz, refusing anything that is not a zip of plain .npy arrays."""
+    with open(path, "rb") as f:
+        if f.read(4) != _ZIP_MAGIC:
+            raise ModelError(f"{path} is not a numpy .npz archive; the artifact is corrupt or was replaced: train the model again.")
     try:
-        est = joblib.load(mpath)
-    except Exception as exc:  # unpickling errors come in many types
-        raise ModelError(f"cannot load {mpath} ({type(exc).__name__}: {exc}); the artifact is corrupt, train it again.") from exc
+        with np.load(path, allow_pickle=False) as z:
+            return {k: z[k] for k in z.files}
+    except (ValueError, OSError, KeyError) as exc:
+        raise ModelError(f"cannot read {path} as plain arrays ({' '.join(str(exc).split())}); train the model again.") from exc
+
+
+def _read_torch_state(path: Path) -> dict:
+    """A torch state_dict, read with ``weights_only=True`` (tensors and containers only)."""
+    import torch
+
+    with open(path, "rb") as f:
+        if f.read(4) != _ZIP_MAGIC:
+            raise ModelError(f"{path} is not a torch weights archive; the artifact is corrupt or was replaced: train the model again.")
+    try:
+        state = torch.load(path, map_location="cpu", weights_only=True)
+    except Exception as exc:  # torch raises UnpicklingError, RuntimeError... for refused content
+        raise ModelError(
+            f"cannot read {path} as weights only ({type(exc).__name__}); the file holds more than tensors: train the model again."
+        ) from exc
+    if not isinstance(state, dict) or not all(isinstance(k, str) and isinstance(v, torch.Tensor) for k, v in state.items()):
+        raise ModelError(f"{path} is not a state_dict of named tensors; train the model again.")
+    return state
+
+
+def load_model(path: str | os.PathLike) -> TrainedModel:
+    """Load a data-only model folder after checking its hashes, versions and feature set.
+
+    Nothing is unpickled: the arrays come from ``arrays.npz`` (``allow_pickle=False``),
+    torch weights from ``weights.pt`` (``torch.load(weights_only=True)``), the
+    estimator is rebuilt from its class and parameters in ``model.json``.
+
+    Raises
+    ------
+    ModelError
+        Missing folder or files, unreadable model.json, sha256 mismatch, an edited
+        model.json, different gaitml / scikit-learn / torch major.minor version,
+        unknown model kind, feature names that no longer match the feature set,
+        or an old pickle model (the message names ``gaitml model convert``).
+    """
+    from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS
+
+    p, info = _read_info(path)
+    check_versions(info)
+    _check_feature_set(info, p / JSON_NAME)
+    _verify_files(p, info)
+    kind = info["model_kind"]
+    cls = MODEL_KINDS[kind]
+    spec = info["estimator"]
+    if not isinstance(spec, dict) or spec.get("class") != cls.__name__:
+        raise ModelError(
+            f"model.json in {p} describes estimator {spec.get('class') if isinstance(spec, dict) else spec!r}, not {cls.__name__}; retrain the model."
+        )
+    arrays = _read_npz(p / ARRAYS_NAME)
+    try:
+        params = _params_from_json(kind, spec.get("params") or {})
+        if kind in TORCH_KINDS:
+            est = cls._from_state(params, spec.get("state") or {}, arrays, _read_torch_state(p / TORCH_NAME))
+        else:
+            est = cls._from_state(params, spec.get("state") or {}, arrays)
+    except ModelError:
+        raise
+    except (KeyError, TypeError, ValueError, RuntimeError) as exc:
+        raise ModelError(
+            f"the arrays of {p} do not fit its model.json ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); train the model again."
+        ) from exc
     n_in = getattr(est, "n_features_in_", None)
     if info.get("input_kind") == "features" and n_in is not None and n_in != len(info["feature_names"]):
         raise ModelError(

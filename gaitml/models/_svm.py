@@ -31,6 +31,7 @@ from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils.validation import check_is_fitted
 
 from gaitml.errors import InputError
+from gaitml.models._validation import seed_from, validate_fit, validate_predict
 
 __all__ = ["LinearOVOSVM", "ovo_vote"]
 
@@ -70,13 +71,17 @@ def _vote_matrices(pairs, n_classes: int) -> tuple[np.ndarray, np.ndarray]:
     return first, second
 
 
-def _vote(decision: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
+def _vote_scores(decision: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Votes plus squashed confidence sums, shape (n, n_classes): the argmax is the OVO winner."""
     win_i = (decision > 0).astype(float)
     votes = win_i @ first + (1.0 - win_i) @ second
     conf = decision @ (first - second)
     # squash the confidence sums into (-1/3, 1/3) so they only break ties
-    conf = conf / (3 * (np.abs(conf) + 1))
-    return np.argmax(votes + conf, axis=1)
+    return votes + conf / (3 * (np.abs(conf) + 1))
+
+
+def _vote(decision: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    return np.argmax(_vote_scores(decision, first, second), axis=1)
 
 
 class LinearOVOSVM(ClassifierMixin, BaseEstimator):
@@ -95,12 +100,16 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         (the paper's eq. 5) in the dual.
     max_iter : int, default 2000
     tol : float, default 1e-4
-    random_state : int, default 0
-        Seed of liblinear's / libsvm's internal shuffling (determinism).
+    random_state : int, RandomState instance or None, default 0
+        Seed of liblinear's / libsvm's internal shuffling (the dual solvers;
+        the default primal solver is deterministic). An int is passed to every
+        pairwise machine; None or a RandomState draws one int seed per ``fit``
+        (scikit-learn convention).
 
     Attributes
     ----------
-    classes_ : ndarray of str
+    classes_ : ndarray
+        The sorted class labels, of the type given to ``fit`` (str, int...).
     mean_, scale_ : ndarray, shape (n_features,)
         The standardisation learned on the training windows.
     pairs_ : ndarray of int, shape (n_pairs, 2)
@@ -143,27 +152,34 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         Parameters
         ----------
         X : array-like, shape (n, n_features)
-        y : array-like of str, shape (n,)
+            Finite numeric features (validated by scikit-learn's ``validate_data``).
+        y : array-like, shape (n,)
+            Class labels (any type scikit-learn classifies; kept as given).
+
+        Returns
+        -------
+        self
+
+        Raises
+        ------
+        InputError
+            A bad parameter, bad ``X``/``y``, or fewer than 2 classes.
         """
         from sklearn.svm import SVC, LinearSVC
 
         self._check_params()
-        X = _as_features(X)
-        y = np.asarray(y).astype(str)
-        if len(y) != len(X):
-            raise InputError(f"X has {len(X)} rows but y has {len(y)} labels; they must match.")
-        self.classes_ = np.unique(y)
+        X, y = validate_fit(self, X, y)
+        self.classes_, codes = np.unique(y, return_inverse=True)
         if len(self.classes_) < 2:
             raise InputError(
-                f"need at least 2 classes to train a classifier, got {', '.join(map(str, self.classes_)) or 'none'}; check the labels of the training data."
+                f"need at least 2 classes to train a classifier, got {len(self.classes_)} class ({', '.join(map(str, self.classes_)) or 'none'}); check the labels of the training data."
             )
-        self.n_features_in_ = X.shape[1]
+        seed = seed_from(self.random_state)
         self.mean_ = X.mean(axis=0)
         scale = X.std(axis=0)
         scale[scale == 0] = 1.0  # constant feature: leave it at 0 after centring
         self.scale_ = scale
         Z = (X - self.mean_) / self.scale_
-        codes = np.searchsorted(self.classes_, y)
         pairs = np.array(list(combinations(range(len(self.classes_)), 2)), dtype=int)
         coef = np.zeros((len(pairs), X.shape[1]))
         intercept = np.zeros(len(pairs))
@@ -174,7 +190,7 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
                 mask = (codes == i) | (codes == j)
                 yk = np.where(codes[mask] == i, 1, -1)
                 if self.solver == "libsvm":
-                    clf = SVC(kernel="linear", C=self.C, tol=self.tol * 10, max_iter=-1, random_state=self.random_state)
+                    clf = SVC(kernel="linear", C=self.C, tol=self.tol * 10, max_iter=-1, random_state=seed)
                 else:
                     clf = LinearSVC(
                         C=self.C,
@@ -182,7 +198,7 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
                         dual=self.loss == "hinge",
                         tol=self.tol,
                         max_iter=self.max_iter,
-                        random_state=self.random_state,
+                        random_state=seed,
                     )
                 clf.fit(Z[mask], yk)
                 # class order of clf is [-1, 1], so a positive decision means class i
@@ -197,27 +213,83 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         self.vote_matrices_ = _vote_matrices(pairs, len(self.classes_))
         return self
 
-    def decision_function(self, X) -> np.ndarray:
-        """Pairwise decision values, shape (n, n_pairs) (positive: first class of the pair)."""
-        if not hasattr(self, "coef_"):  # cheaper than check_is_fitted on the one-window streaming path
-            check_is_fitted(self, "coef_")
-        X = _as_features(X, self.n_features_in_)
+    def pairwise_decision_function(self, X) -> np.ndarray:
+        """Decision values of the pairwise machines, shape (n, n_pairs).
+
+        Column k is machine ``pairs_[k] = (i, j)``: positive means class ``classes_[i]``.
+
+        Raises
+        ------
+        sklearn.exceptions.NotFittedError
+            Before ``fit``.
+        InputError
+            ``X`` is not a finite numeric (n, ``n_features_in_``) table.
+        """
+        check_is_fitted(self, "coef_")
+        return self._pairwise(validate_predict(self, X))
+
+    def _pairwise(self, X: np.ndarray) -> np.ndarray:
         return X @ self.coef_.T + self.intercept_
 
-    def predict(self, X) -> np.ndarray:
-        """Class label of every row by one-vs-one voting."""
-        d = self.decision_function(X)
+    def _scores(self, pairwise: np.ndarray) -> np.ndarray:
         mats = getattr(self, "vote_matrices_", None)
         first, second = mats if mats is not None else _vote_matrices(self.pairs_, len(self.classes_))
-        return self.classes_[_vote(d, first, second)]
+        return _vote_scores(pairwise, first, second)
 
+    def decision_function(self, X) -> np.ndarray:
+        """Decision values in scikit-learn's convention (the argmax / sign gives ``predict``).
 
-def _as_features(X, n_features: int | None = None) -> np.ndarray:
-    arr = np.asarray(X, dtype=float)
-    if arr.ndim != 2:
-        raise InputError(f"the feature matrix must be 2-D (windows x features), got shape {arr.shape}.")
-    if n_features is not None and arr.shape[1] != n_features:
-        raise InputError(f"the model expects {n_features} features per window, got {arr.shape[1]}; use the feature set it was trained on.")
-    if not np.isfinite(arr).all():
-        raise InputError("the feature matrix has NaN/inf values; check the recording for gaps or constant channels.")
-    return arr
+        Two classes: shape (n,), positive means ``classes_[1]`` (the one machine,
+        sign flipped). More classes: shape (n, n_classes), the one-vs-one votes
+        plus the squashed confidence sums of the vote (as ``SVC`` with
+        ``decision_function_shape='ovr'``). The machines' own values are
+        :meth:`pairwise_decision_function`.
+        """
+        d = self.pairwise_decision_function(X)
+        if len(self.classes_) == 2:
+            return -d[:, 0]
+        return self._scores(d)
+
+    def predict(self, X) -> np.ndarray:
+        """Class label of every row by one-vs-one voting (labels of the type given to ``fit``)."""
+        check_is_fitted(self, "coef_")
+        scores = self._scores(self._pairwise(validate_predict(self, X)))
+        return self.classes_[np.argmax(scores, axis=1)]
+
+    def _get_state(self) -> tuple[dict, dict[str, np.ndarray]]:
+        """Fitted values as (JSON scalars, numeric arrays) for a data-only model file."""
+        check_is_fitted(self, "coef_")
+        scalars = {"n_features_in_": int(self.n_features_in_), "converged_": bool(getattr(self, "converged_", True))}
+        arrays = {
+            "classes_": self.classes_,
+            "mean_": self.mean_,
+            "scale_": self.scale_,
+            "coef_": self.coef_,
+            "intercept_": self.intercept_,
+            "pairs_": self.pairs_,
+            "n_iter_": getattr(self, "n_iter_", np.zeros(len(self.pairs_), dtype=int)),
+        }
+        if hasattr(self, "feature_names_in_"):
+            arrays["feature_names_in_"] = self.feature_names_in_
+        return scalars, arrays
+
+    @classmethod
+    def _from_state(cls, params: dict, scalars: dict, arrays: dict[str, np.ndarray]) -> LinearOVOSVM:
+        """Rebuild a fitted estimator from :meth:`_get_state` output (no refit)."""
+        est = cls(**params)
+        est.n_features_in_ = int(scalars["n_features_in_"])
+        est.converged_ = bool(scalars["converged_"])
+        for name in ("classes_", "mean_", "scale_", "coef_", "intercept_", "pairs_", "n_iter_"):
+            setattr(est, name, np.asarray(arrays[name]))
+        if "feature_names_in_" in arrays:
+            est.feature_names_in_ = np.asarray(arrays["feature_names_in_"], dtype=object)
+        n_pairs = len(est.classes_) * (len(est.classes_) - 1) // 2
+        if est.coef_.shape != (n_pairs, est.n_features_in_) or est.intercept_.shape != (n_pairs,) or est.pairs_.shape != (n_pairs, 2):
+            raise ValueError(f"array shapes do not fit {len(est.classes_)} classes and {est.n_features_in_} features")
+        est.vote_matrices_ = _vote_matrices(est.pairs_, len(est.classes_))
+        return est
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = False
+        return tags

@@ -19,6 +19,7 @@ from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.validation import check_is_fitted
 
 from gaitml.errors import InputError, ModelError
+from gaitml.models._validation import seed_from, validate_fit, validate_predict
 
 __all__ = ["TorchMLPClassifier", "TorchCNN1DClassifier", "require_torch", "torch_available"]
 
@@ -49,6 +50,7 @@ class _TorchClassifier(ClassifierMixin, BaseEstimator):
     input_kind = "features"
 
     def _build(self, torch, n_in: int, n_classes: int):  # pragma: no cover - abstract
+        """The untrained network for ``n_in`` inputs (MLP: features; CNN: channels)."""
         raise NotImplementedError
 
     def _prepare(self, X, fitting: bool) -> np.ndarray:  # pragma: no cover - abstract
@@ -79,32 +81,55 @@ class _TorchClassifier(ClassifierMixin, BaseEstimator):
         if isinstance(k, bool) or not isinstance(k, int) or k < 1:
             raise InputError(f"`kernel_size` must be a positive integer, got {k!r}.")
 
+    #: ``validate_data`` settings of the input (the CNN takes 3-D raw windows).
+    _allow_nd = False
+    _min_features = 1
+
     def fit(self, X, y):
-        """Train the network; returns self."""
+        """Train the network.
+
+        Parameters
+        ----------
+        X : array-like
+            Feature matrix (n, n_features) for the MLP; raw windows
+            (n, length_samples, n_channels) or one-channel windows (n, length_samples)
+            for the CNN. Finite numbers (scikit-learn's ``validate_data``).
+        y : array-like, shape (n,)
+            Class labels, kept in their own type.
+
+        Returns
+        -------
+        self
+
+        Raises
+        ------
+        InputError
+            A bad parameter, bad ``X``/``y``, or fewer than 2 classes.
+        ModelError
+            torch is not installed.
+        """
         torch = require_torch(f"model kind {self._kind!r}")
         self._check_params()
-        y = np.asarray(y).astype(str)
-        self.classes_ = np.unique(y)
+        X, y = validate_fit(self, X, y, allow_nd=self._allow_nd, ensure_min_features=self._min_features)
+        self.classes_, codes = np.unique(y, return_inverse=True)
         if len(self.classes_) < 2:
             raise InputError(
-                f"need at least 2 classes to train a classifier, got {', '.join(map(str, self.classes_)) or 'none'}; check the labels of the training data."
+                f"need at least 2 classes to train a classifier, got {len(self.classes_)} class ({', '.join(map(str, self.classes_)) or 'none'}); check the labels of the training data."
             )
         Xp = self._prepare(X, fitting=True)
-        if len(Xp) != len(y):
-            raise InputError(f"X has {len(Xp)} rows but y has {len(y)} labels; they must match.")
-        codes = np.searchsorted(self.classes_, y)
-        torch.manual_seed(self.random_state)
+        seed = seed_from(self.random_state)
+        torch.manual_seed(seed)
         prev_det = torch.are_deterministic_algorithms_enabled()
         prev_threads = torch.get_num_threads()
         torch.use_deterministic_algorithms(True)
         torch.set_num_threads(self.n_threads)
         try:
-            net = self._build(torch, Xp, len(self.classes_))
+            net = self._build(torch, Xp.shape[1], len(self.classes_))
             opt = torch.optim.Adam(net.parameters(), lr=self.learning_rate, weight_decay=self.weight_decay)
             loss_fn = torch.nn.CrossEntropyLoss()
             xt = torch.as_tensor(Xp, dtype=torch.float32)
             yt = torch.as_tensor(codes, dtype=torch.long)
-            gen = torch.Generator().manual_seed(self.random_state)
+            gen = torch.Generator().manual_seed(seed)
             n = len(xt)
             self.loss_curve_ = []
             net.train()
@@ -127,17 +152,64 @@ class _TorchClassifier(ClassifierMixin, BaseEstimator):
         return self
 
     def predict_proba(self, X) -> np.ndarray:
-        """Class probabilities, shape (n, n_classes), columns in ``classes_`` order."""
+        """Class probabilities, shape (n, n_classes), columns in ``classes_`` order.
+
+        Raises
+        ------
+        sklearn.exceptions.NotFittedError
+            Before ``fit``.
+        InputError
+            ``X`` does not have the shape the model was fitted on, or is not finite.
+        """
         check_is_fitted(self, "net_")
         torch = require_torch(f"model kind {self._kind!r}")
+        X = validate_predict(self, X, allow_nd=self._allow_nd)
         Xp = self._prepare(X, fitting=False)
         with torch.no_grad():
             logits = self.net_(torch.as_tensor(Xp, dtype=torch.float32))
             return torch.softmax(logits, dim=1).numpy().astype(float)
 
     def predict(self, X) -> np.ndarray:
-        """Most probable class of every row."""
-        return self.classes_[np.argmax(self.predict_proba(X), axis=1)]
+        """Most probable class of every row (labels of the type given to ``fit``)."""
+        check_is_fitted(self, "net_")
+        proba = self.predict_proba(X)
+        return self.classes_[np.argmax(proba, axis=1)]
+
+    def _get_state(self) -> tuple[dict, dict[str, np.ndarray], dict]:
+        """Fitted values as (JSON scalars, numeric arrays, torch state_dict) for data-only files."""
+        check_is_fitted(self, "net_")
+        scalars = {"n_features_in_": int(self.n_features_in_), "loss_curve_": [float(v) for v in getattr(self, "loss_curve_", [])]}
+        if hasattr(self, "window_shape_"):
+            scalars["window_shape_"] = [int(v) for v in self.window_shape_]
+        arrays = {"classes_": self.classes_, "mean_": self.mean_, "scale_": self.scale_}
+        if hasattr(self, "feature_names_in_"):
+            arrays["feature_names_in_"] = self.feature_names_in_
+        return scalars, arrays, {k: v.detach().clone() for k, v in self.net_.state_dict().items()}
+
+    @classmethod
+    def _from_state(cls, params: dict, scalars: dict, arrays: dict[str, np.ndarray], state_dict: dict):
+        """Rebuild a fitted estimator: the architecture from ``params``, then the weights (no refit)."""
+        torch = require_torch(f"model kind {cls._kind!r}")
+        est = cls(**params)
+        est.n_features_in_ = int(scalars["n_features_in_"])
+        est.loss_curve_ = list(scalars.get("loss_curve_", []))
+        if "window_shape_" in scalars:
+            est.window_shape_ = tuple(int(v) for v in scalars["window_shape_"])
+        for name in ("classes_", "mean_", "scale_"):
+            setattr(est, name, np.asarray(arrays[name]))
+        if "feature_names_in_" in arrays:
+            est.feature_names_in_ = np.asarray(arrays["feature_names_in_"], dtype=object)
+        n_in = est.window_shape_[1] if hasattr(est, "window_shape_") else est.n_features_in_
+        net = est._build(torch, n_in, len(est.classes_))
+        net.load_state_dict(state_dict, strict=True)
+        net.eval()
+        est.net_ = net
+        return est
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.three_d_array = self._allow_nd
+        return tags
 
 
 class TorchMLPClassifier(_TorchClassifier):
@@ -152,8 +224,11 @@ class TorchMLPClassifier(_TorchClassifier):
     batch_size : int, default 128
     learning_rate : float, default 1e-3
     weight_decay : float, default 1e-4
-    random_state : int, default 0
+    random_state : int, RandomState instance or None, default 0
+        Seed of the weight initialisation, dropout and batch shuffling; None or a
+        RandomState draws one int seed per ``fit`` (scikit-learn convention).
     n_threads : int, default 1
+        CPU threads torch uses while fitting.
     """
 
     _kind = "mlp"
@@ -181,22 +256,18 @@ class TorchMLPClassifier(_TorchClassifier):
         self.n_threads = n_threads
 
     def _prepare(self, X, fitting: bool) -> np.ndarray:
+        """Standardise a validated 2-D feature matrix (fitting: learn mean and scale)."""
         arr = np.asarray(X, dtype=float)
-        if arr.ndim != 2:
-            raise InputError(f"the MLP needs a 2-D feature matrix (windows x features), got shape {arr.shape}.")
         if fitting:
-            self.n_features_in_ = arr.shape[1]
             self.mean_ = arr.mean(axis=0)
             s = arr.std(axis=0)
             s[s == 0] = 1.0
             self.scale_ = s
-        elif arr.shape[1] != self.n_features_in_:
-            raise InputError(f"the model expects {self.n_features_in_} features per window, got {arr.shape[1]}.")
         return (arr - self.mean_) / self.scale_
 
-    def _build(self, torch, Xp, n_classes):
+    def _build(self, torch, n_in, n_classes):
         nn = torch.nn
-        layers, n_in = [], Xp.shape[1]
+        layers = []
         for h in tuple(self.hidden):
             layers += [nn.Linear(n_in, int(h)), nn.ReLU(), nn.Dropout(self.dropout)]
             n_in = int(h)
@@ -209,7 +280,9 @@ class TorchCNN1DClassifier(_TorchClassifier):
 
     Input: raw windows of shape (n, length_samples, n_channels) (acc x, y, z and
     the gravity-free magnitude; see :func:`gaitml.models.raw_window_channels`),
-    standardised per channel with the training mean and std.
+    standardised per channel with the training mean and std. A 2-D array
+    (n, length_samples) is read as one channel (this is also what lets
+    scikit-learn's estimator checks, which feed 2-D tables, run on it).
 
     Architecture: two Conv1d (kernel 5, ReLU, ``channels`` filters each), max
     pooling by 2 after the first, global average pooling, a linear layer.
@@ -222,8 +295,11 @@ class TorchCNN1DClassifier(_TorchClassifier):
     batch_size : int, default 64
     learning_rate : float, default 2e-3
     weight_decay : float, default 1e-4
-    random_state : int, default 0
+    random_state : int, RandomState instance or None, default 0
+        Seed of the weight initialisation, dropout and batch shuffling; None or a
+        RandomState draws one int seed per ``fit`` (scikit-learn convention).
     n_threads : int, default 1
+        CPU threads torch uses while fitting.
     """
 
     _kind = "cnn1d"
@@ -250,10 +326,16 @@ class TorchCNN1DClassifier(_TorchClassifier):
         self.random_state = random_state
         self.n_threads = n_threads
 
+    _allow_nd = True
+    _min_features = 2  # window length in samples: the max pooling halves it
+
     def _prepare(self, X, fitting: bool) -> np.ndarray:
+        """Standardise validated raw windows per channel; 2-D input is one channel."""
         arr = np.asarray(X, dtype=float)
+        if arr.ndim == 2:
+            arr = arr[:, :, None]
         if arr.ndim != 3:
-            raise InputError(f"the 1-D CNN needs raw windows of shape (n, length, channels), got shape {arr.shape}.")
+            raise InputError(f"the 1-D CNN needs raw windows of shape (n, length, channels) or (n, length), got shape {arr.shape}.")
         if fitting:
             self.window_shape_ = arr.shape[1:]
             self.mean_ = arr.mean(axis=(0, 1))
@@ -267,12 +349,12 @@ class TorchCNN1DClassifier(_TorchClassifier):
         z = (arr - self.mean_) / self.scale_
         return np.ascontiguousarray(np.transpose(z, (0, 2, 1)))  # torch wants (n, channels, length)
 
-    def _build(self, torch, Xp, n_classes):
+    def _build(self, torch, n_in, n_classes):
         nn = torch.nn
         c1, c2 = (int(c) for c in self.channels)
         k = int(self.kernel_size)
         return nn.Sequential(
-            nn.Conv1d(Xp.shape[1], c1, k, padding=k // 2),
+            nn.Conv1d(int(n_in), c1, k, padding=k // 2),
             nn.ReLU(),
             nn.MaxPool1d(2),
             nn.Conv1d(c1, c2, k, padding=k // 2),

@@ -121,7 +121,7 @@ def pair_margin(estimator, X: np.ndarray, a: str, b: str) -> np.ndarray:
     ia, ib = classes.index(a), classes.index(b)
     pairs = getattr(estimator, "pairs_", None)
     if pairs is not None:
-        d = estimator.decision_function(X)
+        d = estimator.pairwise_decision_function(X)
         for k, (i, j) in enumerate(np.asarray(pairs)):
             if (i, j) == (ia, ib):
                 return d[:, k]

@@ -74,11 +74,11 @@ def test_svm_bad_params(dataset, bad):
 
 def test_svm_refuses_wrong_width_and_one_class(dataset):
     m = LinearOVOSVM().fit(dataset.inputs("features"), dataset.y)
-    with pytest.raises(InputError, match="expects 52 features"):
+    with pytest.raises(InputError, match="34 features, but LinearOVOSVM is expecting 52 features"):
         m.predict(np.zeros((2, 34)))
     with pytest.raises(InputError, match="at least 2 classes") as exc:
         LinearOVOSVM().fit(np.zeros((5, 3)) + np.arange(5)[:, None], ["a"] * 5)
-    assert "got a;" in str(exc.value) and "np.str_" not in str(exc.value)
+    assert "got 1 class (a);" in str(exc.value) and "np.str_" not in str(exc.value)
 
 
 def test_make_model_errors():
@@ -115,8 +115,9 @@ def test_torch_models_learn(dataset):
     assert m.loss_curve_[-1] < m.loss_curve_[0]
     proba = m.predict_proba(X[:4])
     np.testing.assert_allclose(proba.sum(axis=1), 1.0, rtol=1e-5)
+    # the CNN reads a 2-D array as one-channel windows; 4-D input is refused
     with pytest.raises(InputError, match="raw windows"):
-        make_model("cnn1d", {"epochs": 1}).fit(X, dataset.y)
+        make_model("cnn1d", {"epochs": 1}).fit(X[:, :, None, None], dataset.y)
 
 
 # ------------------------------------------------------------------ artifacts
@@ -143,16 +144,21 @@ def saved(tmp_path, dataset):
 
 def test_artifact_roundtrip(saved, dataset):
     info = json.loads((saved / "model.json").read_text())
-    for key in ("sha256", "versions", "feature_names", "window", "sampling_rate_hz", "labels", "security_note"):
+    for key in ("files", "versions", "feature_names", "window", "sampling_rate_hz", "labels", "security_note", "estimator"):
         assert key in info
     assert {"gaitml", "scikit-learn", "numpy"} <= set(info["versions"])
+    assert sorted(p.name for p in saved.iterdir()) == ["MODEL.md", "arrays.npz", "model.json"]
+    assert set(info["files"]) == {"arrays.npz"} and info["estimator"]["class"] == "LinearOVOSVM"
     m = load_model(saved)
     X = dataset.inputs("features")
-    assert np.array_equal(m.estimator.predict(X), LinearOVOSVM().fit(X, dataset.y).predict(X))
+    fresh = LinearOVOSVM().fit(X, dataset.y)
+    assert np.array_equal(m.estimator.predict(X), fresh.predict(X))
+    np.testing.assert_array_equal(m.estimator.pairwise_decision_function(X), fresh.pairwise_decision_function(X))
+    assert m.estimator.get_params() == fresh.get_params()
 
 
 def test_tampered_bytes_refused(saved):
-    p = saved / "model.joblib"
+    p = saved / "arrays.npz"
     b = bytearray(p.read_bytes())
     b[len(b) // 2] ^= 0xFF
     p.write_bytes(bytes(b))
@@ -176,7 +182,8 @@ def _write_rehashed(folder, info):
         (lambda i: i.update(model_kind="mlp"), "model.json was edited"),
         (lambda i: i.pop("window"), "lacks the required entry window"),
         (lambda i: i["window"].pop("overlap"), "lacks the required entry window.overlap"),
-        (lambda i: i.pop("sha256"), "has no sha256 entry"),
+        (lambda i: i.pop("files"), "has no files entry"),
+        (lambda i: i["files"].update({"model.joblib": "0" * 64}), "lists the files"),
         (lambda i: i.pop("settings_sha256"), "has no settings_sha256 entry"),
     ],
 )

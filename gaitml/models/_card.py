@@ -1,0 +1,189 @@
+"""The model card: a markdown summary of a model folder, generated from its ``model.json``.
+
+Written as ``MODEL.md`` when a model is saved and printed by ``gaitml model card
+MODEL_DIR``. It states what a user needs to judge whether the model fits their
+data: training data (source, subjects, positions, modes, duration), the
+cross-validation scores (overall and per class when recorded), window settings,
+feature set, the domain the model is valid for, known failure cases and the
+library versions. Everything comes from ``model.json``; nothing is measured here.
+"""
+
+from __future__ import annotations
+
+from gaitml.errors import ModelError
+
+__all__ = ["model_card"]
+
+_KIND_TEXT = {
+    "linear-ovo-svm": "linear SVM trained one pair of classes at a time, majority vote (paper 003 sec. 3.1, 3.3) on standardised features",
+    "mlp": "small multilayer perceptron (torch) on standardised features (a baseline, not in paper 003)",
+    "cnn1d": "small 1-D convolutional network (torch) on raw window samples (a baseline, not in paper 003)",
+}
+
+#: Failure cases that hold for every gaitml motion-mode model (from the design of the features and windows).
+_GENERAL_FAILURES = (
+    "Modes outside its label set are forced onto one of its labels (there is no 'unknown' class).",
+    "Windows that straddle a mode change take either mode; the adjacent-window correction (paper 003 sec. 3.4) "
+    "removes single-window blips but delays the output by one window.",
+    "The features are computed in the phone frame: a carrying position or orientation not in the training data "
+    "(pocket, bag, swinging hand when trained on a hand-held phone) changes them and lowers accuracy.",
+    "Recordings at another rate are resampled to the model's rate first; rates far below it lose the step harmonics.",
+)
+
+
+def _fmt(v, digits: int = 3) -> str:
+    if isinstance(v, float):
+        return f"{v:.{digits}f}"
+    return str(v)
+
+
+def _training_lines(info: dict) -> list[str]:
+    cfg = info.get("training_config") or {}
+    data = cfg.get("data") or {}
+    td = info.get("training_data") or {}
+    lines = []
+    src = data.get("source", "unknown")
+    lines.append(f"- Source: {src}" + (f" (`{data['path']}`)" if data.get("path") else ""))
+    sim = data.get("simulated") or {}
+    if src == "simulated" and sim:
+        lines.append(
+            f"- Simulated by gaitml.simulate: {sim.get('subjects')} subjects x {sim.get('sessions', 1)} session(s), "
+            f"{_fmt(float(sim.get('duration_s', 0)), 0)} s each, phone pose {sim.get('pose', 'flat')}, seed {cfg.get('seed')}"
+        )
+        modes = sim.get("modes") or info.get("labels")
+        lines.append(f"- Modes: {', '.join(map(str, modes))}")
+        n_rec = td.get("n_recordings")
+        if n_rec and sim.get("duration_s"):
+            lines.append(f"- Duration: {n_rec} recordings, {float(n_rec) * float(sim['duration_s']) / 60:.0f} min in total")
+    else:
+        lines.append(f"- Modes (labels): {', '.join(map(str, info.get('labels', [])))}")
+    groups = td.get("groups") or []
+    if groups:
+        key = data.get("group", "group")
+        shown = ", ".join(map(str, groups[:8])) + (", ..." if len(groups) > 8 else "")
+        lines.append(f"- Subjects / groups ({key}): {len(groups)}: {shown}")
+    where = data.get("where") or {}
+    if where:
+        lines.append("- Selection: " + "; ".join(f"{k} = {v}" for k, v in where.items()))
+    positions = td.get("positions") or where.get("position")
+    if positions:
+        lines.append(f"- Phone positions: {positions if isinstance(positions, str) else ', '.join(map(str, positions))}")
+    elif src == "simulated":
+        lines.append(
+            f"- Phone positions: held in the hand, pose {sim.get('pose', 'flat')} (flat: pitch about 3-12 deg, tilted: 30-50 deg; "
+            "mixed: drawn per subject); no pocket, bag or swinging-hand recordings"
+        )
+    if td.get("n_windows") is not None:
+        lines.append(f"- Training windows: {td['n_windows']}")
+    for note in td.get("notes") or []:
+        lines.append(f"- Note: {note}")
+    return lines
+
+
+def _cv_lines(info: dict) -> list[str]:
+    cv = info.get("cv_scores")
+    if not cv:
+        return ["Not recorded (the model was trained with `train.cross_validate = false`)."]
+    lines = [
+        f"Scheme: {cv.get('scheme', '?')}, {cv.get('n_folds', '?')} folds, {cv.get('n_test_predictions', '?')} test windows.",
+        "",
+        "| | before correction | after correction |",
+        "|---|---|---|",
+        f"| accuracy (pooled) | {_fmt(cv.get('accuracy_before'))} | {_fmt(cv.get('accuracy_after'))} |",
+        f"| macro F1 (pooled) | {_fmt(cv.get('macro_f1_before'))} | {_fmt(cv.get('macro_f1_after'))} |",
+        f"| fold accuracy mean +- std | {_fmt(cv.get('fold_accuracy_mean_before'))} +- {_fmt(cv.get('fold_accuracy_std_before'))} "
+        f"| {_fmt(cv.get('fold_accuracy_mean_after'))} +- {_fmt(cv.get('fold_accuracy_std_after'))} |",
+    ]
+    pcb, pca = cv.get("per_class_before"), cv.get("per_class_after")
+    if pcb:
+        lines += [
+            "",
+            "Per class (pooled over folds; after = with the adjacent-window correction):",
+            "",
+            "| class | precision | recall | F1 | F1 after | support |",
+            "|---|---|---|---|---|---|",
+        ]
+        for lab, m in pcb.items():
+            after = (pca or {}).get(lab, {}).get("f1")
+            lines.append(
+                f"| {lab} | {_fmt(m['precision'])} | {_fmt(m['recall'])} | {_fmt(m['f1'])} | {_fmt(after) if after is not None else '-'} | {m['support']} |"
+            )
+        if cv.get("per_class_source"):
+            lines += ["", f"Per-class source: {cv['per_class_source']}"]
+    else:
+        lines += ["", "Per-class scores were not recorded for this model."]
+    return lines
+
+
+def model_card(info: dict) -> str:
+    """Markdown model card of a model described by ``info`` (its ``model.json``).
+
+    Raises
+    ------
+    ModelError
+        ``info`` lacks the entries every model.json has (kind, window, labels).
+    """
+    try:
+        kind = info["model_kind"]
+        win = info["window"]
+        labels = list(info["labels"])
+        fs = float(info["sampling_rate_hz"])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ModelError(f"model.json lacks {exc}; it is not a complete gaitml model description.") from exc
+    name = info.get("name") or (info.get("training_config") or {}).get("name") or "model"
+    fset = info.get("feature_set")
+    desc = (info.get("training_config") or {}).get("description")
+    length = int(round(float(win["length_s"]) * fs))
+    hop = max(1, int(round(length * (1 - float(win["overlap"])))))
+    out = [f"# Model card: {name}", ""]
+    if desc:
+        out += [desc, ""]
+    out += [
+        "## Model",
+        "",
+        f"- Kind: `{kind}`: {_KIND_TEXT.get(kind, kind)}",
+        "- Parameters: "
+        + ", ".join(f"{k} = {v}" for k, v in (info.get("estimator", {}).get("params") or info.get("model_params") or {}).items()),
+        f"- Classes: {', '.join(map(str, labels))}",
+        f"- Created: {info.get('created_utc', '?')}" + (" (converted from a pickle model, format 1)" if info.get("converted_from") else ""),
+        "- Files: `model.json` (settings, hashes), `arrays.npz` (numbers)"
+        + (", `weights.pt` (torch state_dict)" if "weights.pt" in (info.get("files") or {}) else ""),
+        "",
+        "## Input",
+        "",
+        f"- Sampling rate: {fs:g} Hz (other rates are resampled to it)",
+        f"- Windows: {float(win['length_s']):g} s ({length} samples), overlap {float(win['overlap']):g} (hop {hop} samples); "
+        f"training windows needed a majority label over {float(win.get('min_label_fraction', 0.5)):g} of the samples",
+    ]
+    if info.get("input_kind") == "raw":
+        out.append(f"- Raw channels: {', '.join(info.get('raw_channels', []))} (standardised per channel)")
+    else:
+        n = len(info.get("feature_names", []))
+        gyro = "gyro" in str(fset)
+        out.append(
+            f"- Feature set: `{fset}`, {n} features (paper 003 sec. 3.2, F numbers in `features/catalogue.md`"
+            + ("; G1..G52 are the same statistics of the gyroscope" if gyro else "")
+            + ")"
+        )
+        out.append(f"- Sensors needed: accelerometer (m/s^2){' and gyroscope (rad/s)' if gyro else ''}")
+    pp = info.get("postprocess") or {}
+    out.append(f"- Adjacent-window correction (paper 003 sec. 3.4): {'on' if pp.get('adjacent_correction', True) else 'off'}")
+    out += ["", "## Training data", "", *_training_lines(info), "", "## Cross-validation", "", *_cv_lines(info)]
+    src = ((info.get("training_config") or {}).get("data") or {}).get("source")
+    out += ["", "## Domain it is valid for", ""]
+    if src == "simulated":
+        out.append(
+            f"Simulated walkers ({', '.join(map(str, labels))}) with the phone held in the hand. The scores above are on simulated "
+            "subjects it was not trained on; on real recordings expect lower accuracy until it is checked on them."
+        )
+    else:
+        out.append(f"Recordings like the training data above: the same modes ({', '.join(map(str, labels))}), phone positions and sensors.")
+    out += ["", "## Known failure cases", ""] + [f"- {t}" for t in _GENERAL_FAILURES]
+    if "gyro" in str(fset):
+        out.append("- Accelerometer-only recordings are refused (the feature set needs a gyroscope); use a model on `all52`.")
+    out += ["", "## Versions", ""]
+    out += [f"- {k}: {v}" for k, v in (info.get("versions") or {}).items()]
+    conv = info.get("converted_from")
+    if conv:
+        out += [f"- converted from format {conv.get('format_version')} ({conv.get('file')}, sha256 {str(conv.get('sha256'))[:12]}...)"]
+    return "\n".join(out) + "\n"

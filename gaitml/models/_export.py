@@ -1,0 +1,343 @@
+"""Portable exports of a model: a self-describing JSON and ONNX.
+
+JSON (:func:`export_json`, linear OVO SVM): everything a phone developer needs
+to reproduce ``gaitml predict`` without gaitml: the sampling rate and window
+rule, every feature with its paper number (paper 003 sec. 3.2) and formula, the
+scaler, the pairwise weights and intercepts, the class pairs, the voting and
+tie rule, and the adjacent-window correction (paper 003 sec. 3.4). Prediction
+is a few dozen lines: compute the features, one dot product per class pair,
+count votes, break ties, correct.
+
+ONNX (:func:`export_onnx`, optional extra ``gaitml[onnx]``): the linear OVO SVM
+is built node by node with the ``onnx`` package's helper API (scikit-learn
+converters do not cover this custom one-vs-one model); the torch kinds go
+through :func:`torch.onnx.export` with the standardisation in front and the
+softmax behind. The feature extraction stays outside the graph and is specified
+in the model's metadata (``metadata_props['gaitml']``: the JSON export without
+the weights).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+from gaitml.errors import ModelError
+
+__all__ = ["export_json", "export_onnx", "input_spec", "PORTABLE_FORMAT"]
+
+PORTABLE_FORMAT = "gaitml-portable-model"
+ONNX_HINT = "install the optional extra: pip install 'gaitml[onnx]'"
+
+_VOTING = {
+    "rule": (
+        "For each class pair k = (i, j): machine k votes for class i when d_k > 0, else for class j. "
+        "score_c = votes_c + conf_c / (3 * (|conf_c| + 1)), where conf_c = sum of d_k over pairs with c first "
+        "minus sum of d_k over pairs with c second. The predicted class is the one with the highest score."
+    ),
+    "tie_rule": (
+        "Equal vote counts are broken by the squashed confidence conf_c / (3 (|conf_c| + 1)), which lies in (-1/3, 1/3) "
+        "and so never overturns a vote difference (the rule of scikit-learn's OneVsOneClassifier); "
+        "equal scores go to the class listed first in 'labels'."
+    ),
+}
+
+_CORRECTION = {
+    "source": "paper 003 sec. 3.4 (adjacent-window correction)",
+    "rule": (
+        "Process window labels in time order. For window k (1 <= k <= n-2) let W1 = corrected label of window k-2 "
+        "(missing for k = 1), W2 = corrected label of window k-1, W3 = raw label of window k, W4 = raw label of window k+1. "
+        "Rule 1: if W1 exists and W2 != W3 and W2 != W4 and W3 != W4 and W1 == W2, the corrected label of k is W2. "
+        "Rule 2: otherwise, if W2 == W4 and W2 != W3, it is W2. Otherwise it is W3."
+    ),
+    "edges": "The first and the last window keep their raw labels.",
+    "delay": "Causal with a one-window delay: the label of window k is final once window k+1 is classified.",
+}
+
+
+def _window_spec(info: dict) -> dict:
+    fs = float(info["sampling_rate_hz"])
+    length_s, overlap = float(info["window"]["length_s"]), float(info["window"]["overlap"])
+    length = int(round(length_s * fs))
+    hop = max(1, int(round(length * (1 - overlap))))
+    return {
+        "length_s": length_s,
+        "overlap": overlap,
+        "length_samples": length,
+        "hop_samples": hop,
+        "rule": (
+            f"length = round(length_s * sampling_rate_hz) = {length} samples; hop = max(1, round(length * (1 - overlap))) = {hop}; "
+            "window w covers samples [w * hop, w * hop + length); only complete windows are formed; "
+            "a window's features depend on its own samples only."
+        ),
+    }
+
+
+def _feature_spec(info: dict) -> dict:
+    from gaitml.features import feature_specs
+    from gaitml.features._catalogue import MODE_BIN_WIDTH
+    from gaitml.features._extract import DEGENERATE_REL, MAGNITUDE_OFFSET_MS2
+
+    fset = info["feature_set"]
+    specs = feature_specs(fset)
+    names = list(info["feature_names"])
+    if [s.name for s in specs] != names:
+        raise ModelError(f"the model's feature names do not match feature set {fset!r} of this gaitml; retrain the model.")
+    return {
+        "set": fset,
+        "source": "paper 003 (Deng et al. 2021) sec. 3.2 and Table 1; F<k> = paper feature number k, G<k> = F<k> on the gyroscope",
+        "channels": {
+            "acc_x, acc_y, acc_z": "accelerometer in the phone frame, m/s^2, gravity included",
+            "acc_mag": (
+                f"|acc| - {MAGNITUDE_OFFSET_MS2} m/s^2 (paper eq. 1), smoothed by a centred 3-sample moving average computed within "
+                "each window (paper sec. 2.1, N = 3): sample i of the window is the mean of samples i-1, i, i+1; the first and last "
+                "sample of the window average 2 samples (themselves and their one neighbour inside the window)"
+            ),
+            "gyr_x, gyr_y, gyr_z": "gyroscope in the phone frame, rad/s (feature set all52+gyro only)",
+            "gyr_mag": "|gyr| (no offset), smoothed like acc_mag",
+        },
+        "conventions": {
+            "N": "number of samples in the window",
+            "moments": "variance, skewness and kurtosis use population (1/N) moments; kurtosis is excess (m4 / m2^2 - 3)",
+            "quantiles": "linear interpolation between order statistics: h = p (N - 1), Q = s[floor(h)] + (h - floor(h)) (s[floor(h)+1] - s[floor(h)]) (numpy default, type 7)",
+            "mode_bin_width": {"acc": MODE_BIN_WIDTH["acc"], "gyr": MODE_BIN_WIDTH["gyr"]},
+            "mode": "bin k = floor(a / w + 1/2) with w the bin width; the mode is w * (the bin with most samples); ties go to the smallest bin",
+            "constant_window": f"a channel whose std <= {DEGENERATE_REL} * (1 + |mean|) is constant: its skewness, kurtosis and correlations are 0",
+            "correlation": "zero-lag Pearson coefficient of two axes over the window, clipped to [-1, 1]",
+        },
+        "features": [
+            {
+                "index": i,
+                "name": s.name,
+                "code": s.code,
+                "paper_number": s.number if s.sensor == "acc" else s.number - 52,
+                "sensor": s.sensor,
+                "channel": s.channel,
+                "stat": s.stat,
+                "description": s.description,
+                "formula": s.formula,
+            }
+            for i, s in enumerate(specs)
+        ],
+    }
+
+
+def input_spec(model) -> dict:
+    """The JSON export without the classifier's numbers (also the ONNX metadata)."""
+    info = model.info
+    out = {
+        "format": PORTABLE_FORMAT,
+        "format_version": 1,
+        "model_kind": info["model_kind"],
+        "name": info.get("name"),
+        "labels": [str(c) for c in model.estimator.classes_],
+        "source_model": {
+            "gaitml_version": (info.get("versions") or {}).get("gaitml"),
+            "created_utc": info.get("created_utc"),
+            "settings_sha256": info.get("settings_sha256"),
+        },
+        "sampling_rate_hz": float(info["sampling_rate_hz"]),
+        "resampling": "input at another rate: low-pass at 0.45 x the new rate (4th-order Butterworth, zero phase) when down-sampling, then linear interpolation onto the new grid",
+        "window": _window_spec(info),
+        "postprocess": {"adjacent_correction": bool((info.get("postprocess") or {}).get("adjacent_correction", True)), **_CORRECTION},
+    }
+    if info["input_kind"] == "features":
+        out["features"] = _feature_spec(info)
+    else:
+        out["raw_channels"] = list(info.get("raw_channels", []))
+    return out
+
+
+def export_json(model) -> dict:
+    """Self-describing JSON of a linear OVO SVM model (see the module docstring).
+
+    Parameters
+    ----------
+    model : TrainedModel
+        From :func:`gaitml.models.load_model`.
+
+    Returns
+    -------
+    dict
+        JSON-ready: ``labels``, ``sampling_rate_hz``, ``window``, ``features``
+        (every feature with its paper number and formula), ``classifier``
+        (``coef``, ``intercept``, ``pairs``, ``scaler``, ``voting``),
+        ``postprocess`` (the correction rule).
+
+    Raises
+    ------
+    ModelError
+        A torch model (use the ONNX export for those).
+    """
+    if model.kind != "linear-ovo-svm":
+        raise ModelError(f"the JSON export covers the linear OVO SVM, not model kind {model.kind!r}; export it with --format onnx.")
+    est = model.estimator
+    out = input_spec(model)
+    mean, scale = np.asarray(est.mean_, dtype=float), np.asarray(est.scale_, dtype=float)
+    coef, intercept = np.asarray(est.coef_, dtype=float), np.asarray(est.intercept_, dtype=float)
+    out["classifier"] = {
+        "type": "linear SVM, one-vs-one (paper 003 sec. 3.1, 3.3)",
+        "decision": (
+            "d_k = sum_f coef[k][f] * x[f] + intercept[k] for every class pair k, with x the feature vector in the order of "
+            "features.features (raw feature values: the standardisation is already folded into coef and intercept)"
+        ),
+        "pairs": np.asarray(est.pairs_, dtype=int).tolist(),
+        "pairs_note": "pairs[k] = [i, j]: indices into labels; d_k > 0 is a vote for labels[i], otherwise for labels[j]",
+        "coef": coef.tolist(),
+        "intercept": intercept.tolist(),
+        "scaler": {
+            "mean": mean.tolist(),
+            "scale": scale.tolist(),
+            "note": (
+                "the standardisation learned in training, z = (x - mean) / scale; the same decision is "
+                "d_k = coef_standardised[k] . z + intercept_standardised[k] (equal to the folded form up to rounding)"
+            ),
+        },
+        "coef_standardised": (coef * scale).tolist(),
+        "intercept_standardised": (intercept + coef @ mean).tolist(),
+        "voting": _VOTING,
+    }
+    return out
+
+
+def _require_onnx():
+    try:
+        import onnx
+    except ImportError as exc:
+        raise ModelError(f"the ONNX export needs the onnx package, which is not installed; {ONNX_HINT}.") from exc
+    return onnx
+
+
+def _svm_graph(model):
+    """ONNX graph of the linear OVO SVM: double features in; label, index and scores out."""
+    onnx = _require_onnx()
+    from onnx import TensorProto, helper, numpy_helper
+
+    est = model.estimator
+    n_classes, n_feat = len(est.classes_), int(est.n_features_in_)
+    first, second = est.vote_matrices_
+    inits = [
+        numpy_helper.from_array(np.ascontiguousarray(est.coef_.T, dtype=np.float64), "coef_t"),
+        numpy_helper.from_array(np.asarray(est.intercept_, dtype=np.float64), "intercept"),
+        numpy_helper.from_array(np.asarray(first, dtype=np.float64), "first"),
+        numpy_helper.from_array(np.asarray(second, dtype=np.float64), "second"),
+        numpy_helper.from_array(np.asarray(first - second, dtype=np.float64), "first_minus_second"),
+        numpy_helper.from_array(np.array(0.0), "zero"),
+        numpy_helper.from_array(np.array(1.0), "one"),
+        numpy_helper.from_array(np.array(3.0), "three"),
+        helper.make_tensor("classes", TensorProto.STRING, [n_classes], [str(c).encode("utf-8") for c in est.classes_]),
+    ]
+    nodes = [
+        helper.make_node("MatMul", ["features", "coef_t"], ["xw"]),
+        helper.make_node("Add", ["xw", "intercept"], ["pairwise"]),
+        helper.make_node("Greater", ["pairwise", "zero"], ["win_bool"]),
+        helper.make_node("Cast", ["win_bool"], ["win"], to=TensorProto.DOUBLE),
+        helper.make_node("Sub", ["one", "win"], ["lose"]),
+        helper.make_node("MatMul", ["win", "first"], ["votes_first"]),
+        helper.make_node("MatMul", ["lose", "second"], ["votes_second"]),
+        helper.make_node("Add", ["votes_first", "votes_second"], ["votes"]),
+        helper.make_node("MatMul", ["pairwise", "first_minus_second"], ["conf"]),
+        helper.make_node("Abs", ["conf"], ["conf_abs"]),
+        helper.make_node("Add", ["conf_abs", "one"], ["conf_abs1"]),
+        helper.make_node("Mul", ["conf_abs1", "three"], ["den"]),
+        helper.make_node("Div", ["conf", "den"], ["squashed"]),
+        helper.make_node("Add", ["votes", "squashed"], ["scores"]),
+        helper.make_node("ArgMax", ["scores"], ["index"], axis=1, keepdims=0),
+        helper.make_node("Gather", ["classes", "index"], ["label"], axis=0),
+    ]
+    graph = helper.make_graph(
+        nodes,
+        "gaitml_linear_ovo_svm",
+        [helper.make_tensor_value_info("features", TensorProto.DOUBLE, ["N", n_feat])],
+        [
+            helper.make_tensor_value_info("label", TensorProto.STRING, ["N"]),
+            helper.make_tensor_value_info("index", TensorProto.INT64, ["N"]),
+            helper.make_tensor_value_info("scores", TensorProto.DOUBLE, ["N", n_classes]),
+        ],
+        initializer=inits,
+    )
+    m = helper.make_model(graph, producer_name="gaitml", opset_imports=[helper.make_opsetid("", 17)])
+    m.ir_version = 8  # readable by onnxruntime releases from 1.14 on
+    onnx.checker.check_model(m)
+    return m
+
+
+def _torch_graph(model, path: Path):
+    """Export a torch kind via torch.onnx.export (torch.export based; needs onnxscript).
+
+    Double input, standardised in double as ``predict_proba`` does, then the float32
+    network and the softmax.
+    """
+    _require_onnx()
+    import onnx
+    import torch
+
+    est = model.estimator
+    cnn = hasattr(est, "window_shape_")
+
+    class _Wrapped(torch.nn.Module):
+        def __init__(self):
+            super().__init__()
+            self.net = est.net_
+            self.register_buffer("mean", torch.as_tensor(np.asarray(est.mean_, dtype=np.float64)))
+            self.register_buffer("scale", torch.as_tensor(np.asarray(est.scale_, dtype=np.float64)))
+
+        def forward(self, x):
+            z = ((x - self.mean) / self.scale).to(torch.float32)
+            if cnn:
+                z = z.transpose(1, 2)
+            return torch.softmax(self.net(z), dim=1)
+
+    shape = (2, *est.window_shape_) if cnn else (2, int(est.n_features_in_))
+    dummy = torch.zeros(shape, dtype=torch.float64)
+    wrapped = _Wrapped().eval()
+    try:
+        torch.onnx.export(
+            wrapped,
+            (dummy,),
+            str(path),
+            input_names=["features"],
+            output_names=["probabilities"],
+            dynamic_shapes=({0: torch.export.Dim("N")},),
+            dynamo=True,
+        )
+    except ImportError as exc:  # onnxscript missing
+        raise ModelError(f"torch's ONNX exporter needs a package that is missing ({exc}); {ONNX_HINT}.") from exc
+    return onnx.load(str(path))
+
+
+def export_onnx(model, out: str | os.PathLike) -> Path:
+    """Write an ONNX file of ``model`` with the feature specification in its metadata.
+
+    Linear OVO SVM: input ``features`` (double, N x n_features, in the order of
+    the metadata's feature list); outputs ``label`` (string), ``index`` (int64)
+    and ``scores`` (votes + squashed confidences). Torch kinds: input
+    ``features`` (double; the MLP's features or the CNN's raw windows
+    N x samples x channels), output ``probabilities`` (float, columns in
+    ``labels`` order). The adjacent-window correction is outside the graph
+    (rule in the metadata).
+
+    Raises
+    ------
+    ModelError
+        onnx (or torch's exporter) is not installed.
+    """
+    from gaitml.io import atomic_path
+
+    out = Path(out)
+    spec = input_spec(model)
+    with atomic_path(out) as tmp:
+        if model.kind == "linear-ovo-svm":
+            m = _svm_graph(model)
+        else:
+            m = _torch_graph(model, Path(tmp))
+        import onnx
+
+        for key, value in (("gaitml", json.dumps(spec)), ("labels", json.dumps(spec["labels"]))):
+            entry = m.metadata_props.add()
+            entry.key, entry.value = key, value
+        onnx.save(m, str(tmp))
+    return out

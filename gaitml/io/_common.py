@@ -34,5 +34,5 @@ def head_bytes(path: Path, n: int = 4096) -> bytes:
 
 def head_lines(path: Path, n: int = 3) -> list[str]:
     """The first ``n`` text lines of a (possibly gzipped) file."""
-    text = head_bytes(path).decode("utf-8", errors="replace")
+    text = head_bytes(path).decode("utf-8", errors="replace").removeprefix("\ufeff")
     return text.splitlines()[:n]

@@ -8,7 +8,7 @@ from pathlib import Path
 from gaitml.errors import InputError
 from gaitml.io._common import head_bytes, head_lines, require_file
 from gaitml.io.gaitmap import GAITMAP_TABLES, is_gaitmap_header, read_gaitmap_csv
-from gaitml.io.gaitml_csv import is_gaitml_header, list_gaitml_files, read_gaitml_csv, read_gaitml_folder
+from gaitml.io.gaitml_csv import list_gaitml_files, read_gaitml_csv, read_gaitml_folder, sniff_dialect
 from gaitml.io.ifsm import is_xlsx, read_ifsm_xlsx
 from gaitml.io.oxford import is_oxford_folder, list_oxford_folders, read_oxford_folder
 from gaitml.recording import Recording
@@ -52,14 +52,14 @@ def detect_format(path: str | os.PathLike) -> str:
     lines = head_lines(p, 2)
     if not lines:
         raise InputError(f"the file is empty: {p}; record or export the data again.")
-    if is_gaitml_header(lines[0].split(",")):
+    if sniff_dialect(lines) is not None:
         return "gaitml-csv"
     if is_gaitmap_header(lines):
         return "gaitmap"
     if p.name.split(".")[0] in GAITMAP_TABLES:
         return "gaitmap-table"
     cols = lines[0].strip()[:80]
-    raise InputError(f"unknown format for {p.name} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
+    raise InputError(f"unknown format for {p.name[:80]} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
 
 
 def list_gaitml_files_safe(p: Path) -> list[Path]:
@@ -69,7 +69,7 @@ def list_gaitml_files_safe(p: Path) -> list[Path]:
             lines = head_lines(f, 1)
         except InputError:
             continue
-        if lines and is_gaitml_header(lines[0].split(",")):
+        if sniff_dialect(lines) is not None:
             out.append(f)
     return out
 

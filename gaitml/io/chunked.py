@@ -34,7 +34,7 @@ from gaitml.consts import ACC_COLS, GYR_COLS, LABEL_COL, TIME_COL
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._detect import detect_format, read_recording
-from gaitml.recording import Recording, _convert_units, check_acc_unit
+from gaitml.recording import Recording, _convert_units, check_acc_unit, max_bridge_s
 
 __all__ = ["Chunk", "iter_chunks", "estimate_samples", "LARGE_INPUT_SAMPLES"]
 
@@ -112,6 +112,7 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
     has_lab = None
     line = 2
     resampled = None
+    gap_limit = np.inf
     for df in _guarded(reader, path):
         df.columns = [str(c).strip() for c in df.columns]
         missing = [c for c in (TIME_COL, *ACC_COLS) if c not in df.columns]
@@ -150,12 +151,20 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
             t0 = float(t[0])
             check_acc_unit(acc)
             med = float(np.median(dt))
+            gap_limit = max_bridge_s(med)
             uniform = bool(np.all(np.abs(dt - med) <= 1e-3 * med))
             if fs is None:
                 fs = float(np.round((len(t) - 1) / (t[-1] - t[0]), 6)) if uniform else float(np.round(1.0 / med, 6))
                 resampled = not uniform
             else:
                 resampled = True
+        if (dt > gap_limit).any():
+            i = int(np.flatnonzero(dt > gap_limit)[0])
+            raise InputError(
+                f"{path.name}: a {dt[i]:.6g} s gap in the timestamps at line {line + i - (1 if prev is not None else 0) + 1} "
+                f"(t = {t[i] - t0:.6g} s from the start) is too long to bridge by interpolation (> {gap_limit:.3g} s); "
+                "split the file there, or read it as separate segments (gaitml.io.read_segments)."
+            )
         start = len(t) - len(df)  # rows of this block (after the carried row)
         if resampled:
             # grid points covered by this block: t0 + k / fs <= t[-1]

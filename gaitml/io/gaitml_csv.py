@@ -84,8 +84,13 @@ def read_gaitml_csv(
     acc_unit: str = "m/s^2",
     gyr_unit: str = "rad/s",
     meta: dict | None = None,
-) -> Recording:
+    segments: bool = False,
+) -> Recording | list[Recording]:
     """Read one gaitml-csv file into a :class:`Recording`.
+
+    With ``segments=True`` the file is cut at every gap too long to bridge and a
+    list of recordings is returned (see :meth:`Recording.segments_from_timestamps`);
+    by default such a gap is refused.
 
     Uniform timestamps are kept; irregular ones are resampled by linear
     interpolation (see :meth:`Recording.from_timestamps`) to ``sampling_rate_hz``
@@ -137,7 +142,8 @@ def read_gaitml_csv(
         m["ignored_columns"] = ignored
     m.update(meta or {})
     reference = _read_sidecars(p)
-    return Recording.from_timestamps(
+    build = Recording.segments_from_timestamps if segments else Recording.from_timestamps
+    return build(
         df[TIME_COL].to_numpy(dtype=float),
         df[list(ACC_COLS)].to_numpy(dtype=float),
         gyr=df[list(GYR_COLS)].to_numpy(dtype=float) if has_gyr else None,

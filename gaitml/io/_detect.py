@@ -8,7 +8,7 @@ from pathlib import Path
 from gaitml.errors import InputError
 from gaitml.io._common import head_bytes, head_lines, require_file
 from gaitml.io.gaitmap import GAITMAP_TABLES, is_gaitmap_header, read_gaitmap_csv
-from gaitml.io.gaitml_csv import list_gaitml_files, read_gaitml_csv, read_gaitml_folder, sniff_dialect
+from gaitml.io.gaitml_csv import list_gaitml_files, looks_like_gaitml, read_gaitml_csv, read_gaitml_folder, sniff_dialect
 from gaitml.io.ifsm import is_xlsx, read_ifsm_xlsx
 from gaitml.io.oxford import is_oxford_folder, list_oxford_folders, read_oxford_folder
 from gaitml.recording import Recording
@@ -58,6 +58,8 @@ def detect_format(path: str | os.PathLike) -> str:
         return "gaitmap"
     if p.name.split(".")[0] in GAITMAP_TABLES:
         return "gaitmap-table"
+    if looks_like_gaitml(lines):
+        return "gaitml-csv"  # its reader names the missing columns
     cols = lines[0].strip()[:80]
     raise InputError(f"unknown format for {p.name[:80]} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
 

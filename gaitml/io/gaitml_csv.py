@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import gzip
 import os
+import re
 import zlib
 from pathlib import Path
 
@@ -72,6 +73,17 @@ def sniff_dialect(lines: list[str]) -> tuple[str, str] | None:
     return None
 
 
+def looks_like_gaitml(lines: list[str]) -> bool:
+    """Whether a header is an attempt at a gaitml-csv: it has a ``t`` column and an acc or gyr column."""
+    if not lines:
+        return False
+    for sep in SEPARATORS:
+        cols = [c.strip().strip('"') for c in lines[0].split(sep)]
+        if TIME_COL in cols and any(c in cols for c in (*ACC_COLS, *GYR_COLS)):
+            return True
+    return False
+
+
 def _short(name: object, n: int = 40) -> str:
     text = str(name)
     return text if len(text) <= n else text[: n - 3] + "..."
@@ -117,6 +129,11 @@ def read_gaitml_csv(
             bad = pd.to_numeric(df[c], errors="coerce").isna() & df[c].notna()
             row = int(np.flatnonzero(bad.to_numpy())[0]) if bad.any() else 0
             value = _short(df[c].iloc[row], 30)
+            if re.fullmatch(r"\s*[-+]?\d+,\d+\s*", str(df[c].iloc[row])):
+                raise InputError(
+                    f"{p.name}: column {c!r} has the decimal comma {value!r} at line {row + 2}; "
+                    "write decimals with '.', or separate the fields with ';' (then decimal commas are read)."
+                )
             if c == TIME_COL:
                 raise InputError(
                     f"{p.name}: the time column 't' holds {value!r} at line {row + 2}, not a number of seconds; "
@@ -182,7 +199,8 @@ def _read_table(p: Path) -> pd.DataFrame:
     except (EOFError, zlib.error, gzip.BadGzipFile, OSError) as exc:
         raise InputError(f"cannot read {p.name}: {_short(exc, 120)}; the compressed file is truncated or corrupt.") from exc
     names = [str(c).strip() for c in df.columns]
-    dup = sorted({c.rsplit(".", 1)[0] for c in names if "." in c and c.rsplit(".", 1)[0] in names and c.rsplit(".", 1)[1].isdigit()})
+    dup = sorted({c for c in names if names.count(c) > 1})
+    dup += sorted({c.rsplit(".", 1)[0] for c in names if "." in c and c.rsplit(".", 1)[0] in names and c.rsplit(".", 1)[1].isdigit()})
     dup = [c for c in dup if c in (*REQUIRED, *GYR_COLS, LABEL_COL)]
     if dup:
         raise InputError(f"{p.name} has the column {dup[0]!r} more than once; keep one column per name.")

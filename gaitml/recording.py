@@ -118,7 +118,7 @@ def check_range(name: str, arr: np.ndarray, limit: float, unit: str, alt: tuple[
         v = float(arr[i, j])
         hint = f" ({alt[1]})" if alt is not None and abs(v) * alt[0] <= limit else ""
         raise InputError(
-            f"{col} = {v:.4g} at sample {i} ({int(bad.sum())} values in all) is beyond any sensor's range "
+            f"{col} = {v:.4g} at sample {i} ({int(bad.sum())} value{'s' if int(bad.sum()) != 1 else ''} in all) is beyond any sensor's range "
             f"(|{name}| <= {limit:.4g} {unit}); remove or fix those rows{hint}."
         )
 

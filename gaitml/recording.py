@@ -9,7 +9,17 @@ and SI units.
 Irregularly timed samples (phones log "as fast as possible") are turned into a
 uniform recording by :meth:`Recording.from_timestamps`, an explicit, documented
 linear-interpolation step whose original rate, jitter and gaps are reported in
-``meta`` (nothing is silently dropped or filled).
+``meta`` (nothing is silently dropped or filled). A gap too long to bridge
+(:func:`max_bridge_s`: the longer of 1 s and ten sampling intervals) is refused
+with its position and length, or cut into segments on request
+(:meth:`Recording.segments_from_timestamps`).
+
+Values no sensor can produce are refused naming the column and the limit
+(:data:`gaitml.consts.ACC_LIMIT_MS2`, :data:`gaitml.consts.GYR_LIMIT_RADS`). Units
+are judged on the whole distribution: acceleration in g or milli-g is refused;
+a gyroscope in deg/s is refused when its median or 99th percentile is beyond any
+human motion or gyro range in rad/s, and only warned about (``meta['warnings']``,
+printed by the command line) when it is merely fast (:func:`check_gyr_unit`).
 """
 
 from __future__ import annotations

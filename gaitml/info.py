@@ -34,7 +34,7 @@ def describe_recording(rec: Recording) -> dict[str, Any]:
         out["n_original_samples"] = meta.get("n_original_samples")
         out["jitter_s"] = meta.get("jitter_s")
         out["gaps"] = meta.get("gaps", [])
-    for key in ("subject", "session", "device", "position", "surface", "sensor", "converted", "ignored_columns"):
+    for key in ("subject", "session", "device", "position", "surface", "sensor", "converted", "ignored_columns", "warnings"):
         if key in meta:
             out[key] = meta[key]
     if rec.labels is not None:
@@ -116,7 +116,7 @@ def _recording_text(d: dict[str, Any]) -> str:
         rate += f", {len(d['gaps'])} gaps)" if d.get("gaps") else ")"
     lines.append(f"  samples   {d['n_samples']}  duration {d['duration_s']:.2f} s  rate {rate}")
     lines.append(f"  channels  {', '.join(d['channels'])}")
-    for key in ("subject", "session", "device", "position", "surface", "sensor", "converted", "ignored_columns"):
+    for key in ("subject", "session", "device", "position", "surface", "sensor", "converted", "ignored_columns", "warnings"):
         if key in d:
             lines.append(f"  {key:9s} {d[key]}")
     if "labels" in d:

@@ -9,7 +9,17 @@ and SI units.
 Irregularly timed samples (phones log "as fast as possible") are turned into a
 uniform recording by :meth:`Recording.from_timestamps`, an explicit, documented
 linear-interpolation step whose original rate, jitter and gaps are reported in
-``meta`` (nothing is silently dropped or filled).
+``meta`` (nothing is silently dropped or filled). A gap too long to bridge
+(:func:`max_bridge_s`: the longer of 1 s and ten sampling intervals) is refused
+with its position and length, or cut into segments on request
+(:meth:`Recording.segments_from_timestamps`).
+
+Values no sensor can produce are refused naming the column and the limit
+(:data:`gaitml.consts.ACC_LIMIT_MS2`, :data:`gaitml.consts.GYR_LIMIT_RADS`). Units
+are judged on the whole distribution: acceleration in g or milli-g is refused;
+a gyroscope in deg/s is refused when its median or 99th percentile is beyond any
+human motion or gyro range in rad/s, and only warned about (``meta['warnings']``,
+printed by the command line) when it is merely fast (:func:`check_gyr_unit`).
 """
 
 from __future__ import annotations
@@ -20,26 +30,107 @@ from typing import Any
 
 import numpy as np
 
-from gaitml.consts import DEG2RAD, GRAVITY_MS2
+from gaitml.consts import ACC_LIMIT_MS2, DEG2RAD, GRAVITY_MS2, GYR_FULL_SCALE_MAX_RADS, GYR_LIMIT_RADS
 from gaitml.errors import InputError
 
-__all__ = ["Recording", "check_acc_unit", "check_rate", "resample_uniform", "MIN_RATE_HZ", "MAX_RATE_HZ"]
+__all__ = [
+    "Recording",
+    "check_acc_unit",
+    "check_gyr_unit",
+    "check_range",
+    "check_rate",
+    "max_bridge_s",
+    "resample_uniform",
+    "split_points",
+    "MIN_RATE_HZ",
+    "MAX_RATE_HZ",
+    "MAX_BRIDGE_S",
+    "MAX_BRIDGE_FACTOR",
+]
 
 #: A median |acc| between these bounds (m/s^2 read as-is) means the data is in g.
 _G_UNIT_BAND = (0.5, 2.0)
 #: A median |acc| above this cannot be m/s^2 with gravity (milli-g, raw counts...).
 _MAX_MEDIAN_ACC_MS2 = 50.0
-#: A 99th-percentile |gyr| above this (read as rad/s) means the data is in deg/s:
-#: 20 rad/s is 1146 deg/s, above what a phone or even a running foot turns at
-#: for 1 % of the time (the gaitmap foot sensors stay below 10 rad/s).
-_DEG_S_SUSPECT_RADS = 20.0
+#: Gyro unit guess (see :func:`check_gyr_unit`). A deg/s signal read as rad/s is
+#: 57.3x too large everywhere: in its median, its rest level and its peaks.
+#: A median |gyr| above this (860 deg/s) is no human motion in rad/s: it is deg/s
+#: (the gaitmap foot sensors, which turn faster than a phone, have medians of
+#: 0.7-5 rad/s; a thigh, and a phone in a trouser pocket, peaks near 10-20 rad/s
+#: when sprinting, so its median stays well below 15).
+_GYR_MEDIAN_DEG_S_RADS = 15.0
+#: A 99th percentile |gyr| above this (1146 deg/s) is unusual for a phone; with
+#: no rest level in the recording to tell the units apart, it is only warned about
+#: (a phone in a pocket while jogging or sprinting reaches it in rad/s).
+_GYR_P99_SUSPECT_RADS = 20.0
+#: A 5th-percentile |gyr| below this is a rad/s rest level (gyro noise and residual
+#: bias of a still phone, ~0.001-0.02 rad/s); the same rest in deg/s reads ~0.1-1.
+_GYR_REST_RADS = 0.03
 #: A median |acc| below this cannot include gravity (all zeros, or gravity removed).
 _MIN_MEDIAN_ACC_MS2 = 0.5
 #: Plausible uniform sampling rates for gait (steps at up to ~4 Hz need >= 5 Hz).
 MIN_RATE_HZ = 5.0
 MAX_RATE_HZ = 10_000.0
-#: A sampling interval more than this many times the median counts as a gap.
+#: A sampling interval more than this many times the median counts as a gap
+#: (reported in ``meta['gaps']``).
 GAP_FACTOR = 3.0
+#: Gaps are bridged by linear interpolation only up to
+#: ``max(MAX_BRIDGE_S, MAX_BRIDGE_FACTOR x median interval)`` (see :func:`max_bridge_s`).
+#: 1 s is about one stride (two steps) at a normal cadence, so a bridged gap hides
+#: at most one stride of made-up straight-line signal; the relative bound keeps
+#: the ordinary jitter of a slow logger (5-20 Hz) from counting as a gap to refuse.
+#: A longer gap is refused (or, on request, the recording is cut there): bridging
+#: it would invent minutes of signal (and a 10^7 s gap would allocate gigabytes).
+MAX_BRIDGE_S = 1.0
+MAX_BRIDGE_FACTOR = 10.0
+#: Resampling never makes more than this many times the original samples (+1000):
+#: up-sampling further adds no information and could exhaust memory.
+_MAX_UPSAMPLE = 100.0
+
+
+def max_bridge_s(median_interval_s: float) -> float:
+    """The longest sampling interval (s) that resampling may bridge by interpolation.
+
+    ``max(MAX_BRIDGE_S, MAX_BRIDGE_FACTOR * median_interval_s)``: one stride, or
+    ten of the recording's own sampling intervals when those are longer.
+    """
+    return max(MAX_BRIDGE_S, MAX_BRIDGE_FACTOR * float(median_interval_s))
+
+
+def split_points(t_s: np.ndarray, limit_s: float | None = None) -> np.ndarray:
+    """Indices ``i`` where the interval ``t_s[i] -> t_s[i + 1]`` is longer than the bridge limit.
+
+    ``limit_s`` defaults to :func:`max_bridge_s` of the median interval.
+    """
+    t = np.asarray(t_s, dtype=float)
+    if len(t) < 2:
+        return np.zeros(0, dtype=int)
+    dt = np.diff(t)
+    lim = max_bridge_s(float(np.median(dt))) if limit_s is None else float(limit_s)
+    return np.flatnonzero(dt > lim)
+
+
+def check_range(name: str, arr: np.ndarray, limit: float, unit: str, alt: tuple[float, str] | None = None) -> None:
+    """Raise InputError if any value of ``arr`` (columns x, y, z) is beyond ``limit`` in magnitude.
+
+    Used with :data:`gaitml.consts.ACC_LIMIT_MS2` and :data:`gaitml.consts.GYR_LIMIT_RADS`:
+    a value no sensor can output is a corrupt row or a wrong unit, and letting it
+    through would overflow downstream sums (1e308). ``alt = (scale, fix)`` names a
+    unit fix when the value times ``scale`` would be within the limit (e.g. deg/s).
+    """
+    if arr.size == 0:
+        return
+    with np.errstate(invalid="ignore"):
+        bad = np.abs(arr) > limit
+    if bad.any():
+        i, j = (int(v) for v in np.argwhere(bad)[0])
+        col = f"{name}_{'xyz'[j]}" if arr.ndim == 2 and arr.shape[1] == 3 else name
+        v = float(arr[i, j])
+        hint = f" ({alt[1]})" if alt is not None and abs(v) * alt[0] <= limit else ""
+        raise InputError(
+            f"{col} = {v:.4g} at sample {i} ({int(bad.sum())} value{'s' if int(bad.sum()) != 1 else ''} in all) is beyond any sensor's range "
+            f"(|{name}| <= {limit:.4g} {unit}); remove or fix those rows{hint}."
+        )
 
 
 def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
@@ -50,7 +141,8 @@ def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
     """
     if len(acc) == 0:
         return
-    med = float(np.median(np.linalg.norm(acc, axis=1)))
+    # clipped at the sensor limit so that a corrupt 1e308 cannot overflow the norm (check_range names it)
+    med = float(np.median(np.sqrt(np.sum(np.square(np.clip(acc, -ACC_LIMIT_MS2, ACC_LIMIT_MS2)), axis=1))))
     if med < _MIN_MEDIAN_ACC_MS2:
         raise InputError(
             f"{what} has no gravity (median |acc| = {med:.3g} m/s^2): gaitml needs the raw accelerometer with gravity "
@@ -83,14 +175,74 @@ def check_rate(fs: float, *, what: str = "the sampling rate") -> None:
         )
 
 
-def _check_gyr_unit(gyr: np.ndarray) -> None:
+def check_gyr_unit(gyr: np.ndarray) -> str | None:
+    """Judge whether a gyro read as rad/s is really in deg/s; refuse, warn or accept.
+
+    The whole distribution of |gyr| is used, since a deg/s signal is 57.3x larger
+    than the same motion in rad/s in every part of it:
+
+    - refused (InputError) when the median |gyr| is above 15 rad/s (860 deg/s:
+      no human motion turns that fast half of the time) or the 99th percentile is
+      above the widest gyro full-scale range (4000 deg/s,
+      :data:`gaitml.consts.GYR_FULL_SCALE_MAX_RADS`: no phone or wearable sensor
+      can produce it in rad/s);
+    - a warning text is returned when the 99th percentile is above 20 rad/s
+      (1146 deg/s, fast for a phone but reached in a pocket while jogging) and the
+      recording has no rad/s-sized rest level (5th percentile |gyr| < 0.03 rad/s)
+      to confirm the unit;
+    - None otherwise (accepted as rad/s).
+
+    Returns
+    -------
+    str or None
+        The warning (one line), or None.
+    """
     if len(gyr) == 0:
-        return
-    p99 = float(np.percentile(np.linalg.norm(gyr, axis=1), 99))
-    if p99 > _DEG_S_SUSPECT_RADS:
+        return None
+    mag = np.sqrt(np.sum(np.square(np.clip(gyr, -GYR_LIMIT_RADS, GYR_LIMIT_RADS)), axis=1))
+    p5, med, p99 = (float(v) for v in np.percentile(mag, [5, 50, 99]))
+    fix = "pass gyr_unit='deg/s' (CLI: --gyr-unit deg/s) or convert to rad/s"
+    if med > _GYR_MEDIAN_DEG_S_RADS or p99 > GYR_FULL_SCALE_MAX_RADS:
         raise InputError(
-            f"gyr looks like it is in deg/s, not rad/s (99th percentile |gyr| = {p99:.1f}); "
-            "pass gyr_unit='deg/s' (CLI: --gyr-unit deg/s) or convert to rad/s."
+            f"gyr looks like it is in deg/s, not rad/s (median |gyr| = {med:.3g}, 99th percentile = {p99:.3g}: "
+            f"as rad/s no human motion or gyro range gives that); {fix}."
+        )
+    if p99 > _GYR_P99_SUSPECT_RADS and p5 >= _GYR_REST_RADS:
+        return (
+            f"gyr may be in deg/s (99th percentile |gyr| = {p99:.3g} rad/s, median {med:.3g}, no rest level to tell); "
+            f"accepted as rad/s: if it is deg/s, {fix}."
+        )
+    return None
+
+
+def _check_units(acc: np.ndarray, gyr: np.ndarray | None, meta: Mapping[str, Any]) -> str | None:
+    """The unit checks of acc (refuse) and gyr (refuse or a warning text, see :func:`check_gyr_unit`)."""
+    try:
+        check_acc_unit(acc)
+    except InputError as exc:
+        if "acc from g" in meta.get("converted", []):
+            raise InputError(f"{exc} (the data was converted from g as asked: drop --acc-unit g / acc_unit='g' if it is in m/s^2)") from exc
+        raise
+    return None if gyr is None else check_gyr_unit(gyr)
+
+
+def _check_ranges(acc: np.ndarray, gyr: np.ndarray | None, meta: Mapping[str, Any]) -> None:
+    """Refuse values beyond any sensor's range (after unit conversion)."""
+    conv = meta.get("converted", [])
+    check_range(
+        "acc",
+        acc,
+        ACC_LIMIT_MS2,
+        "m/s^2",
+        None if "acc from g" in conv else (GRAVITY_MS2 / 1000, "if the column is in milli-g, convert it"),
+    )
+    if gyr is not None:
+        check_range(
+            "gyr",
+            gyr,
+            GYR_LIMIT_RADS,
+            "rad/s",
+            None if "gyr from deg/s" in conv else (DEG2RAD, "if the column is in deg/s, pass --gyr-unit deg/s"),
         )
 
 
@@ -184,22 +336,17 @@ class Recording:
             if len(gyr) != len(acc):
                 raise InputError(f"`gyr` has {len(gyr)} samples but `acc` has {len(acc)}; they must match.")
             _check_finite("gyr", gyr)
+        meta = dict(self.meta)
         labels = None
         if self.labels is not None:
             labels = np.asarray(self.labels).astype(str)
             if labels.shape != (len(acc),):
                 raise InputError(f"`labels` must have shape ({len(acc)},), got {labels.shape}.")
         if self.check_units:
-            try:
-                check_acc_unit(acc)
-            except InputError as exc:
-                if "acc from g" in dict(self.meta).get("converted", []):
-                    raise InputError(
-                        f"{exc} (the data was converted from g as asked: drop --acc-unit g / acc_unit='g' if it is in m/s^2)"
-                    ) from exc
-                raise
-            if gyr is not None:
-                _check_gyr_unit(gyr)
+            warning = _check_units(acc, gyr, meta)
+            if warning and warning not in meta.get("warnings", []):
+                meta["warnings"] = [*meta.get("warnings", []), warning]
+        _check_ranges(acc, gyr, dict(self.meta))
         acc.setflags(write=False)
         if gyr is not None:
             gyr.setflags(write=False)
@@ -209,7 +356,7 @@ class Recording:
         object.__setattr__(self, "gyr", gyr)
         object.__setattr__(self, "labels", labels)
         object.__setattr__(self, "sampling_rate_hz", fs)
-        object.__setattr__(self, "meta", dict(self.meta))
+        object.__setattr__(self, "meta", meta)
         object.__setattr__(self, "reference", dict(self.reference))
 
     # ------------------------------------------------------------------ views
@@ -316,6 +463,7 @@ class Recording:
         acc_unit: str = "m/s^2",
         gyr_unit: str = "rad/s",
         uniform_tolerance: float = 1e-3,
+        max_gap_s: float | None = None,
     ) -> Recording:
         """Build a uniform recording from samples at (possibly irregular) times.
 
@@ -330,55 +478,60 @@ class Recording:
         for a 2 Hz gait component logged at ~200 Hz that is below 1e-3 of its
         amplitude; log at >= 100 Hz when resampling matters.
 
+        Gaps (intervals longer than ``GAP_FACTOR`` x the median) are bridged by
+        interpolation and reported, but only up to ``max_gap_s`` (default
+        :func:`max_bridge_s` of the median interval: the longer of 1 s and ten
+        intervals). A longer gap is refused with its position and length: cut the
+        file there, or build one recording per segment with
+        :meth:`segments_from_timestamps` (``gaitml.io.read_segments``).
+
+        Timestamps faster than :data:`MAX_RATE_HZ` are accepted only when a
+        ``sampling_rate_hz`` to resample to is given (linear interpolation at the
+        new grid points, no anti-alias filter: stated in ``meta``).
+
         ``meta`` gains ``original_rate_hz`` (1 / median interval), ``jitter_s``
         (standard deviation of the intervals), ``max_interval_s``, ``gaps``
-        (intervals longer than ``GAP_FACTOR`` x the median: ``[[t_start_s,
-        duration_s], ...]``, bridged by interpolation), ``resampled`` (bool),
-        ``n_original_samples`` and ``t0_original_s`` (the first timestamp, which
-        becomes t = 0). Reference event times (``*_t_s`` keys) must be on the
-        same clock as ``t_s``; they are shifted to the new origin.
+        (``[[t_start_s, duration_s], ...]``, bridged by interpolation),
+        ``resampled`` (bool), ``n_original_samples`` and ``t0_original_s`` (the
+        first timestamp, which becomes t = 0). Reference event times (``*_t_s``
+        keys) must be on the same clock as ``t_s``; they are shifted to the new
+        origin.
 
         Raises
         ------
         InputError
             Fewer than 2 samples, non-finite times, duplicate or decreasing
-            timestamps (with the first offending index and a fix).
+            timestamps (with the first offending index and a fix), a gap longer
+            than ``max_gap_s``, values beyond any sensor's range.
         """
-        t = np.asarray(t_s, dtype=float)
-        if t.ndim != 1:
-            raise InputError(f"timestamps must be 1-D, got shape {t.shape}.")
-        acc = _as_2d3("acc", acc)
-        if len(acc) != len(t):
-            raise InputError(f"{len(t)} timestamps but {len(acc)} acc samples; they must match.")
-        if len(t) < 2:
-            raise InputError(f"need at least 2 timestamped samples to find the sampling rate, got {len(t)}; use a longer recording.")
-        _check_finite("t", t)
-        _check_finite("acc", acc)
-        gyr_arr = None if gyr is None else _as_2d3("gyr", gyr)
-        if gyr_arr is not None:
-            if len(gyr_arr) != len(t):
-                raise InputError(f"{len(t)} timestamps but {len(gyr_arr)} gyr samples; they must match.")
-            _check_finite("gyr", gyr_arr)
-        dt = np.diff(t)
-        if (dt == 0).any():
-            i = int(np.flatnonzero(dt == 0)[0]) + 1
-            raise InputError(
-                f"duplicate timestamp {t[i]:.9g} s at sample {i} ({int((dt == 0).sum())} in all); "
-                "remove duplicated rows or give each sample its own time."
-            )
-        if (dt < 0).any():
-            i = int(np.flatnonzero(dt < 0)[0]) + 1
-            raise InputError(f"timestamps decrease at sample {i} ({t[i - 1]:.9g} -> {t[i]:.9g} s); sort the rows by time or fix the clock.")
+        t, acc, gyr_arr = _check_timed_samples(t_s, acc, gyr)
         acc, gyr_arr = _convert_units(acc, gyr_arr, acc_unit, gyr_unit)
+        meta = dict(meta or {})
+        _note_conversions(meta, acc_unit, gyr is not None and gyr_unit == "deg/s")
+        dt = np.diff(t)
         med = float(np.median(dt))
         original_rate = 1.0 / med
-        check_rate(original_rate, what="the rate of the timestamps")
         if sampling_rate_hz is not None:
             check_rate(float(sampling_rate_hz), what="the requested sampling rate")
-        gap_mask = dt > GAP_FACTOR * med
-        gaps = [[round(float(t[i] - t[0]), 6), round(float(dt[i]), 6)] for i in np.flatnonzero(gap_mask)]
+            if original_rate < MIN_RATE_HZ * (1 - 1e-6):
+                check_rate(original_rate, what="the rate of the timestamps")
+        else:
+            check_rate(original_rate, what="the rate of the timestamps")
+        limit = max_bridge_s(med) if max_gap_s is None else float(max_gap_s)
+        long_gaps = np.flatnonzero(dt > limit)
+        if long_gaps.size:
+            i = int(long_gaps[0])
+            raise InputError(
+                f"a {dt[i]:.6g} s gap in the timestamps after sample {i} (t = {t[i] - t[0]:.6g} s from the start; "
+                f"{long_gaps.size} gaps longer than {limit:.3g} s in all) is too long to bridge by interpolation; "
+                "split the file at the gap (or, in Python, read it as separate segments with gaitml.io.read_segments)."
+            )
+        # unit and range checks before resampling: interpolating a 1e308 would overflow
+        if len(acc):
+            _check_units(acc, gyr_arr, meta)
+            _check_ranges(acc, gyr_arr, meta)
+        gaps = [[round(float(t[i] - t[0]), 6), round(float(dt[i]), 6)] for i in np.flatnonzero(dt > GAP_FACTOR * med)]
         uniform = bool(np.all(np.abs(dt - med) <= uniform_tolerance * med))
-        meta = dict(meta or {})
         meta.update(
             original_rate_hz=round(original_rate, 6),
             jitter_s=float(np.std(dt)),
@@ -397,14 +550,124 @@ class Recording:
             new_acc, new_gyr, new_labels = resample_uniform(t, acc, fs, gyr=gyr_arr, labels=labels)
             meta["resampled"] = True
             meta["resample_method"] = "linear interpolation"
+            if original_rate > 2 * fs:
+                meta["resample_method"] = "linear interpolation (down-sampling without an anti-alias filter)"
         ref: dict[str, Any] = {}
         for key, val in dict(reference or {}).items():
             if key.endswith("_t_s"):
                 ref[key] = np.asarray(val, dtype=float) - t[0]
             else:
                 ref[key] = val
-        _note_conversions(meta, acc_unit, gyr is not None and gyr_unit == "deg/s")
         return cls(acc=new_acc, gyr=new_gyr, labels=new_labels, sampling_rate_hz=fs, meta=meta, reference=ref)
+
+    @classmethod
+    def segments_from_timestamps(
+        cls,
+        t_s: Any,
+        acc: Any,
+        *,
+        gyr: Any = None,
+        labels: Any = None,
+        meta: Mapping[str, Any] | None = None,
+        reference: Mapping[str, Any] | None = None,
+        max_gap_s: float | None = None,
+        min_samples: int = 2,
+        **kwargs: Any,
+    ) -> list[Recording]:
+        """Cut timestamped samples at every gap too long to bridge; one recording per segment.
+
+        The cut points are the intervals longer than ``max_gap_s`` (default
+        :func:`max_bridge_s` of the median interval of the whole recording); each
+        segment is built by :meth:`from_timestamps` (same keyword arguments).
+        Every segment's ``meta['segment']`` gives its ``index``, the number of
+        segments ``of``, its first and last original sample and its start and end
+        in s from the first timestamp of the whole recording; reference event
+        times are shifted to each segment and kept only inside it. Segments with
+        fewer than ``min_samples`` samples are dropped and counted in
+        ``meta['segments_dropped']`` of every kept segment.
+
+        Raises
+        ------
+        InputError
+            Bad timestamps (as :meth:`from_timestamps`), or no segment long enough.
+        """
+        t, acc_arr, gyr_arr = _check_timed_samples(t_s, acc, gyr)
+        lab = None if labels is None else np.asarray(labels)
+        cuts = split_points(t, max_gap_s)
+        bounds = list(zip(np.concatenate([[0], cuts + 1]), np.concatenate([cuts + 1, [len(t)]]), strict=True))
+        keep = [(a, b) for a, b in bounds if b - a >= max(2, min_samples)]
+        if not keep:
+            raise InputError(
+                f"the recording has {len(bounds)} segments between long gaps and none has {max(2, min_samples)} samples; use a longer recording."
+            )
+        out = []
+        for k, (a, b) in enumerate(keep):
+            m = dict(meta or {})
+            m["segment"] = {
+                "index": k,
+                "of": len(keep),
+                "first_sample": int(a),
+                "last_sample": int(b - 1),
+                "t_start_s": float(t[a] - t[0]),
+                "t_end_s": float(t[b - 1] - t[0]),
+            }
+            m["segments_dropped"] = len(bounds) - len(keep)
+            for key in ("id", "session"):
+                if key in m and len(keep) > 1:
+                    m[key] = f"{m[key]}#{k}"
+            ref: dict[str, Any] = {}
+            for key, val in dict(reference or {}).items():
+                if key.endswith("_t_s"):
+                    v = np.asarray(val, dtype=float)
+                    ref[key] = v[(v >= t[a]) & (v <= t[b - 1])]
+                elif not (key.startswith("n_") or key in ("steps", "trajectory")):
+                    ref[key] = val
+            rec = cls.from_timestamps(
+                t[a:b],
+                acc_arr[a:b],
+                gyr=None if gyr_arr is None else gyr_arr[a:b],
+                labels=None if lab is None else lab[a:b],
+                meta=m,
+                reference=ref,
+                max_gap_s=np.inf,
+                **kwargs,
+            )
+            if "steps_t_s" in rec.reference:
+                rec.reference["n_steps_true"] = int(len(rec.reference["steps_t_s"]))
+            out.append(rec)
+        return out
+
+
+def _check_timed_samples(t_s: Any, acc: Any, gyr: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Shapes, finiteness and strictly increasing times of timestamped samples."""
+    t = np.asarray(t_s, dtype=float)
+    if t.ndim != 1:
+        raise InputError(f"timestamps must be 1-D, got shape {t.shape}.")
+    acc = _as_2d3("acc", acc)
+    if len(acc) != len(t):
+        raise InputError(f"{len(t)} timestamps but {len(acc)} acc samples; they must match.")
+    if len(t) < 2:
+        raise InputError(f"need at least 2 timestamped samples to find the sampling rate, got {len(t)}; use a longer recording.")
+    _check_finite("t", t)
+    _check_finite("acc", acc)
+    gyr_arr = None if gyr is None else _as_2d3("gyr", gyr)
+    if gyr_arr is not None:
+        if len(gyr_arr) != len(t):
+            raise InputError(f"{len(t)} timestamps but {len(gyr_arr)} gyr samples; they must match.")
+        _check_finite("gyr", gyr_arr)
+    dt = np.diff(t)
+    if (dt == 0).any():
+        i = int(np.flatnonzero(dt == 0)[0]) + 1
+        raise InputError(
+            f"duplicate timestamp {t[i]:.9g} s at sample {i} ({int((dt == 0).sum())} in all); "
+            "remove duplicated rows or give each sample its own time."
+        )
+    if (dt < 0).any():
+        i = int(np.flatnonzero(dt < 0)[0]) + 1
+        raise InputError(f"timestamps decrease at sample {i} ({t[i - 1]:.9g} -> {t[i]:.9g} s); sort the rows by time or fix the clock.")
+    if not np.isfinite(dt).all():
+        raise InputError("the timestamps span more than the float range; check the time column's unit.")
+    return t, acc, gyr_arr
 
 
 def resample_uniform(
@@ -426,7 +689,13 @@ def resample_uniform(
     acc, gyr, labels : resampled arrays (gyr and labels None when not given).
     """
     t = np.asarray(t_s, dtype=float)
-    n_new = int(np.floor((t[-1] - t[0]) * sampling_rate_hz + 1e-9)) + 1
+    n_float = np.floor((t[-1] - t[0]) * sampling_rate_hz + 1e-9) + 1
+    if n_float > _MAX_UPSAMPLE * len(t) + 1000:
+        raise InputError(
+            f"resampling {len(t)} samples at {sampling_rate_hz:g} Hz would make {n_float:.4g} samples "
+            f"(more than {_MAX_UPSAMPLE:g}x the original); ask for a lower --sampling-rate-hz."
+        )
+    n_new = int(n_float)
     grid = t[0] + np.arange(n_new) / sampling_rate_hz
 
     def interp(x: np.ndarray) -> np.ndarray:

@@ -11,8 +11,11 @@ from gaitml.io._atomic import _json_default
 
 
 def load_input(args) -> Any:
-    """Read ``args.input`` with the common input options."""
-    return read_recording(args.input, **read_kwargs(args))
+    """Read ``args.input`` with the common input options; print the reader's warnings (one stderr line each)."""
+    rec = read_recording(args.input, **read_kwargs(args))
+    for warning in rec.meta.get("warnings", []):
+        log(f"gaitml: warning: {warning}")
+    return rec
 
 
 def emit_json(obj: Any) -> None:

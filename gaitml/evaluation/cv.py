@@ -18,6 +18,7 @@ each recording in time order.
 from __future__ import annotations
 
 import dataclasses
+import os
 import sys
 import time
 
@@ -185,6 +186,9 @@ def cross_validate(
     tasks = (delayed(_fit_predict)(kind, params, seed, X[tr], y[tr], X[te]) for tr, te in splits)
     bar = tqdm(total=len(splits), desc=description, file=sys.stderr, disable=not progress, leave=False)
     results = []
+    # never more workers than folds or cores (n_jobs = 5000 must not start 5000 processes)
+    cores = os.cpu_count() or 1
+    n_jobs = max(1, min(cores if n_jobs < 0 else n_jobs, len(splits), cores))
     if n_jobs == 1:
         for t in tasks:
             fn, a, kw = t

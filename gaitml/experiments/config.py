@@ -69,6 +69,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import itertools
+import math
 import os
 import tomllib
 from pathlib import Path
@@ -405,6 +406,10 @@ def sweep_grid(cfg: ExperimentConfig) -> list[dict[str, Any]]:
     return [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*(cfg.sweep[k] for k in keys))]
 
 
+#: A sweep grid larger than this is refused: each point is a full cross-validation.
+MAX_SWEEP_POINTS = 1000
+
+
 def _check_sweep(raw_sweep, values: dict) -> dict:
     if not isinstance(raw_sweep, dict):
         raise ConfigError(f"[sweep] must be a table of dotted keys to lists, got {raw_sweep!r}.")
@@ -421,6 +426,12 @@ def _check_sweep(raw_sweep, values: dict) -> dict:
         if not isinstance(vals, list) or not vals:
             raise ConfigError(f"sweep.{path!r} = {vals!r} must be a non-empty array of values.")
         out[path] = [_check_leaf(f"sweep.{path!r}", leaf, v) if leaf else v for v in vals]
+    n_points = math.prod(len(v) for v in out.values())
+    if n_points > MAX_SWEEP_POINTS:
+        sizes = " x ".join(str(len(v)) for v in out.values())
+        raise ConfigError(
+            f"[sweep] has {n_points} grid points ({sizes}), more than {MAX_SWEEP_POINTS}; sweep fewer values or split it into several configs."
+        )
     return out
 
 

@@ -1,7 +1,7 @@
 """Readers and writers: gaitml-csv and the shared real data sets' native formats."""
 
 from gaitml.io._atomic import atomic_dir, atomic_path, write_csv, write_json, write_text
-from gaitml.io._detect import FORMATS, detect_format, list_dataset, read_dataset, read_recording
+from gaitml.io._detect import FORMATS, detect_format, list_dataset, read_dataset, read_recording, read_segments
 from gaitml.io.gaitmap import read_gaitmap_csv, read_gaitmap_table
 from gaitml.io.gaitml_csv import read_gaitml_csv, read_gaitml_folder, write_gaitml_csv, write_manifest
 from gaitml.io.ifsm import read_ifsm_xlsx
@@ -22,6 +22,7 @@ __all__ = [
     "read_ifsm_xlsx",
     "read_oxford_folder",
     "read_recording",
+    "read_segments",
     "write_csv",
     "write_gaitml_csv",
     "write_json",

@@ -7,9 +7,11 @@ Everything is written to a temporary sibling first and moved into place with
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import shutil
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -34,7 +36,22 @@ def _prepare_parent(target: Path) -> None:
 
 def _write_error(target: Path, exc: OSError) -> InputError:
     why = exc.strerror or type(exc).__name__
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        return InputError(f"cannot write {target}: {why}; free some disk space or write to another disk.")
     return InputError(f"cannot write {target}: {why}; choose a writable output path (a file path, not a folder).")
+
+
+#: errno values of a failed write that are the user's to fix (disk full, read-only...).
+_WRITE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.EACCES, errno.EPERM, errno.EIO}
+
+
+def _is_special(target: Path) -> bool:
+    """Whether ``target`` exists and is a device, pipe or socket (``/dev/null``, ``/dev/stdout``)."""
+    try:
+        mode = os.stat(target).st_mode
+    except OSError:
+        return False
+    return not (stat.S_ISREG(mode) or stat.S_ISDIR(mode))
 
 
 @contextlib.contextmanager
@@ -42,8 +59,19 @@ def atomic_path(path: str | os.PathLike, *, suffix: str | None = None) -> Iterat
     """Yield a temporary path beside ``path``; on success move it onto ``path``.
 
     On any exception the temporary file is removed and ``path`` is untouched.
+    A write error the user can fix (disk full, read-only file system) becomes an
+    InputError. An existing device or pipe (``/dev/null``, ``/dev/stdout``) is
+    written directly, never replaced by a regular file.
     """
     target = Path(path)
+    if _is_special(target):
+        try:
+            yield target
+        except OSError as exc:
+            if exc.errno in _WRITE_ERRNOS:
+                raise _write_error(target, exc) from exc
+            raise
+        return
     _prepare_parent(target)
     if target.is_dir():
         raise InputError(f"cannot write {target}: it is a folder; give a file path.")
@@ -54,7 +82,12 @@ def atomic_path(path: str | os.PathLike, *, suffix: str | None = None) -> Iterat
     os.close(fd)
     tmp_path = Path(tmp)
     try:
-        yield tmp_path
+        try:
+            yield tmp_path
+        except OSError as exc:
+            if exc.errno in _WRITE_ERRNOS:
+                raise _write_error(target, exc) from exc
+            raise
         if tmp_path.exists():
             os.chmod(tmp_path, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual mode
         try:
@@ -84,7 +117,12 @@ def atomic_dir(path: str | os.PathLike) -> Iterator[Path]:
     except OSError as exc:
         raise _write_error(target, exc) from exc
     try:
-        yield tmp
+        try:
+            yield tmp
+        except OSError as exc:
+            if exc.errno in _WRITE_ERRNOS:
+                raise _write_error(target, exc) from exc
+            raise
         os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp creates 0700
         if target.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent))

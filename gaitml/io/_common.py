@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import gzip
+import zlib
 from pathlib import Path
 
 from gaitml.errors import InputError
@@ -28,11 +29,11 @@ def head_bytes(path: Path, n: int = 4096) -> bytes:
                 return fh.read(n)
         with open(path, "rb") as fh:
             return fh.read(n)
-    except (OSError, EOFError) as exc:
+    except (OSError, EOFError, zlib.error) as exc:
         raise InputError(f"cannot read {path}: {exc}; the file may be truncated or corrupt.") from exc
 
 
 def head_lines(path: Path, n: int = 3) -> list[str]:
     """The first ``n`` text lines of a (possibly gzipped) file."""
-    text = head_bytes(path).decode("utf-8", errors="replace")
+    text = head_bytes(path).decode("utf-8", errors="replace").removeprefix("\ufeff")
     return text.splitlines()[:n]

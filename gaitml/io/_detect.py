@@ -8,12 +8,12 @@ from pathlib import Path
 from gaitml.errors import InputError
 from gaitml.io._common import head_bytes, head_lines, require_file
 from gaitml.io.gaitmap import GAITMAP_TABLES, is_gaitmap_header, read_gaitmap_csv
-from gaitml.io.gaitml_csv import is_gaitml_header, list_gaitml_files, read_gaitml_csv, read_gaitml_folder
+from gaitml.io.gaitml_csv import list_gaitml_files, looks_like_gaitml, read_gaitml_csv, read_gaitml_folder, sniff_dialect
 from gaitml.io.ifsm import is_xlsx, read_ifsm_xlsx
 from gaitml.io.oxford import is_oxford_folder, list_oxford_folders, read_oxford_folder
 from gaitml.recording import Recording
 
-__all__ = ["FORMATS", "detect_format", "read_recording", "read_dataset", "list_dataset"]
+__all__ = ["FORMATS", "detect_format", "read_recording", "read_segments", "read_dataset", "list_dataset"]
 
 #: Names accepted by ``--format``.
 FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap")
@@ -52,14 +52,16 @@ def detect_format(path: str | os.PathLike) -> str:
     lines = head_lines(p, 2)
     if not lines:
         raise InputError(f"the file is empty: {p}; record or export the data again.")
-    if is_gaitml_header(lines[0].split(",")):
+    if sniff_dialect(lines) is not None:
         return "gaitml-csv"
     if is_gaitmap_header(lines):
         return "gaitmap"
     if p.name.split(".")[0] in GAITMAP_TABLES:
         return "gaitmap-table"
+    if looks_like_gaitml(lines):
+        return "gaitml-csv"  # its reader names the missing columns
     cols = lines[0].strip()[:80]
-    raise InputError(f"unknown format for {p.name} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
+    raise InputError(f"unknown format for {p.name[:80]} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
 
 
 def list_gaitml_files_safe(p: Path) -> list[Path]:
@@ -69,7 +71,7 @@ def list_gaitml_files_safe(p: Path) -> list[Path]:
             lines = head_lines(f, 1)
         except InputError:
             continue
-        if lines and is_gaitml_header(lines[0].split(",")):
+        if sniff_dialect(lines) is not None:
             out.append(f)
     return out
 
@@ -117,6 +119,37 @@ def read_recording(
         )
     n = len(list_dataset(p))
     raise InputError(f"{p} is a data set of {n} recordings; pass one recording file or folder of it.")
+
+
+def read_segments(
+    path: str | os.PathLike,
+    *,
+    format: str | None = None,
+    sensor: str = "left",
+    sampling_rate_hz: float | None = None,
+    acc_unit: str = "m/s^2",
+    gyr_unit: str = "rad/s",
+) -> list[Recording]:
+    """Read one recording as a list of segments, cut at every gap too long to bridge.
+
+    :func:`read_recording` refuses a timestamp gap longer than
+    :func:`gaitml.recording.max_bridge_s` (the longer of 1 s and ten sampling
+    intervals); this reads each stretch between such gaps as its own recording,
+    with ``meta['segment']`` (index, count, first and last original sample, start
+    and end in s) and ``meta['id']`` suffixed ``#k`` when there is more than one.
+    Formats without timestamps (IFSM xlsx, gaitmap) have no gaps: one segment.
+    """
+    if format is not None and format not in FORMATS:
+        raise InputError(f"unknown --format {format!r}; choose one of {', '.join(FORMATS)}.")
+    p = require_file(path)
+    fmt = format or detect_format(p)
+    if fmt == "gaitml-csv" and p.is_file():
+        return read_gaitml_csv(p, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit, segments=True)
+    if fmt == "oxford":
+        folder = p if p.is_dir() else p.parent
+        kw = {} if sampling_rate_hz is None else {"sampling_rate_hz": sampling_rate_hz}
+        return read_oxford_folder(folder, segments=True, **kw)
+    return [read_recording(p, format=fmt, sensor=sensor, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit)]
 
 
 def _recording_entries(folder: Path):

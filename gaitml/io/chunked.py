@@ -23,6 +23,7 @@ the chunk's ``meta``). Other formats are small and are read whole, then sliced.
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,7 +35,7 @@ from gaitml.consts import ACC_COLS, GYR_COLS, LABEL_COL, TIME_COL
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._detect import detect_format, read_recording
-from gaitml.recording import Recording, _convert_units, check_acc_unit
+from gaitml.recording import Recording, _check_ranges, _convert_units, check_acc_unit, max_bridge_s
 
 __all__ = ["Chunk", "iter_chunks", "estimate_samples", "LARGE_INPUT_SAMPLES"]
 
@@ -112,6 +113,7 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
     has_lab = None
     line = 2
     resampled = None
+    gap_limit = np.inf
     for df in _guarded(reader, path):
         df.columns = [str(c).strip() for c in df.columns]
         missing = [c for c in (TIME_COL, *ACC_COLS) if c not in df.columns]
@@ -133,6 +135,13 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
         gyr = vals[:, 4:7] if has_gyr else None
         lab = df[LABEL_COL].astype(str).to_numpy() if has_lab else None
         acc, gyr = _convert_units(acc, gyr, acc_unit, gyr_unit)
+        conv = [c for c, on in (("acc from g", acc_unit == "g"), ("gyr from deg/s", gyr_unit == "deg/s")) if on]
+        try:
+            _check_ranges(acc, gyr, {"converted": conv})  # before interpolating: a 1e308 would overflow
+        except InputError as exc:
+            first = line
+            msg = re.sub(r"at sample (\d+)", lambda m, first=first: f"at line {first + int(m.group(1))}", str(exc), count=1)
+            raise InputError(f"{path.name}: {msg}") from exc
         if prev is not None:
             t = np.concatenate([[prev[0]], t])
             acc = np.vstack([prev[1], acc])
@@ -150,12 +159,20 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
             t0 = float(t[0])
             check_acc_unit(acc)
             med = float(np.median(dt))
+            gap_limit = max_bridge_s(med)
             uniform = bool(np.all(np.abs(dt - med) <= 1e-3 * med))
             if fs is None:
                 fs = float(np.round((len(t) - 1) / (t[-1] - t[0]), 6)) if uniform else float(np.round(1.0 / med, 6))
                 resampled = not uniform
             else:
                 resampled = True
+        if (dt > gap_limit).any():
+            i = int(np.flatnonzero(dt > gap_limit)[0])
+            raise InputError(
+                f"{path.name}: a {dt[i]:.6g} s gap in the timestamps before line {line + i - (1 if prev is not None else 0) + 1} "
+                f"(t = {t[i] - t0:.6g} s from the start) is too long to bridge by interpolation (> {gap_limit:.3g} s); "
+                "split the file at the gap (or, in Python, read it as separate segments with gaitml.io.read_segments)."
+            )
         start = len(t) - len(df)  # rows of this block (after the carried row)
         if resampled:
             # grid points covered by this block: t0 + k / fs <= t[-1]

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import gzip
 import os
+import re
 import zlib
 from pathlib import Path
 
@@ -47,8 +48,45 @@ REQUIRED = (TIME_COL, *ACC_COLS)
 
 def is_gaitml_header(columns: list[str]) -> bool:
     """Whether a header row has the gaitml-csv required columns."""
-    cols = [c.strip() for c in columns]
+    cols = [c.strip().strip('"') for c in columns]
     return all(c in cols for c in REQUIRED)
+
+
+#: Field separators accepted for a gaitml-csv: ',' (the format), and ';' / tab as
+#: spreadsheet programs write them in locales with a decimal comma.
+SEPARATORS = (",", ";", "\t")
+
+
+def sniff_dialect(lines: list[str]) -> tuple[str, str] | None:
+    """``(separator, decimal)`` of a gaitml-csv from its first lines, or None if the header is not one.
+
+    The separator is the first of :data:`SEPARATORS` that splits the header into
+    the required columns; with ';' or tab a ',' in the first data line means a
+    decimal comma.
+    """
+    if not lines:
+        return None
+    for sep in SEPARATORS:
+        if is_gaitml_header(lines[0].split(sep)):
+            decimal = "," if sep != "," and len(lines) > 1 and "," in lines[1] else "."
+            return sep, decimal
+    return None
+
+
+def looks_like_gaitml(lines: list[str]) -> bool:
+    """Whether a header is an attempt at a gaitml-csv: it has a ``t`` column and an acc or gyr column."""
+    if not lines:
+        return False
+    for sep in SEPARATORS:
+        cols = [c.strip().strip('"') for c in lines[0].split(sep)]
+        if TIME_COL in cols and any(c in cols for c in (*ACC_COLS, *GYR_COLS)):
+            return True
+    return False
+
+
+def _short(name: object, n: int = 40) -> str:
+    text = str(name)
+    return text if len(text) <= n else text[: n - 3] + "..."
 
 
 def read_gaitml_csv(
@@ -58,8 +96,13 @@ def read_gaitml_csv(
     acc_unit: str = "m/s^2",
     gyr_unit: str = "rad/s",
     meta: dict | None = None,
-) -> Recording:
+    segments: bool = False,
+) -> Recording | list[Recording]:
     """Read one gaitml-csv file into a :class:`Recording`.
+
+    With ``segments=True`` the file is cut at every gap too long to bridge and a
+    list of recordings is returned (see :meth:`Recording.segments_from_timestamps`);
+    by default such a gap is refused.
 
     Uniform timestamps are kept; irregular ones are resampled by linear
     interpolation (see :meth:`Recording.from_timestamps`) to ``sampling_rate_hz``
@@ -67,19 +110,12 @@ def read_gaitml_csv(
     ``meta``.
     """
     p = require_file(path)
-    try:
-        df = pd.read_csv(p, skipinitialspace=True)
-    except pd.errors.EmptyDataError as exc:
-        raise InputError(f"the file is empty: {p}; record or export the data again.") from exc
-    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot parse {p} as CSV ({str(exc).splitlines()[0]}); check the file is a gaitml-csv.") from exc
-    except (EOFError, zlib.error, gzip.BadGzipFile) as exc:
-        raise InputError(f"cannot read {p}: {exc}; the compressed file is truncated or corrupt.") from exc
-    df.columns = [str(c).strip() for c in df.columns]
+    df = _read_table(p)
     missing = [c for c in REQUIRED if c not in df.columns]
     if missing:
+        found = [_short(c) for c in list(df.columns)[:8]]
         raise InputError(
-            f"{p.name} is not a gaitml-csv: missing columns {missing} (found {list(df.columns)[:8]}); "
+            f"{_short(p.name)} is not a gaitml-csv: missing columns {missing} (found {found}); "
             f"expected {', '.join(REQUIRED)} [, {', '.join(GYR_COLS)}] [, {LABEL_COL}]."
         )
     if len(df) == 0:
@@ -91,8 +127,19 @@ def read_gaitml_csv(
     for c in num_cols:
         if not pd.api.types.is_numeric_dtype(df[c]):
             bad = pd.to_numeric(df[c], errors="coerce").isna() & df[c].notna()
-            row = int(np.flatnonzero(bad.to_numpy())[0]) + 2 if bad.any() else -1
-            raise InputError(f"{p.name}: column {c!r} has a non-numeric value at line {row}; fix or remove that row.")
+            row = int(np.flatnonzero(bad.to_numpy())[0]) if bad.any() else 0
+            value = _short(df[c].iloc[row], 30)
+            if re.fullmatch(r"\s*[-+]?\d+,\d+\s*", str(df[c].iloc[row])):
+                raise InputError(
+                    f"{p.name}: column {c!r} has the decimal comma {value!r} at line {row + 2}; "
+                    "write decimals with '.', or separate the fields with ';' (then decimal commas are read)."
+                )
+            if c == TIME_COL:
+                raise InputError(
+                    f"{p.name}: the time column 't' holds {value!r} at line {row + 2}, not a number of seconds; "
+                    "write t as seconds (e.g. 0.02), not a date or clock time."
+                )
+            raise InputError(f"{p.name}: column {c!r} has a non-numeric value at line {row + 2} ({value!r}); fix or remove that row.")
     nan_rows = df[num_cols].isna().any(axis=1).to_numpy() | ~np.isfinite(df[num_cols].to_numpy(dtype=float)).all(axis=1)
     if nan_rows.any():
         first = int(np.flatnonzero(nan_rows)[0])
@@ -112,7 +159,8 @@ def read_gaitml_csv(
         m["ignored_columns"] = ignored
     m.update(meta or {})
     reference = _read_sidecars(p)
-    return Recording.from_timestamps(
+    build = Recording.segments_from_timestamps if segments else Recording.from_timestamps
+    return build(
         df[TIME_COL].to_numpy(dtype=float),
         df[list(ACC_COLS)].to_numpy(dtype=float),
         gyr=df[list(GYR_COLS)].to_numpy(dtype=float) if has_gyr else None,
@@ -123,6 +171,41 @@ def read_gaitml_csv(
         acc_unit=acc_unit,
         gyr_unit=gyr_unit,
     )
+
+
+def _read_table(p: Path) -> pd.DataFrame:
+    """Read a gaitml-csv into a DataFrame: dialect sniffed, ragged rows and duplicate columns refused."""
+    import warnings
+
+    from gaitml.io._common import head_lines
+
+    dialect = sniff_dialect(head_lines(p, 2)) or (",", ".")
+    sep, decimal = dialect
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", pd.errors.ParserWarning)
+            df = pd.read_csv(p, sep=sep, decimal=decimal, skipinitialspace=True, index_col=False, encoding="utf-8-sig")
+    except pd.errors.EmptyDataError as exc:
+        raise InputError(f"the file is empty: {p}; record or export the data again.") from exc
+    except pd.errors.ParserWarning as exc:
+        raise InputError(
+            f"{p.name}: some rows have more fields than the header; if numbers use a decimal comma, separate fields with ';' "
+            "(or write decimals with '.'), and quote text that contains the separator."
+        ) from exc
+    except (pd.errors.ParserError, UnicodeDecodeError, ValueError) as exc:
+        raise InputError(
+            f"cannot parse {p.name} as CSV ({_short(str(exc).splitlines()[0], 120)}); check the file is a gaitml-csv."
+        ) from exc
+    except (EOFError, zlib.error, gzip.BadGzipFile, OSError) as exc:
+        raise InputError(f"cannot read {p.name}: {_short(exc, 120)}; the compressed file is truncated or corrupt.") from exc
+    names = [str(c).strip() for c in df.columns]
+    dup = sorted({c for c in names if names.count(c) > 1})
+    dup += sorted({c.rsplit(".", 1)[0] for c in names if "." in c and c.rsplit(".", 1)[0] in names and c.rsplit(".", 1)[1].isdigit()})
+    dup = [c for c in dup if c in (*REQUIRED, *GYR_COLS, LABEL_COL)]
+    if dup:
+        raise InputError(f"{p.name} has the column {dup[0]!r} more than once; keep one column per name.")
+    df.columns = names
+    return df
 
 
 def _stem(path: Path) -> str:

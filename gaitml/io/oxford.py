@@ -89,8 +89,14 @@ def _read_numeric(path: Path, n_cols: int, what: str) -> np.ndarray:
     return vals
 
 
-def read_oxford_folder(path: str | os.PathLike, *, sampling_rate_hz: float = OXFORD_RATE_HZ) -> Recording:
-    """Read one Oxford recording folder, resampled to ``sampling_rate_hz``."""
+def read_oxford_folder(
+    path: str | os.PathLike, *, sampling_rate_hz: float = OXFORD_RATE_HZ, segments: bool = False
+) -> Recording | list[Recording]:
+    """Read one Oxford recording folder, resampled to ``sampling_rate_hz``.
+
+    ``segments=True`` cuts the log at gaps too long to bridge and returns a list
+    (see :meth:`Recording.segments_from_timestamps`); by default they are refused.
+    """
     d = require_file(path)
     acc_path = _acc_file(d)
     if acc_path is None or not (d / "stepcounter.csv").exists():
@@ -116,6 +122,10 @@ def read_oxford_folder(path: str | os.PathLike, *, sampling_rate_hz: float = OXF
         meta["chip"] = meta_file.read_text(errors="replace").strip()
     step_ns = oxford_step_times_ns(steps)
     t_s = acc[:, 0] * 1e-9
+    if segments:
+        return Recording.segments_from_timestamps(
+            t_s, acc[:, 2:5], sampling_rate_hz=sampling_rate_hz, meta=meta, reference={"steps_t_s": step_ns * 1e-9}
+        )
     rec = Recording.from_timestamps(
         t_s,
         acc[:, 2:5],

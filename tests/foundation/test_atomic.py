@@ -101,3 +101,28 @@ def test_write_errors_are_input_errors(tmp_path):
         write_json(tmp_path / "file" / "a.json", {})
     with pytest.raises(InputError, match="it is a folder"):
         write_json(tmp_path, {})
+
+
+def test_devices_are_written_not_replaced_and_disk_full_is_an_input_error(tmp_path, monkeypatch):
+    import errno
+
+    from gaitml.errors import InputError
+
+    write_json("/dev/null", {"a": 1})  # as root, a replace would turn /dev/null into a regular file
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+    with pytest.raises(InputError, match="No space left on device; free some disk space"):
+        write_json("/dev/full", {"a": 1})
+    assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
+
+    def full(self, *a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    import pathlib
+
+    monkeypatch.setattr(pathlib.Path, "write_text", full)
+    with pytest.raises(InputError, match="No space left on device"):
+        write_json(tmp_path / "a.json", {"a": 1})
+    assert list(tmp_path.iterdir()) == []  # no temporary file left
+    with pytest.raises(InputError, match="No space left on device"), atomic_dir(tmp_path / "run") as d:
+        (d / "x.txt").write_text("x")
+    assert list(tmp_path.iterdir()) == []

@@ -76,3 +76,22 @@ def test_chunked_bad_rows_are_errors(tmp_path, monkeypatch):
     p.write_text("\n".join(lines) + "\n")
     with pytest.raises(InputError, match="decreasing timestamp"):
         list(ch.iter_chunks(p, chunk_s=2.0, margin_s=0.5))
+
+
+@pytest.mark.parametrize("irregular", [False, True])
+def test_chunked_long_gap_and_impossible_values_are_refused(tmp_path, monkeypatch, irregular):
+    """Issue 17: the chunked path refuses what the whole-file reader refuses, before allocating or interpolating."""
+    monkeypatch.setattr(ch, "_ROWS_PER_READ", 100)
+    p = _write(tmp_path, 1000, irregular=irregular, labels=False)
+    df = pd.read_csv(p)
+    df.loc[650:, "t"] += 1e7  # in the seventh block
+    df.to_csv(p, index=False)
+    with pytest.raises(InputError, match=r"1e\+07 s gap in the timestamps before line 652"):
+        list(ch.iter_chunks(p, chunk_s=2.0, margin_s=0.5))
+    with pytest.raises(InputError, match="gap"):
+        read_recording(p)
+    df = pd.read_csv(_write(tmp_path, 1000, irregular=irregular, labels=False))
+    df.loc[420, "gyr_y"] = 1e308
+    df.to_csv(p, index=False)
+    with pytest.raises(InputError, match=r"gyr_y = 1e\+308 at line 422 .*beyond any sensor's range"):
+        list(ch.iter_chunks(p, chunk_s=2.0, margin_s=0.5))

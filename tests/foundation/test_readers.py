@@ -196,3 +196,74 @@ def test_truncated_oxford_folder(tmp_path):
         fh.write("\n".join(lines[:1000]) + "\n" + lines[1000][:12] + "\n")
     with pytest.raises(InputError, match="truncated|columns|non-numeric"):
         read_recording(dst)
+
+
+# ---------------------------------------------------------------- issue 17: dialects, odd headers, segments
+def _walk_frame(n=500, fs=50.0):
+    rng = np.random.default_rng(5)
+    acc = rng.normal(0, 1, (n, 3)) + [0, 0, GRAVITY_MS2]
+    return pd.DataFrame({"t": np.arange(n) / fs, "acc_x": acc[:, 0], "acc_y": acc[:, 1], "acc_z": acc[:, 2], "label": "walk"})
+
+
+@pytest.mark.parametrize(
+    "write",
+    [
+        lambda df, p: p.write_text("\ufeff" + df.to_csv(index=False), encoding="utf-8"),
+        lambda df, p: p.write_text(df.to_csv(index=False).replace("\n", "\r\n"), encoding="utf-8"),
+        lambda df, p: df.to_csv(p, index=False, sep=";"),
+        lambda df, p: df.to_csv(p, index=False, sep=";", decimal=","),
+        lambda df, p: df.to_csv(p, index=False, sep="\t", decimal=","),
+    ],
+    ids=["bom", "crlf", "semicolon", "semicolon-decimal-comma", "tab-decimal-comma"],
+)
+def test_spreadsheet_dialects_read_the_same(tmp_path, write):
+    df = _walk_frame()
+    p = tmp_path / "r.csv"
+    write(df, p)
+    assert detect_format(p) == "gaitml-csv"
+    rec = read_recording(p)
+    np.testing.assert_allclose(rec.acc, df[["acc_x", "acc_y", "acc_z"]].to_numpy(), rtol=1e-12)
+    assert rec.sampling_rate_hz == 50.0 and set(rec.labels) == {"walk"}
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("t,acc_x,acc_y,acc_z\n0,01,0,2,9,8\n0,02,0,2,9,8\n", "more fields than the header"),
+        ('t,acc_x,acc_y,acc_z\n"0,01","0,2","0,1","9,8"\n', r"decimal comma '0,01'"),
+        ("t,acc_x,acc_y,acc_x\n0,1,2,9.8\n0.02,1,2,9.8\n", "column 'acc_x' more than once"),
+        ("t,acc_x,acc_y,acc_z\n2024-01-01 10:00,1,2,9.8\n", "not a number of seconds"),
+        ("t,gyr_x,gyr_y,gyr_z\n0,1,2,3\n", r"missing columns \['acc_x', 'acc_y', 'acc_z'\]"),
+        ("t,acc_x," + "y" * 100_000 + ",acc_z\n0,1,2,9.8\n", r"missing columns \['acc_y'\]"),
+    ],
+    ids=["comma-decimal-unquoted", "comma-decimal-quoted", "duplicate", "datetime", "gyro-only", "long-header"],
+)
+def test_odd_csvs_are_refused_naming_the_problem(tmp_path, text, match):
+    p = tmp_path / "r.csv"
+    p.write_text(text)
+    with pytest.raises(InputError, match=match) as exc:
+        read_recording(p)
+    assert "\n" not in str(exc.value) and len(str(exc.value)) < 600
+
+
+def test_corrupt_gzip_is_an_input_error(tmp_path):
+    p = tmp_path / "r.csv.gz"
+    p.write_bytes(b"\x1f\x8b\x08\x00" + bytes(range(200)))
+    with pytest.raises(InputError, match="truncated or corrupt"):
+        read_recording(p)
+
+
+def test_read_segments_cuts_a_file_at_long_gaps(tmp_path):
+    from gaitml.io import read_segments
+
+    df = _walk_frame(1000)
+    df.loc[400:, "t"] += 3600.0  # an hour without samples
+    p = tmp_path / "r.csv"
+    df.to_csv(p, index=False)
+    with pytest.raises(InputError, match=r"3600.02 s gap in the timestamps after sample 399"):
+        read_recording(p)
+    segs = read_segments(p)
+    assert [s.n_samples for s in segs] == [400, 600]
+    assert segs[1].meta["segment"]["t_start_s"] == pytest.approx(3608.0)
+    assert [s.name for s in segs] == ["r#0", "r#1"]
+    assert len(read_segments(p, sampling_rate_hz=25.0)[0].acc) == 200

@@ -192,3 +192,104 @@ def test_gyro_deg_s_on_an_ordinary_walk_is_refused():
     gyr_degs = np.column_stack([25 * np.sin(2 * np.pi * t), 30 * np.cos(2 * np.pi * t), np.full(500, 20.0)])
     with pytest.raises(InputError, match="deg/s"):
         Recording(acc=_acc(500), gyr=gyr_degs, sampling_rate_hz=50)
+
+
+# ---------------------------------------------------------------- issue 17: gaps, ranges, gyro unit
+def test_gap_too_long_to_bridge_is_refused_with_position_and_length():
+    t = np.arange(1000) / 100.0
+    t[600:] += 1e7  # would be 10^9 samples at 100 Hz
+    with pytest.raises(InputError, match=r"1e\+07 s gap in the timestamps after sample 599 \(t = 5.99 s .*split the file"):
+        Recording.from_timestamps(t, _acc(1000))
+    # the limit: the longer of MAX_BRIDGE_S and ten sampling intervals
+    from gaitml.recording import MAX_BRIDGE_S, max_bridge_s
+
+    assert max_bridge_s(0.01) == MAX_BRIDGE_S == 1.0
+    assert max_bridge_s(0.2) == pytest.approx(2.0)
+    t2 = np.arange(1000) / 100.0
+    t2[600:] += 0.95  # a 0.96 s gap is bridged and reported
+    rec = Recording.from_timestamps(t2, _acc(1000))
+    assert rec.meta["gaps"] == [[5.99, 0.96]]
+    t2[600:] += 0.1  # 1.06 s is not
+    with pytest.raises(InputError, match="1.06 s gap"):
+        Recording.from_timestamps(t2, _acc(1000))
+    # a caller may allow a longer bridge explicitly
+    assert Recording.from_timestamps(t2, _acc(1000), max_gap_s=2.0).n_samples == 1105
+
+
+def test_segments_from_timestamps_cut_at_long_gaps():
+    t = np.concatenate([np.arange(300) / 100, 50 + np.arange(200) / 100, [500.0], 900 + np.arange(100) / 100])
+    labels = np.array(["a"] * 300 + ["b"] * 200 + ["c"] + ["d"] * 100)
+    segs = Recording.segments_from_timestamps(
+        t, _acc(len(t)), labels=labels, meta={"id": "rec"}, reference={"steps_t_s": [1.0, 2.0, 51.0, 900.5, 700.0]}
+    )
+    assert [s.n_samples for s in segs] == [300, 200, 100]
+    assert [s.name for s in segs] == ["rec#0", "rec#1", "rec#2"]
+    assert segs[1].meta["segment"] == {"index": 1, "of": 3, "first_sample": 300, "last_sample": 499, "t_start_s": 50.0, "t_end_s": 51.99}
+    assert segs[0].meta["segments_dropped"] == 1  # the lone sample at 500 s
+    assert set(segs[2].labels) == {"d"}
+    np.testing.assert_allclose(segs[0].reference["steps_t_s"], [1.0, 2.0])
+    np.testing.assert_allclose(segs[1].reference["steps_t_s"], [1.0])
+    np.testing.assert_allclose(segs[2].reference["steps_t_s"], [0.5])
+    assert segs[2].reference["n_steps_true"] == 1
+    one = Recording.segments_from_timestamps(np.arange(100) / 50, _acc(100))
+    assert len(one) == 1 and one[0].n_samples == 100
+
+
+@pytest.mark.parametrize(
+    ("col", "value", "match"),
+    [
+        ("gyr", 1e308, r"gyr_y = 1e\+308 at sample 7 .*\|gyr\| <= 349.1 rad/s"),
+        ("gyr", 400.0, r"gyr_y = 400 at sample 7 .*pass --gyr-unit deg/s"),  # plausible in deg/s: says so
+        ("acc", -1e308, r"acc_y = -1e\+308 at sample 7 .*\|acc\| <= 4903 m/s\^2"),
+        ("acc", 6000.0, r"acc_y = 6000 at sample 7 .*milli-g"),
+    ],
+)
+def test_values_beyond_any_sensor_range_are_refused(col, value, match):
+    acc, gyr = _acc(500), np.random.default_rng(3).normal(0, 0.5, (500, 3))
+    (acc if col == "acc" else gyr)[7, 1] = value
+    with pytest.raises(InputError, match=match):
+        Recording(acc=acc, gyr=gyr, sampling_rate_hz=50)
+    with pytest.raises(InputError, match=match):  # before resampling: interpolating 1e308 would overflow
+        Recording.from_timestamps(np.arange(500) / 50 + np.r_[0, np.full(499, 1e-4)], acc, gyr=gyr)
+
+
+def _jog_pocket_gyr(n=3000, fs=50.0, rest_s=0.0):
+    t = np.arange(n) / fs
+    ph = 2 * np.pi * 1.4 * t
+    g = np.column_stack([9 * np.sin(ph) + 13 * np.sin(ph) ** 9, 3 * np.sin(2 * ph + 0.5), 2 * np.cos(ph)])
+    g += np.random.default_rng(0).normal(0, 0.3, (n, 3))
+    if rest_s:
+        g[: int(rest_s * fs)] = np.random.default_rng(1).normal(0, 0.003, (int(rest_s * fs), 3))
+    return g
+
+
+def test_gyro_unit_judged_on_the_whole_distribution():
+    from gaitml.recording import check_gyr_unit
+
+    jog = _jog_pocket_gyr()
+    mag = np.linalg.norm(jog, axis=1)
+    assert np.percentile(mag, 99) > 21.5  # as fast as the WISDM jog of the issue, which was refused before
+    # fast real motion in rad/s is accepted, with a warning since no rest level tells the units apart
+    rec = Recording(acc=_acc(3000), gyr=jog, sampling_rate_hz=50)
+    assert len(rec.meta["warnings"]) == 1 and "may be in deg/s" in rec.meta["warnings"][0]
+    # ... and without one when the recording has a rad/s rest level (a still phone reads < 0.03 rad/s)
+    assert check_gyr_unit(_jog_pocket_gyr(rest_s=4.0)) is None
+    # the same motion in deg/s is refused: its median is 57x larger
+    with pytest.raises(InputError, match=r"deg/s, not rad/s \(median \|gyr\| = \d{3}"):
+        check_gyr_unit(np.degrees(jog))
+    # a mostly still deg/s recording whose peaks no gyro could give in rad/s (p99 > 4000 deg/s = 69.8 rad/s)
+    still = np.random.default_rng(2).normal(0, 0.5, (1000, 3))
+    still[::20] = 150.0
+    with pytest.raises(InputError, match="deg/s"):
+        check_gyr_unit(still)
+    assert check_gyr_unit(np.zeros((10, 3))) is None
+
+
+def test_fast_timestamps_accepted_with_a_target_rate_and_upsampling_bounded():
+    t = np.arange(2000) / 20000.0
+    with pytest.raises(InputError, match="above 10000 Hz.*lower --sampling-rate-hz"):
+        Recording.from_timestamps(t, _acc(2000))
+    rec = Recording.from_timestamps(t, _acc(2000), sampling_rate_hz=1000.0)
+    assert rec.n_samples == 100 and "without an anti-alias filter" in rec.meta["resample_method"]
+    with pytest.raises(InputError, match="more than 100x the original"):
+        Recording.from_timestamps(np.arange(50) / 5.0, _acc(50), sampling_rate_hz=10_000.0)

@@ -37,7 +37,9 @@ class _Parser(argparse.ArgumentParser):
 def _input_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("input")
     g.add_argument(
-        "--format", choices=("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap"), help="input format (default: detected from the content)"
+        "--format",
+        choices=("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap", "phyphox", "sensor-logger", "columns-csv"),
+        help="input format (default: detected from the content)",
     )
     g.add_argument("--sensor", choices=("left", "right"), default="left", help="foot of a two-sensor gaitmap file (default: left)")
     g.add_argument(
@@ -47,6 +49,12 @@ def _input_options(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument("--acc-unit", choices=("m/s^2", "g"), default="m/s^2", help="unit of a gaitml-csv's acc columns (default m/s^2)")
     g.add_argument("--gyr-unit", choices=("rad/s", "deg/s"), default="rad/s", help="unit of a gaitml-csv's gyr columns (default rad/s)")
+    g.add_argument(
+        "--columns",
+        metavar="MAP",
+        help="read any CSV by naming its columns: t=COL,acc_x=COL,acc_y=COL,acc_z=COL[,gyr_x=COL,gyr_y=COL,gyr_z=COL][,t_gyr=COL][,label=COL]",
+    )
+    g.add_argument("--time-unit", choices=("s", "ms", "us", "ns"), default="s", help="unit of the --columns time column (default s)")
 
 
 def build_parser() -> argparse.ArgumentParser:

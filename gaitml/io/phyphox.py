@@ -9,13 +9,17 @@ header row naming the quantity and its unit in parentheses:
   sensors of an experiment;
 - ``Acceleration x (m/s^2)``, ``... y ...``, ``... z ...`` (and
   ``Absolute acceleration (m/s^2)``): the accelerometer *with* gravity, from the
-  "Acceleration with g" experiment (table ``Accelerometer.csv`` or
-  ``Raw Data.csv``);
+  "Acceleration with g" experiment;
 - ``Linear Acceleration x (m/s^2)`` ...: acceleration *without* gravity, from the
   "Acceleration without g" experiment. gaitml needs gravity (the step and
   mode algorithms use the gravity direction and |acc| around g), so such a
   table alone is refused with the fix;
 - ``Gyroscope x (rad/s)`` ...: angular rate in rad/s (table ``Gyroscope.csv``).
+
+A table's file name is the experiment's data-set name (``Accelerometer.csv``,
+``Gyroscope.csv`` in phyphox's experiment definitions; ``Raw Data.csv`` is also
+accepted); the reader goes by the column headers, so any name works, and the
+documented names are only preferred when several tables qualify.
 
 phyphox offers three CSV dialects (comma with decimal point, tab with decimal
 point, semicolon with decimal comma); all are read. A table holding several

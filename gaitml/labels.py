@@ -235,11 +235,13 @@ def _to_sample(t_s: np.ndarray | float, fs: float) -> np.ndarray:
 # ------------------------------------------------------------ candidates
 def _step_candidates(rec: Recording, detector: str, boundary: str) -> tuple[np.ndarray, pd.DataFrame, np.ndarray, np.ndarray]:
     """(candidate boundary samples, step table, span starts, span ends) of a step detector."""
-    from gaitml.steps import DETECTORS, get_detector
+    from gaitml.steps import get_detector
 
-    if detector not in DETECTORS:
-        raise InputError(f"unknown step detector {detector!r} for --snap steps; choose one of {', '.join(DETECTORS)}.")
-    steps = get_detector(detector).detect(rec).steps_
+    try:
+        algo = get_detector(detector)
+    except InputError as exc:
+        raise InputError(f"{str(exc).rstrip('.')} (--snap steps/none takes a step detector).") from None
+    steps = algo.detect(rec).steps_
     n = rec.n_samples
     if len(steps) == 0:
         return np.zeros(0, dtype=int), steps, np.zeros(0, dtype=int), np.zeros(0, dtype=int)
@@ -256,12 +258,14 @@ def _step_candidates(rec: Recording, detector: str, boundary: str) -> tuple[np.n
 
 
 def _stride_candidates(rec: Recording, detector: str) -> tuple[np.ndarray, pd.DataFrame, np.ndarray, np.ndarray]:
-    from gaitml.zupt import DETECTORS, detect_zupts, segment_strides
+    from gaitml.zupt import get_detector, segment_strides
 
-    if detector not in DETECTORS:
-        raise InputError(f"unknown zero-velocity detector {detector!r} for --snap strides; choose one of {', '.join(DETECTORS)}.")
+    try:
+        algo = get_detector(detector)
+    except InputError as exc:
+        raise InputError(f"{str(exc).rstrip('.')} (--snap strides takes a zero-velocity detector).") from None
     rec.require_gyr("--snap strides (zero-velocity detection)", "use --snap steps for a phone recording")
-    zupts = detect_zupts(rec, detector=detector).zupts_
+    zupts = algo.detect(rec).zupts_
     strides = segment_strides(zupts, rec.sampling_rate_hz)
     if len(strides) == 0:
         return np.zeros(0, dtype=int), strides, np.zeros(0, dtype=int), np.zeros(0, dtype=int)

@@ -227,6 +227,10 @@ def _find_tables(box: ExportContainer):
     for low in order:
         key = tables[low]
         lines = box.head(key).splitlines()
+        if not lines and low in _EXPORT_TABLES:
+            raise InputError(
+                f"{key} of {box.path.name} is empty; record again with this sensor switched on, or export the experiment again."
+            )
         if not lines or not is_phyphox_header(lines[0]):
             continue
         df = read_table(box, key)

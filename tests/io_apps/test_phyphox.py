@@ -95,6 +95,13 @@ def test_empty_table_is_refused(tmp_path):
         read_phyphox(d)
 
 
+def test_zero_byte_accelerometer_table_is_named(tmp_path):
+    d = phyphox_export(tmp_path / "z")
+    (d / "Accelerometer.csv").write_bytes(b"")
+    with pytest.raises(InputError, match="Accelerometer.csv of z is empty"):
+        read_recording(d)
+
+
 def test_clocks_without_overlap_are_refused(tmp_path):
     d = phyphox_export(tmp_path / "o", gyr_offset_s=30.0, gyr_end_s=50.0, duration_s=20.0)
     with pytest.raises(InputError, match="do not overlap"):

@@ -136,6 +136,12 @@ def _input_options(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument("--acc-unit", choices=("m/s^2", "g"), default="m/s^2", help="unit of a gaitml-csv's acc columns (default m/s^2)")
     g.add_argument("--gyr-unit", choices=("rad/s", "deg/s"), default="rad/s", help="unit of a gaitml-csv's gyr columns (default rad/s)")
+    g.add_argument(
+        "--columns",
+        metavar="MAP",
+        help="read any CSV by naming its columns: t=COL,acc_x=COL,acc_y=COL,acc_z=COL[,gyr_x=COL,gyr_y=COL,gyr_z=COL][,t_gyr=COL][,label=COL]",
+    )
+    g.add_argument("--time-unit", choices=("s", "ms", "us", "ns"), default="s", help="unit of the --columns time column (default s)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -259,6 +265,30 @@ def build_parser() -> argparse.ArgumentParser:
     q.add_argument("model_dir", metavar="MODEL_DIR")
     q.add_argument("--out", metavar="FILE")
     # --- end gaitml model ---
+
+    p = sub.add_parser("label", help="label a recording from time intervals, snapped to detected steps or strides")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument(
+        "--intervals", metavar="FILE", required=True, help="CSV start_s,end_s,label or an Audacity label track (start<TAB>end<TAB>label)"
+    )
+    p.add_argument(
+        "--snap", choices=("steps", "strides", "none"), default="steps", help="move boundaries to step or stride boundaries (default steps)"
+    )
+    p.add_argument(
+        "--detector", help="step detector (steps/none; default single-peak) or zero-velocity detector (strides; default pseudo-std)"
+    )
+    p.add_argument(
+        "--boundary",
+        choices=("peak", "edges"),
+        default="peak",
+        help="step boundaries at the step events (default) or the detector's step start/end",
+    )
+    p.add_argument("--max-snap-s", type=float, default=0.5, help="largest move of a boundary in s (default 0.5)")
+    p.add_argument("--unlabelled", default="unlabelled", help="label of samples outside every interval (default unlabelled)")
+    p.add_argument("--out", metavar="OUT.csv", required=True, help="labelled gaitml-csv; OUT.step-labels.csv is written beside it")
+    p.add_argument("--report", metavar="PNG", help="plot the signal, intervals, steps and snapped boundaries")
+    p.add_argument("--json", action="store_true")
+    _input_options(p)
 
     p = sub.add_parser("demo", help="the main job end to end on simulated data")
     p.add_argument("--out", metavar="DIR", default="demo-out")

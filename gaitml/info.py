@@ -15,6 +15,22 @@ from gaitml.recording import Recording
 
 __all__ = ["describe_recording", "describe_path"]
 
+#: Metadata shown when present (phone-app readers add platform, acc_source, frame and clock_merge).
+_META_KEYS = (
+    "subject",
+    "session",
+    "device",
+    "position",
+    "surface",
+    "sensor",
+    "converted",
+    "ignored_columns",
+    "platform",
+    "acc_source",
+    "frame",
+    "clock_merge",
+)
+
 
 def describe_recording(rec: Recording) -> dict[str, Any]:
     """A JSON-ready summary of one recording: sizes, rates, channels, labels, reference events."""
@@ -34,7 +50,7 @@ def describe_recording(rec: Recording) -> dict[str, Any]:
         out["n_original_samples"] = meta.get("n_original_samples")
         out["jitter_s"] = meta.get("jitter_s")
         out["gaps"] = meta.get("gaps", [])
-    for key in ("subject", "session", "device", "position", "surface", "sensor", "converted", "ignored_columns", "warnings"):
+    for key in _META_KEYS:
         if key in meta:
             out[key] = meta[key]
     if rec.labels is not None:
@@ -56,6 +72,8 @@ def describe_recording(rec: Recording) -> dict[str, Any]:
 def describe_path(path: str | os.PathLike, **read_kwargs: Any) -> dict[str, Any]:
     """Summarise a recording, a data set folder or a gaitmap annotation table."""
     p = Path(path)
+    if read_kwargs.get("columns") is not None:  # any CSV read by its column map: one recording
+        return {"kind": "recording", **describe_recording(read_recording(p, **read_kwargs))}
     fmt = detect_format(p)
     if fmt == "gaitmap-table":
         return {"kind": "table", "source": str(p), **read_gaitmap_table(p)}
@@ -116,7 +134,7 @@ def _recording_text(d: dict[str, Any]) -> str:
         rate += f", {len(d['gaps'])} gaps)" if d.get("gaps") else ")"
     lines.append(f"  samples   {d['n_samples']}  duration {d['duration_s']:.2f} s  rate {rate}")
     lines.append(f"  channels  {', '.join(d['channels'])}")
-    for key in ("subject", "session", "device", "position", "surface", "sensor", "converted", "ignored_columns", "warnings"):
+    for key in _META_KEYS:
         if key in d:
             lines.append(f"  {key:9s} {d[key]}")
     if "labels" in d:

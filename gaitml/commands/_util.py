@@ -48,4 +48,6 @@ def read_kwargs(args) -> dict:
         "sampling_rate_hz": getattr(args, "sampling_rate_hz", None),
         "acc_unit": getattr(args, "acc_unit", "m/s^2"),
         "gyr_unit": getattr(args, "gyr_unit", "rad/s"),
+        "columns": getattr(args, "columns", None),
+        "time_unit": getattr(args, "time_unit", "s"),
     }

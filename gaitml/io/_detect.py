@@ -7,20 +7,24 @@ from pathlib import Path
 
 from gaitml.errors import InputError
 from gaitml.io._common import head_bytes, head_lines, require_file
+from gaitml.io.columns_csv import read_columns_csv
 from gaitml.io.gaitmap import GAITMAP_TABLES, is_gaitmap_header, read_gaitmap_csv
 from gaitml.io.gaitml_csv import list_gaitml_files, looks_like_gaitml, read_gaitml_csv, read_gaitml_folder, sniff_dialect
 from gaitml.io.ifsm import is_xlsx, read_ifsm_xlsx
 from gaitml.io.oxford import is_oxford_folder, list_oxford_folders, read_oxford_folder
+from gaitml.io.phyphox import is_phyphox, read_phyphox
+from gaitml.io.sensor_logger import is_sensor_logger, read_sensor_logger
 from gaitml.recording import Recording
 
 __all__ = ["FORMATS", "detect_format", "read_recording", "read_segments", "read_dataset", "list_dataset"]
 
 #: Names accepted by ``--format``.
-FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap")
+FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap", "phyphox", "sensor-logger", "columns-csv")
 
 _EXPECTED = (
     "expected a gaitml-csv (t, acc_x, acc_y, acc_z[, gyr_*][, label]), an IFSM xlsx, "
-    "an Oxford recording folder (accelerometer.csv + stepcounter.csv) or a gaitmap IMU CSV"
+    "an Oxford recording folder (accelerometer.csv + stepcounter.csv), a gaitmap IMU CSV, "
+    "a phyphox or Sensor Logger export (folder, zip or CSV), or any CSV with --columns t=...,acc_x=...,acc_y=...,acc_z=..."
 )
 
 
@@ -35,6 +39,10 @@ def detect_format(path: str | os.PathLike) -> str:
     if p.is_dir():
         if is_oxford_folder(p):
             return "oxford"
+        if is_sensor_logger(p):
+            return "sensor-logger"
+        if is_phyphox(p):
+            return "phyphox"
         if (p / "manifest.csv").exists() or list_gaitml_files_safe(p):
             return "gaitml-folder"
         if list_oxford_folders(p):
@@ -48,6 +56,10 @@ def detect_format(path: str | os.PathLike) -> str:
     if head[:2] == b"PK":
         if is_xlsx(p):
             return "ifsm-xlsx"
+        if is_sensor_logger(p):
+            return "sensor-logger"
+        if is_phyphox(p):
+            return "phyphox"
         raise InputError(f"{p.name} is a zip archive but not an Excel workbook; {_EXPECTED}.")
     lines = head_lines(p, 2)
     if not lines:
@@ -56,6 +68,10 @@ def detect_format(path: str | os.PathLike) -> str:
         return "gaitml-csv"
     if is_gaitmap_header(lines):
         return "gaitmap"
+    if is_sensor_logger(p):
+        return "sensor-logger"
+    if is_phyphox(p):
+        return "phyphox"
     if p.name.split(".")[0] in GAITMAP_TABLES:
         return "gaitmap-table"
     if looks_like_gaitml(lines):
@@ -84,6 +100,8 @@ def read_recording(
     sampling_rate_hz: float | None = None,
     acc_unit: str = "m/s^2",
     gyr_unit: str = "rad/s",
+    columns: str | dict | None = None,
+    time_unit: str = "s",
 ) -> Recording:
     """Read one recording, detecting its format unless ``format`` is given.
 
@@ -96,12 +114,27 @@ def read_recording(
     sampling_rate_hz : float, optional
         Target uniform rate (resampling irregular data) or, for files without a
         time base, the rate they were recorded at. Oxford default: 100 Hz.
-    acc_unit, gyr_unit : units of a gaitml-csv's columns, converted to SI.
+    acc_unit, gyr_unit : units of a gaitml-csv's (or columns-csv's) columns, converted to SI.
+    columns : str or dict, optional
+        Column map of any CSV (``'t=time,acc_x=ax,...'``, see
+        :mod:`gaitml.io.columns_csv`); implies ``format='columns-csv'``.
+    time_unit : {'s', 'ms', 'us', 'ns'}
+        Unit of the time column of a columns-csv.
     """
     if format is not None and format not in FORMATS:
         raise InputError(f"unknown --format {format!r}; choose one of {', '.join(FORMATS)}.")
     p = require_file(path)
-    fmt = format or detect_format(p)
+    if columns is not None and format not in (None, "columns-csv"):
+        raise InputError(f"--columns reads any CSV as format columns-csv, not {format!r}; drop --format or --columns.")
+    fmt = "columns-csv" if columns is not None else (format or detect_format(p))
+    if fmt == "columns-csv":
+        if columns is None:
+            raise InputError("--format columns-csv needs --columns t=...,acc_x=...,acc_y=...,acc_z=... naming the CSV's columns.")
+        return read_columns_csv(p, columns, time_unit=time_unit, acc_unit=acc_unit, gyr_unit=gyr_unit, sampling_rate_hz=sampling_rate_hz)
+    if fmt == "phyphox":
+        return read_phyphox(p, sampling_rate_hz=sampling_rate_hz)
+    if fmt == "sensor-logger":
+        return read_sensor_logger(p, sampling_rate_hz=sampling_rate_hz)
     if fmt == "gaitml-csv":
         if p.is_dir():
             raise InputError(f"{p} is a folder; pass one .csv recording of it.")
@@ -159,6 +192,10 @@ def _recording_entries(folder: Path):
         if f.is_dir():
             if is_oxford_folder(f):
                 yield f, "oxford"
+            elif is_sensor_logger(f):
+                yield f, "sensor-logger"
+            elif is_phyphox(f):
+                yield f, "phyphox"
             continue
         try:
             fmt = detect_format(f)

@@ -226,7 +226,7 @@ def iter_chunks(
         features so the window grid is the same as in a whole-file run).
     """
     p = require_file(path)
-    fmt = format or detect_format(p)
+    fmt = "columns-csv" if read_kwargs.get("columns") is not None else (format or detect_format(p))
     if fmt != "gaitml-csv":
         rec = read_recording(p, format=fmt, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit, **read_kwargs)
         yield from _chunks_of(rec, chunk_s, margin_s, align_samples)

@@ -42,7 +42,7 @@ __all__ = [
 ]
 
 #: Files with these endings beside a recording are ground truth, not recordings.
-SIDECAR_SUFFIXES = (".steps.csv", ".trajectory.csv", ".windows.csv", ".pred.csv")
+SIDECAR_SUFFIXES = (".steps.csv", ".trajectory.csv", ".windows.csv", ".pred.csv", ".step-labels.csv")
 REQUIRED = (TIME_COL, *ACC_COLS)
 
 

@@ -1,0 +1,62 @@
+"""Labelling front end on simulated recordings: per-sample agreement with the truth, snapped vs not.
+
+For each seed a mixed-mode recording is simulated (one subject, the five modes in
+8-20 s segments, flat-held phone, 50 Hz); intervals are drawn from its true labels
+and every inner boundary is moved by uniform noise in +-NOISE s (seeded), as a
+person noting mode changes by hand would. The intervals are turned back into
+per-sample labels without snapping and with snapping to each step detector's step
+boundaries (``gaitml.labels.evaluate_snapping``; max snap 0.5 s) and compared with
+the true labels sample by sample.
+
+Usage::
+
+    python experiments/scripts/label_snap.py [--seeds 10] [--noise-s 0.3] [--duration-s 120] [--boundary peak|edges]
+
+Prints one row per method: mean and min agreement over the seeds and the mean
+share of boundaries that were snapped. Measured (seeds 0-9, 120 s, noise +-0.3 s)::
+
+    snapping              mean     min  snapped
+    none (as written)   0.9902  0.9867     0.00
+    single-peak         0.9971  0.9910     1.00
+    ifsm                0.9964  0.9887     0.99
+    adfsm               0.9965  0.9912     1.00
+    fsm-selflearn       0.9938  0.9855     0.73
+    adaptive            0.9961  0.9902     0.99
+
+fsm-selflearn finds no steps in whole segments of some recordings (e.g. seeds 1-2:
+only run and walk), so about a quarter of its boundaries have no step within 0.5 s
+and stay as written. With ``--boundary edges`` (the detectors' own step start/end
+samples) snapping does not help (0.980-0.991): the true mode change is at the step
+event, which those edges miss by 0.1-0.25 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from gaitml.labels import evaluate_snapping
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=int, default=10, help="seeds 0..N-1 (default 10)")
+    ap.add_argument("--noise-s", type=float, default=0.3)
+    ap.add_argument("--duration-s", type=float, default=120.0)
+    ap.add_argument("--boundary", choices=("peak", "edges"), default="peak")
+    ap.add_argument("--max-snap-s", type=float, default=0.5)
+    a = ap.parse_args(argv)
+    df = evaluate_snapping(range(a.seeds), noise_s=a.noise_s, duration_s=a.duration_s, boundary=a.boundary, max_snap_s=a.max_snap_s)
+    print(
+        f"per-sample agreement with the true labels: {a.seeds} simulated recordings x {a.duration_s:g} s, "
+        f"boundary noise +-{a.noise_s:g} s uniform, step boundary={a.boundary}, max snap {a.max_snap_s:g} s"
+    )
+    print(f"{'snapping':18s} {'mean':>7s} {'min':>7s} {'snapped':>8s}")
+    for method, g in df.groupby("method", sort=False):
+        name = "none (as written)" if method == "none" else method
+        print(f"{name:18s} {g['agreement'].mean():7.4f} {g['agreement'].min():7.4f} {g['snapped_share'].mean():8.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,81 @@
+"""`gaitml label INPUT --intervals FILE [--snap steps|strides|none] [--detector NAME] --out OUT.csv [--report PNG]`.
+
+Writes ``OUT.csv`` (gaitml-csv with the ``label`` column) and beside it
+``OUT.step-labels.csv`` (one row per detected step or stride with its label),
+both atomically: after a failure neither file is left half-written.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from gaitml.commands._util import emit_json, load_input, log
+from gaitml.errors import InputError
+from gaitml.io._atomic import atomic_path
+from gaitml.io.gaitml_csv import write_gaitml_csv
+from gaitml.labels import label_recording, plot_label_report, read_intervals
+
+#: Suffix of the per-step label table written beside OUT.csv.
+STEP_LABELS_SUFFIX = ".step-labels.csv"
+
+
+def step_labels_path(out: str | Path) -> Path:
+    """``OUT.csv`` -> ``OUT.step-labels.csv``."""
+    p = Path(out)
+    name = p.name[: -len(".csv")] if p.name.endswith(".csv") else p.name
+    return p.with_name(name + STEP_LABELS_SUFFIX)
+
+
+def run(args) -> int:
+    out = Path(args.out)
+    if not out.name.endswith(".csv"):
+        raise InputError(f"--out {out} must be a .csv file (the labelled gaitml-csv); e.g. --out walk.labelled.csv.")
+    if out.name.endswith(STEP_LABELS_SUFFIX):
+        raise InputError(f"--out {out.name} ends like the per-step table it writes beside it; choose another name, e.g. walk.labelled.csv.")
+    rec = load_input(args)
+    intervals = read_intervals(args.intervals)
+    lab = label_recording(
+        rec,
+        intervals,
+        snap=args.snap,
+        detector=args.detector,
+        max_snap_s=args.max_snap_s,
+        unlabelled=args.unlabelled,
+        boundary=args.boundary,
+    )
+    side = step_labels_path(out)
+    # the per-step table is moved into place only after the recording was written (atomically)
+    with atomic_path(side) as tmp_side:
+        lab.steps_.to_csv(tmp_side, index=False)
+        write_gaitml_csv(lab.recording_, out)
+    if args.report:
+        plot_label_report(lab, args.report)
+    r = lab.report_
+    if args.json:
+        emit_json(
+            {"out": str(out), "step_labels": str(side), "report_png": args.report, "intervals": lab.intervals_.to_dict("records"), **r}
+        )
+        return 0
+    unit = "strides" if args.snap == "strides" else "steps"
+    lines = [
+        f"{rec.name}: {r['n_intervals']} intervals, {r['n_boundaries']} boundaries; "
+        + (
+            f"{r['n_snapped']} snapped to {unit} of {r['detector']} within {r['max_snap_s']:g} s "
+            f"(mean shift {r['mean_abs_shift_s']:.3f} s, max {r['max_abs_shift_s']:.3f} s)"
+            if args.snap != "none"
+            else "not snapped (--snap none)"
+        ),
+    ]
+    for t, status in r["not_snapped"] if args.snap != "none" else []:
+        lines.append(f"  boundary at {t:.3f} s kept as written: {status}")
+    lines.append("  samples per label: " + ", ".join(f"{k} {v}" for k, v in r["labels"].items()))
+    lines.append(f"  {r['n_steps']} {unit} labelled ({r['n_mixed_steps']} span a boundary: label_fraction < 1)")
+    if rec.labels is not None:
+        lines.append("  note: the input's own labels were replaced by the intervals'")
+    lines.append(f"  written: {out}, {side}" + (f", {args.report}" if args.report else ""))
+    print("\n".join(lines))
+    if r["not_snapped"] and args.snap != "none":
+        log(
+            f"note: {len(r['not_snapped'])} boundaries had no {unit[:-1]} boundary within {r['max_snap_s']:g} s and stay where they were written."
+        )
+    return 0

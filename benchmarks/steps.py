@@ -163,7 +163,7 @@ def _references(rec: Recording) -> dict:
     def zupt_magnitude_ref():
         from gaitml.steps.zupt_magnitude import ZuptMagnitudeStepDetector, steps_from_zupts
         from gaitml.zupt import intervals_table
-        from gaitml.zupt._reference import reference_magnitude
+        from tests.reference.zupt import reference_magnitude
 
         d = ZuptMagnitudeStepDetector()
         mask = reference_magnitude(rec.acc, fs, d.t_min_ms2, d.t_max_ms2, d.min_run_fraction)

@@ -15,8 +15,8 @@ import numpy as np
 
 from gaitml.recording import Recording
 from gaitml.zupt import DETECTORS, get_detector
-from tests.reference import zupt as ref
 from gaitml.zupt._intervals import half_window_samples
+from tests.reference import zupt as ref
 from tests.synthetic import synthetic_foot_walk
 
 __all__ = ["run"]

@@ -15,7 +15,8 @@ from gaitml.recording import Recording
 
 __all__ = ["describe_recording", "describe_path"]
 
-#: Metadata shown when present (phone-app readers add platform, acc_source, frame and clock_merge).
+#: Metadata shown when present (phone-app readers add platform, acc_source, frame and clock_merge;
+#: ``warnings`` holds the readers' doubts, e.g. an uncertain gyro unit).
 _META_KEYS = (
     "subject",
     "session",
@@ -29,6 +30,7 @@ _META_KEYS = (
     "acc_source",
     "frame",
     "clock_merge",
+    "warnings",
 )
 
 

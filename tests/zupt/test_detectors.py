@@ -26,8 +26,8 @@ from gaitml.zupt import (
     remove_short_runs,
     shoe_statistic,
 )
-from tests.reference import zupt as ref
 from gaitml.zupt.pseudo_std import PAPER_EPS, PAPER_MU1_RADS, PAPER_S1_RADS, fit_zero_velocity_normal
+from tests.reference import zupt as ref
 from tests.synthetic import synthetic_foot_walk
 
 
@@ -133,7 +133,9 @@ def test_vectorised_equals_per_sample_reference(name):
     elif name == "gyro-range":
         want = ref.reference_gyro_range(acc, gyr, 5, det.gyr_range_rads, det.acc_max_ms2)
     elif name == "magnitude-std":
-        want = ref.reference_magnitude_std(acc, gyr, 5, det.acc_min_ms2, det.acc_max_ms2, det.acc_std_ms2, det.gyr_max_rads, det.gyr_std_rads)
+        want = ref.reference_magnitude_std(
+            acc, gyr, 5, det.acc_min_ms2, det.acc_max_ms2, det.acc_std_ms2, det.gyr_max_rads, det.gyr_std_rads
+        )
     else:
         want = ref.reference_magnitude(acc, fs, det.t_min_ms2, det.t_max_ms2, det.min_run_fraction)
     np.testing.assert_array_equal(got, want)

@@ -13,10 +13,12 @@ $(VENV)/.installed: pyproject.toml
 	$(PIP) install --quiet -e '.[test,dev,dask]'
 	touch $@
 
-# torch is optional for users; the test target installs it so the torch tests run.
-# Pinned: 2.13.0 is the CPU wheel on this machine, an unpinned torch pulls a CUDA build.
-$(VENV)/.torch: $(VENV)/.installed
+# torch and onnx are optional for users; the test target installs them so the torch and
+# ONNX-export tests run. Pinned: 2.13.0 is the CPU wheel on this machine, an unpinned torch
+# pulls a CUDA build.
+$(VENV)/.extras: $(VENV)/.installed
 	$(PIP) install --quiet torch==2.13.0
+	$(PIP) install --quiet -e '.[onnx]'
 	touch $@
 
 install: $(VENV)/.installed
@@ -24,7 +26,7 @@ install: $(VENV)/.installed
 demo: $(VENV)/.installed
 	$(VENV)/bin/gaitml demo --out demo-out
 
-test: $(VENV)/.torch
+test: $(VENV)/.extras
 	$(PY) -m pytest -q
 
 test-fast: $(VENV)/.installed

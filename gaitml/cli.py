@@ -157,6 +157,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     _input_options(p)
 
+    p = sub.add_parser("split", help="cut a recording at its long timestamp gaps into separate files (with a manifest)")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--out", metavar="DIR", required=True, help="folder for one gaitml-csv per segment and manifest.csv")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    _input_options(p)
+
     p = sub.add_parser("simulate", help="simulate recordings with full ground truth")
     p.add_argument("out_dir", metavar="OUT_DIR")
     p.add_argument("--subjects", type=int, default=4)

@@ -524,7 +524,7 @@ class Recording:
             raise InputError(
                 f"a {dt[i]:.6g} s gap in the timestamps after sample {i} (t = {t[i] - t[0]:.6g} s from the start; "
                 f"{long_gaps.size} gaps longer than {limit:.3g} s in all) is too long to bridge by interpolation; "
-                "split the file at the gap (or, in Python, read it as separate segments with gaitml.io.read_segments)."
+                "cut the file at its gaps with `gaitml split FILE --out DIR` (in Python: gaitml.io.read_segments)."
             )
         # unit and range checks before resampling: interpolating a 1e308 would overflow
         if len(acc):

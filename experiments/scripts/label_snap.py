@@ -10,24 +10,10 @@ the true labels sample by sample.
 
 Usage::
 
-    python experiments/scripts/label_snap.py [--seeds 10] [--noise-s 0.3] [--duration-s 120] [--boundary peak|edges]
+    python -m experiments.scripts.label_snap [--seeds 10] [--noise-s 0.3] [--duration-s 120] [--boundary peak|edges]
 
 Prints one row per method: mean and min agreement over the seeds and the mean
-share of boundaries that were snapped. Measured (seeds 0-9, 120 s, noise +-0.3 s)::
-
-    snapping              mean     min  snapped
-    none (as written)   0.9902  0.9867     0.00
-    single-peak         0.9971  0.9910     1.00
-    ifsm                0.9964  0.9887     0.99
-    adfsm               0.9965  0.9912     1.00
-    fsm-selflearn       0.9938  0.9855     0.73
-    adaptive            0.9961  0.9902     0.99
-
-fsm-selflearn finds no steps in whole segments of some recordings (e.g. seeds 1-2:
-only run and walk), so about a quarter of its boundaries have no step within 0.5 s
-and stay as written. With ``--boundary edges`` (the detectors' own step start/end
-samples) snapping does not help (0.980-0.991): the true mode change is at the step
-event, which those edges miss by 0.1-0.25 s.
+share of boundaries that were snapped. Measured figures: experiments/scripts/README.md.
 """
 
 from __future__ import annotations

@@ -162,6 +162,8 @@ def read_segments(
     sampling_rate_hz: float | None = None,
     acc_unit: str = "m/s^2",
     gyr_unit: str = "rad/s",
+    columns: str | dict | None = None,
+    time_unit: str = "s",
 ) -> list[Recording]:
     """Read one recording as a list of segments, cut at every gap too long to bridge.
 
@@ -170,19 +172,33 @@ def read_segments(
     intervals); this reads each stretch between such gaps as its own recording,
     with ``meta['segment']`` (index, count, first and last original sample, start
     and end in s) and ``meta['id']`` suffixed ``#k`` when there is more than one.
-    Formats without timestamps (IFSM xlsx, gaitmap) have no gaps: one segment.
+    Formats without timestamps (IFSM xlsx, gaitmap) have no gaps: one segment; the
+    phone-app formats and column-mapped CSVs are read whole (``columns`` and
+    ``time_unit`` as in :func:`read_recording`), so a long gap in them is refused
+    with the reader's message.
     """
     if format is not None and format not in FORMATS:
         raise InputError(f"unknown --format {format!r}; choose one of {', '.join(FORMATS)}.")
     p = require_file(path)
-    fmt = format or detect_format(p)
+    fmt = "columns-csv" if columns is not None else (format or detect_format(p))
     if fmt == "gaitml-csv" and p.is_file():
         return read_gaitml_csv(p, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit, segments=True)
     if fmt == "oxford":
         folder = p if p.is_dir() else p.parent
         kw = {} if sampling_rate_hz is None else {"sampling_rate_hz": sampling_rate_hz}
         return read_oxford_folder(folder, segments=True, **kw)
-    return [read_recording(p, format=fmt, sensor=sensor, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit)]
+    return [
+        read_recording(
+            p,
+            format=None if columns is not None else fmt,
+            sensor=sensor,
+            sampling_rate_hz=sampling_rate_hz,
+            acc_unit=acc_unit,
+            gyr_unit=gyr_unit,
+            columns=columns,
+            time_unit=time_unit,
+        )
+    ]
 
 
 def _recording_entries(folder: Path):

@@ -57,6 +57,19 @@ class BaseAlgorithm(BaseEstimator):
     _non_negative: ClassVar[tuple[str, ...]] = ()
     _integer: ClassVar[tuple[str, ...]] = ()
 
+    @classmethod
+    def _get_param_names(cls) -> list[str]:
+        """The ``__init__`` parameter names (scikit-learn's signature lookup), cached per class.
+
+        ``inspect.signature`` costs tens of microseconds; the detectors validate their
+        parameters on every call, so the names are read once per class.
+        """
+        names = cls.__dict__.get("_param_names")
+        if names is None:
+            names = tuple(super()._get_param_names())
+            cls._param_names = names
+        return list(names)
+
     def _validate_params(self) -> dict:
         """Check every numeric parameter (finite; the declared bounds); returns ``get_params(deep=False)``."""
         params = self.get_params(deep=False)

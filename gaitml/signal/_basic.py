@@ -45,8 +45,13 @@ def centered_window_sums(x: np.ndarray, n_samples: int) -> tuple[np.ndarray, np.
     np.cumsum(arr, axis=0, out=c[back + 1 : back + 1 + m])
     c[back + 1 + m :] = c[back + m]
     sums = c[n:] - c[:m]
-    idx = np.arange(m)
-    counts = np.minimum(idx + fwd + 1, m) - np.maximum(idx - back, 0)
+    if m > n:  # full windows inside; only the edges are shrunk
+        counts = np.full(m, n, dtype=np.int64)
+        counts[:back] = np.arange(back) + fwd + 1
+        counts[m - fwd :] = m - (np.arange(m - fwd, m) - back)
+    else:
+        idx = np.arange(m)
+        counts = np.minimum(idx + fwd + 1, m) - np.maximum(idx - back, 0)
     return sums, counts
 
 
@@ -70,7 +75,14 @@ def moving_average(x: np.ndarray, n_samples: int, *, mode: str = "centered") -> 
         return arr.copy()
     if mode == "centered":
         sums, counts = centered_window_sums(arr, n)
-        return sums / counts.reshape((-1,) + (1,) * (arr.ndim - 1))
+        m, back = arr.shape[0], n // 2
+        fwd = n - 1 - back
+        if m <= n:
+            return sums / counts.reshape((-1,) + (1,) * (arr.ndim - 1))
+        out = sums / n  # full windows; then the shrunk edge windows
+        for sl in (slice(0, back), slice(m - fwd, m)):
+            out[sl] = sums[sl] / counts[sl].reshape((-1,) + (1,) * (arr.ndim - 1))
+        return out
     if mode != "causal":
         raise InputError(f"`mode` must be 'centered' or 'causal', got {mode!r}.")
     c = np.cumsum(np.concatenate([np.zeros((1,) + arr.shape[1:]), arr], axis=0), axis=0)

@@ -198,7 +198,7 @@ def test_gyro_deg_s_on_an_ordinary_walk_is_refused():
 def test_gap_too_long_to_bridge_is_refused_with_position_and_length():
     t = np.arange(1000) / 100.0
     t[600:] += 1e7  # would be 10^9 samples at 100 Hz
-    with pytest.raises(InputError, match=r"1e\+07 s gap in the timestamps after sample 599 \(t = 5.99 s .*split the file"):
+    with pytest.raises(InputError, match=r"1e\+07 s gap in the timestamps after sample 599 \(t = 5.99 s .*gaitml split FILE --out DIR"):
         Recording.from_timestamps(t, _acc(1000))
     # the limit: the longer of MAX_BRIDGE_S and ten sampling intervals
     from gaitml.recording import MAX_BRIDGE_S, max_bridge_s

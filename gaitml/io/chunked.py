@@ -171,7 +171,7 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
             raise InputError(
                 f"{path.name}: a {dt[i]:.6g} s gap in the timestamps before line {line + i - (1 if prev is not None else 0) + 1} "
                 f"(t = {t[i] - t0:.6g} s from the start) is too long to bridge by interpolation (> {gap_limit:.3g} s); "
-                "split the file at the gap (or, in Python, read it as separate segments with gaitml.io.read_segments)."
+                "cut the file at its gaps with `gaitml split FILE --out DIR` (in Python: gaitml.io.read_segments)."
             )
         start = len(t) - len(df)  # rows of this block (after the carried row)
         if resampled:

@@ -225,7 +225,8 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         InputError
             ``X`` is not a finite numeric (n, ``n_features_in_``) table.
         """
-        check_is_fitted(self, "coef_")
+        if "coef_" not in self.__dict__:  # check_is_fitted (tags lookup) only when it will raise: the one-window path
+            check_is_fitted(self, "coef_")
         return self._pairwise(validate_predict(self, X))
 
     def _pairwise(self, X: np.ndarray) -> np.ndarray:
@@ -252,7 +253,8 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
 
     def predict(self, X) -> np.ndarray:
         """Class label of every row by one-vs-one voting (labels of the type given to ``fit``)."""
-        check_is_fitted(self, "coef_")
+        if "coef_" not in self.__dict__:  # check_is_fitted (tags lookup) only when it will raise: the one-window path
+            check_is_fitted(self, "coef_")
         scores = self._scores(self._pairwise(validate_predict(self, X)))
         return self.classes_[np.argmax(scores, axis=1)]
 

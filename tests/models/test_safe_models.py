@@ -426,3 +426,19 @@ def test_crafted_pickles_are_never_executed(tmp_path, capsys):
     assert main(["predict", str(d), str(csv)]) == 0
     assert main(["model", "card", str(d)]) == 0
     assert not marker.exists()
+
+
+def test_evaluate_and_train_never_open_a_crafted_model_folder(tmp_path, capsys):
+    """evaluate and train read data, never a model: a crafted model folder as their output is replaced unread."""
+    from gaitml.cli import main
+    from tests.models.synth import write_synth_folder
+
+    marker = tmp_path / "MARKER"
+    write_synth_folder(tmp_path / "data", n_subjects=3, seconds_per_mode=6.0)
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('name = "safe"\n[data]\nsource = "folder"\npath = "data"\n[cv]\nn_jobs = 1\n')
+    for cmd in ("evaluate", "train"):
+        name, folder = next((n, f) for n, f in _attacks(tmp_path / cmd, marker) if n == "arrays.npz = pickle")
+        assert main([cmd, str(cfg), "--out", str(folder)]) == 0, capsys.readouterr().err
+        assert not marker.exists(), f"{cmd} executed the pickle of a crafted model folder ({name})"
+    assert load_model(tmp_path / "train" / "npz-pickle").labels  # train replaced it with a real model

@@ -100,3 +100,48 @@ def test_merge_short_gaps_and_clean_stances_known_answer():
     # dropping alone would lose the two short pieces of the first stance
     s, e = mask_runs(clean_stances(m, merge_gap_samples=0, min_interval_samples=5))
     assert list(zip(s.tolist(), e.tolist(), strict=True)) == [(5, 12), (30, 38)]
+
+
+def _clean_stances_loop(mask, gap, shortest):
+    """Plain reference: walk the samples, fill bounded gaps of <= gap, then drop runs < shortest."""
+    m = list(bool(x) for x in mask)
+    n = len(m)
+    i = 0
+    seen_true = False
+    while i < n:
+        if m[i]:
+            seen_true = True
+            i += 1
+            continue
+        j = i
+        while j < n and not m[j]:
+            j += 1
+        if seen_true and j < n and j - i <= gap:
+            for k in range(i, j):
+                m[k] = True
+        i = j
+    out = [False] * n
+    i = 0
+    while i < n:
+        if not m[i]:
+            i += 1
+            continue
+        j = i
+        while j < n and m[j]:
+            j += 1
+        if j - i >= shortest:
+            out[i:j] = [True] * (j - i)
+        i = j
+    return np.array(out, dtype=bool)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_clean_stances_equals_a_plain_loop(seed):
+    rng = np.random.default_rng(seed)
+    # runs of random lengths, alternating
+    lengths = rng.integers(1, 25, 60)
+    m = np.repeat(np.arange(60) % 2 == (seed % 2), lengths)
+    for gap, shortest in [(0, 0), (5, 0), (0, 7), (5, 7), (11, 11)]:
+        np.testing.assert_array_equal(
+            clean_stances(m, merge_gap_samples=gap, min_interval_samples=shortest), _clean_stances_loop(m, gap, shortest)
+        )

@@ -296,6 +296,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     _input_options(p)
 
+    # --- gaitml segment (gaitml/commands/segment.py) ---
+    p = sub.add_parser("segment", help="cut a recording into steps, strides or zero-velocity intervals (a table of segments)")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--by", choices=("steps", "strides", "zupt"), default="steps", help="%(choices)s (default %(default)s)")
+    p.add_argument(
+        "--detector",
+        help="step detector for --by steps (default single-peak), zero-velocity detector for strides/zupt (default pseudo-std)",
+    )
+    p.add_argument("--out", metavar="FILE", required=True, help="write the segment table as CSV")
+    p.add_argument("--json", action="store_true")
+    _input_options(p)
+    # --- end gaitml segment ---
+
     p = sub.add_parser("demo", help="the main job end to end on simulated data")
     p.add_argument("--out", metavar="DIR", default="demo-out")
 

@@ -8,7 +8,7 @@ L1    recording
 L2    signal, io, parallel
 L3    simulate, zupt
 L4    steps (the zupt-magnitude step detector builds on zupt)
-L5    features, postprocess, labels (snapping interval labels to detected steps)
+L5    features, postprocess, labels (snapping interval labels to detected steps), segment (steps/strides/zupt as one segment table)
 L6    models
 L7    pdr
 L8    evaluation
@@ -39,7 +39,7 @@ LAYERS: dict[str, int] = {
     **dict.fromkeys(("signal", "io", "parallel"), 2),
     **dict.fromkeys(("simulate", "zupt"), 3),
     "steps": 4,
-    **dict.fromkeys(("features", "postprocess", "labels"), 5),
+    **dict.fromkeys(("features", "postprocess", "labels", "segment"), 5),
     "models": 6,
     "pdr": 7,
     "evaluation": 8,

@@ -162,7 +162,11 @@ def evaluate_stride_events(detected, stride_events: pd.DataFrame) -> dict:
       means a split stance or a false detection in the swing);
     - ``count_accuracy``: paper 001's count accuracy of the detected intervals that
       overlap the annotated span (first stride start to last stride end) against the
-      reference stances in it (the distinct ``min_vel`` samples incl. the last stride's end).
+      reference stances in it (the distinct ``min_vel`` samples incl. the last stride's end);
+    - ``spurious_per_stance`` (``n_spurious``): detected intervals in the span that hold
+      none of those ``min_vel`` samples, per reference stance (a stance split in two
+      leaves one such piece; a false detection in a swing is one too). Unlike the count
+      accuracy, misses and extras do not cancel.
     """
     s, e = _as_intervals(detected)
     st = reference_stances(stride_events)
@@ -175,7 +179,12 @@ def evaluate_stride_events(detected, stride_events: pd.DataFrame) -> dict:
     lo = int(np.min(stride_events["start"]))
     hi = int(np.max(stride_events["end"])) + 1
     n_in_span = int(np.sum((s < hi) & (e > lo)))
-    n_ref = int(np.unique(np.concatenate([stride_events["start"].to_numpy(), stride_events["end"].to_numpy()])).size)
+    ref_mv = np.unique(np.concatenate([stride_events["start"].to_numpy(), stride_events["end"].to_numpy()])).astype(np.int64)
+    n_ref = int(ref_mv.size)
+    k = np.searchsorted(s, ref_mv, side="right") - 1
+    inside = (k >= 0) & (ref_mv < e[np.clip(k, 0, None)]) if len(s) else np.zeros(ref_mv.shape, dtype=bool)
+    n_with_mv = int(np.unique(k[inside]).size)
+    n_spurious = max(0, n_in_span - n_with_mv)
     return {
         "n_strides": int(len(st)),
         "n_intervals": int(len(s)),
@@ -188,4 +197,6 @@ def evaluate_stride_events(detected, stride_events: pd.DataFrame) -> dict:
         "n_intervals_in_span": n_in_span,
         "n_stances_in_span": n_ref,
         "count_accuracy": count_accuracy(n_in_span, n_ref),
+        "n_spurious": n_spurious,
+        "spurious_per_stance": n_spurious / n_ref,
     }

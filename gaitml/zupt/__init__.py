@@ -20,11 +20,11 @@ import warnings
 
 from gaitml.errors import InputError
 from gaitml.zupt._base import BaseZuptDetector, reference_zupt_mask
-from gaitml.zupt._intervals import intervals_table, intervals_to_mask, mask_runs, remove_short_runs
+from gaitml.zupt._intervals import intervals_table, intervals_to_mask, mask_runs, merge_short_gaps, remove_short_runs
 from gaitml.zupt.gyro_range import GyroRangeZuptDetector, gyro_range_zupts
 from gaitml.zupt.magnitude import MagnitudeZuptDetector, magnitude_zupts
 from gaitml.zupt.magnitude_std import MagnitudeStdZuptDetector, magnitude_std_zupts
-from gaitml.zupt.pseudo_std import PAPER_THRESHOLD_RADS, PseudoStdZuptDetector, np_threshold, pseudo_std, pseudo_std_tangent
+from gaitml.zupt.pseudo_std import PAPER_THRESHOLD_RADS, PseudoStdZuptDetector, clean_stances, np_threshold, pseudo_std, pseudo_std_tangent
 from gaitml.zupt.segment import label_strides, segment_strides
 from gaitml.zupt.shoe import ShoeZuptDetector, shoe_statistic
 
@@ -38,6 +38,7 @@ __all__ = [
     "MagnitudeZuptDetector",
     "PseudoStdZuptDetector",
     "ShoeZuptDetector",
+    "clean_stances",
     "detect_zupts",
     "get_detector",
     "intervals_table",
@@ -47,6 +48,7 @@ __all__ = [
     "magnitude_std_zupts",
     "magnitude_zupts",
     "mask_runs",
+    "merge_short_gaps",
     "np_threshold",
     "pseudo_std",
     "pseudo_std_tangent",

@@ -19,6 +19,7 @@ __all__ = [
     "intervals_table",
     "intervals_to_mask",
     "mask_runs",
+    "merge_short_gaps",
     "remove_short_runs",
 ]
 
@@ -73,6 +74,23 @@ def remove_short_runs(mask: np.ndarray, min_samples: int) -> np.ndarray:
     s, e = mask_runs(m)
     keep = (e - s) >= min_samples
     return intervals_to_mask(s[keep], e[keep], len(m))
+
+
+def merge_short_gaps(mask: np.ndarray, max_gap_samples: int) -> np.ndarray:
+    """Fill the runs of False of at most ``max_gap_samples`` that lie between two runs of True.
+
+    Gaps at the recording's edges (before the first or after the last run of True)
+    are left alone: they are not bounded by two zero-velocity runs. Returns a new mask.
+    """
+    m = np.asarray(mask, dtype=bool)
+    if max_gap_samples <= 0:
+        return m.copy()
+    s, e = mask_runs(m)
+    if len(s) < 2:
+        return m.copy()
+    gs, ge = e[:-1], s[1:]  # gaps between consecutive runs
+    fill = (ge - gs) <= max_gap_samples
+    return m | intervals_to_mask(gs[fill], ge[fill], len(m))
 
 
 def intervals_table(mask: np.ndarray, sampling_rate_hz: float) -> pd.DataFrame:

@@ -10,12 +10,13 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import norm
 
+from gaitml._base import check_number
 from gaitml.consts import DEG2RAD
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
 from gaitml.zupt._base import BaseZuptDetector, labelled_samples
-from gaitml.zupt._intervals import apply_blockwise, centered_sums, half_window_samples
+from gaitml.zupt._intervals import apply_blockwise, centered_sums, half_window_samples, merge_short_gaps, remove_short_runs
 
 __all__ = [
     "PAPER_EPS",
@@ -24,6 +25,7 @@ __all__ = [
     "PAPER_THRESHOLD_RADS",
     "PseudoStdZuptDetector",
     "fit_zero_velocity_normal",
+    "clean_stances",
     "np_threshold",
     "pseudo_std",
     "pseudo_std_tangent",
@@ -94,6 +96,22 @@ def pseudo_std_tangent(gyr_mag: np.ndarray, half_window_samples: int) -> np.ndar
     return np.sqrt(0.25 * g * g + k * k * s * (s + 1) / 6.0)
 
 
+def clean_stances(mask: np.ndarray, *, merge_gap_samples: int, min_interval_samples: int) -> np.ndarray:
+    """Interval rules of the detector: merge short gaps, then drop short runs.
+
+    1. A gap (run of non-zero-velocity samples between two zero-velocity runs) of
+       at most ``merge_gap_samples`` is filled: it is a transient inside one stance
+       (a heel-strike or impact spike), not a swing.
+    2. A zero-velocity run shorter than ``min_interval_samples`` is dropped: it is a
+       dip of the statistic in the swing (the gyro magnitude passes near zero where
+       the foot's rotation reverses), not a stance.
+
+    Merging first keeps the pieces of a stance that a spike split, even when each
+    piece alone is shorter than the minimum.
+    """
+    return remove_short_runs(merge_short_gaps(mask, int(merge_gap_samples)), int(min_interval_samples))
+
+
 def np_threshold(mu1: float, s1: float, eps: float) -> float:
     """Neyman-Pearson threshold ``mu1 + u_{1-eps} S1`` (paper 001 eqs. 11 and 15).
 
@@ -139,6 +157,14 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     form : {'exact', 'tangent'}
         'exact' (default): std of the zero-padded window (eqs. 6-7);
         'tangent': the closed form eq. (8) with a central-difference derivative.
+    merge_gap_s : float, optional
+        Gaps between two zero-velocity runs of at most this length (s) are filled
+        (step 1 of :func:`clean_stances`). Default (None): one detector window,
+        ``(2 s + 1) / fs`` (0.10 s at the default half-window). 0 disables it.
+    min_interval_s : float, optional
+        Zero-velocity runs shorter than this (s) are dropped after merging (step 2).
+        Default (None): one detector window, as for ``merge_gap_s``. 0 disables it;
+        ``merge_gap_s=0, min_interval_s=0`` is the paper's per-sample rule alone.
 
     Attributes
     ----------
@@ -153,6 +179,21 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     decision rule (15) is ``sigma' < mu1 + u_{1-eps} S1``. The paper's mu1, S1
     were fitted at 100 Hz on heel-mounted MIMU data; the gyro magnitude does not
     depend on the rate, and with s fixed in seconds neither does the statistic.
+
+    Interval rules (not in paper 001, which classifies samples only; issue 13). On
+    foot-mounted data the per-sample rule produces two kinds of wrong intervals
+    (``experiments/reports/zupt-heldout.md``): short runs in the swing, where the
+    gyro magnitude dips through a minimum because the foot's rotation reverses
+    (mid-swing on stairs, terminal swing before heel strike; |a| is far from g
+    there), and stances cut in two by a brief spike. The statistic itself fixes the
+    scale of both: a spike of one sample lifts sigma' over one window of ``2 s + 1``
+    samples, so a gap of up to one window is what a transient leaves; and a run
+    shorter than one window contains no window of rest, so sigma' never saw the foot
+    still. Both rules therefore use one detector window (0.10 s). Physiology leaves
+    a wide margin on both sides: the shortest swing of human gait is ~0.3 s (a
+    sprint) and a walking foot-flat lasts ~0.3-0.5 s. Paper 004 rejects zero-velocity
+    runs shorter than 0.1 s ("pseudo zero velocity") with the same reasoning.
+    Not tuned on data; the gaitmap figures before/after are in the report.
 
     References
     ----------
@@ -169,11 +210,15 @@ class PseudoStdZuptDetector(BaseZuptDetector):
         half_window_s: float = DEFAULT_HALF_WINDOW_S,
         eps: float = PAPER_EPS,
         form: str = "exact",
+        merge_gap_s: float | None = None,
+        min_interval_s: float | None = None,
     ):
         self.threshold_rads = threshold_rads
         self.half_window_s = half_window_s
         self.eps = eps
         self.form = form
+        self.merge_gap_s = merge_gap_s
+        self.min_interval_s = min_interval_s
 
     def _statistic(self, recording: Recording) -> np.ndarray:
         gyr = recording.require_gyr("the pseudo-std zero-velocity detector (paper 001)")
@@ -196,11 +241,22 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     def _window_samples(self, sampling_rate_hz: float) -> int:
         return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
 
+    def _rule_samples(self, value: float | None, name: str, sampling_rate_hz: float) -> int:
+        """An interval-rule length in samples (None: one detector window)."""
+        if value is None:
+            return self._window_samples(sampling_rate_hz)
+        return int(round(check_number(name, value, non_negative=True) * float(sampling_rate_hz)))
+
     def _mask(self, recording):
+        fs = recording.sampling_rate_hz
+        gap = self._rule_samples(self.merge_gap_s, "merge_gap_s", fs)
+        shortest = self._rule_samples(self.min_interval_s, "min_interval_s", fs)
         stat = self._statistic(recording)
         thr = self._threshold()
         self.threshold_rads_ = thr
-        return stat < thr, stat
+        self.merge_gap_samples_ = gap
+        self.min_interval_samples_ = shortest
+        return clean_stances(stat < thr, merge_gap_samples=gap, min_interval_samples=shortest), stat
 
     def fit(self, recordings, reference=None) -> PseudoStdZuptDetector:
         """Fit mu1, S1 on labelled zero-velocity samples and set the N-P threshold.

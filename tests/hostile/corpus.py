@@ -30,7 +30,7 @@ BASE_CSV = ROOT / "data" / "samples" / "S01-walk.csv"
 DEMO_MODEL = ROOT / "models" / "demo"
 
 OK = "ok"
-RECORDING_COMMANDS = ("info", "steps", "zupt", "features", "predict", "pdr")
+RECORDING_COMMANDS = ("info", "steps", "zupt", "features", "predict", "pdr", "segment")
 
 #: The problem each refusal must name (regular expressions, case-insensitive).
 EMPTY = r"empty"

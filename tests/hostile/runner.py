@@ -23,7 +23,14 @@ from pathlib import Path
 from tests.hostile.corpus import DEMO_MODEL, OK, ROOT
 
 #: Commands that print one JSON object with --json, and their output file name.
-OUT_NAMES = {"steps": "steps.csv", "zupt": "zupt.csv", "features": "features.csv", "predict": "pred.csv", "pdr": "traj.csv"}
+OUT_NAMES = {
+    "steps": "steps.csv",
+    "zupt": "zupt.csv",
+    "features": "features.csv",
+    "predict": "pred.csv",
+    "pdr": "traj.csv",
+    "segment": "segments.csv",
+}
 
 
 def command_argv(command: str, input_path: Path, out_dir: Path, args: tuple[str, ...] = (), model: Path = DEMO_MODEL) -> list[str]:

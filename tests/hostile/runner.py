@@ -30,6 +30,7 @@ OUT_NAMES = {
     "predict": "pred.csv",
     "pdr": "traj.csv",
     "segment": "segments.csv",
+    "split": "segments",  # a folder: one gaitml-csv per segment and manifest.csv
 }
 
 

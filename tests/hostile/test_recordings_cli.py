@@ -52,7 +52,8 @@ def base_answers(inputs, tmp_path_factory):
 def _table(argv):
     if "--out" not in argv:
         return None
-    return pd.read_csv(argv[argv.index("--out") + 1])
+    out = argv[argv.index("--out") + 1]
+    return pd.read_csv(f"{out}/manifest.csv") if argv[0] == "split" else pd.read_csv(out)
 
 
 def _same_answer(case: Case, command: str, js, table, base) -> None:
@@ -69,6 +70,8 @@ def _same_answer(case: Case, command: str, js, table, base) -> None:
         assert js["n_intervals"] == bjs["n_intervals"] and js["zero_velocity_fraction"] == pytest.approx(bjs["zero_velocity_fraction"])
     elif command == "predict":
         assert len(table) == len(btab) and (table.iloc[:, -1] == btab.iloc[:, -1]).mean() >= 0.95
+    elif command == "split":  # the same samples, in as many segments as the base (one)
+        assert js["n_segments"] == bjs["n_segments"] and table["n_samples"].sum() == btab["n_samples"].sum()
     elif command == "features":
         assert table.shape == btab.shape
         np.testing.assert_allclose(table.select_dtypes("number").to_numpy(), btab.select_dtypes("number").to_numpy(), rtol=1e-6, atol=1e-6)

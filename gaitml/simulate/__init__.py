@@ -143,12 +143,17 @@ from gaitml.simulate.dataset import (
 )
 from gaitml.simulate.modes import MODE_OFFSET_RAD, STAND, ModeGait, check_modes, mode_gait
 from gaitml.simulate.plan import StepPlan, mode_schedule, plan_steps
+from gaitml.simulate.positions import CARRIED_POSITIONS, HAND_POSITIONS, POSITIONS, Placement, check_positions
 from gaitml.simulate.route import ROUTES, Path, arc_path, make_path, random_path, rectangle_path, straight_path
 from gaitml.simulate.subject import POSES, Subject, sample_subjects
 
 __all__ = [
+    "CARRIED_POSITIONS",
+    "HAND_POSITIONS",
     "MODE_OFFSET_RAD",
     "POSES",
+    "POSITIONS",
+    "Placement",
     "ROUTES",
     "SAMPLING_RATE_RANGE_HZ",
     "STAND",
@@ -158,6 +163,7 @@ __all__ = [
     "Subject",
     "arc_path",
     "check_modes",
+    "check_positions",
     "make_path",
     "mode_gait",
     "mode_schedule",

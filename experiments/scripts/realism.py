@@ -322,6 +322,8 @@ POSITION_STATS = (
 #: Statistics the verdict of a position rests on (the magnitude, its rhythm and the axis spread).
 VERDICT_STATS = ("mag_std_ms2", "mag_p5_ms2", "mag_p95_ms2", "f_mag_per_cadence", "var_share_1", "var_share_3", "r_step", "r_stride")
 _WALK_FS_HZ = 50.0
+#: Absolute tolerance added on each side of a real range, by statistic family.
+_FLOOR = {"mag": 0.3, "cadence": 0.1, "f": 0.05, "var": 0.03, "r": 0.05}
 
 
 def _dominant_hz(x: np.ndarray, fs: float) -> float:
@@ -442,7 +444,8 @@ def position_table(
     user's median (``real_heldout``), the simulated median and 5-95 % range over ``n_sim``
     simulated subjects (``sim``, ``sim_lo``, ``sim_hi``), ``tune_ok`` (the simulated median lies
     in the tuning users' range widened by 25 % of the range plus a floor (0.3 m/s^2 for the
-    magnitude, 0.1 for shares, ratios and correlations) on each side) and ``heldout_ok``
+    magnitude, 0.1 /s for the cadence, 0.05 for frequency ratios and correlations, 0.03 for
+    variance shares) on each side) and ``heldout_ok``
     (the same test on the held-out user's range). ``verdicts``: one row per position with the
     number of verdict statistics (:data:`VERDICT_STATS`) passing each test and the verdict
     ``match`` (all pass held out), ``partial`` (at least 3/4 pass) or ``no match``.
@@ -467,7 +470,7 @@ def position_table(
             row = {"position": pos, "oxford": ox or "-", "statistic": k}
             row["sim"] = float(sdf[k].median())
             row["sim_lo"], row["sim_hi"] = float(sdf[k].quantile(0.05)), float(sdf[k].quantile(0.95))
-            floor = 0.3 if k.startswith("mag_") else 0.1
+            floor = _FLOOR[k.split("_")[0]]
             for name, group in (("tune", tune), ("heldout", held)):
                 if not group:
                     row[f"real_{name}"] = row[f"{name}_lo"] = row[f"{name}_hi"] = float("nan")
@@ -493,7 +496,11 @@ def position_table(
         if not real:
             verdict = "no real data"
         elif not held:
-            verdict = "match (tuning users only)" if n_ok_tune == n_v else ("partial (tuning users only)" if n_ok_tune >= 0.75 * n_v else "no match")
+            verdict = (
+                "match (tuning users only)"
+                if n_ok_tune == n_v
+                else ("partial (tuning users only)" if n_ok_tune >= 0.75 * n_v else "no match")
+            )
         else:
             verdict = "match" if n_ok_held == n_v else ("partial" if n_ok_held >= 0.75 * n_v else "no match")
         verdicts.append(
@@ -576,7 +583,20 @@ def _main_positions(argv: list[str]) -> int:
         print(f"the Oxford data are not below {root}; pass the shared data folder as the argument.", file=sys.stderr)
         return 2
     tab, verdicts = position_table(root, heldout=heldout)
-    cols = ["position", "oxford", "statistic", "real_tune", "tune_lo", "tune_hi", "real_heldout", "sim", "sim_lo", "sim_hi", "tune_ok", "heldout_ok"]
+    cols = [
+        "position",
+        "oxford",
+        "statistic",
+        "real_tune",
+        "tune_lo",
+        "tune_hi",
+        "real_heldout",
+        "sim",
+        "sim_lo",
+        "sim_hi",
+        "tune_ok",
+        "heldout_ok",
+    ]
     tab = tab.reindex(columns=cols)
     if markdown:
         print(_markdown(tab))

@@ -225,9 +225,16 @@ def synthesize(
         a_up = a_up + b_imp[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
         a_up = a_up - np.where(is_step, b_imp[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
     else:  # the trunk bounce and the impact at the carrying segment
-        spike = b_imp[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
-        spike = spike - np.where(is_step, b_imp[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
-        a_up = placement.vertical_gain * a_up + placement.impact_gain * spike
+        # a phone on one leg feels that leg's heel strikes and stance far more than the other's
+        crng = carry_rng if carry_rng is not None else rng
+        own = st["foot"].to_numpy() == ("right" if placement.side > 0 else "left")
+        b_leg = b_imp * np.where(own, 1.0, placement.other_leg_impact) * np.exp(placement.impact_cv * crng.standard_normal(len(st)))
+        spike = b_leg[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
+        spike = spike - np.where(is_step, b_leg[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
+        leg0 = 0.0 if placement.side < 0 else 1.0
+        bounce = placement.vertical_gain * (1.0 + placement.leg_asymmetry * np.cos(np.pi * (phi - leg0)))
+        bounce = bounce * np.exp(placement.impact_cv * smooth_noise(crng, n, fs, 0.5)[:, 0])
+        a_up = bounce * a_up + placement.impact_gain * spike
 
     # facing heading and direction of travel: smooth through the step midpoints
     t_mid = 0.5 * (st["t_start_s"].to_numpy(float) + st["t_s"].to_numpy(float))
@@ -262,10 +269,10 @@ def synthesize(
 
         attitude = rotation_matrices(yaw, pitch, roll)
     else:
-        crng = carry_rng if carry_rng is not None else rng
         carried = carried_signals(
             placement, fs=fs, phi=phi, mode_idx=mode_cur[k], env=env,
             theta=theta, theta_rate=theta_rate, acc_person=np.column_stack([a_right, a_fwd, a_up]), rng=crng,
+            impact=placement.impact_gain * spike, impact_step=jn,
         )  # fmt: skip
         acc, gyr, attitude = carried["acc"], carried["gyr"], carried["attitude"]
         # soft tissue / fabric vibration while moving (3-15 Hz), slowly modulated
@@ -435,7 +442,11 @@ def simulate_dataset(
             s_j = subj if j == 0 else subj.session_variant(np.random.default_rng([int(seed), i, j, 2]))
             if pos_list is not None:
                 for pos in pos_list:
-                    recs.append(_positioned(s_j, pos, int(seed), i, j, f"{rid}-{pos}", route, duration_s, modes, sampling_rate_hz, pauses, segment_s))
+                    recs.append(
+                        _positioned(
+                            s_j, pos, int(seed), i, j, f"{rid}-{pos}", route, duration_s, modes, sampling_rate_hz, pauses, segment_s
+                        )
+                    )
                 continue
             recs.append(
                 simulate_recording(

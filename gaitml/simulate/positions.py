@@ -90,6 +90,12 @@ CARRIED_POSITIONS = tuple(p for p in POSITIONS if p not in HAND_POSITIONS)
 
 _MODE_INDEX = {m: i for i, m in enumerate(MOTION_MODES)}
 _DEG = np.pi / 180.0
+#: Soft-tissue wobble of a carried phone after a heel strike (thigh and buttock tissue,
+#: a loose pocket): natural frequency (Hz) and damping ratio.
+WOBBLE_HZ = 9.0
+WOBBLE_DAMPING = 0.2
+#: Stride-to-stride variation of the segment's rotation amplitude (log-normal sd, correlation 1.5 s).
+SEGMENT_AMP_CV = 0.15
 
 
 def check_positions(positions) -> tuple[str, ...]:
@@ -184,6 +190,7 @@ class Placement:
     thigh_flex_amp_deg: float = 0.0  # pockets: amplitude of the stride-frequency thigh rotation
     thigh_h2: float = 0.0  # pockets: 2nd harmonic / fundamental of the thigh rotation
     thigh_abduction_deg: float = 0.0  # pockets: side-step ab-/adduction amplitude
+    thigh_rotation_deg: float = 0.0  # pockets: internal/external rotation and ab-/adduction in walking
     pelvis_yaw_deg: float = 0.0  # belt
     pelvis_roll_deg: float = 0.0
     pelvis_pitch_deg: float = 0.0
@@ -193,8 +200,13 @@ class Placement:
     bag_horizontal_hz: float = 0.0
     bag_damping: float = 0.0
     bag_tilt_gain: float = 0.0
+    bag_horizontal_gain: float = 0.0  # bag: the hip and thigh knock the bag: horizontal driving gain
     vertical_gain: float = 1.0  # the trunk's step bounce at this segment, relative to the hand-held model
     impact_gain: float = 1.0  # heel-strike impact at this segment, relative to the hand-held model
+    other_leg_impact: float = 1.0  # impact of the other leg's heel strikes, relative to this side's
+    impact_cv: float = 0.0  # extra step-to-step variation of the impact at this segment (log-normal sd)
+    leg_asymmetry: float = 0.0  # step bounce larger on this side's steps: (1 + a cos(pi phi'))
+    wobble_gain: float = 0.0  # soft-tissue wobble: the impact along a random direction per step, relative
     vibration_ms2: float = 0.3  # 3-15 Hz soft-tissue / fabric vibration per axis while moving
     wander_deg: float = 1.5  # slow orientation wander of the phone in the segment
 
@@ -219,8 +231,9 @@ class Placement:
                 position, side, upright=bool(u() < 0.75), screen_out=bool(u() < 0.5),
                 tilt_x_deg=u(-8, 8), tilt_y_deg=u(-8, 8), tilt_z_deg=u(-12, 12),
                 thigh_flex_mean_deg=u(4, 12), thigh_flex_amp_deg=u(14, 22), thigh_h2=u(0.1, 0.25),
-                thigh_abduction_deg=u(6, 12), lever_m=u(0.15, 0.25),
-                vertical_gain=u(1.0, 1.4), impact_gain=u(1.8, 3.5), vibration_ms2=u(0.3, 0.8), wander_deg=u(1.0, 3.0),
+                thigh_abduction_deg=u(6, 12), lever_m=u(0.18, 0.28),
+                vertical_gain=u(0.9, 1.2), impact_gain=u(1.0, 2.2), other_leg_impact=u(0.1, 0.3), leg_asymmetry=u(0.6, 0.9), impact_cv=u(0.2, 0.4), wobble_gain=u(0.5, 1.0), thigh_rotation_deg=u(4, 10),
+                vibration_ms2=u(0.3, 0.8), wander_deg=u(1.0, 3.0),
             )  # fmt: skip
         if position == "back-pocket":
             return cls(
@@ -228,7 +241,8 @@ class Placement:
                 tilt_x_deg=u(15, 30), tilt_y_deg=u(-12, 12), tilt_z_deg=u(-15, 15),
                 thigh_flex_mean_deg=u(4, 12), thigh_flex_amp_deg=0.6 * u(14, 22), thigh_h2=u(0.1, 0.25),
                 thigh_abduction_deg=u(4, 8), lever_m=u(0.08, 0.14),
-                vertical_gain=u(1.0, 1.4), impact_gain=u(2.5, 4.5), vibration_ms2=u(0.4, 1.0), wander_deg=u(1.0, 3.0),
+                vertical_gain=u(0.7, 1.0), impact_gain=u(2.0, 3.5), other_leg_impact=u(0.1, 0.3), leg_asymmetry=u(0.5, 0.8), impact_cv=u(0.2, 0.4), wobble_gain=u(0.5, 1.0), thigh_rotation_deg=u(4, 10),
+                vibration_ms2=u(0.4, 1.0), wander_deg=u(1.0, 3.0),
             )  # fmt: skip
         if position == "belt":
             return cls(
@@ -241,8 +255,8 @@ class Placement:
             return cls(
                 position, side, screen_out=bool(u() < 0.5),
                 tilt_x_deg=u(-10, 10), tilt_y_deg=u(-10, 10), grip_deg=u(0, 360),
-                arm_swing_deg=u(15, 35), lever_m=u(0.55, 0.72),
-                vertical_gain=u(0.7, 1.0), impact_gain=u(0.6, 1.2), vibration_ms2=u(0.2, 0.5), wander_deg=u(2.0, 5.0),
+                arm_swing_deg=u(10, 25), lever_m=u(0.45, 0.6),
+                vertical_gain=u(0.4, 0.7), impact_gain=u(0.6, 1.2), leg_asymmetry=u(0.3, 0.5), impact_cv=u(0.15, 0.3), vibration_ms2=u(0.2, 0.5), wander_deg=u(2.0, 5.0),
             )  # fmt: skip
         if position == "bag":
             q = rng.standard_normal(4)
@@ -250,8 +264,9 @@ class Placement:
             q = q * (1.0 if q[0] >= 0 else -1.0)
             return cls(
                 position, side, mount_quat=tuple(float(v) for v in q),
-                bag_vertical_hz=u(2.5, 4.5), bag_horizontal_hz=u(1.0, 2.0), bag_damping=u(0.15, 0.35), bag_tilt_gain=u(0.5, 1.0),
-                vertical_gain=u(0.9, 1.2), impact_gain=u(0.4, 1.0), vibration_ms2=u(0.1, 0.3), wander_deg=u(1.0, 4.0),
+                bag_vertical_hz=u(3.0, 5.0), bag_horizontal_hz=u(1.5, 2.5), bag_damping=u(0.15, 0.3), bag_tilt_gain=u(0.5, 1.0),
+                bag_horizontal_gain=u(1.0, 2.0), impact_cv=u(0.15, 0.3), leg_asymmetry=u(0.1, 0.3),
+                vertical_gain=u(0.7, 0.9), impact_gain=u(0.4, 1.0), vibration_ms2=u(0.1, 0.3), wander_deg=u(1.0, 4.0),
             )  # fmt: skip
         raise InputError(f"unknown carried position {position!r}; choose from {', '.join(CARRIED_POSITIONS)}.")
 
@@ -350,6 +365,11 @@ def _segment_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.nd
         cyc = phi + np.where(lead, 0.0, 0.3)
         roll = -side_dir * p.thigh_abduction_deg * _DEG * 0.5 * (1 - np.cos(2 * np.pi * cyc))
         pitch = pitch + w_side * 0.25 * amp * np.cos(2 * np.pi * cyc)
+        # in walking the thigh also rotates about its long axis and ab-/adducts a little, once per stride
+        gait = w[:, iw] + w[:, ir] + w[:, ib]
+        rot = p.thigh_rotation_deg * _DEG * gait
+        yaw = p.side * rot * np.sin(2 * np.pi * psi)
+        roll = roll + p.side * 0.6 * rot * np.cos(2 * np.pi * psi + 0.3 * np.pi)
     elif p.position == "belt":
         a_y, a_r, a_p = p.pelvis_yaw_deg * _DEG, p.pelvis_roll_deg * _DEG, p.pelvis_pitch_deg * _DEG
         walkish = w[:, iw] + 1.3 * w[:, ir] + 0.8 * w[:, ib]
@@ -365,7 +385,7 @@ def _segment_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.nd
         fwd = a * np.cos(2 * np.pi * psi_other)
         back = 0.8 * a * np.cos(2 * np.pi * (0.5 - psi_other))
         pitch = w[:, iw] * fwd + w[:, ir] * (1.3 * fwd + 0.5) + w[:, ib] * back + w_side * 0.25 * a * np.cos(2 * np.pi * phi)
-        roll = p.side * 0.1 * a * np.sin(2 * np.pi * psi_other) * (w[:, iw] + w[:, ir] + w[:, ib])
+        roll = p.side * 0.3 * a * np.sin(2 * np.pi * psi_other) * (w[:, iw] + w[:, ir] + w[:, ib])
         roll = roll + w_side * side_dir * 0.3 * a * np.sin(2 * np.pi * phi)
     return yaw, pitch, roll
 
@@ -389,6 +409,8 @@ def carried_signals(
     theta_rate: np.ndarray,
     acc_person: np.ndarray,
     rng: np.random.Generator,
+    impact: np.ndarray | None = None,
+    impact_step: np.ndarray | None = None,
 ) -> dict[str, np.ndarray]:
     """Accelerometer, gyroscope and attitude of a phone carried at ``p`` (noise-free, no sensor errors).
 
@@ -401,6 +423,9 @@ def carried_signals(
     acc_person : (n, 3) body acceleration (right, forward, up; m/s^2, gravity excluded), the
         segment gains already applied
     rng : the placement's generator (orientation wander, vibration)
+    impact, impact_step : (n,) the heel-strike impact (m/s^2) and the index of the step it
+        belongs to; with ``p.wobble_gain`` > 0 the soft tissue carrying the phone wobbles: the
+        impact repeated along a random direction (person frame) per step
 
     Returns
     -------
@@ -414,12 +439,21 @@ def carried_signals(
     w = _smooth_weights(mode_idx, env, fs)
     yaw_s, pitch_s, roll_s = _segment_angles(p, phi, w)
     acc_p = np.array(acc_person, dtype=float)
+    if p.wobble_gain > 0 and impact is not None:
+        # the impact rings the soft tissue (a 9 Hz, lightly damped resonance) along a new direction each step
+        d = rng.standard_normal((int(np.max(impact_step)) + 1, 3))
+        d /= np.linalg.norm(d, axis=1, keepdims=True)
+        w0 = 2 * np.pi * WOBBLE_HZ
+        b, a = scipy.signal.bilinear([w0**2], [1.0, 2 * WOBBLE_DAMPING * w0, w0**2], fs=fs)
+        acc_p += p.wobble_gain * scipy.signal.lfilter(b, a, impact[:, None] * d[impact_step], axis=0)
     if p.position == "bag":
         acc_p[:, 2] = _second_order(acc_p[:, 2], fs, p.bag_vertical_hz, p.bag_damping)
-        acc_p[:, :2] = _second_order(acc_p[:, :2], fs, p.bag_horizontal_hz, p.bag_damping)
+        acc_p[:, :2] = _second_order(p.bag_horizontal_gain * acc_p[:, :2], fs, p.bag_horizontal_hz, p.bag_damping)
         pitch_s = pitch_s - p.bag_tilt_gain * np.arctan2(acc_p[:, 1], GRAVITY_MS2)
         roll_s = roll_s + p.bag_tilt_gain * np.arctan2(acc_p[:, 0], GRAVITY_MS2)
     wander = smooth_noise(rng, n, fs, 3.0, 3) * (p.wander_deg * _DEG)
+    amp = np.exp(SEGMENT_AMP_CV * smooth_noise(rng, n, fs, 1.5)[:, 0])
+    yaw_s, pitch_s, roll_s = amp * yaw_s, amp * pitch_s, amp * roll_s
     yaw_s, pitch_s, roll_s = yaw_s + 0.5 * wander[:, 0], pitch_s + wander[:, 1], roll_s + wander[:, 2]
     yaw = -theta + yaw_s
     yaw_rate = -theta_rate + np.gradient(yaw_s, dt)

@@ -42,6 +42,7 @@ from gaitml.simulate.plan import (
     mode_schedule,
     plan_steps,
 )
+from gaitml.simulate.positions import HAND_POSITIONS, POSITIONS, Placement, carried_signals, check_positions, quaternions, rotation_matrices
 from gaitml.simulate.route import ROUTES, make_path
 from gaitml.simulate.sensor import (
     ACC_RESOLUTION_MS2,
@@ -51,7 +52,6 @@ from gaitml.simulate.sensor import (
     smooth_noise,
     specific_force,
 )
-from gaitml.simulate.positions import HAND_POSITIONS, POSITIONS, Placement, carried_signals, check_positions, quaternions, rotation_matrices
 from gaitml.simulate.subject import POSES, Subject, sample_subjects
 from gaitml.simulate.variability import interpolate_knots, speed_gain, step_knots
 

@@ -96,6 +96,10 @@ WOBBLE_HZ = 9.0
 WOBBLE_DAMPING = 0.2
 #: Stride-to-stride variation of the segment's rotation amplitude (log-normal sd, correlation 1.5 s).
 SEGMENT_AMP_CV = 0.15
+#: The bag's horizontal acceleration saturates at about this (m/s^2): the strap and the body stop it.
+BAG_SWING_LIMIT_MS2 = 4.0
+#: Running: the elbow is bent (about 90 deg), so the hand is this fraction of the arm's length from the shoulder.
+RUN_ARM_LEVER = 0.55
 
 
 def check_positions(positions) -> tuple[str, ...]:
@@ -231,7 +235,7 @@ class Placement:
                 position, side, upright=bool(u() < 0.75), screen_out=bool(u() < 0.5),
                 tilt_x_deg=u(-8, 8), tilt_y_deg=u(-8, 8), tilt_z_deg=u(-12, 12),
                 thigh_flex_mean_deg=u(4, 12), thigh_flex_amp_deg=u(14, 22), thigh_h2=u(0.1, 0.25),
-                thigh_abduction_deg=u(6, 12), lever_m=u(0.18, 0.28),
+                thigh_abduction_deg=u(6, 12), lever_m=u(0.10, 0.18),
                 vertical_gain=u(0.9, 1.2), impact_gain=u(1.0, 2.2), other_leg_impact=u(0.1, 0.3), leg_asymmetry=u(0.6, 0.9), impact_cv=u(0.2, 0.4), wobble_gain=u(0.5, 1.0), thigh_rotation_deg=u(4, 10),
                 vibration_ms2=u(0.3, 0.8), wander_deg=u(1.0, 3.0),
             )  # fmt: skip
@@ -384,7 +388,7 @@ def _segment_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.nd
         # the arm is forward (flexed) when the other leg lands; backward walking runs it in reverse
         fwd = a * np.cos(2 * np.pi * psi_other)
         back = 0.8 * a * np.cos(2 * np.pi * (0.5 - psi_other))
-        pitch = w[:, iw] * fwd + w[:, ir] * (1.3 * fwd + 0.5) + w[:, ib] * back + w_side * 0.25 * a * np.cos(2 * np.pi * phi)
+        pitch = w[:, iw] * fwd + w[:, ir] * (fwd + 0.3) + w[:, ib] * back + w_side * 0.25 * a * np.cos(2 * np.pi * phi)
         roll = p.side * 0.3 * a * np.sin(2 * np.pi * psi_other) * (w[:, iw] + w[:, ir] + w[:, ib])
         roll = roll + w_side * side_dir * 0.3 * a * np.sin(2 * np.pi * phi)
     return yaw, pitch, roll
@@ -449,6 +453,8 @@ def carried_signals(
     if p.position == "bag":
         acc_p[:, 2] = _second_order(acc_p[:, 2], fs, p.bag_vertical_hz, p.bag_damping)
         acc_p[:, :2] = _second_order(p.bag_horizontal_gain * acc_p[:, :2], fs, p.bag_horizontal_hz, p.bag_damping)
+        # the strap and the body stop the bag: its horizontal swing saturates
+        acc_p[:, :2] = BAG_SWING_LIMIT_MS2 * np.tanh(acc_p[:, :2] / BAG_SWING_LIMIT_MS2)
         pitch_s = pitch_s - p.bag_tilt_gain * np.arctan2(acc_p[:, 1], GRAVITY_MS2)
         roll_s = roll_s + p.bag_tilt_gain * np.arctan2(acc_p[:, 0], GRAVITY_MS2)
     wander = smooth_noise(rng, n, fs, 3.0, 3) * (p.wander_deg * _DEG)
@@ -467,6 +473,8 @@ def carried_signals(
     if np.any(lever):
         seg = rotation_matrices(yaw, pitch_s, roll_s)
         pos = seg @ lever
+        if p.position == "swinging-hand":  # the elbow bends when running: a shorter lever
+            pos = pos * (1.0 - (1.0 - RUN_ARM_LEVER) * w[:, _MODE_INDEX["run"]])[:, None]
         acc_lever = np.zeros_like(pos)
         acc_lever[1:-1] = (pos[2:] - 2 * pos[1:-1] + pos[:-2]) / dt**2
         acc_lever[0], acc_lever[-1] = acc_lever[1], acc_lever[-2]

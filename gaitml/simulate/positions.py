@@ -236,7 +236,7 @@ class Placement:
                 tilt_x_deg=u(-8, 8), tilt_y_deg=u(-8, 8), tilt_z_deg=u(-12, 12),
                 thigh_flex_mean_deg=u(4, 12), thigh_flex_amp_deg=u(14, 22), thigh_h2=u(0.1, 0.25),
                 thigh_abduction_deg=u(6, 12), lever_m=u(0.10, 0.18),
-                vertical_gain=u(0.9, 1.2), impact_gain=u(1.0, 2.2), other_leg_impact=u(0.1, 0.3), leg_asymmetry=u(0.6, 0.9), impact_cv=u(0.2, 0.4), wobble_gain=u(0.5, 1.0), thigh_rotation_deg=u(4, 10),
+                vertical_gain=u(0.75, 1.0), impact_gain=u(0.9, 1.9), other_leg_impact=u(0.05, 0.25), leg_asymmetry=u(0.75, 1.0), impact_cv=u(0.2, 0.4), wobble_gain=u(0.5, 1.0), thigh_rotation_deg=u(4, 10),
                 vibration_ms2=u(0.3, 0.8), wander_deg=u(1.0, 3.0),
             )  # fmt: skip
         if position == "back-pocket":

@@ -259,8 +259,8 @@ class Placement:
             return cls(
                 position, side, screen_out=bool(u() < 0.5),
                 tilt_x_deg=u(-10, 10), tilt_y_deg=u(-10, 10), grip_deg=u(0, 360),
-                arm_swing_deg=u(10, 25), lever_m=u(0.45, 0.6),
-                vertical_gain=u(0.4, 0.7), impact_gain=u(0.6, 1.2), leg_asymmetry=u(0.3, 0.5), impact_cv=u(0.15, 0.3), vibration_ms2=u(0.2, 0.5), wander_deg=u(2.0, 5.0),
+                arm_swing_deg=u(10, 25), lever_m=u(0.4, 0.55),
+                vertical_gain=u(0.5, 0.8), impact_gain=u(0.2, 0.6), leg_asymmetry=u(0.3, 0.5), impact_cv=u(0.3, 0.5), vibration_ms2=u(0.2, 0.5), wander_deg=u(2.0, 5.0),
             )  # fmt: skip
         if position == "bag":
             q = rng.standard_normal(4)
@@ -389,7 +389,7 @@ def _segment_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.nd
         fwd = a * np.cos(2 * np.pi * psi_other)
         back = 0.8 * a * np.cos(2 * np.pi * (0.5 - psi_other))
         pitch = w[:, iw] * fwd + w[:, ir] * (fwd + 0.3) + w[:, ib] * back + w_side * 0.25 * a * np.cos(2 * np.pi * phi)
-        roll = p.side * 0.3 * a * np.sin(2 * np.pi * psi_other) * (w[:, iw] + w[:, ir] + w[:, ib])
+        roll = p.side * 0.5 * a * np.sin(2 * np.pi * psi_other) * (w[:, iw] + w[:, ir] + w[:, ib])
         roll = roll + w_side * side_dir * 0.3 * a * np.sin(2 * np.pi * phi)
     return yaw, pitch, roll
 

@@ -171,6 +171,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--route", default="straight", help="straight | rectangle | arc | random")
     p.add_argument("--sampling-rate-hz", type=float, default=None)
     p.add_argument("--seed", type=int, default=0)
+    # issue 12: carrying positions (comma list, checked against gaitml.simulate.POSITIONS)
+    p.add_argument(
+        "--positions",
+        metavar="LIST",
+        default=None,
+        help="comma-separated carrying positions, e.g. front-pocket,belt (a wrong name lists them all; default: the hand-held "
+        "flat phone, one recording per subject; with a list, one recording per subject and position)",
+    )
 
     p = sub.add_parser("steps", help="detect steps")
     p.add_argument("input", metavar="INPUT")

@@ -62,6 +62,12 @@ __all__ = [
     "REAL_FILES",
     "VARIABILITY_WINDOWS_S",
     "VARIABILITY_FEATURES",
+    "OXFORD_POSITIONS",
+    "position_statistics",
+    "oxford_walks",
+    "simulated_position_walks",
+    "position_table",
+    "feature_spread",
     "main",
 ]
 
@@ -276,13 +282,261 @@ def plot_comparison(shared_data: str | Path, path: str | Path, *, seconds: float
     return out
 
 
+# ----------------------------------------------------------------------------------------------
+# Carrying positions against the Oxford walks (issue 12)
+# ----------------------------------------------------------------------------------------------
+#: Simulated carrying position -> the Oxford position(s) of real walking it is compared with.
+#: Oxford ``InHand`` (phone held in front, about 25 deg pitch) lies between the flat and the
+#: tilted hand-held phone; ``NeckPouch`` and ``Armband`` have no simulated counterpart and the
+#: ``belt`` has no real walking in ../shared/data.
+OXFORD_POSITIONS = {
+    "hand-flat": "InHand",
+    "hand-tilted": "InHand",
+    "front-pocket": "FrontPocket",
+    "back-pocket": "BackPocket",
+    "belt": None,
+    "swinging-hand": "SwingingArm",
+    "bag": "Purse",
+}
+#: Oxford users; the simulator's position parameters were chosen on the first two.
+OXFORD_USERS = ("Jamie", "Carmelo", "Dario")
+TUNING_USERS = ("Jamie", "Carmelo")
+#: Per-position statistics in table order (axis-order-free; see :func:`position_statistics`).
+POSITION_STATS = (
+    "mag_mean_ms2",
+    "mag_std_ms2",
+    "mag_p5_ms2",
+    "mag_p50_ms2",
+    "mag_p95_ms2",
+    "cadence_hz",
+    "f_mag_per_cadence",
+    "f_ax1_per_cadence",
+    "f_ax2_per_cadence",
+    "f_ax3_per_cadence",
+    "var_share_1",
+    "var_share_2",
+    "var_share_3",
+    "r_step",
+    "r_stride",
+)
+#: Statistics the verdict of a position rests on (the magnitude, its rhythm and the axis spread).
+VERDICT_STATS = ("mag_std_ms2", "mag_p5_ms2", "mag_p95_ms2", "f_mag_per_cadence", "var_share_1", "var_share_3", "r_step", "r_stride")
+_WALK_FS_HZ = 50.0
+#: Absolute tolerance added on each side of a real range, by statistic family.
+_FLOOR = {"mag": 0.3, "cadence": 0.1, "f": 0.05, "var": 0.03, "r": 0.05}
+
+
+def _dominant_hz(x: np.ndarray, fs: float) -> float:
+    """Frequency (Hz) of the largest Welch peak of ``x`` within 0.3-6 Hz (8 s segments, 0.125 Hz bins)."""
+    x = np.asarray(x, dtype=float) - np.mean(x)
+    f, p = scipy.signal.welch(x, fs=fs, nperseg=min(len(x), int(8 * fs)))
+    band = (f > 0.3) & (f < 6.0)
+    return float(f[band][np.argmax(p[band])])
+
+
+def _autocorr(x: np.ndarray, lag: int) -> float:
+    x = np.asarray(x, dtype=float) - np.mean(x)
+    if lag <= 0 or lag >= len(x):
+        return float("nan")
+    return float(np.dot(x[:-lag], x[lag:]) / np.dot(x, x) * len(x) / (len(x) - lag))
+
+
+def position_statistics(recording: Recording, steps_t_s: np.ndarray | None = None) -> dict[str, float]:
+    """Axis-order-free walking statistics of one recording, from its first to its last true step.
+
+    - ``mag_*``: mean, standard deviation and 5th/50th/95th percentiles of ``|acc|`` (m/s^2);
+    - ``cadence_hz``: true steps per second (Oxford: foot switches; simulated: the true steps);
+    - ``f_mag_per_cadence``: the dominant frequency of ``|acc|`` over the cadence (1 = the step
+      frequency, 0.5 = the stride frequency);
+    - ``f_ax{1,2,3}_per_cadence``: the same per phone axis, the axes ordered by decreasing variance
+      (phones sit differently, so the axes are compared by rank, not by name);
+    - ``var_share_{1,2,3}``: each axis's share of the total acceleration variance, sorted
+      (1 = largest);
+    - ``r_step`` / ``r_stride``: the autocorrelation of ``|acc|`` at a lag of one step / one stride
+      (step and stride regularity, Moe-Nilssen & Helbostad 2004, J. Biomech. 37:121); a phone on
+      one leg or arm repeats per stride, so ``r_stride`` exceeds ``r_step`` there.
+    """
+    st = np.asarray(recording.reference["steps_t_s"] if steps_t_s is None else steps_t_s, dtype=float)
+    fs = recording.sampling_rate_hz
+    i0, i1 = int(np.ceil(st[0] * fs)), int(np.floor(st[-1] * fs))
+    acc = recording.acc[i0:i1]
+    mag = np.linalg.norm(acc, axis=1)
+    cad = (len(st) - 1) / (st[-1] - st[0])
+    var = acc.var(axis=0)
+    order = np.argsort(var)[::-1]
+    share = var[order] / var.sum()
+    out = {
+        "mag_mean_ms2": float(mag.mean()),
+        "mag_std_ms2": float(mag.std()),
+        "mag_p5_ms2": float(np.percentile(mag, 5)),
+        "mag_p50_ms2": float(np.percentile(mag, 50)),
+        "mag_p95_ms2": float(np.percentile(mag, 95)),
+        "cadence_hz": float(cad),
+        "f_mag_per_cadence": _dominant_hz(mag, fs) / cad,
+    }
+    for r, ax in enumerate(order, start=1):
+        out[f"f_ax{r}_per_cadence"] = _dominant_hz(acc[:, ax], fs) / cad
+    for r, v in enumerate(share, start=1):
+        out[f"var_share_{r}"] = float(v)
+    out["r_step"] = _autocorr(mag, int(round(fs / cad)))
+    out["r_stride"] = _autocorr(mag, int(round(2 * fs / cad)))
+    return out
+
+
+@functools.lru_cache(maxsize=2)
+def _oxford_walks(root: str) -> tuple:
+    from gaitml.io.oxford import list_oxford_folders, read_oxford_folder
+
+    out = []
+    for d in list_oxford_folders(Path(root) / "oxford-step-counter"):
+        rec = read_oxford_folder(d, sampling_rate_hz=_WALK_FS_HZ)
+        if rec.meta.get("surface") != "Hard":
+            continue  # one surface: the carpet walks exist for InHand only
+        out.append(rec)
+    return tuple(out)
+
+
+def oxford_walks(shared_data: str | Path) -> list[Recording]:
+    """The Oxford walks on the hard floor, resampled to 50 Hz (cached per folder)."""
+    return list(_oxford_walks(str(Path(shared_data).resolve())))
+
+
+def simulated_position_walks(position: str, *, n: int = 6, seed: int = 0, duration_s: float = 90.0) -> list[Recording]:
+    """``n`` simulated subjects walking (walk mode only, straight route) with the phone at ``position``."""
+    from gaitml.simulate import simulate_dataset
+
+    return simulate_dataset(n, duration_s, ("walk",), seed=seed, positions=(position,))
+
+
+def feature_spread(recordings: list[Recording]) -> pd.Series:
+    """Interquartile range across the 1.5 s windows (50 % overlap) of each of the 52 features, pooled
+    over ``recordings`` (walking part only: from the first to the last true step)."""
+    from gaitml.features import extract_features
+
+    tabs = []
+    for rec in recordings:
+        st = rec.reference["steps_t_s"]
+        fs = rec.sampling_rate_hz
+        part = rec.slice(int(np.ceil(st[0] * fs)), int(np.floor(st[-1] * fs)))
+        tabs.append(extract_features(part, subset="all52", length_s=1.5, overlap=0.5))
+    f = pd.concat(tabs, ignore_index=True)
+    return f.quantile(0.75) - f.quantile(0.25)
+
+
+def _summary(stats: list[dict]) -> dict[str, tuple[float, float, float]]:
+    """Per statistic: (median, min, max) over recordings."""
+    df = pd.DataFrame(stats)
+    return {k: (float(df[k].median()), float(df[k].min()), float(df[k].max())) for k in POSITION_STATS}
+
+
+def position_table(
+    shared_data: str | Path,
+    *,
+    positions: tuple[str, ...] | None = None,
+    heldout: str = "Dario",
+    n_sim: int = 8,
+    seed: int = 0,
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Simulated vs real walking per carrying position, with one Oxford user held out.
+
+    Returns ``(table, verdicts)``. ``table`` has one row per (position, statistic) with the
+    real tuning users' median and range (``real_tune``, ``tune_lo``, ``tune_hi``), the held-out
+    user's median (``real_heldout``), the simulated median and 5-95 % range over ``n_sim``
+    simulated subjects (``sim``, ``sim_lo``, ``sim_hi``), ``tune_ok`` (the simulated median lies
+    in the tuning users' range widened by 25 % of the range plus a floor (0.3 m/s^2 for the
+    magnitude, 0.1 /s for the cadence, 0.05 for frequency ratios and correlations, 0.03 for
+    variance shares) on each side) and ``heldout_ok``
+    (the same test on the held-out user's range) and ``heldout_covered`` (the held-out user's median
+    lies in the simulated 5-95 % range plus the floor: the user is inside the simulated population).
+    ``verdicts``: one row per position with the number of verdict statistics (:data:`VERDICT_STATS`)
+    passing each test and the verdict ``match`` (every verdict statistic passes on the tuning users
+    and, held out, passes ``heldout_ok`` or ``heldout_covered``), ``partial`` (at least 3/4 do) or
+    ``no match``.
+    The 52 features' spread is a row ``feature_iqr_ratio`` (median over features of the simulated
+    over the real IQR) with ``feature_iqr_within_2x`` (fraction of features within a factor 2).
+    """
+    from gaitml.simulate import POSITIONS
+
+    walks = oxford_walks(shared_data)
+    positions = tuple(POSITIONS) if positions is None else tuple(positions)
+    rows, verdicts = [], []
+    for pos in positions:
+        ox = OXFORD_POSITIONS.get(pos)
+        real = [r for r in walks if r.meta.get("position") == ox] if ox else []
+        sims = simulated_position_walks(pos, n=n_sim, seed=seed)
+        sim_stats = [position_statistics(r) for r in sims]
+        sdf = pd.DataFrame(sim_stats)
+        tune = [position_statistics(r) for r in real if r.meta.get("user") in TUNING_USERS]
+        held = [position_statistics(r) for r in real if r.meta.get("user") == heldout]
+        n_ok_tune = n_ok_held = n_cov_held = 0
+        for k in POSITION_STATS:
+            row = {"position": pos, "oxford": ox or "-", "statistic": k}
+            row["sim"] = float(sdf[k].median())
+            row["sim_lo"], row["sim_hi"] = float(sdf[k].quantile(0.05)), float(sdf[k].quantile(0.95))
+            floor = _FLOOR[k.split("_")[0]]
+            for name, group in (("tune", tune), ("heldout", held)):
+                if not group:
+                    row[f"real_{name}"] = row[f"{name}_lo"] = row[f"{name}_hi"] = float("nan")
+                    row[f"{name}_ok"] = None
+                    continue
+                vals = np.array([g[k] for g in group])
+                lo, hi = vals.min(), vals.max()
+                pad = WIDEN * (hi - lo) + floor
+                row[f"real_{name}"] = float(np.median(vals))
+                row[f"{name}_lo"], row[f"{name}_hi"] = float(lo), float(hi)
+                row[f"{name}_ok"] = bool(lo - pad <= row["sim"] <= hi + pad)
+            # is the held-out user inside the simulated population (its 5-95 % range plus the floor)?
+            rh = row["real_heldout"]
+            row["heldout_covered"] = None if not held else bool(row["sim_lo"] - floor <= rh <= row["sim_hi"] + floor)
+            if k in VERDICT_STATS:
+                n_ok_tune += bool(row["tune_ok"])
+                n_ok_held += bool(row["heldout_ok"])
+                n_cov_held += bool(row["heldout_covered"])
+            rows.append(row)
+        if real:
+            ratio = feature_spread(sims) / feature_spread(real).replace(0, np.nan)
+            ratio = ratio.dropna()
+            frac = float(((ratio >= 0.5) & (ratio <= 2.0)).mean())
+            rows.append({"position": pos, "oxford": ox, "statistic": "feature_iqr_ratio", "sim": float(ratio.median()), "heldout_ok": None})
+            rows.append({"position": pos, "oxford": ox, "statistic": "feature_iqr_within_2x", "sim": frac, "heldout_ok": None})
+        n_v = len(VERDICT_STATS)
+        if not real:
+            verdict = "no real data"
+        elif not held:
+            verdict = (
+                "match (tuning users only)"
+                if n_ok_tune == n_v
+                else ("partial (tuning users only)" if n_ok_tune >= 0.75 * n_v else "no match")
+            )
+        else:
+            worst = min(n_ok_tune, max(n_ok_held, n_cov_held))
+            verdict = "match" if worst == n_v else ("partial" if worst >= 0.75 * n_v else "no match")
+        verdicts.append(
+            {
+                "position": pos,
+                "oxford": ox or "-",
+                "real_walks_tune": len(tune),
+                "real_walks_heldout": len(held),
+                "tune_ok": f"{n_ok_tune}/{n_v}" if tune else "-",
+                "heldout_ok": f"{n_ok_held}/{n_v}" if held else "-",
+                "heldout_covered": f"{n_cov_held}/{n_v}" if held else "-",
+                "verdict": verdict,
+            }
+        )
+    return pd.DataFrame(rows), pd.DataFrame(verdicts)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Print the realism table.
 
     Usage: ``python -m experiments.scripts.realism [SHARED_DATA] [--plot PNG]``
-    (SHARED_DATA defaults to ../shared/data beside the repository).
+    (SHARED_DATA defaults to ../shared/data beside the repository);
+    ``python -m experiments.scripts.realism --positions [SHARED_DATA] [--heldout USER] [--markdown]``
+    prints the per-position table against the Oxford walks instead.
     """
     argv = list(sys.argv[1:] if argv is None else argv)
+    if "--positions" in argv:
+        return _main_positions([a for a in argv if a != "--positions"])
     plot = None
     if "--plot" in argv:
         i = argv.index("--plot")
@@ -304,6 +558,66 @@ def main(argv: list[str] | None = None) -> int:
     if plot:
         print(f"figure: {plot_comparison(root, plot)}", file=sys.stderr)
     return 0 if tab["inside"].all() and var["near"].all() else 1
+
+
+def _markdown(df: pd.DataFrame) -> str:
+    """A pipe table (floats with 2 decimals, NaN / None as '-')."""
+
+    def cell(v) -> str:
+        if v is None or (isinstance(v, float) and not np.isfinite(v)):
+            return "-"
+        if isinstance(v, float | np.floating):
+            return f"{v:.2f}"
+        return str(v)
+
+    lines = ["| " + " | ".join(df.columns) + " |", "|" + "---|" * len(df.columns)]
+    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in df.itertuples(index=False)]
+    return "\n".join(lines)
+
+
+def _main_positions(argv: list[str]) -> int:
+    heldout, markdown = "Dario", False
+    if "--heldout" in argv:
+        i = argv.index("--heldout")
+        if i + 1 >= len(argv) or argv[i + 1] not in OXFORD_USERS:
+            print(f"--heldout needs one of {', '.join(OXFORD_USERS)}.", file=sys.stderr)
+            return 2
+        heldout = argv[i + 1]
+        del argv[i : i + 2]
+    if "--markdown" in argv:
+        markdown = True
+        argv.remove("--markdown")
+    root = Path(argv[0]) if argv else Path(__file__).resolve().parents[2].parent / "shared" / "data"
+    if not (root / "oxford-step-counter").is_dir():
+        print(f"the Oxford data are not below {root}; pass the shared data folder as the argument.", file=sys.stderr)
+        return 2
+    tab, verdicts = position_table(root, heldout=heldout)
+    cols = [
+        "position",
+        "oxford",
+        "statistic",
+        "real_tune",
+        "tune_lo",
+        "tune_hi",
+        "real_heldout",
+        "sim",
+        "sim_lo",
+        "sim_hi",
+        "tune_ok",
+        "heldout_ok",
+        "heldout_covered",
+    ]
+    tab = tab.reindex(columns=cols)
+    if markdown:
+        print(_markdown(tab))
+        print()
+        print(_markdown(verdicts))
+    else:
+        with pd.option_context("display.float_format", "{:.2f}".format, "display.width", 200, "display.max_rows", 500):
+            print(tab.to_string(index=False))
+            print()
+            print(verdicts.to_string(index=False))
+    return 0
 
 
 if __name__ == "__main__":

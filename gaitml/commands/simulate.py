@@ -6,7 +6,7 @@ import math
 
 from gaitml.commands._util import log
 from gaitml.errors import InputError
-from gaitml.simulate import ROUTES, check_modes, sample_subjects, simulate_dataset, simulate_route, write_simulation
+from gaitml.simulate import ROUTES, check_modes, check_positions, sample_subjects, simulate_dataset, simulate_route, write_simulation
 from gaitml.simulate.dataset import MAX_DURATION_S, SAMPLING_RATE_RANGE_HZ
 from gaitml.simulate.subject import MAX_SUBJECTS
 
@@ -17,6 +17,8 @@ DEFAULT_DURATION_S = 120.0
 def _validate(args) -> tuple[list[str], float, float | None]:
     """Check every argument before any work; return (modes, sampling rate, duration)."""
     modes = check_modes(args.modes)
+    if getattr(args, "positions", None) is not None:
+        check_positions(args.positions)  # issue 12: one line naming the valid positions
     if not 1 <= args.subjects <= MAX_SUBJECTS:
         raise InputError(f"--subjects must be within 1-{MAX_SUBJECTS}, got {args.subjects}.")
     if args.seed < 0:
@@ -39,17 +41,29 @@ def run(args) -> int:
     ``straight`` and ``random`` routes last ``--duration-s`` each (default 120 s); the
     closed ``rectangle`` (~262 m) and ``arc`` (~400 m) routes are walked once around
     (their duration follows from the route; a given ``--duration-s`` is not used).
+    ``--positions LIST`` simulates every subject once per carrying position
+    (:data:`gaitml.simulate.POSITIONS`; ``manifest.csv`` has the ``position`` column).
     """
     modes, fs, duration = _validate(args)
+    positions = None if getattr(args, "positions", None) is None else check_positions(args.positions)
     notes = []
     if args.route in ("rectangle", "arc"):
         if duration is not None:
             notes.append(f"note: route {args.route}: one loop per subject; --duration-s is not used")
         subjects = sample_subjects(args.subjects, args.seed, pose="flat")
-        recs = [simulate_route(args.route, subject=s, modes=modes, sampling_rate_hz=fs, seed=args.seed + i) for i, s in enumerate(subjects)]
+        if positions is None:
+            recs = [
+                simulate_route(args.route, subject=s, modes=modes, sampling_rate_hz=fs, seed=args.seed + i) for i, s in enumerate(subjects)
+            ]
+        else:  # the same loop walked once per position (the walk depends on the seed only)
+            recs = [
+                simulate_route(args.route, subject=s, modes=modes, sampling_rate_hz=fs, seed=args.seed + i, position=p)
+                for i, s in enumerate(subjects)
+                for p in positions
+            ]
     else:
         duration = DEFAULT_DURATION_S if duration is None else duration
-        recs = simulate_dataset(args.subjects, duration, modes, sampling_rate_hz=fs, seed=args.seed, route=args.route)
+        recs = simulate_dataset(args.subjects, duration, modes, sampling_rate_hz=fs, seed=args.seed, route=args.route, positions=positions)
     paths = write_simulation(recs, args.out_dir)
     for note in notes:
         log(note)

@@ -31,6 +31,8 @@ Keys (defaults in brackets) of ``task = "classification"``::
     pose = "flat"                    # "flat" | "tilted" | "mixed" (drawn per subject)
     duration_s = 120.0
     modes = ["walk", "run", "side_left", "side_right", "backward"]
+    positions = []                   # carrying positions (gaitml.simulate.POSITIONS, e.g. ["hand-flat", "front-pocket"]):
+                                     # one recording per subject and position; [] = hand-held in `pose`
     [windows]
     length_s = 1.5
     overlap = 0.5
@@ -113,6 +115,13 @@ def _sim_pose_names() -> tuple[str, ...]:
     from gaitml.simulate.subject import POSES
 
     return (*POSES, "mixed")
+
+
+def _sim_position_names() -> tuple[str, ...]:
+    """The simulator's carrying positions (issue 12)."""
+    from gaitml.simulate.positions import POSITIONS
+
+    return tuple(POSITIONS)
 
 
 def _step_detector_names() -> tuple[str, ...]:
@@ -201,6 +210,8 @@ SCHEMA: dict[str, Any] = {
             "pose": _Leaf((str,), "flat", allowed=_sim_pose_names),
             "duration_s": _Leaf(_NUM, 120.0, check=_sim_duration),
             "modes": _Leaf((list,), list(MOTION_MODES), item_type=str),
+            # issue 12: carrying positions; [] = the hand-held phone in data.simulated.pose (one recording per subject)
+            "positions": _Leaf((list,), [], item_type=str, item_allowed=_sim_position_names),
         },
     },
     "windows": {

@@ -62,10 +62,13 @@ def _load_recordings(cfg: ExperimentConfig):
             modes=tuple(s["modes"]),
             sampling_rate_hz=fs,
             seed=cfg.seed,
+            positions=tuple(s.get("positions") or ()) or None,
         )
         notes.append(
             f"simulated: {s['subjects']} subjects x {s['sessions']} session(s), phone pose {s['pose']}, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}"
         )
+        if s.get("positions"):
+            notes.append(f"carrying positions: {', '.join(s['positions'])} (one recording per subject and position)")
         return list(recs), notes
     from gaitml.io import read_dataset
     from gaitml.models import resample_recording

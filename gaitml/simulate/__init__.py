@@ -97,6 +97,18 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    1e-4 m/s^2 and 1e-5 rad/s;
    sampling rate 20-500 Hz (phones: 50-200 Hz).
 
+5. *Carrying positions* (:mod:`.positions`, issue 12): besides the hand-held
+   phone (``hand-flat``, ``hand-tilted``: item 4, the default), the phone can
+   ride on the thigh (``front-pocket``, ``back-pocket``: it turns with one leg
+   once per stride, in reverse when walking backwards), the pelvis (``belt``),
+   the swinging arm (``swinging-hand``) or in a ``bag`` (a damped, delayed
+   pendulum of the trunk), with a random placement per subject
+   (:class:`~gaitml.simulate.positions.Placement`). ``simulate_dataset(...,
+   positions=POSITIONS)`` makes one recording per subject and position;
+   ``reference['attitude_wxyz']`` holds the phone's attitude truth. Realism per
+   position against the Oxford walks: ``python -m experiments.scripts.realism
+   --positions`` (``experiments/reports/simulator-positions.md``).
+
 The true step event
 -------------------
 ``reference['steps_t_s']`` (and ``steps['t_s']``) is the time of the
@@ -143,12 +155,17 @@ from gaitml.simulate.dataset import (
 )
 from gaitml.simulate.modes import MODE_OFFSET_RAD, STAND, ModeGait, check_modes, mode_gait
 from gaitml.simulate.plan import StepPlan, mode_schedule, plan_steps
+from gaitml.simulate.positions import CARRIED_POSITIONS, HAND_POSITIONS, POSITIONS, Placement, check_positions
 from gaitml.simulate.route import ROUTES, Path, arc_path, make_path, random_path, rectangle_path, straight_path
 from gaitml.simulate.subject import POSES, Subject, sample_subjects
 
 __all__ = [
+    "CARRIED_POSITIONS",
+    "HAND_POSITIONS",
     "MODE_OFFSET_RAD",
     "POSES",
+    "POSITIONS",
+    "Placement",
     "ROUTES",
     "SAMPLING_RATE_RANGE_HZ",
     "STAND",
@@ -158,6 +175,7 @@ __all__ = [
     "Subject",
     "arc_path",
     "check_modes",
+    "check_positions",
     "make_path",
     "mode_gait",
     "mode_schedule",

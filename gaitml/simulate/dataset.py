@@ -42,6 +42,7 @@ from gaitml.simulate.plan import (
     mode_schedule,
     plan_steps,
 )
+from gaitml.simulate.positions import HAND_POSITIONS, POSITIONS, Placement, carried_signals, check_positions, quaternions, rotation_matrices
 from gaitml.simulate.route import ROUTES, make_path
 from gaitml.simulate.sensor import (
     ACC_RESOLUTION_MS2,
@@ -150,8 +151,15 @@ def synthesize(
     sampling_rate_hz: float = 50.0,
     rng: np.random.Generator,
     meta: dict | None = None,
+    placement: Placement | None = None,
+    carry_rng: np.random.Generator | None = None,
 ) -> Recording:
-    """Turn a step plan into a recording with full ground truth (see the package docstring)."""
+    """Turn a step plan into a recording with full ground truth (see the package docstring).
+
+    ``placement`` carries the phone on a body segment (:mod:`.positions`; None: in the hand,
+    the subject's pose); ``carry_rng`` draws its noise (default:
+    ``rng``); the hand-held path (``placement=None``) keeps its random stream unchanged.
+    """
     fs = _check_rate(sampling_rate_hz)
     n = int(round(plan.duration_s * fs))
     if n < int(2 * fs):
@@ -213,8 +221,20 @@ def synthesize(
     jn = np.clip(np.searchsorted(t_ev, t), 1, len(t_ev) - 1) if len(t_ev) > 1 else np.zeros(n, dtype=int)
     if len(t_ev) > 1:
         jn = np.where(np.abs(t - t_ev[jn - 1]) < np.abs(t - t_ev[jn]), jn - 1, jn)
-    a_up = a_up + b_imp[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
-    a_up = a_up - np.where(is_step, b_imp[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
+    if placement is None:
+        a_up = a_up + b_imp[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
+        a_up = a_up - np.where(is_step, b_imp[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
+    else:  # the trunk bounce and the impact at the carrying segment
+        # a phone on one leg feels that leg's heel strikes and stance far more than the other's
+        crng = carry_rng if carry_rng is not None else rng
+        own = st["foot"].to_numpy() == ("right" if placement.side > 0 else "left")
+        b_leg = b_imp * np.where(own, 1.0, placement.other_leg_impact) * np.exp(placement.impact_cv * crng.standard_normal(len(st)))
+        spike = b_leg[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
+        spike = spike - np.where(is_step, b_leg[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
+        leg0 = 0.0 if placement.side < 0 else 1.0
+        bounce = placement.vertical_gain * (1.0 + placement.leg_asymmetry * np.cos(np.pi * (phi - leg0)))
+        bounce = bounce * np.exp(placement.impact_cv * smooth_noise(crng, n, fs, 0.5)[:, 0])
+        a_up = bounce * a_up + placement.impact_gain * spike
 
     # facing heading and direction of travel: smooth through the step midpoints
     t_mid = 0.5 * (st["t_start_s"].to_numpy(float) + st["t_s"].to_numpy(float))
@@ -229,22 +249,36 @@ def synthesize(
     ct, sn = np.cos(theta), np.sin(theta)
     acc_nav = np.column_stack([a_right * ct + a_fwd * sn, -a_right * sn + a_fwd * ct, a_up])
 
-    # phone attitude: pose + slow wander + gait bobbing; yaw = -theta (see sensor.py)
-    wander = smooth_noise(rng, n, fs, subject.wander_time_s, 3) * subject.wander_rad
-    pitch = subject.pitch_rad + wander[:, 0] + pitch_b
-    roll = subject.roll_rad + wander[:, 1] + roll_b
-    yaw_extra = 0.5 * wander[:, 2] + yaw_b
-    yaw = -theta + yaw_extra
-    dt = 1.0 / fs
-    yaw_rate = -theta_rate + np.gradient(yaw_extra, dt)
-    gyr = body_rates(yaw_rate, pitch, np.gradient(pitch, dt), roll, np.gradient(roll, dt))
-    acc = specific_force(acc_nav, yaw, pitch, roll)
+    if placement is None:
+        # phone attitude: pose + slow wander + gait bobbing; yaw = -theta (see sensor.py)
+        wander = smooth_noise(rng, n, fs, subject.wander_time_s, 3) * subject.wander_rad
+        pitch = subject.pitch_rad + wander[:, 0] + pitch_b
+        roll = subject.roll_rad + wander[:, 1] + roll_b
+        yaw_extra = 0.5 * wander[:, 2] + yaw_b
+        yaw = -theta + yaw_extra
+        dt = 1.0 / fs
+        yaw_rate = -theta_rate + np.gradient(yaw_extra, dt)
+        gyr = body_rates(yaw_rate, pitch, np.gradient(pitch, dt), roll, np.gradient(roll, dt))
+        acc = specific_force(acc_nav, yaw, pitch, roll)
 
-    # hand/arm vibration while moving (3-15 Hz), some tremor while standing
-    shake = (0.15 + 0.85 * env) * np.where(moving, tab["jitter_scale"][mode_cur[k]], 1.0)
-    shake = shake * np.exp(subject.hand_jitter_drift * smooth_noise(rng, n, fs, 2.0)[:, 0])
-    acc = acc + band_noise(rng, n, fs, 3.0, 15.0, 3) * (subject.hand_jitter_ms2 * shake)[:, None]
-    gyr = gyr + band_noise(rng, n, fs, 3.0, 15.0, 3) * (0.1 * subject.hand_jitter_ms2 * shake)[:, None]
+        # hand/arm vibration while moving (3-15 Hz), some tremor while standing
+        shake = (0.15 + 0.85 * env) * np.where(moving, tab["jitter_scale"][mode_cur[k]], 1.0)
+        shake = shake * np.exp(subject.hand_jitter_drift * smooth_noise(rng, n, fs, 2.0)[:, 0])
+        acc = acc + band_noise(rng, n, fs, 3.0, 15.0, 3) * (subject.hand_jitter_ms2 * shake)[:, None]
+        gyr = gyr + band_noise(rng, n, fs, 3.0, 15.0, 3) * (0.1 * subject.hand_jitter_ms2 * shake)[:, None]
+
+        attitude = rotation_matrices(yaw, pitch, roll)
+    else:
+        carried = carried_signals(
+            placement, fs=fs, phi=phi, mode_idx=mode_cur[k], env=env,
+            theta=theta, theta_rate=theta_rate, acc_person=np.column_stack([a_right, a_fwd, a_up]), rng=crng,
+            impact=placement.impact_gain * spike, impact_step=jn,
+        )  # fmt: skip
+        acc, gyr, attitude = carried["acc"], carried["gyr"], carried["attitude"]
+        # soft tissue / fabric vibration while moving (3-15 Hz), slowly modulated
+        shake = (0.1 + 0.9 * env) * np.exp(0.3 * smooth_noise(crng, n, fs, 2.0)[:, 0])
+        acc = acc + band_noise(crng, n, fs, 3.0, 15.0, 3) * (placement.vibration_ms2 * shake)[:, None]
+        gyr = gyr + band_noise(crng, n, fs, 3.0, 15.0, 3) * (0.1 * placement.vibration_ms2 * shake)[:, None]
 
     # sensor errors
     acc_bias = np.array([subject.acc_bias_x_ms2, subject.acc_bias_y_ms2, subject.acc_bias_z_ms2])
@@ -289,9 +323,13 @@ def synthesize(
         "steps_t_s": steps["t_s"].to_numpy(float),
         "n_steps_true": len(steps),
         "trajectory": trajectory,
+        "attitude_wxyz": quaternions(attitude),
     }
-    m = {"source": "gaitml.simulate", "format": "simulated", "device": "simulated phone", "position": f"hand-{subject.pose}"}
+    position = f"hand-{subject.pose}" if placement is None else placement.position
+    m = {"source": "gaitml.simulate", "format": "simulated", "device": "simulated phone", "position": position}
     m.update(subject.to_dict())
+    if placement is not None:
+        m.update(placement.to_dict())
     m.update(meta or {})
     return Recording(acc=acc, gyr=gyr, labels=labels, sampling_rate_hz=fs, meta=m, reference=reference)
 
@@ -307,11 +345,14 @@ def simulate_recording(
     pauses: bool = False,
     segment_s: tuple[float, float] = SEGMENT_S,
     meta: dict | None = None,
+    placement: Placement | None = None,
 ) -> Recording:
     """Simulate one recording of ``subject`` along ``route``.
 
     ``duration_s=None`` walks a closed route (rectangle, arc) to its end.
     ``seed`` may be a sequence (it seeds a ``numpy`` ``SeedSequence``).
+    ``placement`` carries the phone on a body segment (:class:`~gaitml.simulate.positions.Placement`;
+    None: in the hand, in the subject's pose); its noise comes from a fifth child of the seed.
     """
     modes = check_modes(modes)
     fs = _check_rate(sampling_rate_hz)
@@ -332,7 +373,8 @@ def simulate_recording(
     m = {"route": route, "route_length_m": round(path.total_length_m, 3) if path.closed else None, "pauses": bool(pauses)}
     m = {k: v for k, v in m.items() if v is not None}
     m.update(meta or {})
-    return synthesize(subject, plan, sampling_rate_hz=fs, rng=r_sig, meta=m)
+    carry_rng = None if placement is None else np.random.default_rng(ss.spawn(1)[0])
+    return synthesize(subject, plan, sampling_rate_hz=fs, rng=r_sig, meta=m, placement=placement, carry_rng=carry_rng)
 
 
 def simulate_dataset(
@@ -348,6 +390,7 @@ def simulate_dataset(
     pauses: bool = False,
     segment_s: tuple[float, float] = SEGMENT_S,
     subjects: Sequence[Subject] | None = None,
+    positions: Sequence[str] | str | None = None,
 ) -> list[Recording]:
     """Simulate ``n_subjects`` x ``n_sessions`` recordings of mixed motion modes.
 
@@ -365,18 +408,30 @@ def simulate_dataset(
         How every subject holds the phone; 'mixed' draws it per subject.
     subjects : sequence of Subject, optional
         Use these instead of drawing ``n_subjects`` from ``seed``.
+    positions : sequence of str or comma-separated str, optional
+        Carrying positions (:data:`~gaitml.simulate.positions.POSITIONS`): every
+        subject and session is simulated once per position (a separate walk), the
+        phone's placement drawn per subject, session and position
+        (:meth:`Placement.random`). None (default): one hand-held recording per
+        subject and session in ``pose`` (today's behaviour). The recording of the
+        position equal to a subject's hand pose (``hand-flat`` for ``pose='flat'``)
+        is the same as without ``positions``, apart from its id.
 
     Returns
     -------
     list of Recording
-        ``meta``: ``subject`` (S01..), ``session`` and ``id`` (``S01-R1``), the
-        subject parameters, route, seed; ``reference``: ``steps``,
-        ``steps_t_s``, ``n_steps_true``, ``trajectory``.
+        ``meta``: ``subject`` (S01..), ``session`` and ``id`` (``S01-R1``; with
+        ``positions`` ``S01-R1-front-pocket``), ``position``, the subject
+        parameters (``pose``, ``pitch_rad``, ``roll_rad`` describe the hand-held
+        phone only), the placement (``carry_*``) for carried positions, route,
+        seed; ``reference``: ``steps``, ``steps_t_s``, ``n_steps_true``,
+        ``trajectory``, ``attitude_wxyz`` (phone -> navigation quaternion per sample).
     """
     if pose not in (*POSES, "mixed"):
         raise InputError(f"pose must be one of {(*POSES, 'mixed')}, got {pose!r}.")
     if int(n_sessions) != n_sessions or n_sessions < 1:
         raise InputError(f"n_sessions must be a positive integer, got {n_sessions!r}.")
+    pos_list = None if positions is None else check_positions(positions)
     if subjects is None:
         subjects = sample_subjects(n_subjects, seed, pose=None if pose == "mixed" else pose)
     recs = []
@@ -385,6 +440,14 @@ def simulate_dataset(
             rid = f"{subj.subject}-R{j + 1}"
             # session 1 is the subject as drawn; later sessions vary a little (another day)
             s_j = subj if j == 0 else subj.session_variant(np.random.default_rng([int(seed), i, j, 2]))
+            if pos_list is not None:
+                for pos in pos_list:
+                    recs.append(
+                        _positioned(
+                            s_j, pos, int(seed), i, j, f"{rid}-{pos}", route, duration_s, modes, sampling_rate_hz, pauses, segment_s
+                        )
+                    )
+                continue
             recs.append(
                 simulate_recording(
                     s_j,
@@ -401,6 +464,38 @@ def simulate_dataset(
     return recs
 
 
+def _positioned(subject, position, seed, i, j, rid, route, duration_s, modes, fs, pauses, segment_s) -> Recording:
+    """One recording of ``subject`` carrying the phone at ``position`` (see :func:`simulate_dataset`).
+
+    New randomness comes from seeds of its own (``[seed, i, j, 3, position]`` for the
+    placement, ``(seed, i, j, 1, 10 + position)`` for the walk), so the hand-held
+    recordings of the same seed are unchanged.
+    """
+    pi = POSITIONS.index(position)
+    placement = None
+    walk_seed: tuple = (seed, i, j, 1)
+    if position in HAND_POSITIONS:
+        held = subject.with_pose(HAND_POSITIONS[position], np.random.default_rng([seed, i, j, 3, pi]))
+        if held is not subject:
+            walk_seed = (seed, i, j, 1, 10 + pi)
+        subject = held
+    else:
+        placement = Placement.random(position, np.random.default_rng([seed, i, j, 3, pi]))
+        walk_seed = (seed, i, j, 1, 10 + pi)
+    return simulate_recording(
+        subject,
+        route=route,
+        duration_s=duration_s,
+        modes=modes,
+        sampling_rate_hz=fs,
+        seed=walk_seed,
+        pauses=pauses,
+        segment_s=segment_s,
+        meta={"session": rid, "id": rid, "seed": int(seed)},
+        placement=placement,
+    )
+
+
 def simulate_route(
     route: str = "rectangle",
     *,
@@ -411,18 +506,31 @@ def simulate_route(
     pauses: bool = False,
     duration_s: float | None = None,
     segment_s: tuple[float, float] = SEGMENT_S,
+    position: str | None = None,
 ) -> Recording:
     """Simulate one subject along a route with mixed modes (paper 003 sec. 4.3).
 
     ``rectangle`` (about 262 m) and ``arc`` (about 400 m) are walked from the
     start back to the start (``duration_s`` None) or cut at ``duration_s``;
     ``straight`` and ``random`` need ``duration_s`` (default 120 s).
+    ``position`` (one of :data:`~gaitml.simulate.positions.POSITIONS`; None: the
+    subject's hand pose) carries the phone there; the walk is the same for every
+    position of the same seed, the placement is drawn from ``[seed, 977, 3, position]``.
     """
     if subject is None:
         subject = sample_subjects(1, seed)[0]
     if duration_s is None and route in ("straight", "random"):
         duration_s = 120.0
     rid = f"{subject.subject}-{route}"
+    placement = None
+    if position is not None:
+        (position,) = check_positions([position])
+        prng = np.random.default_rng([int(seed), 977, 3, POSITIONS.index(position)])
+        if position in HAND_POSITIONS:
+            subject = subject.with_pose(HAND_POSITIONS[position], prng)
+        else:
+            placement = Placement.random(position, prng)
+        rid = f"{rid}-{position}"
     return simulate_recording(
         subject,
         route=route,
@@ -433,6 +541,7 @@ def simulate_route(
         pauses=pauses,
         segment_s=segment_s,
         meta={"session": rid, "id": rid, "seed": int(seed)},
+        placement=placement,
     )
 
 

@@ -1,0 +1,486 @@
+"""Carrying positions: which body segment moves the phone, and how the phone sits in it.
+
+Today's simulator holds the phone in the hand in front of the body
+(``hand-flat``, ``hand-tilted``: :mod:`.sensor`). This module adds the other
+ways people carry a phone. Each position follows the body segment that
+carries it; the segment's motion is a kinematic model driven by the same gait
+(step phase, mode, heading) as the body acceleration of :mod:`.modes`:
+
+- ``front-pocket`` (trouser front pocket) and ``back-pocket``: the phone
+  rotates with the *thigh* of one leg. The thigh's sagittal angle
+  (flexion +) follows a stride-periodic curve: most flexed at that leg's heel
+  strike, most extended just before toe-off, flexing again in swing (range
+  about 30-45 deg in walking, larger in running; Winter, *Biomechanics and
+  Motor Control of Human Movement*, 4th ed., ch. 4 joint angles). Only one
+  leg carries the phone, so the rotation (and the gravity direction in the
+  phone) repeats once per *stride* (two steps). Walking backwards runs the
+  pattern in reverse: the foot lands behind the body with the thigh extended
+  and the thigh flexes during stance, so the thigh's pitch rate in stance
+  changes sign. Side steps move the thigh sideways (ab-/adduction, one cycle
+  per side step). The back pocket sits on the buttock near the hip joint: a
+  shorter lever and a part (about 60 %) of the thigh rotation, with the phone
+  tilted by the buttock's curvature.
+- ``belt`` (waist clip): the phone follows the *pelvis*: the trunk bounce
+  and sway of :mod:`.modes` plus the pelvic rotations of gait: transverse
+  rotation (yaw) and obliquity (roll) of a few degrees at the stride
+  frequency and anterior tilt (pitch) at the step frequency, on a lever of
+  the waist radius at a random azimuth around the waist.
+- ``swinging-hand``: the hand hangs and the arm swings as a pendulum about the
+  shoulder at the stride frequency, in counter-phase with the leg on the same
+  side (the arm is forward when the other leg's heel strikes), with a large
+  pitch rotation (15-35 deg amplitude) and the centripetal and tangential
+  acceleration of a 0.5-0.7 m lever; the grip (the phone's angle in the hand)
+  is random.
+- ``bag`` (shoulder bag / backpack): the bag is a damped, delayed
+  spring-pendulum driven by the trunk: its acceleration is the trunk's passed
+  through a second-order system (vertical natural frequency 2.5-4.5 Hz, which
+  amplifies the step bounce, horizontal 1-2 Hz), and it tilts like a
+  pendulum by the filtered horizontal acceleration over g; the phone lies in
+  the bag at a uniformly random orientation.
+
+Per subject and position a :class:`Placement` is drawn (side of the body,
+the phone's orientation in the segment: upright or upside down, screen
+towards or away from the body, small random tilts; the segment's motion
+amplitudes and lever). The phone's attitude is
+``R(t) = Rz(-theta + yaw_s) Rx(pitch_s) Ry(roll_s) M`` (person heading, the
+segment's own rotation, the constant mount ``M`` whose columns are the phone
+axes in segment coordinates). As in :mod:`.sensor` the accelerometer reads
+``R^T (a + g z_up)`` with ``a`` the body acceleration plus the lever arm's
+``d^2/dt^2 (R_seg r)``, and the gyroscope the body rate of the same ``R``
+(:func:`~gaitml.simulate.sensor.body_rates` of the segment chain, rotated by
+``M^T``), so gravity and the gyroscope agree (integrating the noise-free
+gyroscope reproduces the attitude; tested).
+
+Randomness: the placement and the carried-phone noise come from their own
+generators (spawned children of the recording's seed), so the hand-held
+path keeps its random stream and its outputs byte for byte.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+import scipy.signal
+
+from gaitml.consts import GRAVITY_MS2, MOTION_MODES
+from gaitml.errors import InputError
+from gaitml.simulate.sensor import body_rates, nav_to_phone, smooth_noise
+
+__all__ = [
+    "POSITIONS",
+    "HAND_POSITIONS",
+    "CARRIED_POSITIONS",
+    "Placement",
+    "check_positions",
+    "carried_signals",
+    "rotation_matrices",
+    "quaternions",
+]
+
+#: Carrying positions the simulator knows (``gaitml simulate --positions``,
+#: ``data.simulated.positions``). ``hand-flat`` / ``hand-tilted`` are the
+#: hand-held phone of :mod:`.sensor` (unchanged); the others are this module's.
+POSITIONS = ("hand-flat", "hand-tilted", "front-pocket", "back-pocket", "belt", "swinging-hand", "bag")
+#: Hand-held positions -> the subject's phone pose.
+HAND_POSITIONS = {"hand-flat": "flat", "hand-tilted": "tilted"}
+#: Positions carried by a body segment (this module).
+CARRIED_POSITIONS = tuple(p for p in POSITIONS if p not in HAND_POSITIONS)
+
+_MODE_INDEX = {m: i for i, m in enumerate(MOTION_MODES)}
+_DEG = np.pi / 180.0
+#: Soft-tissue wobble of a carried phone after a heel strike (thigh and buttock tissue,
+#: a loose pocket): natural frequency (Hz) and damping ratio.
+WOBBLE_HZ = 9.0
+WOBBLE_DAMPING = 0.2
+#: Stride-to-stride variation of the segment's rotation amplitude (log-normal sd, correlation 1.5 s).
+SEGMENT_AMP_CV = 0.15
+#: The bag's horizontal acceleration saturates at about this (m/s^2): the strap and the body stop it.
+BAG_SWING_LIMIT_MS2 = 4.0
+#: Running: the elbow is bent (about 90 deg), so the hand is this fraction of the arm's length from the shoulder.
+RUN_ARM_LEVER = 0.55
+
+
+def check_positions(positions) -> tuple[str, ...]:
+    """Validate carrying positions (a sequence or a comma-separated string).
+
+    Underscores are accepted for hyphens (``front_pocket`` = ``front-pocket``).
+    Returns the names without duplicates, in the given order.
+    """
+    if isinstance(positions, str):
+        positions = [p for p in positions.split(",")]
+    names = tuple(str(p).strip().lower().replace("_", "-") for p in positions)
+    names = tuple(p for p in names if p)
+    if not names:
+        raise InputError(f"no carrying position given; choose from {', '.join(POSITIONS)}.")
+    bad = [p for p in names if p not in POSITIONS]
+    if bad:
+        raise InputError(f"unknown carrying position {bad[0]!r}; choose from {', '.join(POSITIONS)}.")
+    return tuple(dict.fromkeys(names))
+
+
+# ---------------------------------------------------------------------- rotations
+def _rx(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def _ry(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def _rz(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+def rotation_matrices(yaw, pitch, roll, mount: np.ndarray | None = None) -> np.ndarray:
+    """Attitudes ``Rz(yaw) Rx(pitch) Ry(roll) M`` (n, 3, 3), phone -> navigation frame."""
+    yaw, pitch, roll = (np.asarray(v, dtype=float) for v in (yaw, pitch, roll))
+    n = len(yaw)
+    cz, sz, cx, sx, cy, sy = np.cos(yaw), np.sin(yaw), np.cos(pitch), np.sin(pitch), np.cos(roll), np.sin(roll)
+    z, o = np.zeros(n), np.ones(n)
+    rz = np.stack([np.stack([cz, -sz, z], -1), np.stack([sz, cz, z], -1), np.stack([z, z, o], -1)], 1)
+    rx = np.stack([np.stack([o, z, z], -1), np.stack([z, cx, -sx], -1), np.stack([z, sx, cx], -1)], 1)
+    ry = np.stack([np.stack([cy, z, sy], -1), np.stack([z, o, z], -1), np.stack([-sy, z, cy], -1)], 1)
+    r = rz @ rx @ ry
+    return r if mount is None else r @ mount
+
+
+def quaternions(r: np.ndarray) -> np.ndarray:
+    """Unit quaternions ``(w, x, y, z)`` (n, 4) of rotation matrices (n, 3, 3), ``w >= 0``."""
+    from scipy.spatial.transform import Rotation
+
+    q = Rotation.from_matrix(r).as_quat()  # x, y, z, w
+    q = np.column_stack([q[:, 3], q[:, :3]])
+    return q * np.where(q[:, :1] < 0, -1.0, 1.0)
+
+
+def _mount(y_axis, z_axis, tilt_deg) -> np.ndarray:
+    """Mount matrix: columns are the phone's x, y, z axes in segment coordinates, then tilted in the phone frame."""
+    y = np.asarray(y_axis, dtype=float)
+    z = np.asarray(z_axis, dtype=float)
+    y = y / np.linalg.norm(y)
+    z = z - y * (z @ y)
+    z = z / np.linalg.norm(z)
+    m = np.column_stack([np.cross(y, z), y, z])
+    tx, ty, tz = (v * _DEG for v in tilt_deg)
+    return m @ _rx(tx) @ _ry(ty) @ _rz(tz)
+
+
+# ---------------------------------------------------------------------- placements
+@dataclasses.dataclass(frozen=True)
+class Placement:
+    """Where and how one subject carries the phone (one carried position).
+
+    Angles in degrees, lengths in m, frequencies in Hz. ``side`` is +1 for the
+    right leg / hip / hand, -1 for the left. Fields that do not apply to the
+    position are 0. See the module docstring for the models.
+    """
+
+    position: str
+    side: float = 1.0
+    upright: bool = True  # phone top towards the segment's proximal end (the hip / shoulder)
+    screen_out: bool = True  # screen away from the body
+    tilt_x_deg: float = 0.0  # small tilts of the phone in the segment (phone axes)
+    tilt_y_deg: float = 0.0
+    tilt_z_deg: float = 0.0
+    azimuth_deg: float = 0.0  # belt: where around the waist (0 front, 90 right side)
+    grip_deg: float = 0.0  # swinging hand: angle of the phone's long axis in the hand (0 = pointing down)
+    mount_quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)  # bag: the phone's orientation in the bag
+    thigh_flex_mean_deg: float = 0.0  # pockets: mean thigh flexion while walking
+    thigh_flex_amp_deg: float = 0.0  # pockets: amplitude of the stride-frequency thigh rotation
+    thigh_h2: float = 0.0  # pockets: 2nd harmonic / fundamental of the thigh rotation
+    thigh_abduction_deg: float = 0.0  # pockets: side-step ab-/adduction amplitude
+    thigh_rotation_deg: float = 0.0  # pockets: internal/external rotation and ab-/adduction in walking
+    pelvis_yaw_deg: float = 0.0  # belt
+    pelvis_roll_deg: float = 0.0
+    pelvis_pitch_deg: float = 0.0
+    arm_swing_deg: float = 0.0  # swinging hand: amplitude in walking
+    lever_m: float = 0.0  # distance of the phone from the joint (hip, pelvis centre, shoulder)
+    bag_vertical_hz: float = 0.0  # bag: natural frequencies and damping ratio
+    bag_horizontal_hz: float = 0.0
+    bag_damping: float = 0.0
+    bag_tilt_gain: float = 0.0
+    bag_horizontal_gain: float = 0.0  # bag: the hip and thigh knock the bag: horizontal driving gain
+    vertical_gain: float = 1.0  # the trunk's step bounce at this segment, relative to the hand-held model
+    impact_gain: float = 1.0  # heel-strike impact at this segment, relative to the hand-held model
+    other_leg_impact: float = 1.0  # impact of the other leg's heel strikes, relative to this side's
+    impact_cv: float = 0.0  # extra step-to-step variation of the impact at this segment (log-normal sd)
+    leg_asymmetry: float = 0.0  # step bounce larger on this side's steps: (1 + a cos(pi phi'))
+    wobble_gain: float = 0.0  # soft-tissue wobble: the impact along a random direction per step, relative
+    vibration_ms2: float = 0.3  # 3-15 Hz soft-tissue / fabric vibration per axis while moving
+    wander_deg: float = 1.5  # slow orientation wander of the phone in the segment
+
+    def __post_init__(self) -> None:
+        if self.position not in CARRIED_POSITIONS:
+            raise InputError(f"Placement.position must be one of {', '.join(CARRIED_POSITIONS)}, got {self.position!r}.")
+
+    @classmethod
+    def random(cls, position: str, rng: np.random.Generator) -> Placement:
+        """Draw a placement of ``position`` (a carried position) for one subject.
+
+        Ranges: thigh flexion amplitude 14-22 deg around a mean of 4-12 deg
+        (sagittal thigh range 30-45 deg in walking), pelvic rotations 2-6 deg,
+        arm swing 15-35 deg, waist radius 0.12-0.18 m, arm lever 0.55-0.72 m;
+        the segment gains and the vibration are sized against the Oxford
+        walks (``experiments/reports/simulator-positions.md``).
+        """
+        u = rng.uniform
+        side = 1.0 if u() < 0.5 else -1.0
+        if position == "front-pocket":
+            return cls(
+                position, side, upright=bool(u() < 0.75), screen_out=bool(u() < 0.5),
+                tilt_x_deg=u(-8, 8), tilt_y_deg=u(-8, 8), tilt_z_deg=u(-12, 12),
+                thigh_flex_mean_deg=u(4, 12), thigh_flex_amp_deg=u(14, 22), thigh_h2=u(0.1, 0.25),
+                thigh_abduction_deg=u(6, 12), lever_m=u(0.10, 0.18),
+                vertical_gain=u(0.75, 1.0), impact_gain=u(0.9, 1.9), other_leg_impact=u(0.05, 0.25), leg_asymmetry=u(0.75, 1.0), impact_cv=u(0.2, 0.4), wobble_gain=u(0.5, 1.0), thigh_rotation_deg=u(4, 10),
+                vibration_ms2=u(0.3, 0.8), wander_deg=u(1.0, 3.0),
+            )  # fmt: skip
+        if position == "back-pocket":
+            return cls(
+                position, side, upright=bool(u() < 0.6), screen_out=bool(u() < 0.5),
+                tilt_x_deg=u(15, 30), tilt_y_deg=u(-12, 12), tilt_z_deg=u(-15, 15),
+                thigh_flex_mean_deg=u(4, 12), thigh_flex_amp_deg=0.6 * u(14, 22), thigh_h2=u(0.1, 0.25),
+                thigh_abduction_deg=u(4, 8), lever_m=u(0.08, 0.14),
+                vertical_gain=u(0.7, 1.0), impact_gain=u(2.0, 3.5), other_leg_impact=u(0.1, 0.3), leg_asymmetry=u(0.5, 0.8), impact_cv=u(0.2, 0.4), wobble_gain=u(0.5, 1.0), thigh_rotation_deg=u(4, 10),
+                vibration_ms2=u(0.4, 1.0), wander_deg=u(1.0, 3.0),
+            )  # fmt: skip
+        if position == "belt":
+            return cls(
+                position, side, upright=bool(u() < 0.8), screen_out=bool(u() < 0.7),
+                tilt_x_deg=u(-10, 10), tilt_y_deg=u(-10, 10), tilt_z_deg=u(-10, 10), azimuth_deg=side * u(10, 110),
+                pelvis_yaw_deg=u(3, 6), pelvis_roll_deg=u(3, 6), pelvis_pitch_deg=u(1, 3), lever_m=u(0.12, 0.18),
+                vertical_gain=u(0.9, 1.2), impact_gain=u(1.0, 2.0), vibration_ms2=u(0.2, 0.5), wander_deg=u(0.5, 1.5),
+            )  # fmt: skip
+        if position == "swinging-hand":
+            return cls(
+                position, side, screen_out=bool(u() < 0.5),
+                tilt_x_deg=u(-10, 10), tilt_y_deg=u(-10, 10), grip_deg=u(0, 360),
+                arm_swing_deg=u(10, 25), lever_m=u(0.4, 0.55),
+                vertical_gain=u(0.5, 0.8), impact_gain=u(0.2, 0.6), leg_asymmetry=u(0.3, 0.5), impact_cv=u(0.3, 0.5), vibration_ms2=u(0.2, 0.5), wander_deg=u(2.0, 5.0),
+            )  # fmt: skip
+        if position == "bag":
+            q = rng.standard_normal(4)
+            q = q / np.linalg.norm(q)
+            q = q * (1.0 if q[0] >= 0 else -1.0)
+            return cls(
+                position, side, mount_quat=tuple(float(v) for v in q),
+                bag_vertical_hz=u(3.0, 5.0), bag_horizontal_hz=u(1.5, 2.5), bag_damping=u(0.15, 0.3), bag_tilt_gain=u(0.5, 1.0),
+                bag_horizontal_gain=u(1.0, 2.0), impact_cv=u(0.15, 0.3), leg_asymmetry=u(0.1, 0.3),
+                vertical_gain=u(0.7, 0.9), impact_gain=u(0.4, 1.0), vibration_ms2=u(0.1, 0.3), wander_deg=u(1.0, 4.0),
+            )  # fmt: skip
+        raise InputError(f"unknown carried position {position!r}; choose from {', '.join(CARRIED_POSITIONS)}.")
+
+    def mount(self) -> np.ndarray:
+        """The mount matrix ``M`` (3, 3): columns are the phone's x, y, z axes in segment coordinates.
+
+        Segment frame at rest: x right, y forward, z up (the person frame).
+        """
+        tilt = (self.tilt_x_deg, self.tilt_y_deg, self.tilt_z_deg)
+        up = 1.0 if self.upright else -1.0
+        if self.position == "front-pocket":  # on the front of the thigh, screen forward (out) or towards the leg
+            return _mount([0, 0, up], [0, 1.0 if self.screen_out else -1.0, 0], tilt)
+        if self.position == "back-pocket":  # on the buttock, screen backward (out) or towards the body
+            return _mount([0, 0, up], [0, -1.0 if self.screen_out else 1.0, 0], tilt)
+        if self.position == "belt":  # on the waist at an azimuth, screen radially out or in
+            b = self.azimuth_deg * _DEG
+            radial = np.array([np.sin(b), np.cos(b), 0.0])
+            return _mount([0, 0, up], radial if self.screen_out else -radial, tilt)
+        if self.position == "swinging-hand":  # in the hanging hand: long axis in the sagittal plane, screen sideways
+            gr = self.grip_deg * _DEG
+            y = [0.0, np.sin(gr), -np.cos(gr)]
+            return _mount(y, [self.side if self.screen_out else -self.side, 0, 0], tilt)
+        from scipy.spatial.transform import Rotation
+
+        w, x, y, z = self.mount_quat
+        return Rotation.from_quat([x, y, z, w]).as_matrix()
+
+    def lever(self) -> np.ndarray:
+        """The phone's position relative to the segment's joint (m, segment frame at rest)."""
+        s, r = self.side, self.lever_m
+        if self.position == "front-pocket":
+            return np.array([0.09 * s, 0.07, -r])
+        if self.position == "back-pocket":
+            return np.array([0.08 * s, -0.10, -r])
+        if self.position == "belt":
+            b = self.azimuth_deg * _DEG
+            return r * np.array([np.sin(b), np.cos(b), 0.0])
+        if self.position == "swinging-hand":
+            return np.array([0.0, 0.0, -r])
+        return np.zeros(3)
+
+    def to_dict(self, *, digits: int = 6) -> dict[str, Any]:
+        """Flat ``carry_*`` dict for the manifest (the fields that apply, floats rounded)."""
+        out: dict[str, Any] = {}
+        for f in dataclasses.fields(self):
+            if f.name == "position":
+                continue
+            v = getattr(self, f.name)
+            if f.name == "mount_quat":
+                if self.position == "bag":
+                    for c, q in zip("wxyz", v, strict=True):
+                        out[f"carry_mount_q{c}"] = round(float(q), digits)
+                continue
+            out[f"carry_{f.name}"] = round(float(v), digits) if isinstance(v, float) else v
+        return out
+
+
+# ---------------------------------------------------------------------- segment motion
+def _smooth_weights(mode_idx: np.ndarray, env: np.ndarray, fs: float) -> np.ndarray:
+    """Per-mode weights (n, 5): one-hot mode times the motion envelope, smoothed over 0.3 s (Hann)."""
+    w = np.zeros((len(mode_idx), len(MOTION_MODES)))
+    w[np.arange(len(mode_idx)), mode_idx] = 1.0
+    w *= env[:, None]
+    m = max(3, int(round(0.3 * fs)) | 1)
+    ker = np.hanning(m + 2)[1:-1]
+    ker /= ker.sum()
+    pad = m // 2
+    wp = np.pad(w, ((pad, pad), (0, 0)), mode="edge")
+    return np.stack([np.convolve(wp[:, c], ker, mode="valid") for c in range(w.shape[1])], axis=1)
+
+
+def _thigh_curve(psi, mean, amp, h2):
+    """Sagittal thigh angle (rad) over the stride phase ``psi`` (0 at the heel strike of that leg)."""
+    return mean + amp * (np.cos(2 * np.pi * psi) + h2 * np.cos(4 * np.pi * psi - 0.6 * np.pi))
+
+
+def _segment_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The segment's own rotation (yaw, pitch, roll in rad, person frame) per sample."""
+    iw, ir, isl, isr, ib = (_MODE_INDEX[m] for m in ("walk", "run", "side_left", "side_right", "backward"))
+    n = len(phi)
+    yaw, pitch, roll = np.zeros(n), np.zeros(n), np.zeros(n)
+    # stride phase of the carrying leg (left heel strikes at even phi) and of the other leg
+    leg0 = 0.0 if p.side < 0 else 1.0
+    psi = (phi - leg0) / 2.0
+    psi_other = psi - 0.5
+    side_dir = w[:, isl] - w[:, isr]  # +1 moving left, -1 moving right
+    w_side = w[:, isl] + w[:, isr]
+    if p.position in ("front-pocket", "back-pocket"):
+        mean, amp, h2 = p.thigh_flex_mean_deg * _DEG, p.thigh_flex_amp_deg * _DEG, p.thigh_h2
+        fwd = _thigh_curve(psi, mean, amp, h2)
+        back = _thigh_curve(0.5 - psi, mean, 0.8 * amp, h2)  # reversed: lands extended, flexes in stance
+        run = _thigh_curve(psi, 2.0 * mean, 1.5 * amp, 0.6 * h2)
+        pitch = w[:, iw] * fwd + w[:, ir] * run + w[:, ib] * back + w_side * mean * 0.5
+        # side steps: one ab-/adduction cycle per side step, both legs towards the direction of motion
+        lead = (p.side < 0) == (side_dir > 0)
+        cyc = phi + np.where(lead, 0.0, 0.3)
+        roll = -side_dir * p.thigh_abduction_deg * _DEG * 0.5 * (1 - np.cos(2 * np.pi * cyc))
+        pitch = pitch + w_side * 0.25 * amp * np.cos(2 * np.pi * cyc)
+        # in walking the thigh also rotates about its long axis and ab-/adducts a little, once per stride
+        gait = w[:, iw] + w[:, ir] + w[:, ib]
+        rot = p.thigh_rotation_deg * _DEG * gait
+        yaw = p.side * rot * np.sin(2 * np.pi * psi)
+        roll = roll + p.side * 0.6 * rot * np.cos(2 * np.pi * psi + 0.3 * np.pi)
+    elif p.position == "belt":
+        a_y, a_r, a_p = p.pelvis_yaw_deg * _DEG, p.pelvis_roll_deg * _DEG, p.pelvis_pitch_deg * _DEG
+        walkish = w[:, iw] + 1.3 * w[:, ir] + 0.8 * w[:, ib]
+        # the pelvis turns forward on the side of the swinging leg; it drops on the swing side
+        right = (phi - 1.0) / 2.0
+        direction = w[:, iw] + w[:, ir] - w[:, ib]
+        yaw = -a_y * np.cos(2 * np.pi * right) * direction + w_side * 0.5 * a_y * np.cos(2 * np.pi * phi)
+        roll = a_r * np.sin(2 * np.pi * right) * walkish + w_side * side_dir * a_r * np.sin(2 * np.pi * phi)
+        pitch = a_p * np.cos(2 * np.pi * phi) * (walkish + 0.5 * w_side)
+    elif p.position == "swinging-hand":
+        a = p.arm_swing_deg * _DEG
+        # the arm is forward (flexed) when the other leg lands; backward walking runs it in reverse
+        fwd = a * np.cos(2 * np.pi * psi_other)
+        back = 0.8 * a * np.cos(2 * np.pi * (0.5 - psi_other))
+        pitch = w[:, iw] * fwd + w[:, ir] * (fwd + 0.3) + w[:, ib] * back + w_side * 0.25 * a * np.cos(2 * np.pi * phi)
+        roll = p.side * 0.5 * a * np.sin(2 * np.pi * psi_other) * (w[:, iw] + w[:, ir] + w[:, ib])
+        roll = roll + w_side * side_dir * 0.3 * a * np.sin(2 * np.pi * phi)
+    return yaw, pitch, roll
+
+
+def _second_order(x: np.ndarray, fs: float, f_hz: float, zeta: float) -> np.ndarray:
+    """A base-excited damped oscillator's acceleration: ``(2 zeta w s + w^2) / (s^2 + 2 zeta w s + w^2)``
+    applied to the driving acceleration ``x`` (n, c); bilinear transform, causal (so delayed)."""
+    w0 = 2 * np.pi * f_hz
+    b, a = scipy.signal.bilinear([2 * zeta * w0, w0**2], [1.0, 2 * zeta * w0, w0**2], fs=fs)
+    return scipy.signal.lfilter(b, a, x, axis=0)
+
+
+def carried_signals(
+    p: Placement,
+    *,
+    fs: float,
+    phi: np.ndarray,
+    mode_idx: np.ndarray,
+    env: np.ndarray,
+    theta: np.ndarray,
+    theta_rate: np.ndarray,
+    acc_person: np.ndarray,
+    rng: np.random.Generator,
+    impact: np.ndarray | None = None,
+    impact_step: np.ndarray | None = None,
+) -> dict[str, np.ndarray]:
+    """Accelerometer, gyroscope and attitude of a phone carried at ``p`` (noise-free, no sensor errors).
+
+    Parameters
+    ----------
+    phi : (n,) continuous step count (``phi = k`` at the event of global step ``k``; left foot on even ``k``)
+    mode_idx : (n,) index into :data:`gaitml.consts.MOTION_MODES` of each sample's step
+    env : (n,) motion envelope (0 standing, 1 walking; ramps at the ends of a bout)
+    theta, theta_rate : (n,) facing heading (rad, clockwise from north) and its rate (rad/s)
+    acc_person : (n, 3) body acceleration (right, forward, up; m/s^2, gravity excluded), the
+        segment gains already applied
+    rng : the placement's generator (orientation wander, vibration)
+    impact, impact_step : (n,) the heel-strike impact (m/s^2) and the index of the step it
+        belongs to; with ``p.wobble_gain`` > 0 the soft tissue carrying the phone wobbles: the
+        impact repeated along a random direction (person frame) per step
+
+    Returns
+    -------
+    dict
+        ``acc`` (n, 3) specific force in the phone frame (m/s^2), ``gyr`` (n, 3) body rate
+        (rad/s), ``attitude`` (n, 3, 3) phone -> navigation rotation, ``segment_rate`` (n, 3)
+        the segment's rate in its own frame (before the mount).
+    """
+    n = len(phi)
+    dt = 1.0 / fs
+    w = _smooth_weights(mode_idx, env, fs)
+    yaw_s, pitch_s, roll_s = _segment_angles(p, phi, w)
+    acc_p = np.array(acc_person, dtype=float)
+    if p.wobble_gain > 0 and impact is not None:
+        # the impact rings the soft tissue (a 9 Hz, lightly damped resonance) along a new direction each step
+        d = rng.standard_normal((int(np.max(impact_step)) + 1, 3))
+        d /= np.linalg.norm(d, axis=1, keepdims=True)
+        w0 = 2 * np.pi * WOBBLE_HZ
+        b, a = scipy.signal.bilinear([w0**2], [1.0, 2 * WOBBLE_DAMPING * w0, w0**2], fs=fs)
+        acc_p += p.wobble_gain * scipy.signal.lfilter(b, a, impact[:, None] * d[impact_step], axis=0)
+    if p.position == "bag":
+        acc_p[:, 2] = _second_order(acc_p[:, 2], fs, p.bag_vertical_hz, p.bag_damping)
+        acc_p[:, :2] = _second_order(p.bag_horizontal_gain * acc_p[:, :2], fs, p.bag_horizontal_hz, p.bag_damping)
+        # the strap and the body stop the bag: its horizontal swing saturates
+        acc_p[:, :2] = BAG_SWING_LIMIT_MS2 * np.tanh(acc_p[:, :2] / BAG_SWING_LIMIT_MS2)
+        pitch_s = pitch_s - p.bag_tilt_gain * np.arctan2(acc_p[:, 1], GRAVITY_MS2)
+        roll_s = roll_s + p.bag_tilt_gain * np.arctan2(acc_p[:, 0], GRAVITY_MS2)
+    wander = smooth_noise(rng, n, fs, 3.0, 3) * (p.wander_deg * _DEG)
+    amp = np.exp(SEGMENT_AMP_CV * smooth_noise(rng, n, fs, 1.5)[:, 0])
+    yaw_s, pitch_s, roll_s = amp * yaw_s, amp * pitch_s, amp * roll_s
+    yaw_s, pitch_s, roll_s = yaw_s + 0.5 * wander[:, 0], pitch_s + wander[:, 1], roll_s + wander[:, 2]
+    yaw = -theta + yaw_s
+    yaw_rate = -theta_rate + np.gradient(yaw_s, dt)
+    seg_rate = body_rates(yaw_rate, pitch_s, np.gradient(pitch_s, dt), roll_s, np.gradient(roll_s, dt))
+    mount = p.mount()
+    att = rotation_matrices(yaw, pitch_s, roll_s, mount)
+    # body acceleration in the navigation frame, plus the lever arm's acceleration
+    ct, sn = np.cos(theta), np.sin(theta)
+    acc_nav = np.column_stack([acc_p[:, 0] * ct + acc_p[:, 1] * sn, -acc_p[:, 0] * sn + acc_p[:, 1] * ct, acc_p[:, 2]])
+    lever = p.lever()
+    if np.any(lever):
+        seg = rotation_matrices(yaw, pitch_s, roll_s)
+        pos = seg @ lever
+        if p.position == "swinging-hand":  # the elbow bends when running: a shorter lever
+            pos = pos * (1.0 - (1.0 - RUN_ARM_LEVER) * w[:, _MODE_INDEX["run"]])[:, None]
+        acc_lever = np.zeros_like(pos)
+        acc_lever[1:-1] = (pos[2:] - 2 * pos[1:-1] + pos[:-2]) / dt**2
+        acc_lever[0], acc_lever[-1] = acc_lever[1], acc_lever[-2]
+        acc_nav = acc_nav + acc_lever
+    f = acc_nav.copy()
+    f[:, 2] += GRAVITY_MS2
+    acc = nav_to_phone(f, yaw, pitch_s, roll_s) @ mount
+    gyr = seg_rate @ mount
+    return {"acc": acc, "gyr": gyr, "attitude": att, "segment_rate": seg_rate}

@@ -166,23 +166,37 @@ def local_cadence(
     # period correlate about as well as the period itself once each lag is normalised by its own energies)
     near = peaks >= OCTAVE_TOLERANCE * periodicity[:, None]
     j = np.where(near.any(axis=1) & ~none, np.argmax(near, axis=1), j)
-    j_first = j.copy()
-    # half-period structure: a local maximum near half the lag with a positive correlation -> the half is the period
+
+    def refined(jj):
+        # sub-sample lag: parabola through the peak and its neighbours
+        r0, rm, rp = r[rows, jj], r[rows, jj - 1], r[rows, jj + 1]
+        den = rm - 2 * r0 + rp
+        delta = np.divide(0.5 * (rm - rp), den, out=np.zeros_like(den), where=den < 0)
+        return lags[jj] + np.clip(delta, -0.5, 0.5)
+
+    def r_at(lag_f):
+        # the autocorrelation at a fractional lag (linear interpolation between lags)
+        x = np.clip(lag_f - lags[0], 0, len(lags) - 1.000001)
+        i0 = np.floor(x).astype(int)
+        f = x - i0
+        return r[rows, i0] * (1 - f) + r[rows, i0 + 1] * f
+
+    lag = refined(j)
+    stride = np.zeros(len(r), dtype=bool)
+    # half-period structure: the signal shifted by half the period still resembles itself (correlation above
+    # half_lag_min_correlation) -> two similar events per period, the period is a stride; the step period is the
+    # local maximum near the half lag, or the half lag itself when the autocorrelation has a plateau there
     for _ in range(3):
-        half = lags[j] / 2.0
+        half = lag / 2.0
+        take = (half >= lo) & (r_at(half) > half_lag_min_correlation)
+        if not take.any():
+            break
         ok_lag = (lags[None, :] >= np.maximum(lo, 0.85 * half)[:, None]) & (lags[None, :] <= 1.15 * half[:, None])
         cand = np.where(ok_lag & is_max, r, -np.inf)
         jh = np.argmax(cand, axis=1)
-        take = np.isfinite(cand[rows, jh]) & (cand[rows, jh] > half_lag_min_correlation)
-        if not take.any():
-            break
-        j = np.where(take, jh, j)
-    # sub-sample lag: parabola through the peak and its neighbours
-    r0, rm, rp = r[rows, j], r[rows, j - 1], r[rows, j + 1]
-    den = rm - 2 * r0 + rp
-    delta = np.divide(0.5 * (rm - rp), den, out=np.zeros_like(den), where=den < 0)
-    lag = lags[j] + np.clip(delta, -0.5, 0.5)
-    stride = j != j_first
+        near_max = np.isfinite(cand[rows, jh]) & (cand[rows, jh] > half_lag_min_correlation)
+        lag = np.where(take, np.where(near_max, refined(jh), half), lag)
+        stride |= take
     # still longer than any human step: a stride whose other step is not visible
     inferred = lag > fs / min_step_hz
     lag = np.where(inferred, lag / 2.0, lag)
@@ -190,7 +204,7 @@ def local_cadence(
         "centre": centres,
         "period_s": lag / fs,
         "periodicity": periodicity,
-        "step_correlation": r[rows, j],
+        "step_correlation": r_at(lag),
         "stride": stride | inferred,
         "inferred": inferred,
     }
@@ -228,6 +242,7 @@ def adaptive_steps(
     min_rms_ms2: float = MIN_RMS_MS2,
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
     fold: bool = True,
+    min_confidence: float = 0.0,
 ) -> dict[str, np.ndarray]:
     """Detect steps in |acc| (m/s^2) with the four stages of the module docstring.
 
@@ -283,6 +298,9 @@ def adaptive_steps(
         interval = (prev + nxt) / 2.0
         conf = conf * np.clip(1.0 - np.abs(interval - T) / T, 0.0, 1.0)
     conf = np.where(inferred, INFERRED_STRIDE_FACTOR * conf, conf)
+    if min_confidence > 0:
+        ok = conf >= min_confidence
+        pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
     return {"peak": pk.astype(np.int64), "y": y, "s": s, "period_s": T / fs, "correlation": R, "confidence": conf, "cadence": cad}
 
 
@@ -325,6 +343,9 @@ class AdaptiveStepDetector(BaseStepDetector):
     fold : bool, default True
         Apply the left/right fold (stage 3); ``False`` picks peaks of the
         band-passed signal itself.
+    min_confidence : float, default 0.0
+        Drop steps whose confidence is below this (0: keep every step and let
+        the caller filter on the ``confidence`` column).
 
     Attributes
     ----------
@@ -349,9 +370,9 @@ class AdaptiveStepDetector(BaseStepDetector):
 
     name = "adaptive"
     _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio")
-    _non_negative = ("min_rms_ms2",)
+    _non_negative = ("min_rms_ms2", "min_confidence")
     #: settings the evaluation may choose on training users (``gaitml.experiments.steps_real``); the defaults are not fitted
-    param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_distance_ratio": (0.5, 0.6, 0.7)}
+    param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
 
     def __init__(
         self,
@@ -366,6 +387,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         min_rms_ms2: float = MIN_RMS_MS2,
         min_distance_ratio: float = MIN_DISTANCE_RATIO,
         fold: bool = True,
+        min_confidence: float = 0.0,
     ):
         self.band_hz = band_hz
         self.window_s = window_s
@@ -377,6 +399,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.min_rms_ms2 = min_rms_ms2
         self.min_distance_ratio = min_distance_ratio
         self.fold = fold
+        self.min_confidence = min_confidence
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
         """Detect steps in ``recording``; results in ``steps_`` and ``cadence_``."""

@@ -108,6 +108,8 @@ def summarise_oxford(table: pd.DataFrame) -> pd.DataFrame:
     ox = table[table["dataset"] == "oxford"]
     if ox.empty:
         return pd.DataFrame()
+    # recordings with a true count only (no step times) have no F1 / timing columns
+    ox = ox.assign(**{c: np.nan for c in ("f1", "timing_offset_s") if c not in ox.columns})
     g = ox.groupby(["detector", "surface", "position"]).agg(
         n_recordings=("recording", "size"),
         count_accuracy=("count_accuracy", "mean"),

@@ -68,7 +68,7 @@ from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, segment_argmax
 from gaitml.steps._table import make_step_table
 
-__all__ = ["AdaptiveStepDetector", "local_cadence", "adaptive_steps", "fold_steps"]
+__all__ = ["AdaptiveStepDetector", "local_cadence", "adaptive_steps", "fold_steps", "window_autocorrelation"]
 
 #: gait band of the band-pass (Hz): below the slowest stride, above the fastest step
 BAND_HZ = (0.5, 4.0)
@@ -93,6 +93,28 @@ OCTAVE_TOLERANCE = 0.9
 CADENCE_RATE_HZ = 25.0
 #: the confidence factor of a step whose stride was inferred from the cadence range alone
 INFERRED_STRIDE_FACTOR = 0.5
+
+
+def window_autocorrelation(y: np.ndarray, length: int, hop: int, lags: np.ndarray) -> np.ndarray:
+    """Normalised autocorrelation of every sliding window at ``lags``, each lag normalised by its own segments.
+
+    For the window ``w`` (``length`` samples from ``i * hop``, its mean removed)
+    and lag ``k``: ``sum(w[:-k] * w[k:]) / sqrt(sum(w[:-k] ** 2) * sum(w[k:] ** 2))``,
+    so a lag of a periodic signal correlates as well as a short one (no
+    ``(L - k) / L`` decay); 0 where a segment has no energy. Shape
+    ``(n_windows, len(lags))``.
+    """
+    L = int(length)
+    w = sliding_windows(np.asarray(y, dtype=float), L, int(hop))
+    w = w - w.mean(axis=1, keepdims=True)
+    c = np.concatenate([np.zeros((w.shape[0], 1)), np.cumsum(w * w, axis=1)], axis=1)
+    r = np.zeros((w.shape[0], len(lags)))
+    for j, k in enumerate(np.asarray(lags).tolist()):
+        # direct products at the lags needed only: cheaper than an FFT of every window
+        num = np.einsum("ij,ij->i", w[:, : L - k], w[:, k:])
+        den = np.sqrt(c[:, L - k] * (c[:, L] - c[:, k]))
+        r[:, j] = np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+    return r
 
 
 def local_cadence(
@@ -142,17 +164,10 @@ def local_cadence(
             f"the recording is too short for the adaptive cadence estimate: {n} samples ({n / fs:.2f} s); "
             f"it needs more than {(hi + 2) / fs:.2f} s (two steps at min_step_hz={min_step_hz}); use a longer recording."
         )
-    w = sliding_windows(y, L, H)
-    centres = np.arange(w.shape[0]) * H + L // 2
-    w = w - w.mean(axis=1, keepdims=True)
-    c = np.concatenate([np.zeros((w.shape[0], 1)), np.cumsum(w * w, axis=1)], axis=1)
+    n_win = (n - L) // H + 1
+    centres = np.arange(n_win) * H + L // 2
     lags = np.arange(lo - 1, hi + 2)
-    r = np.zeros((w.shape[0], len(lags)))
-    for j, k in enumerate(lags.tolist()):
-        # correlation of the two overlapping segments, each normalised by its own energy
-        num = np.einsum("ij,ij->i", w[:, : L - k], w[:, k:])
-        den = np.sqrt(c[:, L - k] * (c[:, L] - c[:, k]))
-        r[:, j] = np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+    r = window_autocorrelation(y, L, H, lags)
     rows = np.arange(len(r))
     inner = np.arange(1, len(lags) - 1)  # the lags lo .. hi, with a neighbour on each side
     is_max = np.zeros_like(r, dtype=bool)

@@ -318,3 +318,19 @@ def test_adaptive_tuned_held_out(oxford_recs):
 def test_adaptive_ifsm_within_one_percent(ifsm_recs):
     counts = [len(get_detector("adaptive").detect(r).steps_) for r in ifsm_recs]
     assert abs(counts[0] - 284) <= 2 and abs(counts[1] - 319) <= 3  # measured 284 / 319
+
+
+def test_window_autocorrelation_matches_a_direct_loop():
+    from gaitml.steps.adaptive import window_autocorrelation
+
+    rng = np.random.default_rng(1)
+    y = np.cumsum(rng.normal(size=1500)) * 0.1 + np.sin(np.arange(1500) / 4) + 5
+    L, H, lags = 125, 25, np.arange(6, 44)
+    r = window_autocorrelation(y, L, H, lags)
+    for i in (0, 17, (len(y) - L) // H):
+        w = y[i * H : i * H + L] - y[i * H : i * H + L].mean()
+        ref = [(w[: L - k] @ w[k:]) / np.sqrt((w[: L - k] @ w[: L - k]) * (w[k:] @ w[k:])) for k in lags]
+        np.testing.assert_allclose(r[i], ref, atol=1e-12)
+    # a periodic signal correlates as well at two periods as at one (no decay with the lag)
+    p = window_autocorrelation(np.sin(2 * np.pi * np.arange(500) / 20), 125, 25, np.array([20, 40]))
+    np.testing.assert_allclose(p, 1.0, atol=1e-9)

@@ -381,6 +381,17 @@ class AdaptiveStepDetector(BaseStepDetector):
     Our own detector (module docstring). Figures in sample and
     leave-one-user-out on the Oxford optimisation recordings:
     ``experiments/reports/steps-heldout.md``.
+
+    Known limits, by construction:
+
+    - A walker slower than ``min_step_hz`` is taken to show strides and is
+      over-counted; lower ``min_step_hz`` (e.g. 0.9) for very slow gait.
+    - Where a stride and a step period are both plausible (stride 0.57-0.83 s:
+      running strides or walking steps), only the half-period correlation
+      decides. A one-leg signal whose far-leg step leaves no positive
+      correlation at half the stride (a dominant thigh swing while running,
+      synthetic tests) is counted one step per stride. Untested on real
+      running data (none in the shared data).
     """
 
     name = "adaptive"

@@ -78,6 +78,13 @@ def test_two_legs_alike_are_steps_not_half_steps():
     assert not walking["stride"].any()
 
 
+@pytest.mark.parametrize("step_period_s", [0.3, 0.4, 0.8])
+def test_cadence_range_ends(step_period_s):
+    """Running at 3.3 steps/s and a slow walk at 1.25 steps/s: steps, not half or double steps."""
+    rec = synthetic_walk(n_steps=100, step_period_s=step_period_s, fs=100.0)
+    assert abs(len(AdaptiveStepDetector().detect(rec).steps_) - 100) <= 1
+
+
 def test_fold_cancels_the_stride_and_keeps_the_step():
     fs, T = 100.0, 50
     t = np.arange(2000)

@@ -341,3 +341,19 @@ def test_window_autocorrelation_matches_a_direct_loop():
     # a periodic signal correlates as well at two periods as at one (no decay with the lag)
     p = window_autocorrelation(np.sin(2 * np.pi * np.arange(500) / 20), 125, 25, np.array([20, 40]))
     np.testing.assert_allclose(p, 1.0, atol=1e-9)
+
+
+#: IFSM counts of the paper detectors before issue 13 (ba48f30), per file (true 284 / 319)
+PAPER_IFSM_COUNTS = {
+    "single-peak": (284, 319),
+    "ifsm": (283, 319),
+    "ifsm-literal": (218, 289),
+    "adfsm": (284, 315),
+    "autocorr": (282, 318),
+    "fsm-selflearn": (279, 317),
+}
+
+
+@pytest.mark.parametrize("name", sorted(PAPER_IFSM_COUNTS))
+def test_paper_detectors_ifsm_counts_unchanged(ifsm_recs, name):
+    assert tuple(len(get_detector(name).detect(r).steps_) for r in ifsm_recs) == PAPER_IFSM_COUNTS[name]

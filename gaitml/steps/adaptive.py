@@ -17,14 +17,19 @@ amplitude it uses is a noise floor. Four stages:
    overlapping segments, so it does not decay with the lag) is searched over
    every lag a human step *or stride* can take: ``1 / max_step_hz`` to
    ``2 / min_step_hz`` (steps at 1.2-3.5 Hz: walking to running). The
-   strongest peak may be one step (two legs that look alike) or one stride (a
-   pocket phone sees one leg). Half-period structure decides: if the
-   autocorrelation has a local maximum near half that lag with a correlation
-   above ``half_lag_min_correlation`` (default 0: the signal shifted by half a
+   fundamental period is the shortest autocorrelation peak within
+   ``OCTAVE_TOLERANCE`` (90 %) of the strongest one (multiples of a period
+   correlate about as well as the period). It may be one step (two legs that
+   look alike) or one stride (a pocket phone sees one leg). Half-period
+   structure decides: if the autocorrelation at half the period is above
+   ``half_lag_min_correlation`` (default 0: the signal shifted by half a
    period still resembles itself, so each period holds two similar events, the
-   left and the right step), the half lag is the step period; repeated while
-   the half lag stays in the step range. A period of one step instead gives a
-   deep negative correlation at its half (the signal is in anti-phase there).
+   left and the right step), the period is a stride and the step period is
+   the local maximum near its half (or the half itself where the
+   autocorrelation has a plateau there); repeated while the half stays in the
+   step range. A period of one step instead gives a deep negative correlation
+   at its half (the signal is in anti-phase there; -0.55 to -0.98 on every
+   Oxford recording).
    A period still longer than the longest human step (``1 / min_step_hz``) is
    a stride whose second step is not visible: its half is the step period.
    The peak correlation is the window's *periodicity*; the lag is refined to a
@@ -78,7 +83,7 @@ HOP_S = 1.0
 #: human step frequencies, slow walking to running (Hz)
 MIN_STEP_HZ = 1.2
 MAX_STEP_HZ = 3.5
-#: a half-period local maximum of the autocorrelation above this makes the half lag the step period
+#: an autocorrelation above this at half the fundamental period makes that period a stride
 HALF_LAG_MIN_CORRELATION = 0.0
 #: steps only where the window's periodicity reaches this
 MIN_PERIODICITY = 0.3
@@ -342,9 +347,9 @@ class AdaptiveStepDetector(BaseStepDetector):
         Fastest step frequency (Hz; running, 210 steps/min): the shortest step
         period searched.
     half_lag_min_correlation : float, default 0.0
-        A local maximum of the autocorrelation near half the dominant lag with
-        a correlation above this makes the half lag the step period (two
-        similar events per period: left and right step).
+        An autocorrelation above this at half the fundamental period makes
+        that period a stride and its half the step period (two similar
+        events per period: left and right step).
     min_periodicity : float, default 0.3
         Steps only where the window's strongest autocorrelation peak reaches
         this (periodic motion; dimensionless).

@@ -21,6 +21,28 @@ def _evaluation(rec, steps) -> dict | None:
     return evaluate_steps(steps, true_s, n_true=int(n_true) if n_true else None)
 
 
+#: optional step-table columns ``--json`` carries per step when the detector gives them
+JSON_STEP_COLUMNS = ("cadence_hz", "confidence")
+
+
+def _json_steps(steps, t) -> list[dict]:
+    """One JSON object per step: ``t_s``, ``period_s`` and the optional columns the table has."""
+    cols = {"period_s": steps["period_s"].to_numpy(dtype=float)}
+    cols.update({c: steps[c].to_numpy(dtype=float) for c in JSON_STEP_COLUMNS if c in steps.columns})
+    return [{"t_s": float(a), **{k: float(v[i]) for k, v in cols.items()}} for i, a in enumerate(np.asarray(t, dtype=float))]
+
+
+def _json_cadence(det) -> list[dict] | None:
+    """The detector's per-window cadence (``cadence_``), if it has one."""
+    cad = getattr(det, "cadence_", None)
+    if cad is None:
+        return None
+    return [
+        {"t_s": float(r.t_s), "cadence_hz": float(r.cadence_hz), "periodicity": float(r.periodicity), "stride": bool(r.stride)}
+        for r in cad.itertuples(index=False)
+    ]
+
+
 def run(args) -> int:
     """Detect steps, print a summary or the JSON contract, optionally write the table."""
     if is_large_input(args):
@@ -37,8 +59,11 @@ def run(args) -> int:
             "detector": args.detector,
             "sampling_rate_hz": float(rec.sampling_rate_hz),
             "n_steps": int(len(steps)),
-            "steps": [{"t_s": float(a), "period_s": float(b)} for a, b in zip(t, steps["period_s"].to_numpy(), strict=True)],
+            "steps": _json_steps(steps, t),
         }
+        cadence = _json_cadence(det)
+        if cadence is not None:
+            obj["cadence"] = cadence
         if ev is not None:
             obj["n_steps_true"] = ev["n_true"]
             obj["evaluation"] = ev
@@ -52,6 +77,9 @@ def run(args) -> int:
         # period_s is the span the detector gives each step; cadence comes from the
         # intervals between step times, and the overall rate includes pauses
         lines.append(f"  step period (period_s, the detector's step span): median {np.median(period):.3f} s, mean {np.mean(period):.3f} s")
+        if "confidence" in steps.columns:
+            conf = steps["confidence"].to_numpy(dtype=float)
+            lines.append(f"  step confidence: median {np.median(conf):.2f}; {int((conf < 0.5).sum())} steps below 0.5")
         rate = f"{len(steps) / rec.duration_s * 60:.1f} steps/min averaged over the whole {rec.duration_s:.1f} s (pauses included)"
         if len(steps) >= 2:
             interval = float(np.median(np.diff(t)))
@@ -88,9 +116,7 @@ def _run_long(args) -> int:
                 "detector": args.detector,
                 "sampling_rate_hz": fs,
                 "n_steps": int(len(steps)),
-                "steps": [{"t_s": float(a), "period_s": float(b)} for a, b in zip(t, steps["period_s"].to_numpy(), strict=True)]
-                if len(steps)
-                else [],
+                "steps": _json_steps(steps, t) if len(steps) else [],
                 "chunked": steps.attrs.get("chunked"),
             }
         )

@@ -64,6 +64,11 @@ recordings (:mod:`gaitml.experiments.steps_real`), keys::
     [steps]
     detectors = [...]                # step detector names (default: every registered one)
     tolerance_s = 0.25               # one-to-one matching tolerance of precision / recall / F1
+    [evaluation]
+    holdout = "user"                 # "user" | "position" | "none", or a list such as ["user", "position"]:
+                                     # leave-one-user-out / leave-one-position-out on the Oxford recordings
+    tune = true                      # a detector declaring a param_grid also runs as "<name> (tuned)", its
+                                     # setting chosen on the training folds only (hard floor)
 """
 
 from __future__ import annotations
@@ -80,7 +85,7 @@ from typing import Any
 from gaitml.consts import MOTION_MODES
 from gaitml.errors import ConfigError, GaitmlError, InputError
 
-__all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "TASKS", "STEP_DATA_SETS"]
+__all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "TASKS", "STEP_DATA_SETS", "STEP_HOLDOUTS"]
 
 SOURCES = ("simulated", "folder")
 #: What a config runs: cross-validated classification (the default) or the step-detector evaluation.
@@ -89,6 +94,8 @@ TASKS = ("classification", "steps")
 STEP_DATA_SETS = ("ifsm-flat-phone", "oxford-step-counter")
 #: Default matching tolerance of ``task = "steps"`` (s).
 STEP_TOLERANCE_S = 0.25
+#: Held-out evaluation schemes of ``task = "steps"``: leave one Oxford user / carrying position out.
+STEP_HOLDOUTS = ("user", "position", "none")
 
 
 # Allowed names, read from the registries when a config is checked.
@@ -183,6 +190,20 @@ def _sessions(v):
     return None if 1 <= v <= 100 else "must be within 1-100"
 
 
+def _holdout(v):
+    items = [v] if isinstance(v, str) else v
+    if not items:
+        return "must name at least one scheme (or be 'none')"
+    bad = [x for x in items if not isinstance(x, str) or x not in STEP_HOLDOUTS]
+    if bad:
+        return f"has {bad[0]!r}, which is not allowed; allowed: {', '.join(map(repr, STEP_HOLDOUTS))}"
+    if "none" in items and len(items) > 1:
+        return "mixes 'none' with held-out schemes; give 'none' alone"
+    if len(set(items)) != len(items):
+        return "lists a scheme twice"
+    return None
+
+
 def _min2(v):
     return None if v >= 2 else "must be >= 2"
 
@@ -246,6 +267,10 @@ STEPS_SCHEMA: dict[str, Any] = {
     "steps": {
         "detectors": _Leaf((list,), lambda: list(_step_detector_names()), item_type=str, item_allowed=_step_detector_names),
         "tolerance_s": _Leaf(_NUM, STEP_TOLERANCE_S, check=_pos),
+    },
+    "evaluation": {
+        "holdout": _Leaf((str, list), "user", check=_holdout),
+        "tune": _Leaf((bool,), True),
     },
 }
 #: task -> its schema

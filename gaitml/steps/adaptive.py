@@ -3,31 +3,64 @@
 Not from the papers: a detector for hand, pockets, bag, armband, neck pouch and
 swinging arm, where fixed magnitude thresholds (papers 000, 002, 003) fail
 because the amplitude and the shape of the step signal change with the
-position. It combines three ideas:
+position. Its settings are physiological ranges and dimensionless ratios, not
+thresholds fitted to the recordings it is evaluated on (issue 13); the one
+amplitude it uses is a noise floor. Four stages:
 
 1. **Band-pass** the acceleration magnitude (|acc| minus its median) to the gait
-   band ``band_hz`` (default 0.5-3 Hz, zero-phase 2nd-order Butterworth): removes
-   gravity / orientation drift and impact ringing.
-2. **Cadence estimate**: in sliding windows (``window_s`` long, every ``hop_s``)
-   the normalised autocorrelation of the band-passed signal gives the local step
-   period (largest peak over lags ``min_period_s .. max_period_s``; if a local
-   maximum near half that lag reaches ``half_lag_ratio`` of it, the half lag is
-   the step period and the larger lag a stride). Each sample gets the period
-   and the correlation peak of the windows around it (linear interpolation
-   between window centres).
-3. **Peak picking with adaptive thresholds**: local maxima of the band-passed
-   signal whose prominence reaches ``prominence_ratio`` times the local RMS
-   (over ``rms_window_s``) are candidates, kept only where the motion is
-   periodic (correlation peak >= ``min_correlation``) and strong enough (RMS >=
-   ``min_rms_ms2``); then, in time order, a candidate closer than
-   ``min_distance_ratio`` times the local step period to the previous kept
-   peak replaces it if higher, else is dropped.
+   band ``band_hz`` (default 0.5-4 Hz, zero-phase 2nd-order Butterworth, so that
+   running cadences up to ``max_step_hz`` = 3.5 Hz pass): removes gravity,
+   orientation drift and impact ringing.
+2. **Cadence and stride-versus-step disambiguation.** In sliding windows
+   (``window_s`` long, every ``hop_s``) the normalised autocorrelation of the
+   band-passed signal (each lag normalised by the energies of its two
+   overlapping segments, so it does not decay with the lag) is searched over
+   every lag a human step *or stride* can take: ``1 / max_step_hz`` to
+   ``2 / min_step_hz`` (steps at 1.2-3.5 Hz: walking to running). The
+   fundamental period is the shortest autocorrelation peak within
+   ``OCTAVE_TOLERANCE`` (90 %) of the strongest one (multiples of a period
+   correlate about as well as the period). It may be one step (two legs that
+   look alike) or one stride (a pocket phone sees one leg). Half-period
+   structure decides: if the autocorrelation at half the period is above
+   ``half_lag_min_correlation`` (default 0: the signal shifted by half a
+   period still resembles itself, so each period holds two similar events, the
+   left and the right step), the period is a stride and the step period is
+   the local maximum near its half (or the half itself where the
+   autocorrelation has a plateau there); repeated while the half stays in the
+   step range. A period of one step instead gives a deep negative correlation
+   at its half (the signal is in anti-phase there; -0.55 to -0.98 on every
+   Oxford recording).
+   A period still longer than the longest human step (``1 / min_step_hz``) is
+   a stride whose second step is not visible: its half is the step period.
+   The peak correlation is the window's *periodicity*; the lag is refined to a
+   fraction of a sample by a parabola through the peak.
+3. **Left/right fold.** With the local step period ``T`` each sample becomes
+   ``(y(t - T) + 2 y(t) + y(t + T)) / 4``: a zero-phase comb that cancels the
+   stride fundamental and its odd harmonics (the left/right asymmetry of a
+   one-leg signal: ``y(t - T) + y(t + T) = -2 y(t)`` for them) and keeps the
+   step frequency and its harmonics, so the weak step of the far leg becomes
+   a peak like the near one without any amplitude threshold.
+4. **Amplitude-free peak criterion.** A step is a local maximum of the folded
+   signal that is positive and the highest within ``min_distance_ratio`` times
+   the local step period on either side, where the motion is periodic
+   (periodicity >= ``min_periodicity``) and above the sensor noise floor
+   (RMS of the band-passed signal over one step period before the step and
+   over one after it, both >= ``min_rms_ms2``).
 
-Tuned only on the Oxford step counter optimisation recordings (Salvi et al.,
-CC BY 4.0); evaluated there per position (``gaitml evaluate experiments/steps-real.toml``).
+Each step gets a ``confidence`` in [0, 1]: the periodicity at the step times
+the regularity of its timing (1 - |interval - T| / T, the mean interval to
+its neighbours against the local step period), halved where the stride was
+inferred from the cadence range alone (no half-period evidence). The
+per-window cadence is kept in ``cadence_``.
+
+Evaluated on the Oxford step counter optimisation recordings (Salvi et al.,
+CC BY 4.0) in sample and leave-one-user-out (``gaitml evaluate
+experiments/steps-real.toml``, ``experiments/reports/steps-heldout.md``).
 """
 
 from __future__ import annotations
+
+from typing import ClassVar
 
 import numpy as np
 import pandas as pd
@@ -37,84 +70,182 @@ from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import bandpass, sliding_windows
 from gaitml.steps._base import BaseStepDetector
-from gaitml.steps._common import acc_magnitude, as_recording
+from gaitml.steps._common import acc_magnitude, as_recording, segment_argmax
 from gaitml.steps._table import make_step_table
 
-__all__ = ["AdaptiveStepDetector", "local_step_period", "adaptive_steps"]
+__all__ = ["AdaptiveStepDetector", "local_cadence", "adaptive_steps", "fold_steps", "window_autocorrelation"]
 
-BAND_HZ = (0.5, 3.0)
-WINDOW_S = 4.0
+#: gait band of the band-pass (Hz): below the slowest stride, above the fastest step
+BAND_HZ = (0.5, 4.0)
+#: cadence windows (s)
+WINDOW_S = 5.0
 HOP_S = 1.0
-MIN_PERIOD_S = 0.3
-MAX_PERIOD_S = 0.8
-HALF_LAG_RATIO = 0.5
-PROMINENCE_RATIO = 0.25
-RMS_WINDOW_S = 2.0
-MIN_CORRELATION = 0.2
+#: human step frequencies, slow walking to running (Hz)
+MIN_STEP_HZ = 1.2
+MAX_STEP_HZ = 3.5
+#: an autocorrelation above this at half the fundamental period makes that period a stride
+HALF_LAG_MIN_CORRELATION = 0.0
+#: steps only where the window's periodicity reaches this
+MIN_PERIODICITY = 0.3
+#: sensor noise floor (m/s^2 RMS of the band-passed magnitude): phone accelerometers ~0.01-0.05, walking > 0.5
 MIN_RMS_MS2 = 0.2
+#: a step is the highest peak of the folded signal within this fraction of the step period either side
 MIN_DISTANCE_RATIO = 0.6
-CANDIDATE_DISTANCE_S = 0.25
+#: a shorter lag whose autocorrelation peak reaches this fraction of the best is the fundamental period
+#: (the multiples of a period correlate almost as well as the period itself)
+OCTAVE_TOLERANCE = 0.9
 #: the cadence autocorrelation runs at about this rate (decimated band-limited signal)
 CADENCE_RATE_HZ = 25.0
+#: the confidence factor of a step whose stride was inferred from the cadence range alone
+INFERRED_STRIDE_FACTOR = 0.5
 
 
-def local_step_period(
+def window_autocorrelation(y: np.ndarray, length: int, hop: int, lags: np.ndarray) -> np.ndarray:
+    """Normalised autocorrelation of every sliding window at ``lags``, each lag normalised by its own segments.
+
+    For the window ``w`` (``length`` samples from ``i * hop``, its mean removed)
+    and lag ``k``: ``sum(w[:-k] * w[k:]) / sqrt(sum(w[:-k] ** 2) * sum(w[k:] ** 2))``,
+    so a lag of a periodic signal correlates as well as a short one (no
+    ``(L - k) / L`` decay); 0 where a segment has no energy. Shape
+    ``(n_windows, len(lags))``.
+    """
+    L = int(length)
+    w = sliding_windows(np.asarray(y, dtype=float), L, int(hop))
+    w = w - w.mean(axis=1, keepdims=True)
+    c = np.concatenate([np.zeros((w.shape[0], 1)), np.cumsum(w * w, axis=1)], axis=1)
+    r = np.zeros((w.shape[0], len(lags)))
+    for j, k in enumerate(np.asarray(lags).tolist()):
+        # direct products at the lags needed only: cheaper than an FFT of every window
+        num = np.einsum("ij,ij->i", w[:, : L - k], w[:, k:])
+        den = np.sqrt(c[:, L - k] * (c[:, L] - c[:, k]))
+        r[:, j] = np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+    return r
+
+
+def local_cadence(
     y: np.ndarray,
     sampling_rate_hz: float,
     *,
     window_s: float = WINDOW_S,
     hop_s: float = HOP_S,
-    min_period_s: float = MIN_PERIOD_S,
-    max_period_s: float = MAX_PERIOD_S,
-    half_lag_ratio: float = HALF_LAG_RATIO,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Step period per sliding window from the normalised autocorrelation.
+    min_step_hz: float = MIN_STEP_HZ,
+    max_step_hz: float = MAX_STEP_HZ,
+    half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+) -> dict[str, np.ndarray]:
+    """Step period per sliding window, with the stride-versus-step decision (module docstring, stage 2).
+
+    Parameters
+    ----------
+    y : float array (n,)
+        Band-passed signal (zero mean), e.g. the acceleration magnitude.
+    sampling_rate_hz : float
+    window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation
+        As :class:`AdaptiveStepDetector`.
 
     Returns
     -------
-    centres : int array (n_windows,)  window centre samples
-    period_s : float array            step period of each window
-    correlation : float array         autocorrelation at that period
+    dict
+        ``centre`` (int, window centre samples), ``period_s`` (step period, s),
+        ``periodicity`` (the strongest autocorrelation peak, in [-1, 1]),
+        ``step_correlation`` (autocorrelation at the step period),
+        ``stride`` (bool: the strongest peak was a stride, not a step) and
+        ``inferred`` (bool: the stride was inferred from the cadence range
+        alone, without a half-period peak), one entry per window.
+
+    Raises
+    ------
+    InputError
+        If the signal is shorter than the longest stride searched.
     """
     fs = float(sampling_rate_hz)
+    y = np.asarray(y, dtype=float)
     n = len(y)
     L = min(n, int(round(window_s * fs)))
     H = max(1, int(round(hop_s * fs)))
-    lo = max(1, int(round(min_period_s * fs)))
-    hi = int(round(max_period_s * fs))
+    lo = max(2, int(np.floor(fs / max_step_hz)))
+    hi = int(np.ceil(2.0 * fs / min_step_hz))
     if hi + 2 >= L:
         raise InputError(
             f"the recording is too short for the adaptive cadence estimate: {n} samples ({n / fs:.2f} s); "
-            f"it needs more than {(hi + 2) / fs:.2f} s (max_period_s={max_period_s}); use a longer recording."
+            f"it needs more than {(hi + 2) / fs:.2f} s (two steps at min_step_hz={min_step_hz}); use a longer recording."
         )
-    w = sliding_windows(np.asarray(y, dtype=float), L, H)
-    starts = np.arange(w.shape[0]) * H
-    w = w - w.mean(axis=1, keepdims=True)
-    # direct autocorrelation at the lags needed only (lo - 1 .. hi + 1): cheaper than an FFT of every window
-    r = np.zeros((w.shape[0], hi + 2))
-    r0 = np.einsum("ij,ij->i", w, w)
-    for lag in range(max(1, lo - 1), hi + 2):
-        r[:, lag] = np.einsum("ij,ij->i", w[:, : L - lag], w[:, lag:])
-    r[:, 0] = r0
-    r = np.divide(r, r0[:, None], out=np.zeros_like(r), where=r0[:, None] > 0)
+    n_win = (n - L) // H + 1
+    centres = np.arange(n_win) * H + L // 2
+    lags = np.arange(lo - 1, hi + 2)
+    r = window_autocorrelation(y, L, H, lags)
     rows = np.arange(len(r))
-    lags = np.arange(lo, hi + 1)
-    j = np.argmax(r[:, lo : hi + 1], axis=1)
-    lag = lags[j]
-    best = r[rows, lag]
-    # stride or step: a local maximum near half the lag, strong enough, makes the half lag the step period
-    half = lag // 2
-    a = np.maximum(lo, np.floor(0.85 * half)).astype(int)
-    b = np.floor(1.15 * half).astype(int) + 1
-    inside = (lags[None, :] >= a[:, None]) & (lags[None, :] < b[:, None])
-    rl = np.where(inside, r[:, lo : hi + 1], -np.inf)
-    j2 = np.argmax(rl, axis=1) + lo
-    r2 = r[rows, j2]
-    is_max = (r2 >= r[rows, j2 - 1]) & (r2 >= r[rows, j2 + 1])
-    use_half = inside.any(axis=1) & (half >= lo) & is_max & (r2 > half_lag_ratio * best)
-    lag = np.where(use_half, j2, lag)
-    best = np.where(use_half, r2, best)
-    return starts + L // 2, lag / fs, best
+    inner = np.arange(1, len(lags) - 1)  # the lags lo .. hi, with a neighbour on each side
+    is_max = np.zeros_like(r, dtype=bool)
+    is_max[:, inner] = (r[:, inner] >= r[:, inner - 1]) & (r[:, inner] > r[:, inner + 1])
+    peaks = np.where(is_max, r, -np.inf)
+    j = np.argmax(peaks, axis=1)
+    none = ~np.isfinite(peaks[rows, j])
+    j = np.where(none, 1 + np.argmax(r[:, inner], axis=1), j)
+    periodicity = r[rows, j]
+    # the fundamental: the shortest lag whose peak repeats nearly as well as the best one (multiples of a
+    # period correlate about as well as the period itself once each lag is normalised by its own energies)
+    near = peaks >= OCTAVE_TOLERANCE * periodicity[:, None]
+    j = np.where(near.any(axis=1) & ~none, np.argmax(near, axis=1), j)
+
+    def refined(jj):
+        # sub-sample lag: parabola through the peak and its neighbours
+        r0, rm, rp = r[rows, jj], r[rows, jj - 1], r[rows, jj + 1]
+        den = rm - 2 * r0 + rp
+        delta = np.divide(0.5 * (rm - rp), den, out=np.zeros_like(den), where=den < 0)
+        return lags[jj] + np.clip(delta, -0.5, 0.5)
+
+    def r_at(lag_f):
+        # the autocorrelation at a fractional lag (linear interpolation between lags)
+        x = np.clip(lag_f - lags[0], 0, len(lags) - 1.000001)
+        i0 = np.floor(x).astype(int)
+        f = x - i0
+        return r[rows, i0] * (1 - f) + r[rows, i0 + 1] * f
+
+    lag = refined(j)
+    stride = np.zeros(len(r), dtype=bool)
+    # half-period structure: the signal shifted by half the period still resembles itself (correlation above
+    # half_lag_min_correlation) -> two similar events per period, the period is a stride; the step period is the
+    # local maximum near the half lag, or the half lag itself when the autocorrelation has a plateau there
+    for _ in range(3):
+        half = lag / 2.0
+        take = (half >= lo) & (r_at(half) > half_lag_min_correlation)
+        if not take.any():
+            break
+        ok_lag = (lags[None, :] >= np.maximum(lo, 0.85 * half)[:, None]) & (lags[None, :] <= 1.15 * half[:, None])
+        cand = np.where(ok_lag & is_max, r, -np.inf)
+        jh = np.argmax(cand, axis=1)
+        near_max = np.isfinite(cand[rows, jh]) & (cand[rows, jh] > half_lag_min_correlation)
+        lag = np.where(take, np.where(near_max, refined(jh), half), lag)
+        stride |= take
+    # still longer than any human step: a stride whose other step is not visible
+    inferred = lag > fs / min_step_hz
+    lag = np.where(inferred, lag / 2.0, lag)
+    return {
+        "centre": centres,
+        "period_s": lag / fs,
+        "periodicity": periodicity,
+        "step_correlation": r_at(lag),
+        "stride": stride | inferred,
+        "inferred": inferred,
+    }
+
+
+def fold_steps(y: np.ndarray, period_samples: np.ndarray) -> np.ndarray:
+    """The left/right fold ``(y(t - T) + 2 y(t) + y(t + T)) / 4`` with a per-sample step period ``T`` (samples).
+
+    Zero-phase; cancels every component periodic in ``2 T`` with odd harmonics
+    (a one-leg stride) and keeps those periodic in ``T`` (steps). At the edges
+    the missing neighbour is replaced by the other one.
+    """
+    y = np.asarray(y, dtype=float)
+    n = len(y)
+    i = np.arange(n)
+    k = np.maximum(np.rint(np.asarray(period_samples, dtype=float)).astype(np.int64), 1)
+    a = i - k
+    b = i + k
+    a = np.where(a < 0, np.minimum(b, n - 1), a)
+    b = np.where(b >= n, np.maximum(a, 0), b)
+    return (y[a] + 2.0 * y + y[b]) / 4.0
 
 
 def adaptive_steps(
@@ -124,86 +255,155 @@ def adaptive_steps(
     band_hz: tuple[float, float] = BAND_HZ,
     window_s: float = WINDOW_S,
     hop_s: float = HOP_S,
-    min_period_s: float = MIN_PERIOD_S,
-    max_period_s: float = MAX_PERIOD_S,
-    half_lag_ratio: float = HALF_LAG_RATIO,
-    prominence_ratio: float = PROMINENCE_RATIO,
-    rms_window_s: float = RMS_WINDOW_S,
-    min_correlation: float = MIN_CORRELATION,
+    min_step_hz: float = MIN_STEP_HZ,
+    max_step_hz: float = MAX_STEP_HZ,
+    half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+    min_periodicity: float = MIN_PERIODICITY,
     min_rms_ms2: float = MIN_RMS_MS2,
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
+    fold: bool = True,
+    min_confidence: float = 0.0,
 ) -> dict[str, np.ndarray]:
-    """Detect steps in |acc| (m/s^2); returns ``peak`` samples, the band-passed ``y``, and the local ``period_s`` and ``correlation`` at each peak."""
+    """Detect steps in |acc| (m/s^2) with the four stages of the module docstring.
+
+    Returns
+    -------
+    dict
+        ``peak`` (step samples), ``y`` (band-passed magnitude), ``s`` (folded
+        signal), and at each peak: ``period_s`` (local step period),
+        ``correlation`` (periodicity), ``confidence``; plus ``cadence``, the
+        per-window dict of :func:`local_cadence`.
+    """
     x = np.asarray(acc_mag_ms2, dtype=float)
     fs = float(sampling_rate_hz)
     n = len(x)
     y = bandpass(x - np.median(x), band_hz[0], band_hz[1], fs, order=2)
     # the cadence estimate runs on the band-limited signal decimated to about CADENCE_RATE_HZ
     q = max(1, int(fs // CADENCE_RATE_HZ))
-    centres, per, corr = local_step_period(
-        y[::q], fs / q, window_s=window_s, hop_s=hop_s, min_period_s=min_period_s, max_period_s=max_period_s, half_lag_ratio=half_lag_ratio
+    cad = local_cadence(
+        y[::q],
+        fs / q,
+        window_s=window_s,
+        hop_s=hop_s,
+        min_step_hz=min_step_hz,
+        max_step_hz=max_step_hz,
+        half_lag_min_correlation=half_lag_min_correlation,
     )
-    centres = centres * q
-    pk, props = scipy.signal.find_peaks(y, distance=max(1, int(round(CANDIDATE_DISTANCE_S * fs))), prominence=0)
-    T = np.interp(pk, centres, per)
-    R = np.interp(pk, centres, corr)
-    # local RMS over rms_window_s centred on each candidate (cumulative sum, shrunk at the edges)
-    c = np.concatenate([[0.0], np.cumsum(y * y)])
-    w = max(1, int(round(rms_window_s * fs)))
-    lo_i = np.maximum(pk - w // 2, 0)
-    hi_i = np.minimum(pk - w // 2 + w, n)
-    rms = np.sqrt((c[hi_i] - c[lo_i]) / (hi_i - lo_i))
-    keep = (props["prominences"] >= prominence_ratio * rms) & (R >= min_correlation) & (rms >= min_rms_ms2)
-    pk, T = pk[keep], T[keep]
-    min_gap = (min_distance_ratio * T * fs).tolist()
-    yv = y[pk].tolist()
-    out: list[int] = []
-    hv: list[float] = []
-    for p, g, v in zip(pk.tolist(), min_gap, yv, strict=True):
-        if out and p - out[-1] < g:
-            if v > hv[-1]:
-                out[-1], hv[-1] = p, v
-            continue
-        out.append(p)
-        hv.append(v)
-    peaks = np.asarray(out, dtype=np.int64)
-    return {"peak": peaks, "y": y, "period_s": np.interp(peaks, centres, per), "correlation": np.interp(peaks, centres, corr)}
+    centres = cad["centre"] * q
+    cad["centre"] = centres
+    period_n = np.interp(np.arange(n), centres, cad["period_s"]) * fs
+    s = fold_steps(y, period_n) if fold else y
+    pk = scipy.signal.find_peaks(s)[0]
+    T = period_n[pk]
+    w = np.rint(min_distance_ratio * T).astype(np.int64)
+    dominant = segment_argmax(s, np.maximum(pk - w, 0), np.minimum(pk + w + 1, n)) == pk
+    R = np.interp(pk, centres, cad["periodicity"])
+    inferred = np.interp(pk, centres, cad["inferred"].astype(float)) > 0.5
+    # noise floor: RMS of y over one step period before the step and over one after it, the smaller of the two
+    # (motion on both sides: the fold spreads a step by one period, and a one-sided test keeps the last step of a
+    # walk from lending its energy to a phantom step one period later)
+    cs = np.concatenate([[0.0], np.cumsum(y * y)])
+    k = np.maximum(np.rint(T).astype(np.int64), 1)
+    a, b = np.maximum(pk - k, 0), np.minimum(pk + k + 1, n)
+    before = np.sqrt((cs[pk + 1] - cs[a]) / np.maximum(pk + 1 - a, 1))
+    after = np.sqrt((cs[b] - cs[pk]) / np.maximum(b - pk, 1))
+    rms = np.minimum(before, after)
+    keep = dominant & (s[pk] > 0) & (R >= min_periodicity) & (rms >= min_rms_ms2)
+    pk, T, R, inferred = pk[keep], T[keep], R[keep], inferred[keep]
+    conf = np.clip(R, 0.0, 1.0)
+    if len(pk) >= 2:
+        d = np.diff(pk).astype(float)
+        prev = np.concatenate([[d[0]], d])
+        nxt = np.concatenate([d, [d[-1]]])
+        interval = (prev + nxt) / 2.0
+        conf = conf * np.clip(1.0 - np.abs(interval - T) / T, 0.0, 1.0)
+    conf = np.where(inferred, INFERRED_STRIDE_FACTOR * conf, conf)
+    if min_confidence > 0:
+        ok = conf >= min_confidence
+        pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
+    return {"peak": pk.astype(np.int64), "y": y, "s": s, "period_s": T / fs, "correlation": R, "confidence": conf, "cadence": cad}
 
 
 class AdaptiveStepDetector(BaseStepDetector):
-    """Step detector for any carrying position: band-pass, cadence, adaptive peak picking.
+    """Step detector for any carrying position: band-pass, cadence with stride/step disambiguation, left/right fold, peaks.
+
+    Every setting is a physiological range, a dimensionless ratio or a noise
+    floor (module docstring); none was fitted per carrying position.
 
     Parameters
     ----------
-    band_hz : (float, float), default (0.5, 3.0)
-        Gait band of the zero-phase Butterworth band-pass (Hz).
-    window_s, hop_s : float, default 4.0 / 1.0
-        Cadence windows.
-    min_period_s, max_period_s : float, default 0.3 / 0.8
-        Step periods searched (0.8 s: a longer dominant lag is taken for a stride).
-    half_lag_ratio : float, default 0.5
-    prominence_ratio, rms_window_s : float, default 0.25 / 2.0
-    min_correlation, min_rms_ms2 : float, default 0.2 / 0.2
-        Gating: periodic and strong enough motion.
+    band_hz : (float, float), default (0.5, 4.0)
+        Gait band of the zero-phase 2nd-order Butterworth band-pass (Hz):
+        below the slowest stride frequency (0.6 Hz), above the fastest step
+        (3.5 Hz).
+    window_s : float, default 5.0
+        Length of the cadence windows (s): several strides at the slowest cadence.
+    hop_s : float, default 1.0
+        Hop between cadence windows (s).
+    min_step_hz : float, default 1.2
+        Slowest step frequency of human walking (Hz; 72 steps/min). A dominant
+        period longer than ``1 / min_step_hz`` is taken for a stride.
+    max_step_hz : float, default 3.5
+        Fastest step frequency (Hz; running, 210 steps/min): the shortest step
+        period searched.
+    half_lag_min_correlation : float, default 0.0
+        An autocorrelation above this at half the fundamental period makes
+        that period a stride and its half the step period (two similar
+        events per period: left and right step).
+    min_periodicity : float, default 0.3
+        Steps only where the window's strongest autocorrelation peak reaches
+        this (periodic motion; dimensionless).
+    min_rms_ms2 : float, default 0.2
+        Noise floor (m/s^2): RMS of the band-passed magnitude over one step
+        period before a step and over one after it (both must reach it); phone accelerometer noise is about
+        0.01-0.05 m/s^2, walking above 0.5.
     min_distance_ratio : float, default 0.6
-        Minimum step spacing as a fraction of the local step period.
+        A step is the highest peak of the folded signal within this fraction
+        of the local step period on either side.
+    fold : bool, default True
+        Apply the left/right fold (stage 3); ``False`` picks peaks of the
+        band-passed signal itself.
+    min_confidence : float, default 0.0
+        Drop steps whose confidence is below this (0: keep every step and let
+        the caller filter on the ``confidence`` column).
 
     Attributes
     ----------
     steps_ : DataFrame
-        ``peak`` the step peak of the band-passed magnitude (``attrs['event'] =
-        't_peak_s'``), ``start`` / ``end`` = peak -/+ half the local period,
-        ``period_s`` = local cadence period, ``correlation``.
+        ``peak`` the step peak of the folded band-passed magnitude
+        (``attrs['event'] = 't_peak_s'``), ``start`` / ``end`` = peak -/+ half
+        the local period, ``period_s`` = local step period, ``cadence_hz`` =
+        1 / ``period_s``, ``correlation`` (the window's periodicity) and
+        ``confidence`` in [0, 1].
+    cadence_ : DataFrame
+        One row per cadence window: ``t_s`` (window centre), ``cadence_hz``
+        (steps per second), ``period_s``, ``periodicity``, ``stride`` (the
+        dominant period was a stride) and ``inferred`` (from the cadence
+        range alone).
 
     Notes
     -----
-    Our own detector (module docstring); tuned on the Oxford optimisation
-    recordings only: hard-floor mean count accuracy 97.9 %, worst position
-    (swinging arm) 95.0 % (``gaitml evaluate experiments/steps-real.toml``).
+    Our own detector (module docstring). Figures in sample and
+    leave-one-user-out on the Oxford optimisation recordings:
+    ``experiments/reports/steps-heldout.md``.
+
+    Known limits, by construction:
+
+    - A walker slower than ``min_step_hz`` is taken to show strides and is
+      over-counted; lower ``min_step_hz`` (e.g. 0.9) for very slow gait.
+    - Where a stride and a step period are both plausible (stride 0.57-0.83 s:
+      running strides or walking steps), only the half-period correlation
+      decides. A one-leg signal whose far-leg step leaves no positive
+      correlation at half the stride (a dominant thigh swing while running,
+      synthetic tests) is counted one step per stride. Untested on real
+      running data (none in the shared data).
     """
 
     name = "adaptive"
-    _positive = ("window_s", "hop_s", "min_period_s", "max_period_s", "rms_window_s", "min_distance_ratio")
+    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio")
+    _non_negative = ("min_rms_ms2", "min_confidence")
+    #: settings the evaluation may choose on training users (``gaitml.experiments.steps_real``); the defaults are not fitted
+    param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
 
     def __init__(
         self,
@@ -211,42 +411,65 @@ class AdaptiveStepDetector(BaseStepDetector):
         band_hz: tuple[float, float] = BAND_HZ,
         window_s: float = WINDOW_S,
         hop_s: float = HOP_S,
-        min_period_s: float = MIN_PERIOD_S,
-        max_period_s: float = MAX_PERIOD_S,
-        half_lag_ratio: float = HALF_LAG_RATIO,
-        prominence_ratio: float = PROMINENCE_RATIO,
-        rms_window_s: float = RMS_WINDOW_S,
-        min_correlation: float = MIN_CORRELATION,
+        min_step_hz: float = MIN_STEP_HZ,
+        max_step_hz: float = MAX_STEP_HZ,
+        half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+        min_periodicity: float = MIN_PERIODICITY,
         min_rms_ms2: float = MIN_RMS_MS2,
         min_distance_ratio: float = MIN_DISTANCE_RATIO,
+        fold: bool = True,
+        min_confidence: float = 0.0,
     ):
         self.band_hz = band_hz
         self.window_s = window_s
         self.hop_s = hop_s
-        self.min_period_s = min_period_s
-        self.max_period_s = max_period_s
-        self.half_lag_ratio = half_lag_ratio
-        self.prominence_ratio = prominence_ratio
-        self.rms_window_s = rms_window_s
-        self.min_correlation = min_correlation
+        self.min_step_hz = min_step_hz
+        self.max_step_hz = max_step_hz
+        self.half_lag_min_correlation = half_lag_min_correlation
+        self.min_periodicity = min_periodicity
         self.min_rms_ms2 = min_rms_ms2
         self.min_distance_ratio = min_distance_ratio
+        self.fold = fold
+        self.min_confidence = min_confidence
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
-        """Detect steps in ``recording``; results in ``steps_``."""
+        """Detect steps in ``recording``; results in ``steps_`` and ``cadence_``."""
         params = self._validate_params()
         rec = as_recording(recording, "adaptive step detection", min_duration_s=2.0)
         fs = rec.sampling_rate_hz
         lo, hi = (float(v) for v in self.band_hz)
-        if not 0 < lo < hi:
-            raise InputError(f"`band_hz` must be (low, high) with 0 < low < high, got {self.band_hz!r}.")
-        if self.min_period_s >= self.max_period_s:
-            raise InputError(f"`min_period_s` ({self.min_period_s}) must be below `max_period_s` ({self.max_period_s}).")
+        if not 0 < lo < hi < fs / 2:
+            raise InputError(f"`band_hz` must be (low, high) with 0 < low < high < {fs / 2:g} Hz (half the rate), got {self.band_hz!r}.")
+        if self.min_step_hz >= self.max_step_hz:
+            raise InputError(f"`min_step_hz` ({self.min_step_hz}) must be below `max_step_hz` ({self.max_step_hz}).")
+        if not isinstance(self.fold, bool | np.bool_):
+            raise InputError(f"`fold` must be true or false, got {self.fold!r}.")
         r = adaptive_steps(acc_magnitude(rec), fs, **params)
         p = r["peak"]
         per = r["period_s"]
         half = np.rint(per * fs / 2).astype(np.int64)
         start = np.maximum(p - half, 0)
         end = np.minimum(p + half, rec.n_samples)
-        self.steps_: pd.DataFrame = make_step_table(start, p, end, fs, event="t_peak_s", period_s=per, correlation=r["correlation"])
+        self.steps_: pd.DataFrame = make_step_table(
+            start,
+            p,
+            end,
+            fs,
+            event="t_peak_s",
+            period_s=per,
+            cadence_hz=1.0 / per if len(per) else np.zeros(0),
+            correlation=r["correlation"],
+            confidence=r["confidence"],
+        )
+        cad = r["cadence"]
+        self.cadence_: pd.DataFrame = pd.DataFrame(
+            {
+                "t_s": cad["centre"] / fs,
+                "cadence_hz": 1.0 / cad["period_s"],
+                "period_s": cad["period_s"],
+                "periodicity": cad["periodicity"],
+                "stride": cad["stride"],
+                "inferred": cad["inferred"],
+            }
+        )
         return self

@@ -1,0 +1,359 @@
+"""Issue 13: the reworked `adaptive` detector (stride vs step, confidence, cadence) and the held-out step evaluation."""
+
+from __future__ import annotations
+
+import io
+import json
+from contextlib import redirect_stderr, redirect_stdout
+from typing import ClassVar
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from gaitml.cli import main
+from gaitml.errors import InputError
+from gaitml.experiments.steps_real import TUNED_SUFFIX, holdout_folds, run_steps_real, tuned_evaluation
+from gaitml.recording import Recording
+from gaitml.signal import magnitude
+from gaitml.steps import AdaptiveStepDetector, BaseStepDetector, get_detector, make_step_table
+from gaitml.steps._base import count_accuracy
+from gaitml.steps.adaptive import fold_steps
+from tests.conftest import shared
+from tests.steps.conftest import synthetic_walk
+from tests.steps.reference_adaptive import adaptive_step_peaks
+
+
+def one_leg_walk(n_strides=60, stride_s=1.1, fs=100.0, far=0.3, swing=2.0, noise_ms2=0.05, seed=0) -> Recording:
+    """A pocket phone that sees one leg: a thigh swing once per stride, a heel strike of the near leg and a weaker
+    one (``far`` times as strong) of the other leg half a stride later; the true steps are both strikes."""
+    rng = np.random.default_rng(seed)
+    lead = 2.0
+    n = int((2 * lead + n_strides * stride_s) * fs)
+    t = np.arange(n) / fs
+    tw = t - lead
+    walking = (tw >= 0) & (tw < n_strides * stride_s)
+    z = np.where(walking, swing * np.sin(2 * np.pi * tw / stride_s), 0.0)
+    true = []
+    for k in range(n_strides):
+        for offset, amp in ((0.0, 3.0), (0.5, 3.0 * far)):
+            tc = lead + (k + offset) * stride_s
+            true.append(tc)
+            z += amp * np.exp(-0.5 * ((t - tc) / 0.04) ** 2)
+    acc = np.column_stack([rng.normal(0, noise_ms2, n), rng.normal(0, noise_ms2, n), 9.80665 + z + rng.normal(0, noise_ms2, n)])
+    return Recording.from_arrays(acc, fs, reference={"steps_t_s": np.sort(true), "n_steps_true": 2 * n_strides})
+
+
+# -- stride versus step --------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "stride_s, far, swing",
+    [(0.9, 0.3, 2.0), (1.1, 0.3, 2.0), (1.1, 0.15, 4.0), (1.3, 0.5, 4.0), (1.5, 0.3, 2.0), (1.5, 0.5, 0.0), (1.1, 0.0, 2.0)],
+)
+def test_one_leg_signal_counts_steps_not_strides(stride_s, far, swing):
+    rec = one_leg_walk(stride_s=stride_s, far=far, swing=swing)
+    det = AdaptiveStepDetector().detect(rec)
+    assert abs(len(det.steps_) - 120) <= 2, len(det.steps_)
+    # the cadence is the step cadence (two per stride), and the windows know they saw strides
+    walking = det.cadence_[(det.cadence_["t_s"] > 5) & (det.cadence_["t_s"] < 60)]
+    np.testing.assert_allclose(walking["cadence_hz"], 2.0 / stride_s, rtol=0.05)
+    assert walking["stride"].all()
+
+
+def test_old_adaptive_counted_strides_on_the_one_leg_signal():
+    """The failure of issue 13 in small: the pre-issue detector (kept under tests/) finds about one step per stride."""
+    rec = one_leg_walk(stride_s=0.9, far=0.3, swing=2.0)
+    old = len(adaptive_step_peaks(magnitude(rec.acc), rec.sampling_rate_hz))
+    assert old <= 70
+    assert abs(len(AdaptiveStepDetector().detect(rec).steps_) - 120) <= 2
+
+
+def test_two_legs_alike_are_steps_not_half_steps():
+    rec = synthetic_walk(n_steps=60, step_period_s=0.75, fs=100.0)  # 1.33 Hz: a slow walk, its half would be running
+    det = AdaptiveStepDetector().detect(rec)
+    assert abs(len(det.steps_) - 60) <= 1
+    walking = det.cadence_[(det.cadence_["t_s"] > 5) & (det.cadence_["t_s"] < 40)]
+    np.testing.assert_allclose(walking["cadence_hz"], 1 / 0.75, rtol=0.03)
+    assert not walking["stride"].any()
+
+
+@pytest.mark.parametrize("step_period_s", [0.3, 0.4, 0.8])
+def test_cadence_range_ends(step_period_s):
+    """Running at 3.3 steps/s and a slow walk at 1.25 steps/s: steps, not half or double steps."""
+    rec = synthetic_walk(n_steps=100, step_period_s=step_period_s, fs=100.0)
+    assert abs(len(AdaptiveStepDetector().detect(rec).steps_) - 100) <= 1
+
+
+def test_fold_cancels_the_stride_and_keeps_the_step():
+    fs, T = 100.0, 50
+    t = np.arange(2000)
+    stride = np.sin(2 * np.pi * t / (2 * T))
+    step = np.sin(2 * np.pi * t / T)
+    inner = slice(200, 1800)
+    np.testing.assert_allclose(fold_steps(stride, np.full(len(t), T))[inner], 0.0, atol=1e-9)
+    np.testing.assert_allclose(fold_steps(step, np.full(len(t), T))[inner], step[inner], atol=1e-9)
+    assert fs  # the fold works in samples
+
+
+def test_confidence_and_cadence_columns():
+    rec = synthetic_walk(n_steps=40, fs=100.0)
+    det = AdaptiveStepDetector().detect(rec)
+    st = det.steps_
+    assert {"start", "peak", "end", "t_start_s", "t_peak_s", "t_end_s", "period_s", "correlation"} <= set(st.columns)
+    assert {"cadence_hz", "confidence"} <= set(st.columns)
+    assert ((st["confidence"] >= 0) & (st["confidence"] <= 1)).all()
+    assert st["confidence"].median() > 0.8  # a clean periodic walk
+    np.testing.assert_allclose(st["cadence_hz"], 1 / st["period_s"])
+    assert list(det.cadence_.columns) == ["t_s", "cadence_hz", "period_s", "periodicity", "stride", "inferred"]
+    # dropping low-confidence steps only removes steps
+    kept = AdaptiveStepDetector(min_confidence=0.99).detect(rec).steps_
+    assert set(kept["peak"]) <= set(st["peak"]) and len(kept) < len(st)
+
+
+def test_bad_adaptive_parameters():
+    rec = synthetic_walk(n_steps=20, fs=100.0)
+    with pytest.raises(InputError, match="min_step_hz"):
+        AdaptiveStepDetector(min_step_hz=3.0, max_step_hz=2.0).detect(rec)
+    with pytest.raises(InputError, match="band_hz"):
+        AdaptiveStepDetector(band_hz=(0.5, 80.0)).detect(rec)
+    with pytest.raises(InputError, match="fold"):
+        AdaptiveStepDetector(fold="yes").detect(rec)
+
+
+def _cli(argv):
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        rc = main(argv)
+    return rc, out.getvalue(), err.getvalue()
+
+
+def test_steps_json_carries_cadence_and_confidence(tmp_path):
+    rec = synthetic_walk(n_steps=30, fs=50.0)
+    path = tmp_path / "walk.csv"
+    t = np.arange(rec.n_samples) / rec.sampling_rate_hz
+    pd.DataFrame({"t": t, "acc_x": rec.acc[:, 0], "acc_y": rec.acc[:, 1], "acc_z": rec.acc[:, 2]}).to_csv(path, index=False)
+    rc, out, err = _cli(["steps", str(path), "--detector", "adaptive", "--json"])
+    assert rc == 0, err
+    obj = json.loads(out)
+    assert abs(obj["n_steps"] - 30) <= 1
+    assert set(obj["steps"][0]) == {"t_s", "period_s", "cadence_hz", "confidence"}
+    assert all(0 <= s["confidence"] <= 1 for s in obj["steps"])
+    assert obj["cadence"] and set(obj["cadence"][0]) == {"t_s", "cadence_hz", "periodicity", "stride"}
+    # a paper detector keeps the old contract
+    rc, out, _ = _cli(["steps", str(path), "--detector", "single-peak", "--json"])
+    obj = json.loads(out)
+    assert set(obj["steps"][0]) == {"t_s", "period_s"} and "cadence" not in obj
+    rc, out, _ = _cli(["steps", str(path), "--detector", "adaptive"])
+    assert "step confidence: median" in out
+
+
+# -- held-out evaluation -------------------------------------------------------------------------------------
+
+
+def _fake_oxford(user, position, surface="Hard", n_true=100, rate=1.0, i=0) -> Recording:
+    acc = np.tile([0.0, 0.0, 9.80665], (300, 1))
+    meta = {
+        "format": "oxford",
+        "user": user,
+        "position": position,
+        "surface": surface,
+        "id": f"{user}_{surface}_{position}_{i}",
+        "rate": rate,
+    }
+    return Recording.from_arrays(acc, 100.0, meta=meta, reference={"n_steps_true": n_true})
+
+
+class FakeTunable(BaseStepDetector):
+    """A detector whose count is ``gain * rate * 100`` (``rate`` from the recording's meta): the best gain is 1 / rate.
+
+    Parameters
+    ----------
+    gain : float, default 1.0
+    """
+
+    name = "fake-tunable"
+    param_grid: ClassVar[dict[str, tuple]] = {"gain": (0.5, 1.0, 2.0)}
+
+    def __init__(self, *, gain: float = 1.0):
+        self.gain = gain
+
+    def detect(self, recording):
+        n = int(round(self.gain * recording.meta["rate"] * 100))
+        idx = np.arange(n) % recording.n_samples
+        self.steps_ = make_step_table(idx, idx, idx, recording.sampling_rate_hz, event="t_peak_s")
+        return self
+
+
+def _fake_set():
+    recs = []
+    for u, rate in (("A", 1.0), ("B", 0.5), ("C", 0.5)):
+        for pos in ("InHand", "BackPocket"):
+            recs.append(_fake_oxford(u, pos, rate=rate))
+    recs.append(_fake_oxford("A", "InHand", surface="Carpet", rate=1.0, i=1))
+    recs.append(
+        Recording.from_arrays(
+            np.tile([0.0, 0.0, 9.8], (300, 1)), 50.0, meta={"format": "ifsm-xlsx", "rate": 1.0}, reference={"n_steps_true": 100}
+        )
+    )
+    return recs
+
+
+@pytest.mark.parametrize("scheme, key", [("user", "user"), ("position", "position")])
+def test_holdout_folds_never_share_a_group(scheme, key):
+    recs = _fake_set()
+    folds = holdout_folds(recs, scheme)
+    seen = []
+    for value, train, test in folds:
+        assert test and train
+        assert {recs[i].meta[key] for i in test} == {value}
+        assert value not in {recs[i].meta[key] for i in train}
+        assert all(recs[i].meta["surface"] == "Hard" for i in train)  # carpet is scored, never tuned on
+        seen.extend(test)
+    oxford = [i for i, r in enumerate(recs) if r.meta.get("format") == "oxford"]
+    assert sorted(seen) == oxford  # every Oxford recording is held out exactly once; the IFSM one never
+    with pytest.raises(InputError, match="unknown held-out scheme"):
+        holdout_folds(recs, "phone")
+
+
+def test_tuned_setting_depends_only_on_the_training_users(monkeypatch):
+    from gaitml.steps import _registry
+
+    monkeypatch.setitem(_registry.DETECTORS, "fake-tunable", FakeTunable)
+    recs = _fake_set()
+    in_rows, held, chosen = tuned_evaluation(recs, "fake-tunable", ("user",))
+    # users B and C need gain 2, user A gain 1: without A the training users choose 2, and A's held-out rows pay for it
+    assert chosen["user"] == {"A": {"gain": 2.0}, "B": {"gain": 1.0}, "C": {"gain": 1.0}}
+    rows_a = [r for r in held["user"] if r["fold"] == "A"]
+    assert rows_a and all(r["count_accuracy"] == pytest.approx(0.0) for r in rows_a)
+    assert all(r["detector"] == "fake-tunable" + TUNED_SUFFIX for r in in_rows)
+    # brute force: each fold's choice is the best mean count accuracy over its training recordings only
+    for value, train, _ in holdout_folds(recs, "user"):
+
+        def score(g, train=train):
+            return np.mean([count_accuracy(g * recs[i].meta["rate"] * 100, 100) for i in train])
+
+        best = max((0.5, 1.0, 2.0), key=lambda g: (score(g), -[0.5, 1.0, 2.0].index(g)))
+        assert chosen["user"][value] == {"gain": best}
+    # changing the held-out user's data (its true counts) leaves that fold's choice unchanged
+    for r in recs:
+        if r.meta.get("user") == "A":
+            r.reference["n_steps_true"] = 50
+    _, _, chosen2 = tuned_evaluation(recs, "fake-tunable", ("user",))
+    assert chosen2["user"]["A"] == chosen["user"]["A"]
+
+
+def test_run_writes_side_by_side_tables(monkeypatch, tmp_path):
+    from gaitml.steps import _registry
+
+    monkeypatch.setitem(_registry.DETECTORS, "fake-tunable", FakeTunable)
+    recs = _fake_set()[:-1]
+    summary = run_steps_real(tmp_path / "run", data_dir=tmp_path, detectors=["fake-tunable"], recordings=recs, holdout=["user", "position"])
+    assert summary["fitted"] == ["fake-tunable" + TUNED_SUFFIX]
+    by_pos = pd.read_csv(tmp_path / "run" / "oxford_by_position.csv")
+    assert {"heldout_user_count_accuracy", "heldout_position_count_accuracy"} <= set(by_pos.columns)
+    as_is = by_pos[by_pos["detector"] == "fake-tunable"]
+    np.testing.assert_allclose(as_is["count_accuracy"], as_is["heldout_user_count_accuracy"])  # nothing fitted: the same
+    tuned = summary["oxford"]["fake-tunable" + TUNED_SUFFIX]["Hard"]
+    assert tuned["heldout_user_mean_count_accuracy"] < tuned["mean_count_accuracy"]  # the in-sample choice flatters
+    report = (tmp_path / "run" / "report.md").read_text()
+    assert "in sample vs leave-one-user-out" in report and "in sample vs leave-one-position-out" in report
+    assert "without user A" in report
+    held = pd.read_csv(tmp_path / "run" / "heldout_per_recording.csv")
+    assert set(held["holdout"]) == {"user", "position"}
+
+
+def test_config_holdout_keys(tmp_path):
+    from gaitml.errors import ConfigError
+    from gaitml.experiments import parse_config
+
+    base = {"name": "s", "task": "steps", "data": {"path": str(tmp_path)}}
+    cfg = parse_config(base)
+    assert cfg["evaluation"] == {"holdout": "user", "tune": True}
+    cfg = parse_config({**base, "evaluation": {"holdout": ["user", "position"], "tune": False}})
+    assert cfg["evaluation"]["holdout"] == ["user", "position"]
+    for bad, match in (("phone", "not allowed"), (["none", "user"], "mixes 'none'"), ([], "at least one"), (3, "wrong type")):
+        with pytest.raises(ConfigError, match=match):
+            parse_config({**base, "evaluation": {"holdout": bad}})
+
+
+# -- real data -----------------------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def oxford_recs():
+    from gaitml.io import read_recording
+    from gaitml.io.oxford import list_oxford_folders
+
+    return [read_recording(f) for f in list_oxford_folders(shared("oxford-step-counter", "optimisation"))]
+
+
+def _by_position(rows) -> pd.Series:
+    df = pd.DataFrame(rows)
+    return df[df["surface"] == "Hard"].groupby("position")["count_accuracy"].mean()
+
+
+def test_adaptive_held_out_user_figures(oxford_recs, tmp_path):
+    """Measured (experiments/reports/steps-heldout.md): LOUO hard mean 97.58 %, worst position 95.33 % (SwingingArm).
+
+    The defaults have no setting chosen on these recordings, so the held-out figure is the in-sample one; asserted
+    with a margin below the measured figures.
+    """
+    summary = run_steps_real(tmp_path / "run", data_dir=tmp_path, detectors=["adaptive", "adfsm"], recordings=oxford_recs, tune=False)
+    hard = summary["oxford"]["adaptive"]["Hard"]
+    assert hard["heldout_user_mean_count_accuracy"] >= 0.970
+    assert hard["heldout_user_worst_position_count_accuracy"] >= 0.945
+    assert summary["oxford"]["adaptive"]["Carpet"]["heldout_user_mean_count_accuracy"] >= 0.98
+    pos = hard["by_position"]
+    adfsm = summary["oxford"]["adfsm"]["Hard"]["by_position"]
+    # at least as good as AD-FSM in every position but the neck pouch (97.93 vs 98.16 %: reported, not met)
+    for p, v in pos.items():
+        if p != "NeckPouch":
+            assert v["heldout_user_count_accuracy"] >= adfsm[p]["heldout_user_count_accuracy"] - 0.002, p
+    assert pos["BackPocket"]["heldout_user_count_accuracy"] >= 0.955  # the position of the issue (old: strides elsewhere)
+
+
+@pytest.mark.slow
+def test_adaptive_tuned_held_out(oxford_recs):
+    """The grid variant chosen on training users only stays above the issue's targets (measured 97.81 % LOUO)."""
+    _, held, chosen = tuned_evaluation(oxford_recs, "adaptive", ("user",))
+    acc = _by_position(held["user"])
+    assert acc.mean() >= 0.972 and acc.min() >= 0.945
+    assert set(chosen["user"]) == {"Jamie", "Carmelo", "Dario"}
+
+
+def test_adaptive_ifsm_within_one_percent(ifsm_recs):
+    counts = [len(get_detector("adaptive").detect(r).steps_) for r in ifsm_recs]
+    assert abs(counts[0] - 284) <= 2 and abs(counts[1] - 319) <= 3  # measured 284 / 319
+
+
+def test_window_autocorrelation_matches_a_direct_loop():
+    from gaitml.steps.adaptive import window_autocorrelation
+
+    rng = np.random.default_rng(1)
+    y = np.cumsum(rng.normal(size=1500)) * 0.1 + np.sin(np.arange(1500) / 4) + 5
+    L, H, lags = 125, 25, np.arange(6, 44)
+    r = window_autocorrelation(y, L, H, lags)
+    for i in (0, 17, (len(y) - L) // H):
+        w = y[i * H : i * H + L] - y[i * H : i * H + L].mean()
+        ref = [(w[: L - k] @ w[k:]) / np.sqrt((w[: L - k] @ w[: L - k]) * (w[k:] @ w[k:])) for k in lags]
+        np.testing.assert_allclose(r[i], ref, atol=1e-12)
+    # a periodic signal correlates as well at two periods as at one (no decay with the lag)
+    p = window_autocorrelation(np.sin(2 * np.pi * np.arange(500) / 20), 125, 25, np.array([20, 40]))
+    np.testing.assert_allclose(p, 1.0, atol=1e-9)
+
+
+#: IFSM counts of the paper detectors before issue 13 (ba48f30), per file (true 284 / 319)
+PAPER_IFSM_COUNTS = {
+    "single-peak": (284, 319),
+    "ifsm": (283, 319),
+    "ifsm-literal": (218, 289),
+    "adfsm": (284, 315),
+    "autocorr": (282, 318),
+    "fsm-selflearn": (279, 317),
+}
+
+
+@pytest.mark.parametrize("name", sorted(PAPER_IFSM_COUNTS))
+def test_paper_detectors_ifsm_counts_unchanged(ifsm_recs, name):
+    assert tuple(len(get_detector(name).detect(r).steps_) for r in ifsm_recs) == PAPER_IFSM_COUNTS[name]

@@ -35,6 +35,9 @@ Keys (defaults in brackets) of ``task = "classification"``::
     length_s = 1.5
     overlap = 0.5
     min_label_fraction = 0.5
+    by = "time"                      # "time" | "steps" (a window per detected step) | "strides" (per stride)
+    detector = ""                    # steps: a step detector (default "single-peak"); strides: a ZUPT detector
+                                     # (default "pseudo-std"); time windows ignore it (gaitml.features.step_windows)
     [features]
     set = "all52"                    # "all52" | "paper34" | "all52+gyro"
     [model]
@@ -113,6 +116,23 @@ def _sim_pose_names() -> tuple[str, ...]:
     from gaitml.simulate.subject import POSES
 
     return (*POSES, "mixed")
+
+
+def _window_by_names() -> tuple[str, ...]:
+    from gaitml.features.step_windows import WINDOW_BY
+
+    return WINDOW_BY
+
+
+def _check_windows(values: dict) -> None:
+    """``windows.detector`` must come from the registry of ``windows.by`` (steps: step detectors, strides: ZUPT detectors)."""
+    from gaitml.features.step_windows import check_window_by
+
+    w = values["windows"]
+    try:
+        check_window_by(w["by"], w["detector"])
+    except InputError as exc:
+        raise ConfigError(f"windows.detector = {w['detector']!r}: {str(exc).rstrip('.')}.") from None
 
 
 def _step_detector_names() -> tuple[str, ...]:
@@ -207,6 +227,9 @@ SCHEMA: dict[str, Any] = {
         "length_s": _Leaf(_NUM, 1.5, check=_pos),
         "overlap": _Leaf(_NUM, 0.5, check=_overlap),
         "min_label_fraction": _Leaf(_NUM, 0.5, check=_fraction),
+        # step-synchronous windows (gaitml.features.step_windows); detector checked in _check_windows
+        "by": _Leaf((str,), "time", allowed=_window_by_names),
+        "detector": _Leaf((str,), ""),
     },
     "features": {"set": _Leaf((str,), "all52", allowed=_feature_set_names)},
     "model": {
@@ -513,8 +536,9 @@ def parse_config(
                 f"{key} gives {len(classes)} class ({', '.join(classes) or 'none'}); a classifier needs at least 2: list at least two modes."
             )
     _check_model(values)
+    _check_windows(values)
     for point in sweep_grid(cfg):
-        if point and any(k.startswith("model.") or k.startswith("data.") for k in point):
+        if point and any(k.startswith(("model.", "data.", "windows.by", "windows.detector")) for k in point):
             cfg.with_values(point)  # validates each grid point's model / data settings
     return cfg
 

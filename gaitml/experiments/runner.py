@@ -153,7 +153,7 @@ def build_dataset(
     cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool | None = None, need_features: bool | None = None, use_cache: bool = True
 ):
     """Window the prepared recordings with the config's window and feature settings."""
-    from gaitml.models import build_window_dataset, model_class
+    from gaitml.models import model_class
 
     input_kind = model_class(cfg["model"]["kind"]).input_kind
     need_raw = input_kind == "raw" if need_raw is None else need_raw
@@ -162,7 +162,23 @@ def build_dataset(
     key = json.dumps([_data_key(cfg), w, cfg["features"]["set"], need_raw, need_features], sort_keys=True, default=str)
     if use_cache and key in _DS_CACHE:
         return _DS_CACHE[key]
-    ds = build_window_dataset(
+    if w["by"] != "time":
+        ds = _build_step_dataset(cfg, data, need_raw=need_raw, need_features=need_features)
+    else:
+        ds = _build_time_dataset(cfg, data, need_raw=need_raw, need_features=need_features)
+    if use_cache:
+        if len(_DS_CACHE) > 4:
+            _DS_CACHE.clear()
+        _DS_CACHE[key] = ds
+    return ds
+
+
+def _build_time_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool, need_features: bool):
+    """Fixed-length time windows (``windows.by = "time"``, paper 003 sec. 3.3)."""
+    from gaitml.models import build_window_dataset
+
+    w = cfg["windows"]
+    return build_window_dataset(
         data.recordings,
         groups=data.groups,
         length_s=w["length_s"],
@@ -173,11 +189,40 @@ def build_dataset(
         need_features=need_features,
         need_raw=need_raw,
     )
-    if use_cache:
-        if len(_DS_CACHE) > 4:
-            _DS_CACHE.clear()
-        _DS_CACHE[key] = ds
-    return ds
+
+
+def _build_step_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool, need_features: bool):
+    """One window per detected step or stride (``windows.by = "steps" | "strides"``, :mod:`gaitml.features.step_windows`)."""
+    from gaitml.models import build_step_window_dataset
+
+    w = cfg["windows"]
+    return build_step_window_dataset(
+        data.recordings,
+        groups=data.groups,
+        by=w["by"],
+        detector=w["detector"] or None,
+        min_label_fraction=w["min_label_fraction"],
+        feature_set=cfg["features"]["set"],
+        keep_labels=cfg["data"]["labels"] or None,
+        need_features=need_features,
+        need_raw=need_raw,
+    )
+
+
+def _window_info(cfg: ExperimentConfig) -> dict:
+    """The ``window`` block of model.json: time-window settings, plus ``by``/``detector`` for step windows.
+
+    A time-window model keeps the block it always had (``length_s``, ``overlap``,
+    ``min_label_fraction``), so its model.json is unchanged; loading a model without
+    ``by`` reads it as time windows.
+    """
+    w = cfg["windows"]
+    info = {k: w[k] for k in ("length_s", "overlap", "min_label_fraction")}
+    if w["by"] != "time":
+        from gaitml.features.step_windows import RAW_SPAN_SAMPLES, check_window_by
+
+        info.update(by=w["by"], detector=check_window_by(w["by"], w["detector"]), raw_length_samples=RAW_SPAN_SAMPLES[w["by"]])
+    return info
 
 
 def default_run_dir(cfg: ExperimentConfig) -> Path:
@@ -379,7 +424,7 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
         "feature_set": fset,
         "feature_names": list(feature_names(fset)) if model.input_kind == "features" else [],
         "raw_channels": list(ds.raw_channels) if model.input_kind == "raw" else [],
-        "window": {k: cfg["windows"][k] for k in ("length_s", "overlap", "min_label_fraction")},
+        "window": _window_info(cfg),
         "sampling_rate_hz": ds.sampling_rate_hz,
         "labels": [str(x) for x in model.classes_],
         "postprocess": cfg["postprocess"],

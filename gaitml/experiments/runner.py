@@ -28,10 +28,12 @@ _DS_CACHE: dict[str, Any] = {}
 class PreparedData:
     """Recordings at the experiment rate with labels set, their groups, and notes for the report."""
 
-    def __init__(self, recordings, groups, notes):
+    def __init__(self, recordings, groups, notes, keep_labels=None):
         self.recordings = recordings
         self.groups = groups
         self.notes = notes
+        #: labels to keep when ``data.labels`` is empty (all but 'unlabelled' of interval-labelled data), or None
+        self.keep_labels = keep_labels
 
 
 def _data_key(cfg: ExperimentConfig) -> str:
@@ -67,14 +69,10 @@ def _load_recordings(cfg: ExperimentConfig):
             f"simulated: {s['subjects']} subjects x {s['sessions']} session(s), phone pose {s['pose']}, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}"
         )
         return list(recs), notes
-    from gaitml.io import read_dataset
     from gaitml.models import resample_recording
 
-    try:
-        recs = read_dataset(cfg.data_path)
-    except InputError as exc:
-        raise ConfigError(f"data.path = {d['path']!r}: {exc}") from exc
-    notes.append(f"folder {cfg.data_path}: {len(recs)} recordings read")
+    recs, read_notes = _read_folder(cfg)
+    notes += read_notes
     where = d["where"]
     if where:
         cols = _meta_columns(recs)
@@ -92,6 +90,36 @@ def _load_recordings(cfg: ExperimentConfig):
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
     return out, notes
+
+
+def _read_folder(cfg: ExperimentConfig):
+    """The recordings of a ``data.source = "folder"`` config.
+
+    A folder with a manifest (``data.manifest``, or ``manifest.csv`` when present)
+    is read by :func:`gaitml.experiments.folder_source.read_manifest_folder`: any
+    recording format, labels from intervals files. Without one, the folder's own
+    layout (a gaitml-csv set, an Oxford set, a folder of recordings) is read by
+    :func:`gaitml.io.read_dataset`.
+    """
+    from gaitml.experiments.folder_source import MANIFEST_NAME, read_manifest_folder
+    from gaitml.io import read_dataset
+
+    d = cfg["data"]
+    folder = cfg.data_path
+    manifest = folder / (d["manifest"] or MANIFEST_NAME) if folder.is_dir() else None
+    if d["manifest"] and (manifest is None or not manifest.is_file()):
+        raise ConfigError(
+            f"data.manifest = {d['manifest']!r} is not a file in {folder}; write the manifest (columns file, subject[, intervals, "
+            "position, format]) or fix the name."
+        )
+    if manifest is not None and manifest.is_file():
+        recs, notes = read_manifest_folder(folder, manifest, label=d["label"], labelling=d["labelling"])
+        return recs, [f"folder {folder}: {len(recs)} recordings read", *notes]
+    try:
+        recs = read_dataset(folder)
+    except InputError as exc:
+        raise ConfigError(f"data.path = {d['path']!r}: {exc}") from exc
+    return recs, [f"folder {folder}: {len(recs)} recordings read"]
 
 
 def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedData:
@@ -135,6 +163,14 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
         if x not in present:
             raise ConfigError(f"data.labels has {x!r}, which is not a label of the data; labels present: {', '.join(present)}.")
     classes = sorted(set(d["labels"])) if d["labels"] else present
+    keep_labels = None
+    from gaitml.labels import UNLABELLED
+
+    if not d["labels"] and UNLABELLED in present and any("labelled_from" in r.meta for r in recs):
+        # samples outside every interval of an intervals file: left out, not a class (list it in data.labels to keep it)
+        classes = [c for c in present if c != UNLABELLED]
+        keep_labels = classes
+        notes.append(f"windows labelled {UNLABELLED!r} (outside every interval) are left out; list it in data.labels to keep it as a class")
     if len(classes) < 2:
         raise ConfigError(
             f"data.label = {label!r} has {len(classes)} class in the data ({', '.join(classes) or 'none'}); "
@@ -142,11 +178,14 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
         )
     missing = [r.name for r in recs if group not in r.meta]
     if missing:
-        raise ConfigError(f"data.group = {group!r} is not a meta/manifest column of recording {missing[0]!r}; columns: {', '.join(cols)}.")
+        raise ConfigError(
+            f"data.group = {group!r} is not a meta/manifest column of recording {missing[0]!r}; columns: {', '.join(cols)} "
+            "(a folder of phone recordings needs a manifest.csv with file, subject, ...)."
+        )
     groups = [str(r.meta[group]) for r in recs]
     c = cfg["cv"]
     check_groups(c["scheme"], groups, c["n_splits"], group_key=group)
-    return PreparedData(labelled, groups, notes)
+    return PreparedData(labelled, groups, notes, keep_labels)
 
 
 def build_dataset(
@@ -185,7 +224,7 @@ def _build_time_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: 
         overlap=w["overlap"],
         min_label_fraction=w["min_label_fraction"],
         feature_set=cfg["features"]["set"],
-        keep_labels=cfg["data"]["labels"] or None,
+        keep_labels=cfg["data"]["labels"] or data.keep_labels,
         need_features=need_features,
         need_raw=need_raw,
     )
@@ -203,7 +242,7 @@ def _build_step_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: 
         detector=w["detector"] or None,
         min_label_fraction=w["min_label_fraction"],
         feature_set=cfg["features"]["set"],
-        keep_labels=cfg["data"]["labels"] or None,
+        keep_labels=cfg["data"]["labels"] or data.keep_labels,
         need_features=need_features,
         need_raw=need_raw,
     )

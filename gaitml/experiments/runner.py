@@ -156,7 +156,8 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
     else:
         have = "per-sample 'label', " if all(r.labels is not None for r in recs) else ""
         raise ConfigError(
-            f"data.label = {label!r} is not in the data: neither per-sample labels nor a meta/manifest column; available: {have}{', '.join(cols)}."
+            f"data.label = {label!r} is not in the data: neither per-sample labels nor a meta/manifest column; available: {have}{', '.join(cols)} "
+            "(label phone recordings with intervals files listed in the folder's manifest.csv: gaitml.experiments.folder_source)."
         )
     present = sorted({str(x) for r in labelled for x in np.unique(r.labels)})
     for x in d["labels"]:

@@ -170,7 +170,7 @@ def read_manifest_folder(folder: Path, manifest: Path, *, label: str = "label", 
                 f"{where}: recording {fname} has no labels; give it an intervals file (manifest column 'intervals'), "
                 "a per-sample label column (gaitml label writes one), or set data.label to a manifest column."
             )
-        elif label != "label" and not _cell(row.get(label)):
+        elif label != "label" and label in man.columns and not _cell(row.get(label)):
             raise ConfigError(f"{where}: recording {fname} has no {label!r} (data.label); fill that manifest cell.")
         recs.append(rec)
     fmts = sorted({str(r.meta.get("format") or r.meta.get("source") or "?") for r in recs})

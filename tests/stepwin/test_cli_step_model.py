@@ -109,3 +109,32 @@ def test_evaluate_with_step_windows(tmp_path, capsys):
     res = json.loads(capsys.readouterr().out)
     assert len(res["folds"]) == 2 and res["n_windows"] > 50
     assert res["n_windows"] == res["n_windows_total"] - res["n_dropped_label_fraction"]
+
+
+def test_json_export_describes_step_windows(trained, tmp_path):
+    d, _ = trained
+    assert main(["model", "export", str(d / "model"), "--format", "json", "--out", str(tmp_path / "m.json")]) == 0
+    win = json.loads((tmp_path / "m.json").read_text())["window"]
+    assert win["by"] == "steps" and win["detector"] == "ifsm" and "one window per detected step" in win["rule"]
+
+
+def test_raw_input_model_on_step_windows(tmp_path):
+    """cnn1d reads each step resampled to a fixed length (32 samples)."""
+    pytest.importorskip("torch")
+    from gaitml.experiments import parse_config, train_config
+
+    cfg = parse_config(
+        {
+            "name": "cnn-steps",
+            "data": {"simulated": {"subjects": 2, "duration_s": 30.0}},
+            "windows": {"by": "steps"},
+            "model": {"kind": "cnn1d", "params": {"epochs": 1, "channels": [4, 4], "batch_size": 64}},
+            "train": {"cross_validate": False},
+        }
+    )
+    model = train_config(cfg, out_dir=tmp_path / "m", progress=False)
+    assert model.info["window"]["raw_length_samples"] == 32
+    rec = simulate_dataset(n_subjects=1, duration_s=20.0, seed=9)[0]
+    table = predict_step_windows(load_model(tmp_path / "m"), rec)
+    assert len(table) == len(get_detector("single-peak").detect(rec).steps_)
+    assert set(table["mode"]) <= set(model.labels)

@@ -390,6 +390,8 @@ def evaluate_config(
         "model_kind": best["cfg"]["model"]["kind"],
         "feature_set": best["cfg"]["features"]["set"],
         "window_length_s": best["cfg"]["windows"]["length_s"],
+        "window_by": best["cfg"]["windows"]["by"],
+        "window_detector": _window_info(best["cfg"]).get("detector", ""),
         "n_windows": len(ds),
         "n_windows_total": ds.n_total,
         "n_dropped_label_fraction": ds.n_dropped_fraction,

@@ -138,3 +138,29 @@ def test_raw_input_model_on_step_windows(tmp_path):
     table = predict_step_windows(load_model(tmp_path / "m"), rec)
     assert len(table) == len(get_detector("single-peak").detect(rec).steps_)
     assert set(table["mode"]) <= set(model.labels)
+
+
+def test_stride_window_model_predicts_per_stride_and_pdr_gives_each_step_its_strides_mode(tmp_path, capsys):
+    from gaitml.experiments import parse_config, train_config
+    from gaitml.features import make_step_windows
+
+    cfg = parse_config(
+        {
+            "name": "strides",
+            "data": {"simulated": {"subjects": 2, "duration_s": 40.0}},
+            "windows": {"by": "strides", "detector": "magnitude-std"},
+            "train": {"cross_validate": False},
+        }
+    )
+    model = train_config(cfg, out_dir=tmp_path / "m", progress=False)
+    assert model.info["window"]["by"] == "strides" and model.info["window"]["detector"] == "magnitude-std"
+    rec = simulate_dataset(n_subjects=1, duration_s=30.0, seed=8, segment_s=(6.0, 9.0))[0]
+    write_gaitml_csv(rec, tmp_path / "walk.csv")
+    table = predict_step_windows(load_model(tmp_path / "m"), rec)
+    assert len(table) == len(make_step_windows(rec, "strides", "magnitude-std", min_label_fraction=0.0)) > 10
+    capsys.readouterr()
+    assert main(["pdr", str(tmp_path / "walk.csv"), "--model", str(tmp_path / "m"), "--json"]) == 0
+    out, err = capsys.readouterr()
+    res = json.loads(out)
+    assert "stride-window model" in err and res["n_steps"] == len(get_detector("single-peak").detect(rec).steps_)
+    assert {p["mode"] for p in res["trajectory"][1:]} <= set(table["mode"])

@@ -251,8 +251,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--detector",
         **_choices("pdr", "--detector", _step_detectors),
-        default="single-peak",
-        help="step detector: %(choices)s (default single-peak)",
+        default=None,
+        help="step detector: %(choices)s (default single-peak, or a step-window model's own detector)",
     )
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
     p.add_argument(

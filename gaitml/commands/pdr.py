@@ -42,6 +42,21 @@ def _validate(args) -> None:
         raise InputError("--modes model needs a model; pass --model MODEL_DIR, or use --modes true (labels) or --modes forward.")
 
 
+def _detector(args, model, notes: list[str]) -> str:
+    """The step detector: --detector, else a step-window model's own detector, else single-peak.
+
+    A model trained on step windows (model.json ``window.by = "steps"``) classifies the
+    PDR's steps directly; by default they come from the detector it was trained with.
+    """
+    given = getattr(args, "detector", None)
+    if given:
+        return given
+    if model is not None and model.window_by == "steps":
+        notes.append(f"steps from the step-window model's detector {model.window_detector} (pass --detector to choose another)")
+        return model.window_detector
+    return "single-peak"
+
+
 def run(args) -> int:
     """Dead-reckon INPUT; print a summary or the JSON contract; optionally write the table and a plot."""
     from gaitml.pdr import run_pdr
@@ -84,7 +99,7 @@ def run(args) -> int:
     res = run_pdr(
         rec,
         model=model,
-        detector=getattr(args, "detector", "single-peak"),
+        detector=_detector(args, model, notes),
         heading=getattr(args, "heading", "hde"),
         modes=modes,
         mode_boundaries=getattr(args, "mode_boundaries", "auto"),

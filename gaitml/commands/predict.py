@@ -1,4 +1,8 @@
-"""`gaitml predict MODEL_DIR INPUT [--out FILE] [--no-correction] [--json]`: per-window motion modes."""
+"""`gaitml predict MODEL_DIR INPUT [--out FILE] [--no-correction] [--json]`: per-window motion modes.
+
+A step-window model (``window.by`` steps or strides in model.json) gives one row per
+detected step (stride) instead (:func:`_run_steps`).
+"""
 
 from __future__ import annotations
 
@@ -10,6 +14,8 @@ def run(args) -> int:
     from gaitml.models import load_model, predict_recording
 
     model = load_model(args.model_dir)
+    if model.window_by != "time":
+        return _run_steps(args, model)
     if is_large_input(args):
         from gaitml.longrun import long_predict
 
@@ -45,5 +51,45 @@ def run(args) -> int:
             "gaitml predict: "
             + ", ".join(f"{k} {v}" for k, v in counts.items())
             + f" ({len(table)} windows; use --out FILE or --json for the table)"
+        )
+    return 0
+
+
+def _run_steps(args, model) -> int:
+    """A step-window model (model.json ``window.by`` steps/strides): one row per detected step (stride)."""
+    from gaitml.io import write_csv
+    from gaitml.models import predict_step_windows
+
+    rec = load_input(args)
+    table = predict_step_windows(model, rec, correction=not args.no_correction)
+    unit = "strides" if model.window_by == "strides" else "steps"
+    if table.attrs.get("resampled_from_hz"):
+        log(
+            f"gaitml predict: resampled the input from {table.attrs['resampled_from_hz']:g} Hz to the model's {model.sampling_rate_hz:g} Hz"
+        )
+    if args.out:
+        write_csv(args.out, table)
+        log(f"gaitml predict: {len(table)} {unit} written to {args.out}")
+    counts = {str(k): int(v) for k, v in table["mode"].value_counts().sort_index().items()}
+    if args.json:
+        emit_json(
+            {
+                "model": str(model.path),
+                "sampling_rate_hz": model.sampling_rate_hz,
+                "window_by": model.window_by,
+                "detector": model.window_detector,
+                "correction": not args.no_correction,
+                "windows": [
+                    {"t_start_s": float(r.t_start_s), "t_end_s": float(r.t_end_s), "t_event_s": float(r.t_event_s), "mode": str(r.mode)}
+                    for r in table.itertuples()
+                ],
+                "counts": counts,
+            }
+        )
+    elif not args.out:
+        log(
+            "gaitml predict: "
+            + ", ".join(f"{k} {v}" for k, v in counts.items())
+            + f" ({len(table)} {unit} detected by {model.window_detector}; use --out FILE or --json for the table)"
         )
     return 0

@@ -25,6 +25,12 @@ Keys (defaults in brackets) of ``task = "classification"``::
     labels = []                      # keep only these labels (others dropped and reported)
     resample_hz = 50.0               # every recording is resampled to this rate
     where = {}                       # keep recordings whose meta matches, e.g. { surface = "Hard" }
+    manifest = ""                    # "folder": the manifest in data.path (default: manifest.csv when present;
+                                     # a name given here must exist). Columns: gaitml.experiments.folder_source
+    [data.labelling]                 # "folder": recordings with an intervals file are labelled by gaitml.labels
+    snap = "steps"                   # "steps" | "strides" | "none": boundaries snap to detected steps / strides
+    detector = ""                    # the step (or, for strides, zero-velocity) detector; default single-peak / pseudo-std
+    max_snap_s = 0.5
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -37,6 +43,9 @@ Keys (defaults in brackets) of ``task = "classification"``::
     length_s = 1.5
     overlap = 0.5
     min_label_fraction = 0.5
+    by = "time"                      # "time" | "steps" (a window per detected step) | "strides" (per stride)
+    detector = ""                    # steps: a step detector (default "single-peak"); strides: a ZUPT detector
+                                     # (default "pseudo-std"); time windows ignore it (gaitml.features.step_windows)
     [features]
     set = "all52"                    # "all52" | "paper34" | "all52+gyro"
     [model]
@@ -129,6 +138,50 @@ def _sim_position_names() -> tuple[str, ...]:
     from gaitml.simulate.positions import POSITIONS
 
     return tuple(POSITIONS)
+
+
+def _snap_modes() -> tuple[str, ...]:
+    from gaitml.labels import SNAP_MODES
+
+    return SNAP_MODES
+
+
+def _nonneg(v):
+    return None if v >= 0 else "must be >= 0"
+
+
+def _check_labelling(values: dict) -> None:
+    """``data.labelling.detector`` must be a step detector (snap steps/none) or a zero-velocity detector (snap strides)."""
+    lab = values["data"]["labelling"]
+    if not lab["detector"]:
+        return
+    if lab["snap"] == "strides":
+        from gaitml.zupt import DETECTORS
+
+        kind = "zero-velocity detector (data.labelling.snap = 'strides')"
+    else:
+        from gaitml.steps import DETECTORS
+
+        kind = f"step detector (data.labelling.snap = {lab['snap']!r})"
+    if lab["detector"] not in DETECTORS:
+        raise ConfigError(f"data.labelling.detector = {lab['detector']!r} is not a {kind}; allowed: {', '.join(map(repr, DETECTORS))}.")
+
+
+def _window_by_names() -> tuple[str, ...]:
+    from gaitml.features.step_windows import WINDOW_BY
+
+    return WINDOW_BY
+
+
+def _check_windows(values: dict) -> None:
+    """``windows.detector`` must come from the registry of ``windows.by`` (steps: step detectors, strides: ZUPT detectors)."""
+    from gaitml.features.step_windows import check_window_by
+
+    w = values["windows"]
+    try:
+        check_window_by(w["by"], w["detector"])
+    except InputError as exc:
+        raise ConfigError(f"windows.detector = {w['detector']!r}: {str(exc).rstrip('.')}.") from None
 
 
 def _step_detector_names() -> tuple[str, ...]:
@@ -225,6 +278,13 @@ SCHEMA: dict[str, Any] = {
         "labels": _Leaf((list,), [], item_type=str),
         "resample_hz": _Leaf(_NUM, 50.0, check=_pos),
         "where": _Leaf((dict,), {}),
+        # a folder of phone recordings listed in a manifest (gaitml.experiments.folder_source)
+        "manifest": _Leaf((str,), ""),
+        "labelling": {
+            "snap": _Leaf((str,), "steps", allowed=_snap_modes),
+            "detector": _Leaf((str,), ""),
+            "max_snap_s": _Leaf(_NUM, 0.5, check=_nonneg),
+        },
         "simulated": {
             "subjects": _Leaf((int,), 8, check=_subjects),
             "sessions": _Leaf((int,), 1, check=_sessions),
@@ -239,6 +299,9 @@ SCHEMA: dict[str, Any] = {
         "length_s": _Leaf(_NUM, 1.5, check=_pos),
         "overlap": _Leaf(_NUM, 0.5, check=_overlap),
         "min_label_fraction": _Leaf(_NUM, 0.5, check=_fraction),
+        # step-synchronous windows (gaitml.features.step_windows); detector checked in _check_windows
+        "by": _Leaf((str,), "time", allowed=_window_by_names),
+        "detector": _Leaf((str,), ""),
     },
     "features": {"set": _Leaf((str,), "all52", allowed=_feature_set_names)},
     "model": {
@@ -531,6 +594,11 @@ def parse_config(
             raise ConfigError(
                 f"data.path = {d['path']!r} does not exist (resolved to {cfg.data_path}); fix the path (it is relative to the config file)."
             )
+        if check_paths and d["manifest"] and not (cfg.data_path / d["manifest"]).is_file():
+            raise ConfigError(
+                f"data.manifest = {d['manifest']!r} is not a file in {cfg.data_path}; write the manifest (columns file, subject[, intervals, "
+                "position, format]) or fix the name."
+            )
     else:
         bad = [m for m in d["simulated"]["modes"] if m not in MOTION_MODES]
         if bad:
@@ -549,8 +617,10 @@ def parse_config(
                 f"{key} gives {len(classes)} class ({', '.join(classes) or 'none'}); a classifier needs at least 2: list at least two modes."
             )
     _check_model(values)
+    _check_windows(values)
+    _check_labelling(values)
     for point in sweep_grid(cfg):
-        if point and any(k.startswith("model.") or k.startswith("data.") for k in point):
+        if point and any(k.startswith(("model.", "data.", "windows.by", "windows.detector")) for k in point):
             cfg.with_values(point)  # validates each grid point's model / data settings
     return cfg
 

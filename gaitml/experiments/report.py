@@ -169,7 +169,12 @@ def _report_md(cfg, result: dict, rows: list[dict], points: list[dict]) -> str:
         + (f" `{cfg.data_path}`" if cfg.data_path else "")
         + f"; label `{v['data']['label']}`, group `{v['data']['group']}`, "
         f"{result['n_recordings']} recordings, {result['n_groups']} groups, resampled to {v['data']['resample_hz']:g} Hz",
-        f"- windows: {result['window_length_s']} s, overlap {v['windows']['overlap']}, min_label_fraction {v['windows']['min_label_fraction']}: "
+        (
+            f"- windows: {result['window_length_s']} s, overlap {v['windows']['overlap']}, "
+            if result.get("window_by", "time") == "time"
+            else f"- windows: one per detected {result['window_by'].rstrip('s')} ({result['window_detector']}), "
+        )
+        + f"min_label_fraction {v['windows']['min_label_fraction']}: "
         f"{result['n_windows']} kept of {result['n_windows_total']} ({result['n_dropped_label_fraction']} below the label fraction, "
         f"{result['n_dropped_other_labels']} with labels not kept {result['dropped_labels'] or ''})",
         f"- model: `{result['model_kind']}` {v['model']['params'] or ''}; features `{result['feature_set']}`",

@@ -28,10 +28,12 @@ _DS_CACHE: dict[str, Any] = {}
 class PreparedData:
     """Recordings at the experiment rate with labels set, their groups, and notes for the report."""
 
-    def __init__(self, recordings, groups, notes):
+    def __init__(self, recordings, groups, notes, keep_labels=None):
         self.recordings = recordings
         self.groups = groups
         self.notes = notes
+        #: labels to keep when ``data.labels`` is empty (all but 'unlabelled' of interval-labelled data), or None
+        self.keep_labels = keep_labels
 
 
 def _data_key(cfg: ExperimentConfig) -> str:
@@ -70,14 +72,10 @@ def _load_recordings(cfg: ExperimentConfig):
         if s.get("positions"):
             notes.append(f"carrying positions: {', '.join(s['positions'])} (one recording per subject and position)")
         return list(recs), notes
-    from gaitml.io import read_dataset
     from gaitml.models import resample_recording
 
-    try:
-        recs = read_dataset(cfg.data_path)
-    except InputError as exc:
-        raise ConfigError(f"data.path = {d['path']!r}: {exc}") from exc
-    notes.append(f"folder {cfg.data_path}: {len(recs)} recordings read")
+    recs, read_notes = _read_folder(cfg)
+    notes += read_notes
     where = d["where"]
     if where:
         cols = _meta_columns(recs)
@@ -95,6 +93,36 @@ def _load_recordings(cfg: ExperimentConfig):
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
     return out, notes
+
+
+def _read_folder(cfg: ExperimentConfig):
+    """The recordings of a ``data.source = "folder"`` config.
+
+    A folder with a manifest (``data.manifest``, or ``manifest.csv`` when present)
+    is read by :func:`gaitml.experiments.folder_source.read_manifest_folder`: any
+    recording format, labels from intervals files. Without one, the folder's own
+    layout (a gaitml-csv set, an Oxford set, a folder of recordings) is read by
+    :func:`gaitml.io.read_dataset`.
+    """
+    from gaitml.experiments.folder_source import MANIFEST_NAME, read_manifest_folder
+    from gaitml.io import read_dataset
+
+    d = cfg["data"]
+    folder = cfg.data_path
+    manifest = folder / (d["manifest"] or MANIFEST_NAME) if folder.is_dir() else None
+    if d["manifest"] and (manifest is None or not manifest.is_file()):
+        raise ConfigError(
+            f"data.manifest = {d['manifest']!r} is not a file in {folder}; write the manifest (columns file, subject[, intervals, "
+            "position, format]) or fix the name."
+        )
+    if manifest is not None and manifest.is_file():
+        recs, notes = read_manifest_folder(folder, manifest, label=d["label"], labelling=d["labelling"])
+        return recs, [f"folder {folder}: {len(recs)} recordings read", *notes]
+    try:
+        recs = read_dataset(folder)
+    except InputError as exc:
+        raise ConfigError(f"data.path = {d['path']!r}: {exc}") from exc
+    return recs, [f"folder {folder}: {len(recs)} recordings read"]
 
 
 def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedData:
@@ -131,13 +159,22 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
     else:
         have = "per-sample 'label', " if all(r.labels is not None for r in recs) else ""
         raise ConfigError(
-            f"data.label = {label!r} is not in the data: neither per-sample labels nor a meta/manifest column; available: {have}{', '.join(cols)}."
+            f"data.label = {label!r} is not in the data: neither per-sample labels nor a meta/manifest column; available: {have}{', '.join(cols)} "
+            "(label phone recordings with intervals files listed in the folder's manifest.csv: gaitml.experiments.folder_source)."
         )
     present = sorted({str(x) for r in labelled for x in np.unique(r.labels)})
     for x in d["labels"]:
         if x not in present:
             raise ConfigError(f"data.labels has {x!r}, which is not a label of the data; labels present: {', '.join(present)}.")
     classes = sorted(set(d["labels"])) if d["labels"] else present
+    keep_labels = None
+    from gaitml.labels import UNLABELLED
+
+    if not d["labels"] and UNLABELLED in present and any("labelled_from" in r.meta for r in recs):
+        # samples outside every interval of an intervals file: left out, not a class (list it in data.labels to keep it)
+        classes = [c for c in present if c != UNLABELLED]
+        keep_labels = classes
+        notes.append(f"windows labelled {UNLABELLED!r} (outside every interval) are left out; list it in data.labels to keep it as a class")
     if len(classes) < 2:
         raise ConfigError(
             f"data.label = {label!r} has {len(classes)} class in the data ({', '.join(classes) or 'none'}); "
@@ -145,18 +182,21 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
         )
     missing = [r.name for r in recs if group not in r.meta]
     if missing:
-        raise ConfigError(f"data.group = {group!r} is not a meta/manifest column of recording {missing[0]!r}; columns: {', '.join(cols)}.")
+        raise ConfigError(
+            f"data.group = {group!r} is not a meta/manifest column of recording {missing[0]!r}; columns: {', '.join(cols)} "
+            "(a folder of phone recordings needs a manifest.csv with file, subject, ...)."
+        )
     groups = [str(r.meta[group]) for r in recs]
     c = cfg["cv"]
     check_groups(c["scheme"], groups, c["n_splits"], group_key=group)
-    return PreparedData(labelled, groups, notes)
+    return PreparedData(labelled, groups, notes, keep_labels)
 
 
 def build_dataset(
     cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool | None = None, need_features: bool | None = None, use_cache: bool = True
 ):
     """Window the prepared recordings with the config's window and feature settings."""
-    from gaitml.models import build_window_dataset, model_class
+    from gaitml.models import model_class
 
     input_kind = model_class(cfg["model"]["kind"]).input_kind
     need_raw = input_kind == "raw" if need_raw is None else need_raw
@@ -165,22 +205,67 @@ def build_dataset(
     key = json.dumps([_data_key(cfg), w, cfg["features"]["set"], need_raw, need_features], sort_keys=True, default=str)
     if use_cache and key in _DS_CACHE:
         return _DS_CACHE[key]
-    ds = build_window_dataset(
+    if w["by"] != "time":
+        ds = _build_step_dataset(cfg, data, need_raw=need_raw, need_features=need_features)
+    else:
+        ds = _build_time_dataset(cfg, data, need_raw=need_raw, need_features=need_features)
+    if use_cache:
+        if len(_DS_CACHE) > 4:
+            _DS_CACHE.clear()
+        _DS_CACHE[key] = ds
+    return ds
+
+
+def _build_time_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool, need_features: bool):
+    """Fixed-length time windows (``windows.by = "time"``, paper 003 sec. 3.3)."""
+    from gaitml.models import build_window_dataset
+
+    w = cfg["windows"]
+    return build_window_dataset(
         data.recordings,
         groups=data.groups,
         length_s=w["length_s"],
         overlap=w["overlap"],
         min_label_fraction=w["min_label_fraction"],
         feature_set=cfg["features"]["set"],
-        keep_labels=cfg["data"]["labels"] or None,
+        keep_labels=cfg["data"]["labels"] or data.keep_labels,
         need_features=need_features,
         need_raw=need_raw,
     )
-    if use_cache:
-        if len(_DS_CACHE) > 4:
-            _DS_CACHE.clear()
-        _DS_CACHE[key] = ds
-    return ds
+
+
+def _build_step_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool, need_features: bool):
+    """One window per detected step or stride (``windows.by = "steps" | "strides"``, :mod:`gaitml.features.step_windows`)."""
+    from gaitml.models import build_step_window_dataset
+
+    w = cfg["windows"]
+    return build_step_window_dataset(
+        data.recordings,
+        groups=data.groups,
+        by=w["by"],
+        detector=w["detector"] or None,
+        min_label_fraction=w["min_label_fraction"],
+        feature_set=cfg["features"]["set"],
+        keep_labels=cfg["data"]["labels"] or data.keep_labels,
+        need_features=need_features,
+        need_raw=need_raw,
+    )
+
+
+def _window_info(cfg: ExperimentConfig) -> dict:
+    """The ``window`` block of model.json: time-window settings, plus ``by``/``detector`` for step windows.
+
+    A time-window model keeps the block it always had (``length_s``, ``overlap``,
+    ``min_label_fraction``), so its model.json is unchanged; loading a model without
+    ``by`` reads it as time windows.
+    """
+    w = cfg["windows"]
+    info = {k: w[k] for k in ("length_s", "overlap", "min_label_fraction")}
+    if w["by"] != "time":
+        from gaitml.features.step_windows import RAW_SPAN_SAMPLES, check_window_by
+
+        info.update(by=w["by"], detector=check_window_by(w["by"], w["detector"]), raw_length_samples=RAW_SPAN_SAMPLES[w["by"]])
+    return info
 
 
 def default_run_dir(cfg: ExperimentConfig) -> Path:
@@ -308,6 +393,8 @@ def evaluate_config(
         "model_kind": best["cfg"]["model"]["kind"],
         "feature_set": best["cfg"]["features"]["set"],
         "window_length_s": best["cfg"]["windows"]["length_s"],
+        "window_by": best["cfg"]["windows"]["by"],
+        "window_detector": _window_info(best["cfg"]).get("detector", ""),
         "n_windows": len(ds),
         "n_windows_total": ds.n_total,
         "n_dropped_label_fraction": ds.n_dropped_fraction,
@@ -382,7 +469,7 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
         "feature_set": fset,
         "feature_names": list(feature_names(fset)) if model.input_kind == "features" else [],
         "raw_channels": list(ds.raw_channels) if model.input_kind == "raw" else [],
-        "window": {k: cfg["windows"][k] for k in ("length_s", "overlap", "min_label_fraction")},
+        "window": _window_info(cfg),
         "sampling_rate_hz": ds.sampling_rate_hz,
         "labels": [str(x) for x in model.classes_],
         "postprocess": cfg["postprocess"],

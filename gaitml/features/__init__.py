@@ -1,6 +1,8 @@
 """Windowing and the 52 time-domain features of paper 003 sec. 3.2 (DESIGN sec. 2, 4).
 
 - :func:`make_windows`: windows by length/overlap in s, majority labels, dropping weak ones;
+- :func:`make_step_windows` / :func:`extract_step_features`: one window per detected step
+  or stride, features on its own samples (:mod:`gaitml.features.step_windows`);
 - :func:`extract_features` / :func:`features_from_arrays`: vectorised feature matrix;
 - :class:`StreamingFeatureExtractor`: the same rows from samples pushed as they arrive;
 - :data:`CATALOGUE`, :data:`FEATURE_SETS`, :func:`feature_names`: the catalogue and subsets.
@@ -20,6 +22,7 @@ from gaitml.features._catalogue import (
 from gaitml.features._extract import extract_features, features_from_arrays
 from gaitml.features._streaming import StreamingFeatureExtractor
 from gaitml.features._windows import make_windows
+from gaitml.features.step_windows import WINDOW_BY, extract_step_features, make_step_windows
 
 __all__ = [
     "CATALOGUE",
@@ -28,11 +31,14 @@ __all__ = [
     "PAPER34_NUMBERS",
     "FeatureSpec",
     "StreamingFeatureExtractor",
+    "WINDOW_BY",
     "catalogue_markdown",
     "extract_features",
+    "extract_step_features",
     "feature_names",
     "feature_specs",
     "features_from_arrays",
+    "make_step_windows",
     "make_windows",
     "resolve_subset",
 ]

@@ -8,7 +8,8 @@
   loaded); :func:`convert_model` turns an old pickle model into one (trusted
   models only); :func:`model_card` writes its ``MODEL.md``; :func:`export_json` /
   :func:`export_onnx` give portable exports; :func:`predict_recording` gives
-  per-window modes of a recording.
+  per-window modes of a recording; :func:`predict_step_windows` per-step modes with a
+  step-window model (``window.by`` steps/strides in model.json).
 """
 
 from gaitml.models._card import model_card
@@ -18,6 +19,7 @@ from gaitml.models._legacy import convert_model
 from gaitml.models._persist import TrainedModel, library_versions, load_model, read_model_json, save_model, sha256_file
 from gaitml.models._predict import model_inputs, predict_recording
 from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS, make_model, model_class, model_param_names
+from gaitml.models._step_windows import build_step_window_dataset, is_step_model, predict_step_windows, window_by, window_detector
 from gaitml.models._svm import LinearOVOSVM, ovo_vote
 from gaitml.models._torch import TorchCNN1DClassifier, TorchMLPClassifier, require_torch, torch_available
 
@@ -29,10 +31,12 @@ __all__ = [
     "TorchMLPClassifier",
     "TrainedModel",
     "WindowDataset",
+    "build_step_window_dataset",
     "build_window_dataset",
     "convert_model",
     "export_json",
     "export_onnx",
+    "is_step_model",
     "library_versions",
     "load_model",
     "make_model",
@@ -42,6 +46,7 @@ __all__ = [
     "model_param_names",
     "ovo_vote",
     "predict_recording",
+    "predict_step_windows",
     "raw_window_channels",
     "raw_windows",
     "read_model_json",
@@ -50,4 +55,6 @@ __all__ = [
     "save_model",
     "sha256_file",
     "torch_available",
+    "window_by",
+    "window_detector",
 ]

@@ -155,6 +155,12 @@ def model_card(info: dict) -> str:
         f"- Windows: {float(win['length_s']):g} s ({length} samples), overlap {float(win['overlap']):g} (hop {hop} samples); "
         f"training windows needed a majority label over {float(win.get('min_label_fraction', 0.5)):g} of the samples",
     ]
+    if win.get("by", "time") != "time":  # step-synchronous windows (gaitml.features.step_windows)
+        out[-1] = (
+            f"- Windows: one per detected {str(win['by']).rstrip('s')} ({win['by']} of detector `{win.get('detector')}`), "
+            f"features on the {str(win['by']).rstrip('s')}'s own samples; training windows needed a majority label over "
+            f"{float(win.get('min_label_fraction', 0.5)):g} of the samples"
+        )
     if info.get("input_kind") == "raw":
         out.append(f"- Raw channels: {', '.join(info.get('raw_channels', []))} (standardised per channel)")
     else:

@@ -59,6 +59,23 @@ _CORRECTION = {
 
 
 def _window_spec(info: dict) -> dict:
+    win = info["window"]
+    if win.get("by", "time") != "time":  # step-synchronous windows (gaitml.features.step_windows)
+        from gaitml.features.step_windows import MAX_STEP_S, MIN_SPAN_SAMPLES
+
+        unit = "step" if win["by"] == "steps" else "stride"
+        rule = (
+            "one window per detected step: from the sample after the previous step's peak up to and including the step's peak "
+            f"(the first step reaches back as far as the second lasts), cut to its last {MAX_STEP_S:g} s"
+            if unit == "step"
+            else f"one window per stride, mid-stance to mid-stance of consecutive zero-velocity intervals, strides over {2 * MAX_STEP_S:g} s dropped"
+        )
+        return {
+            "by": win["by"],
+            "detector": win.get("detector"),
+            "rule": f"{rule}; windows under {MIN_SPAN_SAMPLES} samples are not classified; a window's features depend on its own samples only "
+            f"(variable length; raw-input models: each {unit} linearly resampled to {win.get('raw_length_samples')} samples).",
+        }
     fs = float(info["sampling_rate_hz"])
     length_s, overlap = float(info["window"]["length_s"]), float(info["window"]["overlap"])
     length = int(round(length_s * fs))

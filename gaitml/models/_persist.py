@@ -182,6 +182,16 @@ class TrainedModel:
     def labels(self) -> list[str]:
         return list(self.info["labels"])
 
+    @property
+    def window_by(self) -> str:
+        """``'time'``, ``'steps'`` or ``'strides'`` (models saved before step windows: ``'time'``)."""
+        return str(self.info["window"].get("by", "time"))
+
+    @property
+    def window_detector(self) -> str:
+        """The step / zero-velocity detector of a step-window model ('' for time windows)."""
+        return str(self.info["window"].get("detector", "") or "")
+
 
 def _plain_array(name: str, a) -> np.ndarray:
     """``a`` as an array numpy can save without pickle (object arrays of str become unicode)."""

@@ -31,7 +31,7 @@ from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading
 from gaitml.pdr.hde import HeuristicDriftElimination
 from gaitml.pdr.heading import BaseHeadingSource, GyroHeading
 from gaitml.pdr.step_length import StepLengthModel, step_length_features
-from gaitml.pdr.step_modes import MODE_ASSIGNMENTS, modes_from_windows, next_step_times, refine_mode_boundaries
+from gaitml.pdr.step_modes import MODE_ASSIGNMENTS, modes_from_step_model, modes_from_windows, next_step_times, refine_mode_boundaries
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
 from gaitml.recording import Recording
 
@@ -280,15 +280,20 @@ def run_pdr(
             raise InputError("modes='model' needs a model (--model MODEL_DIR); use modes='true' with labels or 'forward'.")
         from gaitml.models import predict_recording
 
-        if mode_boundaries == "auto":
+        if getattr(model, "window_by", "time") != "time":  # step-window model: one prediction per step (gaitml.pdr.step_modes)
+            step_modes, note = modes_from_step_model(model, recording, steps)
+            notes.append(note)
+            mode_boundaries = "per-step"
+        elif mode_boundaries == "auto":
             mode_boundaries = "refine" if event == "t_peak_s" else "nearest"
             if mode_boundaries == "nearest":
                 notes.append(f"step times are {event}, not peaks: modes from the nearest window, without boundary refinement")
-        windows = predict_recording(model, recording, correction=True)
-        t_look = 0.5 * (t_step + next_step_times(t_step)) if mode_boundaries == "middle" and n > 1 else t_step
-        step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
-        if mode_boundaries == "refine" and n > 1:
-            step_modes = refine_mode_boundaries(model, recording, t_step, step_modes)
+        if mode_boundaries != "per-step":
+            windows = predict_recording(model, recording, correction=True)
+            t_look = 0.5 * (t_step + next_step_times(t_step)) if mode_boundaries == "middle" and n > 1 else t_step
+            step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
+            if mode_boundaries == "refine" and n > 1:
+                step_modes = refine_mode_boundaries(model, recording, t_step, step_modes)
     else:
         step_modes = np.full(n, "walk", dtype=object)
     step_modes = np.asarray(step_modes).astype(str)

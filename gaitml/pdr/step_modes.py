@@ -39,6 +39,10 @@ for them the short windows are full model windows.
 window already does better than the refinement. The measured per-step mode accuracies
 and end-point errors of the three assignments, seed by seed, with the commands that
 reproduce them, are in ``experiments/reports/pdr-step-modes.md``.
+
+A model trained on step windows (``window.by = "steps"``, :mod:`gaitml.features.step_windows`)
+needs none of this: :func:`modes_from_step_model` classifies each PDR step on its own
+samples, one prediction per step.
 """
 
 from __future__ import annotations
@@ -49,7 +53,15 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 
-__all__ = ["modes_from_windows", "pair_margin", "refine_mode_boundaries", "mode_runs", "next_step_times", "MODE_ASSIGNMENTS"]
+__all__ = [
+    "modes_from_step_model",
+    "modes_from_windows",
+    "pair_margin",
+    "refine_mode_boundaries",
+    "mode_runs",
+    "next_step_times",
+    "MODE_ASSIGNMENTS",
+]
 
 #: Ways to turn window predictions into per-step modes (``run_pdr(mode_boundaries=...)``):
 #: ``nearest`` (window nearest the step time), ``middle`` (window nearest the middle
@@ -262,3 +274,64 @@ def refine_mode_boundaries(
         out[lo:j] = mode_a
         out[j:hi] = mode_b
     return out.astype(str)
+
+
+def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame) -> tuple[np.ndarray, str]:
+    """Mode of every step of ``steps`` from a step-window model (no window-to-step lookup).
+
+    ``window.by = "steps"``: each step of the PDR's step table is one window (its
+    samples from the previous step's peak to its own peak, as in training,
+    :func:`gaitml.features.step_windows.spans_from_steps`), classified on its own
+    samples and corrected by the adjacent-window rule over the steps (paper 003 sec.
+    3.4). A step too short to classify (under 3 samples) takes the mode of the nearest
+    classified step. ``window.by = "strides"``: the model's zero-velocity detector cuts
+    the strides, and each step takes the mode of the stride nearest its time (a stride
+    holds two steps).
+
+    Parameters
+    ----------
+    model : TrainedModel with ``window.by`` steps or strides.
+    recording : Recording
+    steps : DataFrame, a step detector's table (``peak``, ``t_peak_s``) at the recording's rate.
+
+    Returns
+    -------
+    (modes, note) : ndarray of str (one per step), and a sentence for the PDR notes.
+    """
+    from gaitml.features.step_windows import spans_from_steps
+    from gaitml.models import predict_step_windows
+
+    n = len(steps)
+    if n == 0:
+        return np.zeros(0, dtype=str), "no steps: nothing to classify"
+    by = model.window_by
+    t_step = steps["t_peak_s"].to_numpy(float) if "t_peak_s" in steps else steps["peak"].to_numpy(float) / recording.sampling_rate_hz
+    if by == "steps":
+        fs = model.sampling_rate_hz
+        scale = fs / recording.sampling_rate_hz
+        n_model = int(round(recording.n_samples * scale))
+        at_model = pd.DataFrame(
+            {"peak": np.clip(np.round(steps["peak"].to_numpy(float) * scale), 0, n_model - 1).astype(np.int64), "t_peak_s": t_step}
+        )
+        spans = spans_from_steps(at_model, n_model, fs)
+        table = predict_step_windows(model, recording, correction=True, spans=spans)
+        modes = np.full(n, "", dtype=object)
+        modes[table["step"].to_numpy(dtype=np.int64)] = table["mode"].to_numpy().astype(str)
+        missing = np.flatnonzero(modes == "")
+        if len(missing):
+            if len(table) == 0:
+                raise InputError(
+                    "every step is shorter than 3 samples at the model's rate; no step can be classified: use --modes true or forward."
+                )
+            modes[missing] = modes_from_windows(table, t_step[missing])
+        note = f"modes per step from the step-window model ({n} steps classified on their own samples, no window lookup)"
+        return modes.astype(str), note
+    table = predict_step_windows(model, recording, correction=True)
+    if len(table) == 0:
+        raise InputError(
+            f"the model's zero-velocity detector {model.window_detector!r} found no strides; use --modes true or forward, or a step-window model."
+        )
+    note = (
+        f"modes per step from the stride-window model ({len(table)} strides of {model.window_detector}; each step takes its stride's mode)"
+    )
+    return modes_from_windows(table, t_step), note

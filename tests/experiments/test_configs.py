@@ -63,7 +63,7 @@ def test_window_sweep_covers_the_paper_widths():
 
 def test_defaults_are_filled():
     cfg = parse_config({"name": "x"})
-    assert cfg["windows"] == {"length_s": 1.5, "overlap": 0.5, "min_label_fraction": 0.5}
+    assert cfg["windows"] == {"length_s": 1.5, "overlap": 0.5, "min_label_fraction": 0.5, "by": "time", "detector": ""}
     assert cfg["model"]["kind"] == "linear-ovo-svm"
     assert cfg["cv"]["scheme"] == "leave-one-group-out"
     assert sweep_grid(cfg) == [{}]

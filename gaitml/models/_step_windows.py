@@ -1,0 +1,195 @@
+"""Step-window data sets and predictions: the models' side of :mod:`gaitml.features.step_windows`.
+
+A model trained on step windows (config ``windows.by = "steps"`` or ``"strides"``)
+records ``window.by`` and ``window.detector`` in ``model.json``; predicting with it
+detects the steps (strides) of a recording with that detector and gives one row per
+step. Models saved before step windows existed have no ``window.by`` and read as
+``"time"``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pandas as pd
+
+from gaitml.errors import InputError
+from gaitml.models._dataset import RAW_ACC_CHANNELS, WindowDataset, raw_window_channels, raw_windows, resample_recording
+from gaitml.recording import Recording
+
+__all__ = ["build_step_window_dataset", "predict_step_windows", "step_model_inputs", "window_by", "window_detector", "is_step_model"]
+
+
+def window_by(model) -> str:
+    """``window.by`` of a trained model (``'time'`` for models saved before step windows)."""
+    return str((model.info.get("window") or {}).get("by", "time"))
+
+
+def window_detector(model) -> str:
+    """``window.detector`` of a step-window model ('' for time windows)."""
+    return str((model.info.get("window") or {}).get("detector", "") or "")
+
+
+def is_step_model(model) -> bool:
+    """True when the model classifies step (or stride) windows."""
+    return window_by(model) != "time"
+
+
+def _raw_signal(recording: Recording, channels: Sequence[str]) -> np.ndarray:
+    """The raw channels of the whole recording, shape (n, len(channels))."""
+    return raw_windows(recording, np.array([0]), recording.n_samples, channels)[0]
+
+
+def build_step_window_dataset(
+    recordings: Sequence[Recording],
+    *,
+    groups: Sequence[str],
+    by: str,
+    detector: str | None,
+    min_label_fraction: float = 0.5,
+    feature_set: str = "all52",
+    keep_labels: Sequence[str] | None = None,
+    need_features: bool = True,
+    need_raw: bool = False,
+) -> WindowDataset:
+    """One window per detected step (stride) of every labelled recording, with features and/or raw spans.
+
+    As :func:`gaitml.models.build_window_dataset` for time windows; the windows come
+    from :func:`gaitml.features.make_step_windows`. ``length_s`` of the result is the
+    median span length (s) and ``overlap`` 0; the windows table has the extra columns
+    ``step`` and ``t_event_s``. Raw spans are resampled to
+    :data:`gaitml.features.step_windows.RAW_SPAN_SAMPLES` samples.
+    """
+    from gaitml.features.step_windows import RAW_SPAN_SAMPLES, check_window_by, extract_step_features, make_step_windows, step_raw_windows
+
+    det = check_window_by(by, detector)
+    if by == "time":
+        raise InputError("build_step_window_dataset needs by 'steps' or 'strides'; use build_window_dataset for time windows.")
+    if len(recordings) == 0:
+        raise InputError("no recordings to window; check the data source.")
+    if len(groups) != len(recordings):
+        raise InputError(f"{len(groups)} groups for {len(recordings)} recordings; give one group per recording.")
+    rates = {float(r.sampling_rate_hz) for r in recordings}
+    if len(rates) != 1:
+        raise InputError(f"recordings have different sampling rates {sorted(rates)}; resample them to one rate first (data.resample_hz).")
+    fs = rates.pop()
+    has_gyr = all(r.has_gyr for r in recordings)
+    channels = raw_window_channels(feature_set, has_gyr) if need_raw else RAW_ACC_CHANNELS
+    tables, feats, raws, names, skipped = [], [], [], [], []
+    n_total = n_frac = n_lab = 0
+    dropped: dict[str, int] = {}
+    keep = None if not keep_labels else {str(x) for x in keep_labels}
+    for i, (rec, grp) in enumerate(zip(recordings, groups, strict=True)):
+        if rec.labels is None:
+            raise InputError(f"recording {rec.name!r} has no labels; give per-sample labels or a label column in the manifest/meta.")
+        names.append(rec.name)
+        w = make_step_windows(rec, by, det, min_label_fraction=min_label_fraction)
+        n_total += int(w.attrs["n_total"])
+        n_frac += int(w.attrs["n_dropped"])
+        if w.attrs["n_total"] == 0:
+            skipped.append(rec.name)  # no step detected: nothing to classify
+            continue
+        if keep is not None:
+            bad = ~w["label"].astype(str).isin(keep)
+            for lab, cnt in w.loc[bad, "label"].astype(str).value_counts().items():
+                dropped[lab] = dropped.get(lab, 0) + int(cnt)
+            n_lab += int(bad.sum())
+            w = w.loc[~bad].reset_index(drop=True)
+        if len(w) == 0:
+            continue
+        if need_features:
+            feats.append(extract_step_features(rec, w, subset=feature_set).reset_index(drop=True))
+        if need_raw:
+            raws.append(step_raw_windows(_raw_signal(rec, channels), w, RAW_SPAN_SAMPLES[by]))
+        tables.append(w.assign(recording=i, group=str(grp)))
+    if not tables:
+        raise InputError(
+            f"no step windows left ({n_total} {by} detected with {det}, {n_frac} below min_label_fraction, {n_lab} with other labels); "
+            "check that the recordings hold walking, try another detector, a lower min_label_fraction or other labels."
+        )
+    windows = pd.concat(tables, ignore_index=True)
+    cols = ["recording", "group", "step", "start", "end", "t_start_s", "t_end_s", "t_event_s", "label", "label_fraction"]
+    windows = windows[[c for c in cols if c in windows.columns]]
+    windows["label"] = windows["label"].astype(str)
+    return WindowDataset(
+        windows=windows,
+        features=pd.concat(feats, ignore_index=True) if need_features else None,
+        raw=np.concatenate(raws, axis=0) if need_raw else None,
+        recording_names=names,
+        sampling_rate_hz=fs,
+        length_s=float(np.median((windows["end"] - windows["start"]).to_numpy()) / fs),
+        overlap=0.0,
+        feature_set=feature_set,
+        raw_channels=tuple(channels),
+        n_total=n_total,
+        n_dropped_fraction=n_frac,
+        n_dropped_label=n_lab,
+        dropped_labels=dropped,
+        skipped_recordings=skipped,
+    )
+
+
+def step_model_inputs(model, recording: Recording, windows: pd.DataFrame) -> np.ndarray:
+    """The model's input for step ``windows`` of ``recording`` (features in saved order, or resampled raw spans)."""
+    from gaitml.features.step_windows import RAW_SPAN_SAMPLES, extract_step_features, step_raw_windows
+
+    if model.input_kind == "raw":
+        length = int((model.info.get("window") or {}).get("raw_length_samples") or RAW_SPAN_SAMPLES[window_by(model)])
+        return step_raw_windows(_raw_signal(recording, model.raw_channels), windows, length)
+    feats = extract_step_features(recording, windows, subset=model.feature_set)
+    return feats[model.feature_names].to_numpy(dtype=float)
+
+
+def predict_step_windows(model, recording: Recording, correction: bool = True, *, spans: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Motion mode of every detected step (stride) of ``recording`` with a step-window model.
+
+    Resamples the recording to the model's rate, finds the steps with the model's
+    detector (or takes ``spans``, sample spans at the model's rate from
+    :func:`gaitml.features.step_windows.spans_from_steps`), classifies each step on
+    its own samples and - unless ``correction=False`` - applies the adjacent-window
+    correction of paper 003 sec. 3.4 over the steps in time order.
+
+    Returns
+    -------
+    DataFrame
+        One row per step: ``step``, ``start``, ``end`` (samples at the model's
+        rate), ``t_start_s``, ``t_end_s``, ``t_event_s``, ``mode_raw``, ``mode``, plus
+        ``label`` and ``label_fraction`` when the recording has labels. ``attrs``:
+        ``sampling_rate_hz``, ``resampled_from_hz``, ``correction``, ``by``,
+        ``detector``, ``n_short`` (spans too short to classify).
+    """
+    from gaitml.features.step_windows import make_step_windows
+    from gaitml.postprocess import adjacent_window_correction
+
+    by, det = window_by(model), window_detector(model)
+    if by == "time":
+        raise InputError("predict_step_windows needs a step-window model (window.by steps or strides); use predict_recording.")
+    fs0 = recording.sampling_rate_hz
+    rec = resample_recording(recording, model.sampling_rate_hz)
+    if "gyro" in model.feature_set:
+        rec.require_gyr(
+            f"the model's feature set {model.feature_set!r}", "a model trained on feature set 'all52' (e.g. experiments/paper-svm.toml)"
+        )
+    w = make_step_windows(rec, by, det, min_label_fraction=0.0, spans=spans)
+    cols = ["step", "start", "end", "t_start_s", "t_end_s", "t_event_s"]
+    out = w[cols].copy()
+    if len(w):
+        pred = np.asarray(model.estimator.predict(step_model_inputs(model, rec, w))).astype(str)
+        out["mode_raw"] = pred
+        out["mode"] = np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred
+    else:
+        out["mode_raw"] = pd.Series(dtype=str)
+        out["mode"] = pd.Series(dtype=str)
+    for c in ("label", "label_fraction"):
+        if c in w.columns:
+            out[c] = w[c].to_numpy()
+    out.attrs.update(
+        sampling_rate_hz=model.sampling_rate_hz,
+        resampled_from_hz=None if rec is recording else fs0,
+        correction=bool(correction),
+        by=by,
+        detector=det,
+        n_short=int(w.attrs.get("n_short", 0)),
+    )
+    return out

@@ -71,6 +71,18 @@ def describe_recording(rec: Recording) -> dict[str, Any]:
     return out
 
 
+def _is_phone_manifest_folder(p: Path) -> bool:
+    """A folder whose manifest lists recordings of any format (``format``/``intervals`` columns, or no ``session``)."""
+    manifest = p / "manifest.csv"
+    if not (p.is_dir() and manifest.is_file()):
+        return False
+    try:
+        header = {c.strip() for c in manifest.open(encoding="utf-8", errors="replace").readline().strip().split(",")}
+    except OSError:
+        return False
+    return "file" in header and ("format" in header or "intervals" in header or "session" not in header)
+
+
 def describe_path(path: str | os.PathLike, **read_kwargs: Any) -> dict[str, Any]:
     """Summarise a recording, a data set folder or a gaitmap annotation table."""
     p = Path(path)
@@ -79,10 +91,15 @@ def describe_path(path: str | os.PathLike, **read_kwargs: Any) -> dict[str, Any]
     fmt = detect_format(p)
     if fmt == "gaitmap-table":
         return {"kind": "table", "source": str(p), **read_gaitmap_table(p)}
-    entries = list_dataset(p)
-    if len(entries) == 1 and entries[0][1] != "gaitml-folder":
-        return {"kind": "recording", **describe_recording(read_recording(p, **read_kwargs))}
-    recs = read_dataset(p, **{k: v for k, v in read_kwargs.items() if k != "format"})
+    if _is_phone_manifest_folder(p):  # a folder of app exports with a manifest (data.source = "folder")
+        from gaitml.experiments.folder_source import read_manifest_folder
+
+        recs, _ = read_manifest_folder(p, p / "manifest.csv", label="")
+    else:
+        entries = list_dataset(p)
+        if len(entries) == 1 and entries[0][1] != "gaitml-folder":
+            return {"kind": "recording", **describe_recording(read_recording(p, **read_kwargs))}
+        recs = read_dataset(p, **{k: v for k, v in read_kwargs.items() if k != "format"})
     items = [describe_recording(r) for r in recs]
     total_steps = sum(int(i["reference"].get("n_steps_true", 0)) for i in items)
     out = {

@@ -37,6 +37,7 @@ Keys (defaults in brackets) of ``task = "classification"``::
     min_label_fraction = 0.5
     [features]
     set = "all52"                    # "all52" | "paper34" | "all52+gyro"
+    frame = "phone"                  # "phone" (paper 003) | "gravity" (per-window gravity-aligned, orientation-free)
     [model]
     kind = "linear-ovo-svm"          # | "mlp" | "cnn1d"
     params = {}                      # constructor parameters of the kind, e.g. { C = 1.0 }
@@ -106,6 +107,12 @@ def _cv_scheme_names() -> tuple[str, ...]:
     from gaitml.evaluation.cv import CV_SCHEMES
 
     return tuple(CV_SCHEMES)
+
+
+def _feature_frame_names() -> tuple[str, ...]:
+    from gaitml.features import FEATURE_FRAMES
+
+    return tuple(FEATURE_FRAMES)
 
 
 def _sim_pose_names() -> tuple[str, ...]:
@@ -208,7 +215,7 @@ SCHEMA: dict[str, Any] = {
         "overlap": _Leaf(_NUM, 0.5, check=_overlap),
         "min_label_fraction": _Leaf(_NUM, 0.5, check=_fraction),
     },
-    "features": {"set": _Leaf((str,), "all52", allowed=_feature_set_names)},
+    "features": {"set": _Leaf((str,), "all52", allowed=_feature_set_names), "frame": _Leaf((str,), "phone", allowed=_feature_frame_names)},
     "model": {
         "kind": _Leaf((str,), "linear-ovo-svm", allowed=_model_kind_names),
         "params": _Leaf((dict,), {}),

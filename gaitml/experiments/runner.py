@@ -159,7 +159,9 @@ def build_dataset(
     need_raw = input_kind == "raw" if need_raw is None else need_raw
     need_features = input_kind == "features" if need_features is None else need_features
     w = cfg["windows"]
-    key = json.dumps([_data_key(cfg), w, cfg["features"]["set"], need_raw, need_features], sort_keys=True, default=str)
+    key = json.dumps(
+        [_data_key(cfg), w, cfg["features"]["set"], cfg["features"]["frame"], need_raw, need_features], sort_keys=True, default=str
+    )
     if use_cache and key in _DS_CACHE:
         return _DS_CACHE[key]
     ds = build_window_dataset(
@@ -172,6 +174,7 @@ def build_dataset(
         keep_labels=cfg["data"]["labels"] or None,
         need_features=need_features,
         need_raw=need_raw,
+        frame=cfg["features"]["frame"],
     )
     if use_cache:
         if len(_DS_CACHE) > 4:
@@ -331,6 +334,42 @@ def _with_sweep(cfg: ExperimentConfig, overrides: dict) -> ExperimentConfig:
     return dataclasses.replace(cfg.with_values(overrides), sweep=cfg.sweep)
 
 
+def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
+    """The domain record of a trained model (:mod:`gaitml.models.domain`).
+
+    Distances on the model's own features (feature models) or on ``all52`` /
+    ``all52+gyro`` of the same windows (raw-input models), in the config's frame; the
+    gravity direction of every window in the phone frame; positions from the
+    recordings' meta ``position`` (``"unknown"`` where absent); held-out thresholds
+    over the config's groups.
+    """
+    from gaitml.features import feature_names, features_from_arrays, resolve_subset
+    from gaitml.models.domain import fit_domain, window_gravity
+
+    frame = cfg["features"]["frame"]
+    rec_idx = ds.recording_index
+    starts = ds.windows["start"].to_numpy(np.int64)
+    length = int(ds.windows["end"].iloc[0] - ds.windows["start"].iloc[0])
+    if model.input_kind == "features":
+        fset, X = resolve_subset(ds.feature_set), ds.inputs("features")
+    else:
+        fset = "all52+gyro" if any(c.startswith("gyr") for c in ds.raw_channels) else "all52"
+        X = np.zeros((len(ds), len(feature_names(fset))))
+    gravity = np.zeros((len(ds), 3))
+    positions = np.empty(len(ds), dtype=object)
+    for i in np.unique(rec_idx):
+        rows = np.flatnonzero(rec_idx == i)
+        rec = data.recordings[int(i)]
+        gravity[rows] = window_gravity(rec.acc, starts[rows], length)
+        positions[rows] = str(rec.meta.get("position") or "unknown")
+        if model.input_kind != "features":
+            gyr = rec.gyr if fset == "all52+gyro" else None
+            X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
+    return fit_domain(
+        X, ds.y, ds.groups, gravity, feature_names=feature_names(fset), feature_set=fset, frame=frame, positions=positions, seed=cfg.seed
+    )
+
+
 def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, progress: bool = True):
     """Train the config's model on all its windows and save the artifact.
 
@@ -395,4 +434,6 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
     }
     if model.input_kind == "features" and list(ds.feature_names) != info["feature_names"]:
         raise InputError(f"the feature table columns differ from feature_names({fset!r}); this is a bug in the feature set definition.")
-    return save_model(target, model, info)
+    info["feature_frame"] = cfg["features"]["frame"]
+    domain = fit_training_domain(cfg, data, ds, model)
+    return save_model(target, model, info, domain=domain)

@@ -49,7 +49,15 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 
-__all__ = ["modes_from_windows", "pair_margin", "refine_mode_boundaries", "mode_runs", "next_step_times", "MODE_ASSIGNMENTS"]
+__all__ = [
+    "modes_from_windows",
+    "window_values_at_steps",
+    "pair_margin",
+    "refine_mode_boundaries",
+    "mode_runs",
+    "next_step_times",
+    "MODE_ASSIGNMENTS",
+]
 
 #: Ways to turn window predictions into per-step modes (``run_pdr(mode_boundaries=...)``):
 #: ``nearest`` (window nearest the step time), ``middle`` (window nearest the middle
@@ -87,6 +95,27 @@ def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:
     hi = np.clip(j, 0, len(centre) - 1)
     pick = np.where(np.abs(t - centre[lo]) <= np.abs(centre[hi] - t), lo, hi)
     return modes[pick]
+
+
+def window_values_at_steps(windows: pd.DataFrame, step_t_s, column: str) -> np.ndarray:
+    """Value of ``column`` of the window nearest each step time (the rule of :func:`modes_from_windows`).
+
+    Used for the per-step out-of-domain flag (``column='in_domain'``); an object array.
+    """
+    if column not in windows:
+        raise InputError(f"the window table has no `{column}` column; pass gaitml.models.predict_recording output.")
+    t = np.asarray(step_t_s, dtype=float)
+    if len(windows) == 0:
+        raise InputError("the model predicted no windows (recording shorter than one window); use --modes true or forward.")
+    centre = 0.5 * (windows["t_start_s"].to_numpy(float) + windows["t_end_s"].to_numpy(float))
+    order = np.argsort(centre)
+    centre = centre[order]
+    values = windows[column].to_numpy(dtype=object)[order]
+    j = np.searchsorted(centre, t)
+    lo = np.clip(j - 1, 0, len(centre) - 1)
+    hi = np.clip(j, 0, len(centre) - 1)
+    pick = np.where(np.abs(t - centre[lo]) <= np.abs(centre[hi] - t), lo, hi)
+    return values[pick]
 
 
 def next_step_times(step_t_s) -> np.ndarray:
@@ -234,11 +263,11 @@ def refine_mode_boundaries(
         # only the stretch the windows cover: each boundary costs O(window), not O(recording)
         a, b = int(starts.min()), int(starts.max()) + length
         if raw:
-            return raw_windows(rec.slice(a, b), starts - a, length, model.raw_channels)
+            return raw_windows(rec.slice(a, b), starts - a, length, model.raw_channels, getattr(model, "frame", "phone"))
         from gaitml.features import features_from_arrays
 
         gyr = rec.gyr[a:b] if rec.gyr is not None else None
-        return features_from_arrays(rec.acc[a:b], gyr, fs, starts - a, length, model.feature_set)
+        return features_from_arrays(rec.acc[a:b], gyr, fs, starts - a, length, model.feature_set, getattr(model, "frame", "phone"))
 
     out = m.copy()
     runs = mode_runs(m)

@@ -159,6 +159,13 @@ def _sensor_stats(xyz: np.ndarray, sensor: str, starts: np.ndarray, length: int,
         if rotations is not None:  # the gravity frame (gaitml.features._frame); the magnitude is unchanged
             block[:, :3, :] = rotate_windows(block[:, :3, :], rotations[b : b + len(st)])
         out[b : b + len(st)] = _stats52(block, width)
+    if rotations is not None and sensor == "acc":
+        # gravity frame: x and y are horizontal and z is along the window mean, so the means of x
+        # and y are zero, and x and y are principal axes of the horizontal covariance, so their
+        # correlation is zero, by construction; set them exactly (rounding noise of ~1e-15 would
+        # otherwise become a random feature once a classifier standardises it)
+        out[:, 0:2] = 0.0
+        out[:, 32] = 0.0  # acc_xy__corr
     return out
 
 

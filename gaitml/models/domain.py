@@ -341,7 +341,7 @@ def fit_domain(
     if not 0.5 <= float(quantile) < 1.0:
         raise ModelError(f"domain quantile must be in [0.5, 1), got {quantile}.")
     rng = np.random.default_rng(seed)
-    classes = sorted(set(y))
+    classes = sorted({str(c) for c in y})
     gravity_check = frame == "phone"
     ug = np.unique(groups)
     k = min(HELDOUT_FOLDS, len(ug))

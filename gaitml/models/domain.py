@@ -135,9 +135,10 @@ def _nearest_angle(g: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     """Angle (rad) from each row of ``g`` to the nearest of ``dirs``; NaN rows give NaN."""
     if len(dirs) == 0:
         return np.full(len(g), np.nan)
-    cos = np.clip(np.nanmax(g @ dirs.T, axis=1) if len(g) else np.zeros(0), -1.0, 1.0)
-    out = np.arccos(cos)
-    out[~np.all(np.isfinite(g), axis=1)] = np.nan
+    bad = ~np.all(np.isfinite(g), axis=1)
+    cos = (np.where(bad[:, None], 0.0, g) @ dirs.T).max(axis=1) if len(g) else np.zeros(0)
+    out = np.arccos(np.clip(cos, -1.0, 1.0))
+    out[bad] = np.nan
     return out
 
 
@@ -263,13 +264,36 @@ class DomainModel:
             ) from exc
 
     # ---- the check
+    def _factors(self) -> tuple[np.ndarray, np.ndarray]:
+        """Stacked Cholesky factors ``[L_1 .. L_c]`` (p, c p) of the precisions and ``m_c L_c`` (c p,), cached.
+
+        ``(z - m_c)^T P_c (z - m_c) = |z L_c - m_c L_c|^2`` with ``P_c = L_c L_c^T``: one
+        matrix product serves every class.
+        """
+        cache = getattr(self, "_factor_cache", None)
+        if cache is None:
+            precs, means = self.arrays["class_precisions"], self.arrays["class_means"]
+            try:
+                chol = np.linalg.cholesky(precs)  # (c, p, p)
+            except np.linalg.LinAlgError as exc:
+                raise ModelError("the domain record's precision matrices are not positive definite; retrain the model.") from exc
+            stacked = np.ascontiguousarray(np.concatenate(list(chol), axis=1))
+            offset = np.concatenate([m @ c for m, c in zip(means, chol, strict=True)])
+            cache = (stacked, offset)
+            object.__setattr__(self, "_factor_cache", cache)
+        return cache
+
     def distances(self, X) -> np.ndarray:
         """Feature distance of every row of ``X`` (raw feature units, columns ``feature_names``)."""
         X = np.asarray(X, dtype=float)
         if X.ndim != 2 or X.shape[1] != len(self.feature_names):
             raise ModelError(f"the domain check takes {len(self.feature_names)} features, got shape {X.shape}; retrain the model.")
         Z = (X - self.arrays["center"]) / self.arrays["scale"]
-        d = _min_mahalanobis(Z, self.arrays["class_means"], self.arrays["class_precisions"])
+        stacked, offset = self._factors()
+        p = Z.shape[1]
+        with np.errstate(invalid="ignore", over="ignore"):
+            Y = (np.nan_to_num(Z, nan=0.0, posinf=0.0, neginf=0.0) @ stacked - offset).reshape(len(Z), -1, p)
+            d = np.sqrt(np.min(np.einsum("ncp,ncp->nc", Y, Y), axis=1)) if len(Z) else np.zeros(0)
         d[~np.all(np.isfinite(X), axis=1)] = np.inf
         return d
 

@@ -25,10 +25,10 @@ def model_inputs(model, recording: Recording, windows: pd.DataFrame) -> np.ndarr
 
     if model.input_kind == "raw":
         length = int(round(model.length_s * model.sampling_rate_hz))
-        return raw_windows(recording, windows["start"].to_numpy(), length, model.raw_channels, model.frame)
+        return raw_windows(recording, windows["start"].to_numpy(), length, model.raw_channels, getattr(model, "frame", "phone"))
     from gaitml.features import extract_features
 
-    feats = extract_features(recording, windows, subset=model.feature_set, frame=model.frame)
+    feats = extract_features(recording, windows, subset=model.feature_set, frame=getattr(model, "frame", "phone"))
     names = model.feature_names
     missing = [n for n in names if n not in feats.columns]
     if missing:
@@ -55,7 +55,7 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
         (float, NaN when not available).
     """
     n = len(windows)
-    dom = model.domain
+    dom = getattr(model, "domain", None)
     if dom is None:
         return {"in_domain": np.full(n, None, dtype=object), "domain_distance": np.full(n, np.nan), "gravity_angle_deg": np.full(n, np.nan)}
     from gaitml.models.domain import window_gravity
@@ -64,7 +64,12 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
     length = int(round(model.length_s * model.sampling_rate_hz))
     if n == 0:
         return {"in_domain": np.zeros(0, dtype=object), "domain_distance": np.zeros(0), "gravity_angle_deg": np.zeros(0)}
-    same = X is not None and model.input_kind == "features" and dom.feature_set == model.feature_set and dom.frame == model.frame
+    same = (
+        X is not None
+        and model.input_kind == "features"
+        and dom.feature_set == model.feature_set
+        and dom.frame == getattr(model, "frame", "phone")
+    )
     if not same:
         from gaitml.features import features_from_arrays
 
@@ -137,6 +142,6 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
         sampling_rate_hz=model.sampling_rate_hz,
         resampled_from_hz=None if rec is recording else fs0,
         correction=bool(correction),
-        has_domain=model.domain is not None,
+        has_domain=getattr(model, "domain", None) is not None,
     )
     return out

@@ -385,7 +385,11 @@ def run_pdr(
     if step_in_domain is not None:
         steps["mode_model"] = model_modes
         steps["in_domain"] = step_in_domain
-    n_ood = None if step_in_domain is None or model.domain is None else int(sum(v is False or v is np.False_ for v in step_in_domain))
+    n_ood = (
+        None
+        if step_in_domain is None or getattr(model, "domain", None) is None
+        else int(sum(v is False or v is np.False_ for v in step_in_domain))
+    )
     info = {
         "detector": det_name,
         "heading": heading if isinstance(heading, str) else source.name or type(source).__name__,

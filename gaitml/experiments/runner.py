@@ -19,7 +19,16 @@ import numpy as np
 from gaitml.errors import ConfigError, InputError
 from gaitml.experiments.config import ExperimentConfig, sweep_grid
 
-__all__ = ["PreparedData", "prepare_data", "build_dataset", "evaluate_config", "train_config", "default_run_dir"]
+__all__ = [
+    "PreparedData",
+    "prepare_data",
+    "build_dataset",
+    "evaluate_config",
+    "train_config",
+    "attach_training_domain",
+    "fit_training_domain",
+    "default_run_dir",
+]
 
 _DATA_CACHE: dict[str, Any] = {}
 _DS_CACHE: dict[str, Any] = {}
@@ -367,6 +376,50 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
             X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
     return fit_domain(
         X, ds.y, ds.groups, gravity, feature_names=feature_names(fset), feature_set=fset, frame=frame, positions=positions, seed=cfg.seed
+    )
+
+
+def attach_training_domain(cfg: ExperimentConfig, model_dir: str | Path, out_dir: str | Path | None = None):
+    """Record the training domain of an existing model without refitting its classifier.
+
+    For a model saved before gaitml recorded domains (or converted from a pickle): the
+    training data of ``cfg`` (the config the model was trained with) is prepared and
+    windowed again, the domain is fitted on it (:func:`fit_training_domain`) and the
+    model is saved again with the same estimator, settings, scores and creation time
+    plus ``feature_frame`` and ``domain``. The config must give the model's feature
+    names, window and rate, else ConfigError.
+
+    Returns
+    -------
+    TrainedModel (saved to ``out_dir``, default ``model_dir`` itself, atomically)
+    """
+    from gaitml.models import load_model, save_model
+
+    model = load_model(model_dir)
+    w = cfg["windows"]
+    mine = (model.feature_set, model.length_s, model.overlap, model.sampling_rate_hz, model.frame)
+    theirs = (
+        cfg["features"]["set"],
+        float(w["length_s"]),
+        float(w["overlap"]),
+        float(cfg["data"]["resample_hz"]),
+        cfg["features"]["frame"],
+    )
+    if mine != theirs:
+        raise ConfigError(
+            f"config {cfg.name} (feature set, window, overlap, rate, frame = {theirs}) is not the one model {model_dir} was trained with "
+            f"({mine}); pass the model's own training config."
+        )
+    data = prepare_data(cfg)
+    ds = build_dataset(cfg, data)
+    if model.input_kind == "features" and list(ds.feature_names) != model.feature_names:
+        raise ConfigError(f"the features of config {cfg.name} differ from the model's; pass the model's own training config.")
+    domain = fit_training_domain(cfg, data, ds, model)
+    domain.summary["recorded"] = f"after training, from config {cfg.name!r} (seed {cfg.seed}); the classifier was not refitted"
+    info = {k: v for k, v in model.info.items() if k != "domain"}
+    info["feature_frame"] = model.frame
+    return save_model(
+        out_dir if out_dir is not None else model_dir, model.estimator, info, created_utc=info.get("created_utc"), domain=domain
     )
 
 

@@ -159,6 +159,8 @@ def _domain_lines(info: dict) -> list[str]:
             lines.append("- Gravity check: off (gravity-frame features do not depend on the phone's orientation)")
     except (KeyError, TypeError, ValueError):
         lines.append("- (the domain record is incomplete)")
+    if sm.get("recorded"):
+        lines.append(f"- Domain recorded {sm['recorded']}")
     lines.append(
         "- `gaitml predict` marks each window `in_domain`, reports `out_of_domain_fraction` and warns above 10 %; "
         "`gaitml pdr --model` moves out-of-domain steps forward along the facing heading (`out_of_domain_steps`)."

@@ -233,3 +233,18 @@ def test_old_model_without_domain_loads_and_says_so_once(phone_model, new_subjec
     assert code == 0 and js["out_of_domain_steps"] is None
     assert _warnings(err) == [f"gaitml: warning: {NO_DOMAIN_WARNING}"]
     assert "No domain record" in model_card(m.info)
+
+
+def test_attach_domain_to_an_old_model_keeps_its_classifier(phone_model, tmp_path):
+    from gaitml.errors import ConfigError
+    from gaitml.experiments.runner import attach_training_domain
+
+    old = _strip_domain(phone_model, tmp_path / "old")
+    cfg = parse_config(json.loads(json.dumps(SMALL)))
+    new = attach_training_domain(cfg, old, tmp_path / "new")
+    ref = load_model(phone_model)
+    assert new.domain.distance_threshold == pytest.approx(ref.domain.distance_threshold)
+    assert "not refitted" in load_model(tmp_path / "new").info["domain"]["summary"]["recorded"]
+    np.testing.assert_array_equal(load_model(tmp_path / "new").estimator.coef_, ref.estimator.coef_)
+    with pytest.raises(ConfigError, match="not the one model"):
+        attach_training_domain(cfg.with_values({"windows.length_s": 2.0}), old, tmp_path / "bad")

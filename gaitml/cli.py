@@ -97,6 +97,12 @@ def _feature_sets():
     return (*FEATURE_SETS, *SUBSET_ALIASES)
 
 
+def _feature_frames():
+    from gaitml.features import FEATURE_FRAMES
+
+    return FEATURE_FRAMES
+
+
 #: Names of the step and zero-velocity detectors: lazy views of the registries.
 STEP_DETECTORS = _Names(_step_detectors)
 ZUPT_DETECTORS = _Names(_zupt_detectors)
@@ -204,6 +210,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--window-s", type=float, default=1.5)
     p.add_argument("--overlap", type=float, default=0.5)
     p.add_argument("--subset", **_choices("features", "--subset", _feature_sets), default="all52", help="%(choices)s (default %(default)s)")
+    p.add_argument(
+        "--frame",
+        **_choices("features", "--frame", _feature_frames),
+        default="phone",
+        help="axes of the x/y/z features: phone (the phone's own, paper 003) or gravity (per-window up/forward/right, "
+        "independent of the phone's orientation) (default %(default)s)",
+    )
     p.add_argument("--out", metavar="FILE", help="write the feature table as CSV")
     _input_options(p)
 

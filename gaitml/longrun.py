@@ -156,9 +156,13 @@ def long_features(
     chunk_s: float = DEFAULT_CHUNK_S,
     progress: bool = True,
     on_block: Callable[[pd.DataFrame], None] | None = None,
+    frame: str = "phone",
     **read_kwargs,
 ) -> pd.DataFrame | None:
     """Windowed features of a long recording, identical to a whole-file run.
+
+    ``frame`` is the feature frame (:func:`gaitml.features.extract_features`); each
+    window's gravity frame depends on its own samples, so chunking does not change it.
 
     With ``on_block`` every chunk's rows are handed to the callback (e.g. to
     append them to a file) and nothing is accumulated; otherwise the full table
@@ -177,7 +181,7 @@ def long_features(
         if not keep.any():
             continue
         wins = wins[keep].reset_index(drop=True)
-        feats = extract_features(rec, wins, subset=subset, length_s=length_s, overlap=overlap)
+        feats = extract_features(rec, wins, subset=subset, length_s=length_s, overlap=overlap, frame=frame)
         block = _globalise_windows(wins, ch.offset, rec.sampling_rate_hz)
         block = pd.concat([block, feats.reset_index(drop=True)[[c for c in feats.columns if c not in block.columns]]], axis=1)
         if on_block is not None:

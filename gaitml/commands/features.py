@@ -1,4 +1,4 @@
-"""`gaitml features INPUT [--window-s S] [--overlap F] [--subset NAME] [--out FILE]`.
+"""`gaitml features INPUT [--window-s S] [--overlap F] [--subset NAME] [--frame phone|gravity] [--out FILE]`.
 
 Writes the feature table (window columns ``start, end, t_start_s, t_end_s`` and,
 when the recording is labelled, ``label, label_fraction``, then the features in
@@ -17,15 +17,15 @@ from gaitml.io import write_csv
 _CODES = {s.name: s.code for s in CATALOGUE + GYRO_CATALOGUE}
 
 
-def feature_table(recording, *, window_s: float = 1.5, overlap: float = 0.5, subset: str = "all52") -> pd.DataFrame:
-    """Window columns followed by the feature columns (what ``--out`` writes)."""
+def feature_table(recording, *, window_s: float = 1.5, overlap: float = 0.5, subset: str = "all52", frame: str = "phone") -> pd.DataFrame:
+    """Window columns followed by the feature columns (what ``--out`` writes); ``frame``: see :func:`gaitml.features.extract_features`."""
     key = resolve_subset(subset)
     if key == "all52+gyro":
         recording.require_gyr("feature subset 'all52+gyro'")
     windows = make_windows(recording, window_s, overlap, min_label_fraction=0.0)
-    feats = extract_features(recording, windows, subset=key)
+    feats = extract_features(recording, windows, subset=key, frame=frame)
     table = pd.concat([windows, feats], axis=1)
-    table.attrs.update(windows.attrs, subset=key)
+    table.attrs.update(windows.attrs, subset=key, frame=frame)
     return table
 
 
@@ -35,7 +35,7 @@ def summary_text(table: pd.DataFrame, recording) -> str:
     lines = [
         f"recording: {recording.name} ({recording.n_samples} samples, {recording.sampling_rate_hz:g} Hz, {recording.duration_s:.2f} s)",
         f"windows: {len(table)} of {a['length_samples']} samples ({a['length_s']:g} s), hop {a['hop_samples']} samples (overlap {a['overlap']:g})",
-        f"subset: {a['subset']}",
+        f"subset: {a['subset']}, frame: {a.get('frame', 'phone')}",
     ]
     if "label" in table:
         counts = table["label"].value_counts().sort_index()
@@ -52,7 +52,9 @@ def run(args) -> int:
     if is_large_input(args):
         return _run_long(args)
     recording = load_input(args)
-    table = feature_table(recording, window_s=args.window_s, overlap=args.overlap, subset=args.subset)
+    table = feature_table(
+        recording, window_s=args.window_s, overlap=args.overlap, subset=args.subset, frame=getattr(args, "frame", "phone")
+    )
     if args.out:
         write_csv(args.out, table)
         log(f"wrote {len(table)} windows x {sum('__' in c for c in table.columns)} features to {args.out}")
@@ -74,6 +76,7 @@ def _run_long(args) -> int:
             length_s=args.window_s,
             overlap=args.overlap,
             subset=key,
+            frame=getattr(args, "frame", "phone"),
             on_block=lambda b: n.__setitem__(0, n[0] + len(b)),
             **read_kwargs(args),
         )
@@ -87,6 +90,14 @@ def _run_long(args) -> int:
                 block.to_csv(fh, header=count[0] == 0, index=False)
                 count[0] += len(block)
 
-            long_features(args.input, length_s=args.window_s, overlap=args.overlap, subset=key, on_block=write_block, **read_kwargs(args))
+            long_features(
+                args.input,
+                length_s=args.window_s,
+                overlap=args.overlap,
+                subset=key,
+                frame=getattr(args, "frame", "phone"),
+                on_block=write_block,
+                **read_kwargs(args),
+            )
     log(f"wrote {count[0]} windows ({key}, processed in chunks) to {args.out}")
     return 0

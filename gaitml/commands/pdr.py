@@ -123,6 +123,15 @@ def run(args) -> int:
             res.trajectory.to_csv(tmp_out, index=False)
     for note in notes:
         log(f"note: {note}")
+    # ---- out-of-domain steps (gaitml.models.domain): one warning line
+    if model is not None and modes == "model":
+        from gaitml.models.domain import domain_warning
+
+        flags = res.steps["in_domain"].to_numpy(dtype=object) if "in_domain" in res.steps else []
+        warning = domain_warning(model, flags, what="steps")
+        if warning:
+            tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
+            log(f"gaitml: warning: {warning}{tail}")
     if args.json:
         emit_json(res.to_json_dict())
         return 0
@@ -131,6 +140,10 @@ def run(args) -> int:
         f"{rec.name}: {res.n_steps} steps, distance {res.distance_m:.1f} m, end point ({x:.2f}, {y:.2f}) m "
         f"[heading {res.info['heading']}, modes {res.info['modes']}, update {res.info['update']}]"
     ]
+    if res.info.get("out_of_domain_steps") is not None:
+        lines.append(
+            f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
+        )
     if truth is not None and len(truth):
         import numpy as np
 

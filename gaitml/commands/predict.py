@@ -32,6 +32,14 @@ def run(args) -> int:
         write_csv(args.out, table)
         log(f"gaitml predict: {len(table)} windows written to {args.out}")
     counts = {str(k): int(v) for k, v in table["mode"].value_counts().sort_index().items()}
+    # ---- out-of-domain check (gaitml.models.domain): one warning line, fraction in the JSON
+    from gaitml.models.domain import domain_warning, out_of_domain_fraction
+
+    in_domain = table["in_domain"].to_numpy(dtype=object) if "in_domain" in table else []
+    ood_fraction = out_of_domain_fraction(in_domain)
+    warning = domain_warning(model, in_domain)
+    if warning:
+        log(f"gaitml: warning: {warning}")
     if args.json:
         emit_json(
             {
@@ -41,16 +49,25 @@ def run(args) -> int:
                 "overlap": model.overlap,
                 "correction": not args.no_correction,
                 "windows": [
-                    {"t_start_s": float(r.t_start_s), "t_end_s": float(r.t_end_s), "mode": str(r.mode)} for r in table.itertuples()
+                    {
+                        "t_start_s": float(r.t_start_s),
+                        "t_end_s": float(r.t_end_s),
+                        "mode": str(r.mode),
+                        "in_domain": None if r.in_domain is None else bool(r.in_domain),
+                    }
+                    for r in table.itertuples()
                 ],
                 "counts": counts,
+                "out_of_domain_fraction": ood_fraction,
             }
         )
     elif not args.out:
         log(
             "gaitml predict: "
             + ", ".join(f"{k} {v}" for k, v in counts.items())
-            + f" ({len(table)} windows; use --out FILE or --json for the table)"
+            + f" ({len(table)} windows"
+            + ("" if ood_fraction is None else f", {100 * ood_fraction:.1f} % out of the model's domain")
+            + "; use --out FILE or --json for the table)"
         )
     return 0
 
@@ -71,6 +88,12 @@ def _run_steps(args, model) -> int:
         write_csv(args.out, table)
         log(f"gaitml predict: {len(table)} {unit} written to {args.out}")
     counts = {str(k): int(v) for k, v in table["mode"].value_counts().sort_index().items()}
+    from gaitml.models.domain import domain_warning, out_of_domain_fraction
+
+    in_domain = table["in_domain"].to_numpy(dtype=object) if "in_domain" in table else []
+    warning = domain_warning(model, in_domain, unit)
+    if warning:
+        log(f"gaitml: warning: {warning}")
     if args.json:
         emit_json(
             {
@@ -80,10 +103,17 @@ def _run_steps(args, model) -> int:
                 "detector": model.window_detector,
                 "correction": not args.no_correction,
                 "windows": [
-                    {"t_start_s": float(r.t_start_s), "t_end_s": float(r.t_end_s), "t_event_s": float(r.t_event_s), "mode": str(r.mode)}
+                    {
+                        "t_start_s": float(r.t_start_s),
+                        "t_end_s": float(r.t_end_s),
+                        "t_event_s": float(r.t_event_s),
+                        "mode": str(r.mode),
+                        "in_domain": None if r.in_domain is None else bool(r.in_domain),
+                    }
                     for r in table.itertuples()
                 ],
                 "counts": counts,
+                "out_of_domain_fraction": out_of_domain_fraction(in_domain),
             }
         )
     elif not args.out:

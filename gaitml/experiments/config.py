@@ -48,6 +48,7 @@ Keys (defaults in brackets) of ``task = "classification"``::
                                      # (default "pseudo-std"); time windows ignore it (gaitml.features.step_windows)
     [features]
     set = "all52"                    # "all52" | "paper34" | "all52+gyro"
+    frame = "phone"                  # "phone" (paper 003) | "gravity" (per-window gravity-aligned, orientation-free)
     [model]
     kind = "linear-ovo-svm"          # | "mlp" | "cnn1d"
     params = {}                      # constructor parameters of the kind, e.g. { C = 1.0 }
@@ -126,6 +127,12 @@ def _cv_scheme_names() -> tuple[str, ...]:
     return tuple(CV_SCHEMES)
 
 
+def _feature_frame_names() -> tuple[str, ...]:
+    from gaitml.features import FEATURE_FRAMES
+
+    return tuple(FEATURE_FRAMES)
+
+
 def _sim_pose_names() -> tuple[str, ...]:
     """The simulator's phone poses plus "mixed" (drawn per subject)."""
     from gaitml.simulate.subject import POSES
@@ -182,6 +189,11 @@ def _check_windows(values: dict) -> None:
         check_window_by(w["by"], w["detector"])
     except InputError as exc:
         raise ConfigError(f"windows.detector = {w['detector']!r}: {str(exc).rstrip('.')}.") from None
+    if w["by"] != "time" and values.get("features", {}).get("frame", "phone") != "phone":
+        raise ConfigError(
+            f"windows.by = {w['by']!r} computes the features in the phone frame only, got features.frame = "
+            f"{values['features']['frame']!r}; set features.frame = 'phone' or windows.by = 'time'."
+        )
 
 
 def _step_detector_names() -> tuple[str, ...]:
@@ -303,7 +315,7 @@ SCHEMA: dict[str, Any] = {
         "by": _Leaf((str,), "time", allowed=_window_by_names),
         "detector": _Leaf((str,), ""),
     },
-    "features": {"set": _Leaf((str,), "all52", allowed=_feature_set_names)},
+    "features": {"set": _Leaf((str,), "all52", allowed=_feature_set_names), "frame": _Leaf((str,), "phone", allowed=_feature_frame_names)},
     "model": {
         "kind": _Leaf((str,), "linear-ovo-svm", allowed=_model_kind_names),
         "params": _Leaf((dict,), {}),
@@ -620,7 +632,7 @@ def parse_config(
     _check_windows(values)
     _check_labelling(values)
     for point in sweep_grid(cfg):
-        if point and any(k.startswith(("model.", "data.", "windows.by", "windows.detector")) for k in point):
+        if point and any(k.startswith(("model.", "data.", "windows.by", "windows.detector", "features.frame")) for k in point):
             cfg.with_values(point)  # validates each grid point's model / data settings
     return cfg
 

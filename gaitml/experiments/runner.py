@@ -19,7 +19,16 @@ import numpy as np
 from gaitml.errors import ConfigError, InputError
 from gaitml.experiments.config import ExperimentConfig, sweep_grid
 
-__all__ = ["PreparedData", "prepare_data", "build_dataset", "evaluate_config", "train_config", "default_run_dir"]
+__all__ = [
+    "PreparedData",
+    "prepare_data",
+    "build_dataset",
+    "evaluate_config",
+    "train_config",
+    "attach_training_domain",
+    "fit_training_domain",
+    "default_run_dir",
+]
 
 _DATA_CACHE: dict[str, Any] = {}
 _DS_CACHE: dict[str, Any] = {}
@@ -202,7 +211,9 @@ def build_dataset(
     need_raw = input_kind == "raw" if need_raw is None else need_raw
     need_features = input_kind == "features" if need_features is None else need_features
     w = cfg["windows"]
-    key = json.dumps([_data_key(cfg), w, cfg["features"]["set"], need_raw, need_features], sort_keys=True, default=str)
+    key = json.dumps(
+        [_data_key(cfg), w, cfg["features"]["set"], cfg["features"]["frame"], need_raw, need_features], sort_keys=True, default=str
+    )
     if use_cache and key in _DS_CACHE:
         return _DS_CACHE[key]
     if w["by"] != "time":
@@ -231,6 +242,7 @@ def _build_time_dataset(cfg: ExperimentConfig, data: PreparedData, *, need_raw: 
         keep_labels=cfg["data"]["labels"] or data.keep_labels,
         need_features=need_features,
         need_raw=need_raw,
+        frame=cfg["features"]["frame"],
     )
 
 
@@ -421,6 +433,91 @@ def _with_sweep(cfg: ExperimentConfig, overrides: dict) -> ExperimentConfig:
     return dataclasses.replace(cfg.with_values(overrides), sweep=cfg.sweep)
 
 
+def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
+    """The domain record of a trained model (:mod:`gaitml.models.domain`).
+
+    Distances on the model's own features (feature models) or on ``all52`` /
+    ``all52+gyro`` of the same windows (raw-input models), in the config's frame; the
+    gravity direction of every window in the phone frame; positions from the
+    recordings' meta ``position`` (``"unknown"`` where absent); held-out thresholds
+    over the config's groups.
+    """
+    from gaitml.features import feature_names, features_from_arrays, resolve_subset
+    from gaitml.features.step_windows import extract_step_features
+    from gaitml.models.domain import fit_domain, span_gravity, window_gravity
+
+    frame = cfg["features"]["frame"]
+    rec_idx = ds.recording_index
+    starts = ds.windows["start"].to_numpy(np.int64)
+    ends = ds.windows["end"].to_numpy(np.int64)
+    length = int(ends[0] - starts[0])
+    by_steps = cfg["windows"]["by"] != "time"  # step windows differ in length: gravity and features per span
+    if model.input_kind == "features":
+        fset, X = resolve_subset(ds.feature_set), ds.inputs("features")
+    else:
+        fset = "all52+gyro" if any(c.startswith("gyr") for c in ds.raw_channels) else "all52"
+        X = np.zeros((len(ds), len(feature_names(fset))))
+    gravity = np.zeros((len(ds), 3))
+    positions = np.empty(len(ds), dtype=object)
+    for i in np.unique(rec_idx):
+        rows = np.flatnonzero(rec_idx == i)
+        rec = data.recordings[int(i)]
+        gravity[rows] = span_gravity(rec.acc, starts[rows], ends[rows]) if by_steps else window_gravity(rec.acc, starts[rows], length)
+        positions[rows] = str(rec.meta.get("position") or "unknown")
+        if model.input_kind != "features" and by_steps:
+            X[rows] = extract_step_features(rec, ds.windows.iloc[rows], subset=fset).to_numpy(dtype=float)
+        elif model.input_kind != "features":
+            gyr = rec.gyr if fset == "all52+gyro" else None
+            X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
+    return fit_domain(
+        X, ds.y, ds.groups, gravity, feature_names=feature_names(fset), feature_set=fset, frame=frame, positions=positions, seed=cfg.seed
+    )
+
+
+def attach_training_domain(cfg: ExperimentConfig, model_dir: str | Path, out_dir: str | Path | None = None):
+    """Record the training domain of an existing model without refitting its classifier.
+
+    For a model saved before gaitml recorded domains (or converted from a pickle): the
+    training data of ``cfg`` (the config the model was trained with) is prepared and
+    windowed again, the domain is fitted on it (:func:`fit_training_domain`) and the
+    model is saved again with the same estimator, settings, scores and creation time
+    plus ``feature_frame`` and ``domain``. The config must give the model's feature
+    names, window and rate, else ConfigError.
+
+    Returns
+    -------
+    TrainedModel (saved to ``out_dir``, default ``model_dir`` itself, atomically)
+    """
+    from gaitml.models import load_model, save_model
+
+    model = load_model(model_dir)
+    w = cfg["windows"]
+    mine = (model.feature_set, model.length_s, model.overlap, model.sampling_rate_hz, model.frame)
+    theirs = (
+        cfg["features"]["set"],
+        float(w["length_s"]),
+        float(w["overlap"]),
+        float(cfg["data"]["resample_hz"]),
+        cfg["features"]["frame"],
+    )
+    if mine != theirs:
+        raise ConfigError(
+            f"config {cfg.name} (feature set, window, overlap, rate, frame = {theirs}) is not the one model {model_dir} was trained with "
+            f"({mine}); pass the model's own training config."
+        )
+    data = prepare_data(cfg)
+    ds = build_dataset(cfg, data)
+    if model.input_kind == "features" and list(ds.feature_names) != model.feature_names:
+        raise ConfigError(f"the features of config {cfg.name} differ from the model's; pass the model's own training config.")
+    domain = fit_training_domain(cfg, data, ds, model)
+    domain.summary["recorded"] = f"after training, from config {cfg.name!r} (seed {cfg.seed}); the classifier was not refitted"
+    info = {k: v for k, v in model.info.items() if k != "domain"}
+    info["feature_frame"] = model.frame
+    return save_model(
+        out_dir if out_dir is not None else model_dir, model.estimator, info, created_utc=info.get("created_utc"), domain=domain
+    )
+
+
 def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, progress: bool = True):
     """Train the config's model on all its windows and save the artifact.
 
@@ -485,4 +582,6 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
     }
     if model.input_kind == "features" and list(ds.feature_names) != info["feature_names"]:
         raise InputError(f"the feature table columns differ from feature_names({fset!r}); this is a bug in the feature set definition.")
-    return save_model(target, model, info)
+    info["feature_frame"] = cfg["features"]["frame"]
+    domain = fit_training_domain(cfg, data, ds, model)
+    return save_model(target, model, info, domain=domain)

@@ -5,7 +5,9 @@
   or stride, features on its own samples (:mod:`gaitml.features.step_windows`);
 - :func:`extract_features` / :func:`features_from_arrays`: vectorised feature matrix;
 - :class:`StreamingFeatureExtractor`: the same rows from samples pushed as they arrive;
-- :data:`CATALOGUE`, :data:`FEATURE_SETS`, :func:`feature_names`: the catalogue and subsets.
+- :data:`CATALOGUE`, :data:`FEATURE_SETS`, :func:`feature_names`: the catalogue and subsets;
+- :data:`FEATURE_FRAMES`, :func:`gravity_frame_rotations`: the phone frame (paper 003) or a
+  per-window gravity-aligned frame that makes the features independent of the phone's orientation.
 """
 
 from gaitml.features._catalogue import (
@@ -20,12 +22,14 @@ from gaitml.features._catalogue import (
     resolve_subset,
 )
 from gaitml.features._extract import extract_features, features_from_arrays
+from gaitml.features._frame import FEATURE_FRAMES, check_frame, gravity_frame_rotations
 from gaitml.features._streaming import StreamingFeatureExtractor
 from gaitml.features._windows import make_windows
 from gaitml.features.step_windows import WINDOW_BY, extract_step_features, make_step_windows
 
 __all__ = [
     "CATALOGUE",
+    "FEATURE_FRAMES",
     "FEATURE_SETS",
     "GYRO_CATALOGUE",
     "PAPER34_NUMBERS",
@@ -33,11 +37,13 @@ __all__ = [
     "StreamingFeatureExtractor",
     "WINDOW_BY",
     "catalogue_markdown",
+    "check_frame",
     "extract_features",
     "extract_step_features",
     "feature_names",
     "feature_specs",
     "features_from_arrays",
+    "gravity_frame_rotations",
     "make_step_windows",
     "make_windows",
     "resolve_subset",

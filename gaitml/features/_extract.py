@@ -14,6 +14,7 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.features._catalogue import FEATURE_SETS, MODE_BIN_WIDTH, feature_names, resolve_subset
+from gaitml.features._frame import check_frame, gravity_frame_rotations, rotate_windows
 from gaitml.features._windows import WINDOW_LENGTH_S, WINDOW_OVERLAP, make_windows
 
 __all__ = ["extract_features", "features_from_arrays", "magnitude_offset", "MAGNITUDE_OFFSET_MS2", "SMOOTHING_SAMPLES"]
@@ -146,14 +147,25 @@ def _stats52(w: np.ndarray, mode_width: float) -> np.ndarray:
     return out
 
 
-def _sensor_stats(xyz: np.ndarray, sensor: str, starts: np.ndarray, length: int) -> np.ndarray:
+def _sensor_stats(xyz: np.ndarray, sensor: str, starts: np.ndarray, length: int, rotations: np.ndarray | None = None) -> np.ndarray:
+    """The 52 statistics of every window; ``rotations`` (k, 3, 3) turn x, y, z into a window's own frame."""
     mag = _raw_magnitude(xyz, magnitude_offset(sensor))
     mag3 = (mag[:-2] + mag[1:-1] + mag[2:]) / 3.0 if len(mag) >= 3 else np.zeros(0)
     width = MODE_BIN_WIDTH[sensor]
     out = np.empty((len(starts), _N_STATS))
     for b in range(0, len(starts), BLOCK_WINDOWS):  # blocks of windows, not windows
         st = starts[b : b + BLOCK_WINDOWS]
-        out[b : b + len(st)] = _stats52(_window_block(xyz, mag, mag3, st, length), width)
+        block = _window_block(xyz, mag, mag3, st, length)
+        if rotations is not None:  # the gravity frame (gaitml.features._frame); the magnitude is unchanged
+            block[:, :3, :] = rotate_windows(block[:, :3, :], rotations[b : b + len(st)])
+        out[b : b + len(st)] = _stats52(block, width)
+    if rotations is not None and sensor == "acc":
+        # gravity frame: x and y are horizontal and z is along the window mean, so the means of x
+        # and y are zero, and x and y are principal axes of the horizontal covariance, so their
+        # correlation is zero, by construction; set them exactly (rounding noise of ~1e-15 would
+        # otherwise become a random feature once a classifier standardises it)
+        out[:, 0:2] = 0.0
+        out[:, 32] = 0.0  # acc_xy__corr
     return out
 
 
@@ -164,7 +176,7 @@ def _as_xyz(name: str, x) -> np.ndarray:
     return arr
 
 
-def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subset: str = "all52") -> np.ndarray:
+def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subset: str = "all52", frame: str = "phone") -> np.ndarray:
     """Feature matrix of the windows ``[start, start + length)`` of raw arrays.
 
     Parameters
@@ -183,6 +195,11 @@ def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subse
         Window length in samples (>= 2).
     subset : str
         ``'all52'``, ``'paper34'``, ``'all52+gyro'`` (alias ``'all'``).
+    frame : {'phone', 'gravity'}
+        Axes of the x, y, z statistics: the phone's own (paper 003), or each
+        window's gravity-aligned frame (x right, y forward, z up; see
+        :mod:`gaitml.features._frame`), which makes every feature independent of a
+        constant rotation of the phone. The gyroscope is rotated with the same matrix.
 
     Returns
     -------
@@ -190,6 +207,7 @@ def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subse
         Columns in the order of :func:`gaitml.features.feature_names`.
     """
     key = resolve_subset(subset)
+    check_frame(frame)
     acc = _as_xyz("acc", acc)
     if starts is None or length is None:
         raise InputError("`starts` and `length` are required; get them from gaitml.features.make_windows or gaitml.signal.window_params.")
@@ -204,7 +222,8 @@ def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subse
         )
     if n < length:
         raise InputError(f"the signal has {n} samples, fewer than one window of {length}; use a longer recording or a shorter window.")
-    blocks = [_sensor_stats(acc, "acc", starts, length)]
+    rotations = gravity_frame_rotations(acc, starts, length) if frame == "gravity" else None
+    blocks = [_sensor_stats(acc, "acc", starts, length, rotations)]
     if key == "all52+gyro":
         if gyr is None:
             raise InputError(
@@ -213,7 +232,7 @@ def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subse
         gyr = _as_xyz("gyr", gyr)
         if len(gyr) != n:
             raise InputError(f"`gyr` has {len(gyr)} samples but `acc` has {n}; they must match.")
-        blocks.append(_sensor_stats(gyr, "gyr", starts, length))
+        blocks.append(_sensor_stats(gyr, "gyr", starts, length, rotations))
     full = np.concatenate(blocks, axis=1) if len(blocks) > 1 else blocks[0]
     if key == "paper34":
         return np.ascontiguousarray(full[:, _PAPER34_IDX])
@@ -227,6 +246,7 @@ def extract_features(
     subset: str = "all52",
     length_s: float = WINDOW_LENGTH_S,
     overlap: float = WINDOW_OVERLAP,
+    frame: str = "phone",
 ) -> pd.DataFrame:
     """Feature table of a recording: one row per window, columns ``<channel>__<stat>``.
 
@@ -241,12 +261,19 @@ def extract_features(
         ``'all52'`` (F1..F52), ``'paper34'`` (paper 003 Table 1) or
         ``'all52+gyro'`` (F1..F52 then G1..G52; needs a gyroscope). ``'all'`` is
         an alias of ``'all52'``.
+    frame : {'phone', 'gravity'}
+        ``'phone'`` (default, paper 003): the phone's x, y, z. ``'gravity'``: each
+        window in its own gravity-aligned frame (x right, y forward, z up), so the
+        features do not change when the phone is held in another orientation; see
+        :mod:`gaitml.features._frame` for the construction and its limits. Column
+        names stay ``acc_x__...`` etc. in both frames.
 
     Returns
     -------
     DataFrame
         Index = ``windows.index``; columns in catalogue order (F numbers
-        ascending). ``attrs`` carries the window settings of ``windows``.
+        ascending). ``attrs`` carries the window settings of ``windows``, the
+        ``subset`` and the ``frame``.
 
     Notes
     -----
@@ -255,6 +282,7 @@ def extract_features(
     per-window smoothing of the magnitude).
     """
     key = resolve_subset(subset)
+    check_frame(frame)
     names = feature_names(key)
     gyr = recording.require_gyr("feature subset 'all52+gyro'") if key == "all52+gyro" else None
     if windows is None:
@@ -271,7 +299,7 @@ def extract_features(
         raise InputError(
             f"all windows must have the same length, got {lengths.min()}..{lengths.max()} samples; build them with gaitml.features.make_windows."
         )
-    x = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, int(lengths[0]), key)
+    x = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, int(lengths[0]), key, frame)
     df = pd.DataFrame(x, columns=names, index=windows.index)
-    df.attrs.update(dict(windows.attrs), subset=key)
+    df.attrs.update(dict(windows.attrs), subset=key, frame=frame)
     return df

@@ -7,6 +7,7 @@ import numpy as np
 from gaitml.errors import InputError
 from gaitml.features._catalogue import feature_names, resolve_subset
 from gaitml.features._extract import features_from_arrays
+from gaitml.features._frame import check_frame
 from gaitml.features._windows import WINDOW_LENGTH_S, WINDOW_OVERLAP
 from gaitml.signal import window_params
 
@@ -43,6 +44,10 @@ class StreamingFeatureExtractor:
         Fraction shared by consecutive windows, in [0, 1).
     subset : str
         ``'all52'``, ``'paper34'`` or ``'all52+gyro'`` (then ``push`` needs gyro chunks).
+    frame : {'phone', 'gravity'}
+        Feature frame, as in :func:`gaitml.features.extract_features` (the gravity
+        frame of a window depends on the window's own samples, so the rows still
+        equal the batch rows).
 
     Attributes
     ----------
@@ -57,12 +62,21 @@ class StreamingFeatureExtractor:
         by the latest ``push``.
     """
 
-    def __init__(self, sampling_rate_hz: float, length_s: float = WINDOW_LENGTH_S, overlap: float = WINDOW_OVERLAP, subset: str = "all52"):
+    def __init__(
+        self,
+        sampling_rate_hz: float,
+        length_s: float = WINDOW_LENGTH_S,
+        overlap: float = WINDOW_OVERLAP,
+        subset: str = "all52",
+        frame: str = "phone",
+    ):
         self.sampling_rate_hz = sampling_rate_hz
         self.length_s = length_s
         self.overlap = overlap
         self.subset = subset
+        self.frame = frame
         self._subset = resolve_subset(subset)
+        check_frame(frame)
         self.length_samples_, self.hop_samples_ = window_params(length_s, overlap, float(sampling_rate_hz))
         self.feature_names_ = feature_names(self._subset)
         self.reset()
@@ -112,7 +126,9 @@ class StreamingFeatureExtractor:
             return np.zeros((0, len(self.feature_names_)))
         abs_starts = self._next_start + hop * np.arange(n_new, dtype=np.int64)
         rel = abs_starts - self._buf_start
-        rows = features_from_arrays(self._acc, self._gyr if need_gyr else None, self.sampling_rate_hz, rel, length, self._subset)
+        rows = features_from_arrays(
+            self._acc, self._gyr if need_gyr else None, self.sampling_rate_hz, rel, length, self._subset, self.frame
+        )
         self._next_start = int(abs_starts[-1] + hop)
         drop = min(self._next_start - self._buf_start, len(self._acc))
         self._acc = self._acc[drop:].copy()

@@ -10,6 +10,8 @@ library versions. Everything comes from ``model.json``; nothing is measured here
 
 from __future__ import annotations
 
+import numpy as np
+
 from gaitml.errors import ModelError
 
 __all__ = ["model_card"]
@@ -115,6 +117,57 @@ def _cv_lines(info: dict) -> list[str]:
     return lines
 
 
+def _domain_lines(info: dict) -> list[str]:
+    """The "Domain" section: the recorded training domain and how windows are checked (gaitml.models.domain)."""
+    dom = info.get("domain")
+    if not isinstance(dom, dict):
+        return [
+            "No domain record: this model was saved before gaitml recorded one, so `gaitml predict` and `gaitml pdr` "
+            "cannot say whether a window is like its training data (`in_domain` is null). Retrain it with `gaitml train CONFIG`."
+        ]
+    sm = dom.get("summary") or {}
+    pos = dom.get("positions") or {}
+    lines = [
+        "- Positions: " + (", ".join(f"{k} ({v} windows)" for k, v in pos.items()) or "unknown"),
+        f"- Feature frame: `{info.get('feature_frame', 'phone')}`"
+        + (
+            " (the phone's own axes: the features change when the phone is held another way)"
+            if info.get("feature_frame", "phone") == "phone"
+            else " (per-window gravity-aligned: the features do not depend on the phone's orientation)"
+        ),
+    ]
+    try:
+        g = sm.get("gravity_mean") or []
+        q = sm.get("gravity_angle_to_mean_deg") or {}
+        lines.append(
+            f"- Gravity direction in the phone frame: mean unit vector ({', '.join(f'{float(v):.3f}' for v in g)}); angle to it "
+            + ", ".join(f"{k[1:]} % {float(v):.1f} deg" for k, v in q.items())
+            + f"; {sm.get('gravity_directions_kept', '?')} training directions kept"
+        )
+        lines.append(
+            f"- Feature distance: smallest Mahalanobis distance to the classes' Gaussians (Ledoit-Wolf) on `{dom.get('feature_set')}` "
+            f"in the {dom.get('frame')} frame; threshold {float(dom['distance_threshold']):.2f} = the {float(dom['quantile']):g} "
+            f"quantile of held-out distances ({sm.get('heldout', '?')}); in-sample it would be {float(dom['distance_threshold_in_sample']):.2f}"
+        )
+        if dom.get("gravity_check"):
+            lines.append(
+                f"- Gravity check: a window whose gravity direction is more than {np.degrees(float(dom['gravity_threshold_rad'])):.1f} deg "
+                f"from every kept training direction is out of domain (held-out {float(dom['quantile']):g} quantile; in-sample "
+                f"{np.degrees(float(dom['gravity_threshold_in_sample_rad'])):.1f} deg)"
+            )
+        else:
+            lines.append("- Gravity check: off (gravity-frame features do not depend on the phone's orientation)")
+    except (KeyError, TypeError, ValueError):
+        lines.append("- (the domain record is incomplete)")
+    if sm.get("recorded"):
+        lines.append(f"- Domain recorded {sm['recorded']}")
+    lines.append(
+        "- `gaitml predict` marks each window `in_domain`, reports `out_of_domain_fraction` and warns above 10 %; "
+        "`gaitml pdr --model` moves out-of-domain steps forward along the facing heading (`out_of_domain_steps`)."
+    )
+    return lines
+
+
 def model_card(info: dict) -> str:
     """Markdown model card of a model described by ``info`` (its ``model.json``).
 
@@ -184,7 +237,14 @@ def model_card(info: dict) -> str:
         )
     else:
         out.append(f"Recordings like the training data above: the same modes ({', '.join(map(str, labels))}), phone positions and sensors.")
-    out += ["", "## Known failure cases", ""] + [f"- {t}" for t in _GENERAL_FAILURES]
+    out += ["", "## Domain", "", *_domain_lines(info)]
+    failures = list(_GENERAL_FAILURES)
+    if info.get("feature_frame", "phone") == "gravity":
+        failures[2] = (
+            "The features are computed in a per-window gravity-aligned frame: the phone's orientation does not change them, "
+            "but a carrying position moves the phone with another body segment (thigh, arm, bag), which does."
+        )
+    out += ["", "## Known failure cases", ""] + [f"- {t}" for t in failures]
     if "gyro" in str(fset):
         out.append("- Accelerometer-only recordings are refused (the feature set needs a gyroscope); use a model on `all52`.")
     out += ["", "## Versions", ""]

@@ -36,25 +36,36 @@ def raw_window_channels(feature_set: str, has_gyr: bool) -> tuple[str, ...]:
     return RAW_ACC_CHANNELS
 
 
-def raw_windows(recording: Recording, starts: np.ndarray, length_samples: int, channels: Sequence[str] = RAW_ACC_CHANNELS) -> np.ndarray:
-    """Copy the raw samples of every window: shape (n_windows, length_samples, n_channels)."""
-    cols = []
-    for c in channels:
+def raw_windows(
+    recording: Recording, starts: np.ndarray, length_samples: int, channels: Sequence[str] = RAW_ACC_CHANNELS, frame: str = "phone"
+) -> np.ndarray:
+    """Copy the raw samples of every window: shape (n_windows, length_samples, n_channels).
+
+    ``frame='gravity'`` expresses the x, y, z channels of each window in the window's
+    gravity-aligned frame (:mod:`gaitml.features._frame`); magnitudes are unchanged.
+    """
+    from gaitml.features import check_frame, gravity_frame_rotations
+
+    check_frame(frame)
+    starts = np.asarray(starts, dtype=np.int64)
+    if len(starts) == 0:
+        return np.zeros((0, length_samples, len(channels)))
+    idx = starts[:, None] + np.arange(length_samples)[None, :]
+    rot = gravity_frame_rotations(recording.acc, starts, length_samples) if frame == "gravity" else None
+    out = np.empty((len(starts), length_samples, len(channels)))
+    for k, c in enumerate(channels):
         if c.startswith("acc_"):
             src = recording.acc
         else:
             src = recording.require_gyr(f"raw channel {c}")
         if c.endswith("_mag"):
             m = np.linalg.norm(src, axis=1)
-            cols.append(m - GRAVITY_MS2 if c == "acc_mag" else m)
-        else:
-            cols.append(src[:, "xyz".index(c[-1])])
-    sig = np.column_stack(cols)
-    starts = np.asarray(starts, dtype=np.int64)
-    if len(starts) == 0:
-        return np.zeros((0, length_samples, len(channels)))
-    idx = starts[:, None] + np.arange(length_samples)[None, :]
-    return sig[idx]
+            out[:, :, k] = (m - GRAVITY_MS2 if c == "acc_mag" else m)[idx]
+        elif rot is None:
+            out[:, :, k] = src[idx, "xyz".index(c[-1])]
+        else:  # row of the window's rotation for this axis, applied to the window's samples
+            out[:, :, k] = np.einsum("kc,klc->kl", rot[:, "xyz".index(c[-1])], src[idx])
+    return out
 
 
 def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recording:
@@ -103,6 +114,8 @@ class WindowDataset:
     recording_names : list of str
     sampling_rate_hz, length_s, overlap : float
     feature_set : str
+    frame : str
+        Feature frame ('phone' or 'gravity').
     n_total, n_dropped_fraction, n_dropped_label : int
         Windows before filtering; dropped for a weak majority (below
         ``min_label_fraction``); dropped because the label is not in the kept set.
@@ -121,6 +134,7 @@ class WindowDataset:
     overlap: float
     feature_set: str
     raw_channels: tuple[str, ...] = RAW_ACC_CHANNELS
+    frame: str = "phone"
     n_total: int = 0
     n_dropped_fraction: int = 0
     n_dropped_label: int = 0
@@ -172,6 +186,7 @@ def build_window_dataset(
     keep_labels: Sequence[str] | None = None,
     need_features: bool = True,
     need_raw: bool = False,
+    frame: str = "phone",
 ) -> WindowDataset:
     """Window every (labelled, same-rate) recording and compute features and/or raw windows.
 
@@ -188,6 +203,8 @@ def build_window_dataset(
         Keep only windows with these labels (the others are counted in
         ``dropped_labels``).
     need_features, need_raw : which model inputs to compute.
+    frame : 'phone' | 'gravity'
+        Feature frame (:func:`gaitml.features.extract_features`); also used for the raw windows.
     """
     from gaitml.features import extract_features, make_windows
 
@@ -226,11 +243,11 @@ def build_window_dataset(
         if len(w) == 0:
             continue
         if need_features:
-            f = extract_features(rec, w, subset=feature_set)
+            f = extract_features(rec, w, subset=feature_set, frame=frame)
             feats.append(f.reset_index(drop=True))
         if need_raw:
             length = int(w["end"].iloc[0] - w["start"].iloc[0])
-            raws.append(raw_windows(rec, w["start"].to_numpy(), length, channels))
+            raws.append(raw_windows(rec, w["start"].to_numpy(), length, channels, frame))
         w = w.assign(recording=i, group=str(grp))
         tables.append(w)
     if not tables:
@@ -254,6 +271,7 @@ def build_window_dataset(
         overlap=float(overlap),
         feature_set=feature_set,
         raw_channels=tuple(channels),
+        frame=frame,
         n_total=n_total,
         n_dropped_fraction=n_frac,
         n_dropped_label=n_lab,

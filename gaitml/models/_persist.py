@@ -12,6 +12,12 @@ Layout (``format_version`` 2)::
                    parameters in model.json
       MODEL.md     the model card (documentation generated from model.json; not read)
 
+``model.json`` also records ``feature_frame`` (``"phone"`` or ``"gravity"``,
+:mod:`gaitml.features._frame`; absent in older models = ``"phone"``) and, for models
+trained since the domain record exists, ``domain`` (:mod:`gaitml.models.domain`):
+its arrays are stored in ``arrays.npz`` under names starting ``domain__`` and are
+read with the same ``allow_pickle=False``.
+
 ``model.json`` records what is needed to use the model correctly and to trust it:
 the gaitml, scikit-learn, numpy and torch versions, the model kind, the feature
 set with its feature names in order (or the raw channels), the window length and
@@ -145,6 +151,8 @@ class TrainedModel:
     estimator: Any
     info: dict
     path: Path | None = None
+    #: :class:`gaitml.models.domain.DomainModel`, or None for a model saved without a domain record.
+    domain: Any = None
 
     @property
     def kind(self) -> str:
@@ -161,6 +169,11 @@ class TrainedModel:
     @property
     def feature_names(self) -> list[str]:
         return list(self.info["feature_names"])
+
+    @property
+    def frame(self) -> str:
+        """Feature frame the model was trained in (``'phone'`` for models that do not record one)."""
+        return str(self.info.get("feature_frame", "phone"))
 
     @property
     def raw_channels(self) -> list[str]:
@@ -231,7 +244,9 @@ def _params_from_json(kind: str, params: dict) -> dict:
     return p
 
 
-def save_model(path: str | os.PathLike, estimator: Any, info: dict, *, created_utc: str | None = None, card: bool = True) -> TrainedModel:
+def save_model(
+    path: str | os.PathLike, estimator: Any, info: dict, *, created_utc: str | None = None, card: bool = True, domain: Any = None
+) -> TrainedModel:
     """Write a data-only model folder atomically (a failed write leaves no half model).
 
     Parameters
@@ -248,6 +263,9 @@ def save_model(path: str | os.PathLike, estimator: Any, info: dict, *, created_u
         Creation time to record (``gaitml model convert`` keeps the training time).
     card : bool, default True
         Also write ``MODEL.md`` (:func:`gaitml.models.model_card`).
+    domain : DomainModel, optional
+        The training domain (:func:`gaitml.models.domain.fit_domain`): its description
+        goes to ``model.json`` key ``domain``, its arrays to ``arrays.npz`` (``domain__*``).
     """
     from gaitml.io import atomic_dir
     from gaitml.io._atomic import _json_default
@@ -266,6 +284,14 @@ def save_model(path: str | os.PathLike, estimator: Any, info: dict, *, created_u
     is_torch = kind in TORCH_KINDS
     state = estimator._get_state()
     scalars, arrays = state[0], {k: _plain_array(k, v) for k, v in state[1].items()}
+    # ---- domain record (gaitml.models.domain): a JSON entry plus plain arrays
+    if domain is not None:
+        from gaitml.models.domain import ARRAY_PREFIX
+
+        if any(k.startswith(ARRAY_PREFIX) for k in arrays):
+            raise ModelError(f"estimator arrays must not start with {ARRAY_PREFIX!r}; rename them.")
+        arrays.update({k: _plain_array(k, v) for k, v in domain.to_arrays().items()})
+        info = {**info, "domain": domain.to_json()}
     meta = {
         "format": "gaitml-model",
         "format_version": MODEL_FORMAT_VERSION,
@@ -291,7 +317,7 @@ def save_model(path: str | os.PathLike, estimator: Any, info: dict, *, created_u
             from gaitml.models._card import model_card
 
             (tmp / CARD_NAME).write_text(model_card(meta), encoding="utf-8")
-    return TrainedModel(estimator=estimator, info=meta, path=target)
+    return TrainedModel(estimator=estimator, info=meta, path=target, domain=domain)
 
 
 def _minor(v: str) -> str:
@@ -460,6 +486,11 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
             f"model.json in {p} describes estimator {spec.get('class') if isinstance(spec, dict) else spec!r}, not {cls.__name__}; retrain the model."
         )
     arrays = _read_npz(p / ARRAYS_NAME)
+    from gaitml.models.domain import ARRAY_PREFIX, domain_from_model_info
+
+    domain_arrays = {k: v for k, v in arrays.items() if k.startswith(ARRAY_PREFIX)}
+    arrays = {k: v for k, v in arrays.items() if not k.startswith(ARRAY_PREFIX)}
+    domain = domain_from_model_info(info, domain_arrays)
     try:
         params = _params_from_json(kind, spec.get("params") or {})
         if kind in TORCH_KINDS:
@@ -477,13 +508,19 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
         raise ModelError(
             f"the estimator takes {n_in} features but model.json lists {len(info['feature_names'])}; the artifact is inconsistent, train it again."
         )
-    return TrainedModel(estimator=est, info=info, path=p)
+    return TrainedModel(estimator=est, info=info, path=p, domain=domain)
 
 
 def _check_feature_set(info: dict, jpath: Path) -> None:
     if info.get("input_kind") not in ("features", "raw"):
         raise ModelError(f"input_kind {info.get('input_kind')!r} in {jpath} must be 'features' or 'raw'; train the model again.")
     fset = info.get("feature_set")
+    from gaitml.features import FEATURE_FRAMES
+
+    if info.get("feature_frame", "phone") not in FEATURE_FRAMES:
+        raise ModelError(
+            f"feature_frame {info.get('feature_frame')!r} in {jpath} is unknown to this gaitml; known: {', '.join(FEATURE_FRAMES)}. Retrain the model."
+        )
     if info["input_kind"] == "raw":
         return
     from gaitml.features import FEATURE_SETS, feature_names

@@ -8,7 +8,7 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 
-__all__ = ["predict_recording", "model_inputs"]
+__all__ = ["predict_recording", "model_inputs", "domain_columns"]
 
 
 def _windows_for(recording: Recording, length_s: float, overlap: float) -> pd.DataFrame:
@@ -25,15 +25,62 @@ def model_inputs(model, recording: Recording, windows: pd.DataFrame) -> np.ndarr
 
     if model.input_kind == "raw":
         length = int(round(model.length_s * model.sampling_rate_hz))
-        return raw_windows(recording, windows["start"].to_numpy(), length, model.raw_channels)
+        return raw_windows(recording, windows["start"].to_numpy(), length, model.raw_channels, getattr(model, "frame", "phone"))
     from gaitml.features import extract_features
 
-    feats = extract_features(recording, windows, subset=model.feature_set)
+    feats = extract_features(recording, windows, subset=model.feature_set, frame=getattr(model, "frame", "phone"))
     names = model.feature_names
     missing = [n for n in names if n not in feats.columns]
     if missing:
         raise InputError(f"the feature table lacks {missing[:3]} that the model needs; the feature set changed, retrain the model.")
     return feats[names].to_numpy(dtype=float)
+
+
+def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """The out-of-domain check of every window (:mod:`gaitml.models.domain`).
+
+    Parameters
+    ----------
+    model : TrainedModel
+    recording : Recording at the model's rate.
+    windows : DataFrame with ``start``, ``end``.
+    X : the model's feature matrix of these windows, reused when the domain is on the
+        model's own features (feature models); computed otherwise.
+
+    Returns
+    -------
+    dict
+        ``in_domain`` (object array of True/False, or None for every window when the
+        model has no domain record), ``domain_distance`` and ``gravity_angle_deg``
+        (float, NaN when not available).
+    """
+    n = len(windows)
+    dom = getattr(model, "domain", None)
+    if dom is None:
+        return {"in_domain": np.full(n, None, dtype=object), "domain_distance": np.full(n, np.nan), "gravity_angle_deg": np.full(n, np.nan)}
+    from gaitml.models.domain import window_gravity
+
+    starts = windows["start"].to_numpy(np.int64)
+    length = int(round(model.length_s * model.sampling_rate_hz))
+    if n == 0:
+        return {"in_domain": np.zeros(0, dtype=object), "domain_distance": np.zeros(0), "gravity_angle_deg": np.zeros(0)}
+    same = (
+        X is not None
+        and model.input_kind == "features"
+        and dom.feature_set == model.feature_set
+        and dom.frame == getattr(model, "frame", "phone")
+    )
+    if not same:
+        from gaitml.features import features_from_arrays
+
+        gyr = recording.gyr if "gyro" in dom.feature_set else None
+        X = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
+    res = dom.check(X, window_gravity(recording.acc, starts, length) if dom.gravity_check else None)
+    return {
+        "in_domain": res["in_domain"].astype(object),
+        "domain_distance": res["distance"],
+        "gravity_angle_deg": np.degrees(res["gravity_angle_rad"]),
+    }
 
 
 def predict_recording(model, recording: Recording, correction: bool = True) -> pd.DataFrame:
@@ -55,9 +102,12 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     DataFrame
         One row per window: ``start``, ``end`` (samples at the model's rate),
         ``t_start_s``, ``t_end_s``, ``mode_raw`` (model output), ``mode`` (after
-        the correction, or equal to ``mode_raw``), plus ``label`` and
-        ``label_fraction`` when the recording has labels. ``attrs`` holds
-        ``sampling_rate_hz``, ``resampled_from_hz`` (or None) and ``correction``.
+        the correction, or equal to ``mode_raw``), ``in_domain`` (True/False from
+        the model's domain record, :mod:`gaitml.models.domain`; None when the model
+        has none), ``domain_distance``, ``gravity_angle_deg`` (NaN when not
+        checked), plus ``label`` and ``label_fraction`` when the recording has
+        labels. ``attrs`` holds ``sampling_rate_hz``, ``resampled_from_hz`` (or
+        None), ``correction`` and ``has_domain``.
 
     Raises
     ------
@@ -82,10 +132,16 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     out = w[["start", "end", "t_start_s", "t_end_s"]].copy()
     out["mode_raw"] = pred
     out["mode"] = np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred
+    # ---- out-of-domain check (gaitml.models.domain)
+    for c, v in domain_columns(model, rec, w, X if model.input_kind == "features" else None).items():
+        out[c] = v
     for c in ("label", "label_fraction"):
         if c in w.columns:
             out[c] = w[c].to_numpy()
     out.attrs.update(
-        sampling_rate_hz=model.sampling_rate_hz, resampled_from_hz=None if rec is recording else fs0, correction=bool(correction)
+        sampling_rate_hz=model.sampling_rate_hz,
+        resampled_from_hz=None if rec is recording else fs0,
+        correction=bool(correction),
+        has_domain=getattr(model, "domain", None) is not None,
     )
     return out

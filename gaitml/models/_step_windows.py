@@ -141,6 +141,32 @@ def step_model_inputs(model, recording: Recording, windows: pd.DataFrame) -> np.
     return feats[model.feature_names].to_numpy(dtype=float)
 
 
+def step_domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """The out-of-domain check of every step window (as :func:`gaitml.models._predict.domain_columns` for time windows).
+
+    The domain of a step-window model is fitted on its step windows' own features and
+    the mean gravity direction of each step's samples; ``X`` (the model's feature
+    matrix of these windows) is reused when the domain is on the model's features.
+    """
+    n = len(windows)
+    dom = getattr(model, "domain", None)
+    if dom is None or n == 0:
+        empty = np.full(n, None, dtype=object) if dom is None else np.zeros(0, dtype=object)
+        return {"in_domain": empty, "domain_distance": np.full(n, np.nan), "gravity_angle_deg": np.full(n, np.nan)}
+    from gaitml.features.step_windows import extract_step_features
+    from gaitml.models.domain import span_gravity
+
+    if X is None or model.input_kind != "features" or dom.feature_set != model.feature_set:
+        X = extract_step_features(recording, windows, subset=dom.feature_set).to_numpy(dtype=float)
+    gravity = span_gravity(recording.acc, windows["start"].to_numpy(np.int64), windows["end"].to_numpy(np.int64))
+    res = dom.check(X, gravity if dom.gravity_check else None)
+    return {
+        "in_domain": res["in_domain"].astype(object),
+        "domain_distance": res["distance"],
+        "gravity_angle_deg": np.degrees(res["gravity_angle_rad"]),
+    }
+
+
 def predict_step_windows(model, recording: Recording, correction: bool = True, *, spans: pd.DataFrame | None = None) -> pd.DataFrame:
     """Motion mode of every detected step (stride) of ``recording`` with a step-window model.
 
@@ -175,12 +201,16 @@ def predict_step_windows(model, recording: Recording, correction: bool = True, *
     cols = ["step", "start", "end", "t_start_s", "t_end_s", "t_event_s"]
     out = w[cols].copy()
     if len(w):
-        pred = np.asarray(model.estimator.predict(step_model_inputs(model, rec, w))).astype(str)
+        X = step_model_inputs(model, rec, w)
+        pred = np.asarray(model.estimator.predict(X)).astype(str)
         out["mode_raw"] = pred
         out["mode"] = np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred
     else:
+        X = None
         out["mode_raw"] = pd.Series(dtype=str)
         out["mode"] = pd.Series(dtype=str)
+    for key, val in step_domain_columns(model, rec, w, X if model.input_kind == "features" else None).items():
+        out[key] = val
     for c in ("label", "label_fraction"):
         if c in w.columns:
             out[c] = w[c].to_numpy()

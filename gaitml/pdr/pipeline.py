@@ -31,7 +31,14 @@ from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading
 from gaitml.pdr.hde import HeuristicDriftElimination
 from gaitml.pdr.heading import BaseHeadingSource, GyroHeading
 from gaitml.pdr.step_length import StepLengthModel, step_length_features
-from gaitml.pdr.step_modes import MODE_ASSIGNMENTS, modes_from_step_model, modes_from_windows, next_step_times, refine_mode_boundaries
+from gaitml.pdr.step_modes import (
+    MODE_ASSIGNMENTS,
+    modes_from_step_model,
+    modes_from_windows,
+    next_step_times,
+    refine_mode_boundaries,
+    window_values_at_steps,
+)
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
 from gaitml.recording import Recording
 
@@ -76,18 +83,30 @@ class PdrResult:
         return len(self.steps)
 
     def to_json_dict(self) -> dict:
-        """The ``gaitml pdr --json`` object (DESIGN sec. 5)."""
+        """The ``gaitml pdr --json`` object (DESIGN sec. 5).
+
+        With a model (``modes='model'``) every trajectory row also has ``in_domain``
+        (None for the start row and for a model without a domain record) and the object
+        has ``out_of_domain_steps`` (None for a model without a domain record); without a
+        model both are absent.
+        """
         traj = self.trajectory
         rows = [
             {"t_s": float(t), "x_m": float(x), "y_m": float(y), "heading_rad": float(h), "mode": str(m)}
             for t, x, y, h, m in zip(traj["t_s"], traj["x_m"], traj["y_m"], traj["heading_rad"], traj["mode"], strict=True)
         ]
-        return {
+        if "in_domain" in traj:
+            for row, v in zip(rows, traj["in_domain"], strict=True):
+                row["in_domain"] = None if v is None else bool(v)
+        out = {
             "n_steps": int(self.n_steps),
             "distance_m": float(self.distance_m),
             "end_xy_m": [float(self.end_xy_m[0]), float(self.end_xy_m[1])],
             "trajectory": rows,
         }
+        if self.info.get("modes") == "model":
+            out["out_of_domain_steps"] = self.info.get("out_of_domain_steps")
+        return out
 
 
 def modes_from_labels(labels: np.ndarray, start, end) -> np.ndarray:
@@ -102,6 +121,32 @@ def modes_from_labels(labels: np.ndarray, start, end) -> np.ndarray:
     cum = np.cumsum(onehot, axis=0)
     counts = cum[end] - cum[start]
     return classes[np.argmax(counts, axis=1)]
+
+
+def _out_of_domain_steps(model, windows: pd.DataFrame, t_look, step_modes) -> tuple:
+    """Per-step in-domain flags; out-of-domain steps move along the facing heading.
+
+    A step takes the flag of the window nearest it (as its mode does). A step whose
+    window lies outside the model's training domain (:mod:`gaitml.models.domain`) gets
+    the mode ``walk`` (forward along the facing heading, the traditional PDR update)
+    instead of the model's mode, which is unreliable there; the model's mode is kept in
+    the step table's ``mode_model``. A model without a domain record leaves the modes
+    unchanged and the flags None.
+
+    Returns
+    -------
+    (in_domain, modes, model_modes) : object array of True/False/None, str arrays.
+    """
+    model_modes = np.asarray(step_modes).astype(str)
+    n = len(model_modes)
+    if n == 0 or "in_domain" not in windows:
+        return np.full(n, None, dtype=object), model_modes, model_modes
+    flags = window_values_at_steps(windows, t_look, "in_domain")
+    flags = np.array([None if v is None else bool(v) for v in flags], dtype=object)
+    if getattr(model, "domain", None) is None:
+        return flags, model_modes, model_modes
+    ood = np.array([v is False for v in flags])
+    return flags, np.where(ood, "walk", model_modes), model_modes
 
 
 def _detect(recording: Recording, detector):
@@ -281,7 +326,7 @@ def run_pdr(
         from gaitml.models import predict_recording
 
         if getattr(model, "window_by", "time") != "time":  # step-window model: one prediction per step (gaitml.pdr.step_modes)
-            step_modes, note = modes_from_step_model(model, recording, steps)
+            step_modes, note, step_flags = modes_from_step_model(model, recording, steps)
             notes.append(note)
             mode_boundaries = "per-step"
         elif mode_boundaries == "auto":
@@ -294,9 +339,17 @@ def run_pdr(
             step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
             if mode_boundaries == "refine" and n > 1:
                 step_modes = refine_mode_boundaries(model, recording, t_step, step_modes)
+            step_in_domain, step_modes, model_modes = _out_of_domain_steps(model, windows, t_look, step_modes)
+        else:  # the step-window model's own per-step flags: out-of-domain steps move forward, as for windows
+            model_modes = np.asarray(step_modes).astype(str)
+            step_in_domain = np.array([None if v is None else bool(v) for v in step_flags], dtype=object)
+            if getattr(model, "domain", None) is not None:
+                step_modes = np.where(np.array([v is False for v in step_in_domain], dtype=bool), "walk", model_modes)
     else:
         step_modes = np.full(n, "walk", dtype=object)
     step_modes = np.asarray(step_modes).astype(str)
+    if modes != "model":
+        step_in_domain = model_modes = None
     offsets = mode_offsets_rad(step_modes, unknown="forward")
     unknown = sorted(set(step_modes) - {"walk", "run", "side_left", "side_right", "backward", "forward"})
     if unknown:
@@ -339,11 +392,21 @@ def run_pdr(
             "step_length_m": np.concatenate([[0.0], lengths]),
         }
     )
+    if step_in_domain is not None:  # modes from a model: the out-of-domain flag of every step
+        traj["in_domain"] = np.concatenate([[None], step_in_domain]).astype(object)
     steps = pd.concat([steps, feats], axis=1)
     steps["mode"] = step_modes
     steps["step_length_m"] = lengths
     steps["gyro_heading_rad"] = gyro_h
     steps["heading_rad"] = wrap_angle(theta)
+    if step_in_domain is not None:
+        steps["mode_model"] = model_modes
+        steps["in_domain"] = step_in_domain
+    n_ood = (
+        None
+        if step_in_domain is None or getattr(model, "domain", None) is None
+        else int(sum(v is False or v is np.False_ for v in step_in_domain))
+    )
     info = {
         "detector": det_name,
         "heading": heading if isinstance(heading, str) else source.name or type(source).__name__,
@@ -352,6 +415,7 @@ def run_pdr(
         "update": update,
         "step_length": sl_source,
         "initial_heading_rad": float(initial_heading_rad),
+        "out_of_domain_steps": n_ood,
         "notes": notes,
     }
     return PdrResult(

@@ -56,6 +56,7 @@ from gaitml.recording import Recording
 __all__ = [
     "modes_from_step_model",
     "modes_from_windows",
+    "window_values_at_steps",
     "pair_margin",
     "refine_mode_boundaries",
     "mode_runs",
@@ -99,6 +100,27 @@ def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:
     hi = np.clip(j, 0, len(centre) - 1)
     pick = np.where(np.abs(t - centre[lo]) <= np.abs(centre[hi] - t), lo, hi)
     return modes[pick]
+
+
+def window_values_at_steps(windows: pd.DataFrame, step_t_s, column: str) -> np.ndarray:
+    """Value of ``column`` of the window nearest each step time (the rule of :func:`modes_from_windows`).
+
+    Used for the per-step out-of-domain flag (``column='in_domain'``); an object array.
+    """
+    if column not in windows:
+        raise InputError(f"the window table has no `{column}` column; pass gaitml.models.predict_recording output.")
+    t = np.asarray(step_t_s, dtype=float)
+    if len(windows) == 0:
+        raise InputError("the model predicted no windows (recording shorter than one window); use --modes true or forward.")
+    centre = 0.5 * (windows["t_start_s"].to_numpy(float) + windows["t_end_s"].to_numpy(float))
+    order = np.argsort(centre)
+    centre = centre[order]
+    values = windows[column].to_numpy(dtype=object)[order]
+    j = np.searchsorted(centre, t)
+    lo = np.clip(j - 1, 0, len(centre) - 1)
+    hi = np.clip(j, 0, len(centre) - 1)
+    pick = np.where(np.abs(t - centre[lo]) <= np.abs(centre[hi] - t), lo, hi)
+    return values[pick]
 
 
 def next_step_times(step_t_s) -> np.ndarray:
@@ -246,11 +268,11 @@ def refine_mode_boundaries(
         # only the stretch the windows cover: each boundary costs O(window), not O(recording)
         a, b = int(starts.min()), int(starts.max()) + length
         if raw:
-            return raw_windows(rec.slice(a, b), starts - a, length, model.raw_channels)
+            return raw_windows(rec.slice(a, b), starts - a, length, model.raw_channels, getattr(model, "frame", "phone"))
         from gaitml.features import features_from_arrays
 
         gyr = rec.gyr[a:b] if rec.gyr is not None else None
-        return features_from_arrays(rec.acc[a:b], gyr, fs, starts - a, length, model.feature_set)
+        return features_from_arrays(rec.acc[a:b], gyr, fs, starts - a, length, model.feature_set, getattr(model, "frame", "phone"))
 
     out = m.copy()
     runs = mode_runs(m)
@@ -296,7 +318,9 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame) -> t
 
     Returns
     -------
-    (modes, note) : ndarray of str (one per step), and a sentence for the PDR notes.
+    (modes, note, in_domain) : ndarray of str (one per step), a sentence for the PDR
+        notes, and the out-of-domain flag of every step (object array of True/False, or
+        None when the model has no domain record).
     """
     from gaitml.features.step_windows import spans_from_steps
     from gaitml.models import predict_step_windows
@@ -324,8 +348,12 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame) -> t
                     "every step is shorter than 3 samples at the model's rate; no step can be classified: use --modes true or forward."
                 )
             modes[missing] = modes_from_windows(table, t_step[missing])
+        in_domain = np.full(n, None, dtype=object)
+        in_domain[table["step"].to_numpy(dtype=np.int64)] = table["in_domain"].to_numpy(dtype=object)
+        if len(missing):
+            in_domain[missing] = window_values_at_steps(table, t_step[missing], "in_domain")
         note = f"modes per step from the step-window model ({n} steps classified on their own samples, no window lookup)"
-        return modes.astype(str), note
+        return modes.astype(str), note, in_domain
     table = predict_step_windows(model, recording, correction=True)
     if len(table) == 0:
         raise InputError(
@@ -334,4 +362,4 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame) -> t
     note = (
         f"modes per step from the stride-window model ({len(table)} strides of {model.window_detector}; each step takes its stride's mode)"
     )
-    return modes_from_windows(table, t_step), note
+    return modes_from_windows(table, t_step), note, window_values_at_steps(table, t_step, "in_domain")

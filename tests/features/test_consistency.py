@@ -151,3 +151,28 @@ def test_bad_inputs():
     with pytest.raises(InputError, match="same length"):
         extract_features(rec, w)
     assert extract_features(rec, subset="all").shape == (2, 52)
+
+
+@pytest.mark.parametrize("subset", ["all52", "paper34", "all52+gyro"])
+@pytest.mark.parametrize(("length_s", "overlap"), [(1.5, 0.5), (0.5, 0.0)])
+def test_gravity_frame_batch_equals_streaming_equals_reference(subset, length_s, overlap):
+    """The gravity frame (issue 12): batch == streaming == the per-window loop of tests/reference/frame.py."""
+    from tests.reference.frame import reference_gravity_features
+
+    acc, gyr = _gait_like(1500, seed=5)
+    rec = Recording.from_arrays(acc, 50.0, gyr=gyr)
+    batch = extract_features(rec, subset=subset, length_s=length_s, overlap=overlap, frame="gravity").to_numpy()
+    win = make_windows(rec, length_s, overlap, min_label_fraction=0.0)
+    full = reference_gravity_features(acc, gyr, win["start"].to_numpy(), win.attrs["length_samples"], "all52+gyro")
+    want = full[:, [feature_names("all52+gyro").index(n) for n in feature_names(subset)]]
+    names = feature_names(subset)
+    exact = [i for i, n in enumerate(names) if not n.endswith("__mode")]
+    np.testing.assert_allclose(batch[:, exact], want[:, exact], rtol=1e-7, atol=1e-7)
+    ext = StreamingFeatureExtractor(50.0, length_s, overlap, subset, frame="gravity")
+    rng = np.random.default_rng(4)
+    rows, i = [], 0
+    while i < len(acc):
+        k = int(rng.choice([0, 1, 7, 40, 113]))
+        rows.append(ext.push(acc[i : i + k], gyr[i : i + k] if subset == "all52+gyro" else None))
+        i += k
+    np.testing.assert_allclose(np.concatenate(rows), batch, **TOL)

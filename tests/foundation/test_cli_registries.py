@@ -33,7 +33,11 @@ def _registries() -> dict:
         ("pdr", "--modes"): tuple(gaitml.pdr.MODE_SOURCES),
         ("pdr", "--mode-boundaries"): tuple(MODE_ASSIGNMENTS),
         ("features", "--subset"): (*gaitml.features.FEATURE_SETS, *SUBSET_ALIASES),
-        **{(c, "--format"): tuple(gaitml.io.FORMATS) for c in ("info", "steps", "zupt", "features", "predict", "pdr", "label", "split", "segment")},
+        ("features", "--frame"): tuple(gaitml.features.FEATURE_FRAMES),
+        **{
+            (c, "--format"): tuple(gaitml.io.FORMATS)
+            for c in ("info", "steps", "zupt", "features", "predict", "pdr", "label", "split", "segment")
+        },
     }
 
 

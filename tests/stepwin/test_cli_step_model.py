@@ -91,7 +91,23 @@ def test_pdr_uses_the_per_step_predictions_directly(trained, capsys):
     modes = [p["mode"] for p in res["trajectory"][1:]]
     table = predict_step_windows(load_model(d / "model"), rec)
     assert res["n_steps"] == len(table)
-    assert modes == table["mode"].tolist()  # the PDR step modes are the model's per-step predictions
+    # the PDR step modes are the model's per-step predictions, except steps outside the model's
+    # training domain, which move forward ('walk') and are counted
+    flags = table["in_domain"].tolist()
+    assert all(f in (True, False) for f in flags)
+    assert modes == [m if f else "walk" for m, f in zip(table["mode"], flags, strict=True)]
+    assert res["out_of_domain_steps"] == flags.count(False)
+    assert flags.count(False) < 0.2 * len(flags)  # a walk like the training data is mostly in domain
+
+
+def test_predict_with_a_step_model_flags_every_step(trained, capsys):
+    d, rec = trained
+    capsys.readouterr()
+    assert main(["predict", str(d / "model"), str(d / "walk.csv"), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    flags = [w["in_domain"] for w in res["windows"]]
+    assert flags and all(f in (True, False) for f in flags)
+    assert res["out_of_domain_fraction"] == pytest.approx(flags.count(False) / len(flags))
 
 
 def test_pdr_with_another_detector_classifies_that_detectors_steps(trained, capsys):

@@ -61,3 +61,12 @@ def test_labelling_keys(tmp_path):
     with pytest.raises(ConfigError, match=r"data.manifest = 'recordings.csv' is not a file in .*; write the manifest") as e:
         parse_config({**base, "data": {**base["data"], "manifest": "recordings.csv"}})
     assert "\n" not in str(e.value)
+
+
+def test_step_windows_refuse_the_gravity_frame():
+    """Step windows compute their features in the phone frame only: the gravity frame is refused, not ignored."""
+    with pytest.raises(ConfigError, match=r"windows.by = 'steps' computes the features in the phone frame only.*features.frame = 'phone'"):
+        _cfg(windows={"by": "steps", "detector": "ifsm"}, features={"frame": "gravity"})
+    with pytest.raises(ConfigError, match=r"phone frame only"):
+        _cfg(windows={"detector": "ifsm"}, features={"frame": "gravity"}, sweep={"windows.by": ["time", "steps"]})
+    assert _cfg(windows={"by": "time"}, features={"frame": "gravity"})["features"]["frame"] == "gravity"

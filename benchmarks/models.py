@@ -17,6 +17,19 @@ Measurements (one dict each, COMMON bench contract):
   samples, the SVM on that row, :class:`~gaitml.postprocess.AdjacentWindowCorrector`
   (target <= 1 ms per window). Reference: the same loop with a scikit-learn
   ``make_pipeline(StandardScaler(), SVC(kernel='linear'))`` predicting each row.
+- ``predict-domain-check``: :func:`gaitml.models.predict_recording` of a long
+  simulated recording with a model that carries its training domain
+  (:mod:`gaitml.models.domain`: ``in_domain`` of every window). Reference: the same
+  call in the same process with a copy of the model without its domain record
+  (``domain=None``, no check). The ratio is reference / ours, so the check's cost is
+  ``1 / ratio - 1`` (issue 12 target: <= 20 %, i.e. ratio >= 0.83).
+- ``stream-domain-check-per-window``: the streaming loop of ``stream-predict-per-window``
+  with the same model, plus the domain check of each window as it arrives (its 52
+  features and the gravity direction of its samples, one row at a time). Reference: the
+  same loop without the check.
+
+The model of the two domain rows is trained in-process by :func:`gaitml.experiments.train_config`
+(simulated data, all52 features, phone frame), so they do not depend on a model under ``models/``.
 
 Run: ``python -m benchmarks.models [--quick]`` from the repository root.
 """
@@ -26,6 +39,7 @@ from __future__ import annotations
 import json
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -75,6 +89,115 @@ def _stream_loop(rec, predict_one, subset="all52") -> tuple[float, int]:
             n += 1
     corr.flush()
     return time.perf_counter() - t0, n
+
+
+def _domain_model(quick: bool, folder):
+    """A linear OVO SVM with its training domain, trained by the experiment runner on simulated data."""
+    from gaitml.experiments import parse_config, train_config
+
+    sim = {"subjects": 3 if quick else 8, "duration_s": 60.0 if quick else 120.0}
+    cfg = parse_config(
+        {
+            "name": "bench-domain",
+            "data": {"source": "simulated", "resample_hz": FS_HZ, "simulated": sim},
+            "windows": {"length_s": LENGTH_S, "overlap": OVERLAP},
+            "features": {"set": "all52"},
+            "train": {"cross_validate": False},
+        }
+    )
+    return train_config(cfg, out_dir=folder, progress=False)
+
+
+def _stream_domain_loop(rec, model, check: bool) -> tuple[float, int]:
+    """The streaming loop (one hop pushed, one window classified) with or without the domain check of each window."""
+    from gaitml.features import StreamingFeatureExtractor
+    from gaitml.postprocess import AdjacentWindowCorrector
+
+    ext = StreamingFeatureExtractor(FS_HZ, LENGTH_S, OVERLAP, model.feature_set)
+    corr = AdjacentWindowCorrector()
+    hop, length = ext.hop_samples_, ext.length_samples_
+    dom = model.domain if check else None
+    acc = np.asarray(rec.acc)
+    chunks = [acc[i : i + hop] for i in range(0, len(acc), hop)]
+    n = n_out = 0
+    t0 = time.perf_counter()
+    for c in chunks:
+        rows = ext.push(c)
+        for r, s in zip(rows, ext.last_starts_, strict=True):
+            row = r[None, :]
+            corr.push(model.estimator.predict(row)[0])
+            if dom is not None:
+                # the window's gravity direction: the unit mean of its samples (window_gravity of one window)
+                g = None
+                if dom.gravity_check:
+                    total = acc[s : s + length].sum(axis=0)  # the mean's direction
+                    g = (total / np.sqrt(total @ total))[None, :]
+                n_out += not bool(dom.check(row, g)["in_domain"][0])
+            n += 1
+    corr.flush()
+    return time.perf_counter() - t0, n
+
+
+def _best_interleaved(ours, reference, reps: int) -> tuple[float, float]:
+    """Best wall time (s) of ``ours`` and of ``reference`` over ``reps`` alternating runs."""
+    t, tr = np.inf, np.inf
+    for _ in range(reps):
+        t = min(t, _time(ours))
+        tr = min(tr, _time(reference))
+    return t, tr
+
+
+def _domain_rows(quick: bool) -> list[dict]:
+    """``predict-domain-check`` and ``stream-domain-check-per-window`` (see the module docstring)."""
+    import dataclasses
+    import tempfile
+
+    from gaitml.models import predict_recording
+    from gaitml.simulate import simulate_dataset
+
+    with tempfile.TemporaryDirectory() as tmp:
+        model = _domain_model(quick, Path(tmp) / "model")
+    bare = dataclasses.replace(model, domain=None)
+    rec = simulate_dataset(n_subjects=1, duration_s=600.0 if quick else 1800.0, seed=11, sampling_rate_hz=FS_HZ)[0]
+    predict_recording(model, rec.slice(0, 500))  # warm-up (caches, imports)
+    predict_recording(bare, rec.slice(0, 500))
+    # interleaved repeats, best of each: a loaded machine's noise hits both alike
+    reps = 5 if quick else 7
+    t, tr = _best_interleaved(lambda: predict_recording(model, rec), lambda: predict_recording(bare, rec), reps)
+    n = len(predict_recording(model, rec))
+    out = [
+        {
+            "area": "models",
+            "name": "predict-domain-check",
+            "n_items": n,
+            "unit": "windows",
+            "seconds": t,
+            "throughput_per_s": n / t,
+            "reference_seconds": tr,
+            "ratio": tr / t,
+            "note": f"predict_recording with the domain check (in_domain per window), {rec.duration_s:g} s recording, best of {reps}; "
+            f"reference: the same model without its domain record (no check); check costs {100 * (t / tr - 1):+.1f} % (target <= 20 %)",
+        }
+    ]
+    _stream_domain_loop(rec.slice(0, 500), model, True)  # warm-up
+    ns = _stream_domain_loop(rec, model, False)[1]
+    ts, tsr = _best_interleaved(lambda: _stream_domain_loop(rec, model, True), lambda: _stream_domain_loop(rec, model, False), reps)
+    out.append(
+        {
+            "area": "models",
+            "name": "stream-domain-check-per-window",
+            "n_items": ns,
+            "unit": "windows",
+            "seconds": ts,
+            "throughput_per_s": ns / ts,
+            "reference_seconds": tsr,
+            "ratio": tsr / ts,
+            "note": f"{1000 * ts / ns:.3f} ms per window: streaming features of one hop + LinearOVOSVM.predict + domain check of the window "
+            f"(features + gravity) + correction, best of {reps}; reference: the same loop without the check ({1000 * tsr / ns:.3f} ms); "
+            f"check costs {100 * (ts / tsr - 1):+.1f} % (target <= 20 %)",
+        }
+    )
+    return out
 
 
 def run(quick: bool = False) -> list[dict]:
@@ -160,6 +283,7 @@ def run(quick: bool = False) -> list[dict]:
             f"({1000 * tq / len(rows1):.3f} ms)",
         }
     )
+    out.extend(_domain_rows(quick))
     return out
 
 

@@ -20,7 +20,8 @@ Keys (defaults in brackets) of ``task = "classification"``::
     [data]
     source = "simulated"             # "simulated" | "folder"
     path = "../data/set"             # "folder": any data set the readers understand
-    label = "label"                  # per-sample label, or a meta/manifest column (one label per recording)
+    label = "label"                  # per-sample label, or a meta/manifest column (one label per recording);
+                                     # simulated: "label" (the mode) or "position" (needs data.simulated.positions)
     group = "subject"                # meta/manifest column: cross-validation groups
     labels = []                      # keep only these labels (others dropped and reported)
     resample_hz = 50.0               # every recording is resampled to this rate
@@ -617,16 +618,32 @@ def parse_config(
             raise ConfigError(f"data.simulated.modes has {bad[0]!r}, not a simulated mode; allowed: {', '.join(MOTION_MODES)}.")
         if d["group"] not in ("subject", "session"):
             raise ConfigError(f"data.group = {d['group']!r} is not a column of simulated data; allowed: 'subject', 'session'.")
-        if d["label"] != "label":
-            raise ConfigError(f"data.label = {d['label']!r} is not a column of simulated data; allowed: 'label'.")
-        bad = [x for x in d["labels"] if x not in d["simulated"]["modes"]]
-        if bad:
-            raise ConfigError(f"data.labels has {bad[0]!r}, which is not in data.simulated.modes {d['simulated']['modes']}.")
-        classes = sorted(set(d["labels"] or d["simulated"]["modes"]))
-        if len(classes) < 2:
-            key = "data.labels" if d["labels"] else "data.simulated.modes"
+        positions = d["simulated"]["positions"]
+        if d["label"] == "position" and not positions:
             raise ConfigError(
-                f"{key} gives {len(classes)} class ({', '.join(classes) or 'none'}); a classifier needs at least 2: list at least two modes."
+                "data.label = 'position' needs data.simulated.positions (the carrying positions to recognise); "
+                "list at least two, e.g. positions = ['hand-flat', 'front-pocket']."
+            )
+        if d["label"] not in ("label", "position"):
+            raise ConfigError(
+                f"data.label = {d['label']!r} is not a column of simulated data; allowed: 'label' (the motion mode), "
+                "'position' (with data.simulated.positions)."
+            )
+        # the classes: motion modes, or the carrying positions (one label per recording, from its meta 'position')
+        by_position = d["label"] == "position"
+        universe, key0, what = (
+            (positions, "data.simulated.positions", "positions")
+            if by_position
+            else (d["simulated"]["modes"], "data.simulated.modes", "modes")
+        )
+        bad = [x for x in d["labels"] if x not in universe]
+        if bad:
+            raise ConfigError(f"data.labels has {bad[0]!r}, which is not in {key0} {universe}.")
+        classes = sorted(set(d["labels"] or universe))
+        if len(classes) < 2:
+            key = "data.labels" if d["labels"] else key0
+            raise ConfigError(
+                f"{key} gives {len(classes)} class ({', '.join(classes) or 'none'}); a classifier needs at least 2: list at least two {what}."
             )
     _check_model(values)
     _check_windows(values)

@@ -298,8 +298,9 @@ def _evaluate_point(cfg: ExperimentConfig, data: PreparedData, progress: bool, d
     t_ds = time.perf_counter() - t0
     labels = cfg["data"]["labels"] or None
     if labels is None and cfg["data"]["source"] == "simulated":
-        modes = cfg["data"]["simulated"]["modes"]
-        labels = [m for m in modes if m in set(ds.y)]
+        sim = cfg["data"]["simulated"]
+        order = sim["positions"] if cfg["data"]["label"] == "position" else sim["modes"]
+        labels = [m for m in order if m in set(ds.y)]
     c = cfg["cv"]
     t1 = time.perf_counter()
     res = cross_validate(

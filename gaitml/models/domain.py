@@ -151,10 +151,14 @@ def _nearest_angle(g: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     """Angle (rad) from each row of ``g`` to the nearest of ``dirs``; NaN rows give NaN."""
     if len(dirs) == 0:
         return np.full(len(g), np.nan)
-    bad = ~np.all(np.isfinite(g), axis=1)
-    cos = (np.where(bad[:, None], 0.0, g) @ dirs.T).max(axis=1) if len(g) else np.zeros(0)
+    if not len(g):
+        return np.zeros(0)
+    bad = ~np.isfinite(g).all(axis=1)
+    any_bad = bad.any()
+    cos = ((np.where(bad[:, None], 0.0, g) if any_bad else g) @ dirs.T).max(axis=1)
     out = np.arccos(np.clip(cos, -1.0, 1.0))
-    out[bad] = np.nan
+    if any_bad:
+        out[bad] = np.nan
     return out
 
 
@@ -304,13 +308,20 @@ class DomainModel:
         X = np.asarray(X, dtype=float)
         if X.ndim != 2 or X.shape[1] != len(self.feature_names):
             raise ModelError(f"the domain check takes {len(self.feature_names)} features, got shape {X.shape}; retrain the model.")
-        Z = (X - self.arrays["center"]) / self.arrays["scale"]
+        if not len(X):
+            return np.zeros(0)
+        finite = np.isfinite(X).all(axis=1)
+        all_finite = bool(finite.all())
         stacked, offset = self._factors()
-        p = Z.shape[1]
+        # plain array operations (no nan_to_num, no einsum): a one-window call (streaming) costs tens of
+        # microseconds, not hundreds (benchmarks/models.py stream-domain-check-per-window); rows with a
+        # non-finite feature are out of domain (distance inf) whatever their other features
+        Z = ((X if all_finite else np.where(np.isfinite(X), X, 0.0)) - self.arrays["center"]) / self.arrays["scale"]
         with np.errstate(invalid="ignore", over="ignore"):
-            Y = (np.nan_to_num(Z, nan=0.0, posinf=0.0, neginf=0.0) @ stacked - offset).reshape(len(Z), -1, p)
-            d = np.sqrt(np.min(np.einsum("ncp,ncp->nc", Y, Y), axis=1)) if len(Z) else np.zeros(0)
-        d[~np.all(np.isfinite(X), axis=1)] = np.inf
+            Y = (Z @ stacked - offset).reshape(len(Z), -1, X.shape[1])
+            d = np.sqrt((Y * Y).sum(axis=2).min(axis=1))
+        if not all_finite:
+            d[~finite] = np.inf
         return d
 
     def gravity_angles(self, gravity) -> np.ndarray:
@@ -333,12 +344,12 @@ class DomainModel:
         """
         d = self.distances(X)
         ok = d <= self.distance_threshold
-        ang = np.full(len(d), np.nan)
-        if self.gravity_check:
-            if gravity is None:
-                raise ModelError("this model's domain checks the gravity direction; pass the window gravity (window_gravity).")
-            ang = self.gravity_angles(gravity)
-            ok &= np.nan_to_num(ang, nan=np.inf) <= self.gravity_threshold_rad
+        if not self.gravity_check:
+            return {"distance": d, "gravity_angle_rad": np.full(len(d), np.nan), "in_domain": ok}
+        if gravity is None:
+            raise ModelError("this model's domain checks the gravity direction; pass the window gravity (window_gravity).")
+        ang = self.gravity_angles(gravity)
+        ok &= ang <= self.gravity_threshold_rad  # a NaN angle (no gravity direction) compares False: out of domain
         return {"distance": d, "gravity_angle_rad": ang, "in_domain": ok}
 
 

@@ -90,6 +90,26 @@ def test_fit_domain_flags_far_windows_and_keeps_near_ones():
         DomainModel.from_json(dom.to_json(), {k: v for k, v in dom.to_arrays().items() if "center" not in k})
 
 
+def test_one_window_checks_equal_the_batch_check():
+    """The streaming path checks one window at a time: same flags and distances as the batch, non-finite input out of domain."""
+    rng = np.random.default_rng(3)
+    groups = np.repeat(np.arange(6), 50).astype(str)
+    y = np.tile(["a", "b", "c"], 100)
+    X = rng.normal(0, 1, (300, 5)) + (y == "b")[:, None] * 3.0
+    grav = np.tile([0.0, 0.1, 1.0], (300, 1)) + rng.normal(0, 0.03, (300, 3))
+    grav /= np.linalg.norm(grav, axis=1, keepdims=True)
+    dom = fit_domain(X, y, groups, grav, feature_names=list("uvwxy"), feature_set="all52", frame="phone", seed=0)
+    Xt, gt = X[:40] + rng.normal(0, 2, (40, 5)), grav[:40].copy()
+    Xt[3, 2], Xt[7, 0], gt[11] = np.nan, np.inf, np.nan
+    batch = dom.check(Xt, gt)
+    one = [dom.check(Xt[i : i + 1], gt[i : i + 1]) for i in range(40)]
+    np.testing.assert_array_equal(np.concatenate([r["in_domain"] for r in one]), batch["in_domain"])
+    np.testing.assert_allclose(np.concatenate([r["distance"] for r in one]), batch["distance"], rtol=1e-12)
+    assert np.isinf(batch["distance"][[3, 7]]).all() and not batch["in_domain"][[3, 7, 11]].any()
+    assert np.isnan(batch["gravity_angle_rad"][11]) and np.isfinite(batch["distance"][11])
+    assert 0 < batch["in_domain"].mean() < 1 and len(dom.check(Xt[:0], gt[:0])["in_domain"]) == 0
+
+
 def test_window_gravity_is_the_unit_mean():
     acc = np.zeros((100, 3))
     acc[:, 2] = 9.8

@@ -112,6 +112,16 @@ BAD = [
         r"data.simulated.modes gives 1 class \(walk\); a classifier needs at least 2",
     ),
     ({"name": "x", "data": {"labels": ["run"]}}, r"data.labels gives 1 class \(run\)"),
+    ({"name": "x", "data": {"label": "mode"}}, r"data.label = 'mode' is not a column of simulated data; allowed: 'label'"),
+    ({"name": "x", "data": {"label": "position"}}, r"data.label = 'position' needs data.simulated.positions"),
+    (
+        {"name": "x", "data": {"label": "position", "simulated": {"positions": ["belt"]}}},
+        r"data.simulated.positions gives 1 class \(belt\); a classifier needs at least 2: list at least two positions",
+    ),
+    (
+        {"name": "x", "data": {"label": "position", "labels": ["walk", "belt"], "simulated": {"positions": ["belt", "bag"]}}},
+        r"data.labels has 'walk', which is not in data.simulated.positions",
+    ),
 ]
 
 

@@ -6,6 +6,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from gaitml.cli import main
@@ -92,6 +93,18 @@ def test_folder_source_meta_label(tmp_path):
     )
     res = evaluate_config(cfg, write=False, progress=False)
     assert res["labels"] == ["InHand", "Pocket"] and res["n_groups"] == 3
+
+
+def test_simulated_position_label(tmp_path):
+    """data.label = 'position' on simulated data: every window carries its recording's meta position."""
+    sim = {"subjects": 3, "duration_s": 20.0, "modes": ["walk", "run"], "positions": ["front-pocket", "hand-flat", "bag"]}
+    cfg = parse_config({"name": "simpos", "data": {"source": "simulated", "label": "position", "simulated": sim}})
+    res = evaluate_config(cfg, out_dir=tmp_path / "run", progress=False)
+    assert res["labels"] == ["front-pocket", "hand-flat", "bag"] and res["n_recordings"] == 9 and len(res["folds"]) == 3
+    pred = pd.read_csv(tmp_path / "run" / "predictions.csv")
+    # the window's label is the position in its recording's name (S01-R1-front-pocket)
+    assert (pred["label"] == pred["recording"].str.split("-", n=2).str[2]).all()
+    assert set(pred["label"]) == set(sim["positions"]) and res["accuracy_before_correction"] > 1 / 3
 
 
 @pytest.mark.slow

@@ -22,6 +22,15 @@ in-domain windows and among all, and the fraction *silently wrong* (in domain an
 ``walk``: every real recording here is walking). Then held-out simulated subjects of
 the training positions (new seeds), the same subjects with the phone held another way
 (rotated copies), and the cost of the check.
+
+``--positions`` prints the tables of the shipped models for real phones instead
+(``models/positions``: all52+gyro, ``models/positions-acc``: all52, trained with
+``experiments/positions.toml`` / ``positions-acc.toml`` on every simulated carrying
+position): real walking per Oxford position, IFSM and gaitmap; leave-one-position-out on
+the simulator (is a carrying position left out of training flagged?); multi-state vs
+forward-only PDR on simulated routes in each position (about 3-4 minutes)::
+
+    python -m experiments.scripts.domain_report --positions [--data ../shared/data] [--out FILE]
 """
 
 from __future__ import annotations
@@ -224,6 +233,161 @@ def _timed(fn) -> float:
     return time.perf_counter() - t0
 
 
+# ---------------------------------------------------------------- --positions (models for real phones)
+#: Oxford carrying position -> the simulated position it corresponds to (None: not trained).
+OXFORD_TRAINED = {
+    "InHand": "hand-flat/hand-tilted",
+    "FrontPocket": "front-pocket",
+    "BackPocket": "back-pocket",
+    "Purse": "bag",
+    "SwingingArm": "swinging-hand",
+    "NeckPouch": None,
+    "Armband": None,
+}
+
+
+def positions_real_table(data: Path, models: dict) -> pd.DataFrame:
+    """Real walking read by ``models/positions-acc`` (Oxford per position, IFSM) and both models (gaitmap foot IMU)."""
+    from gaitml.io import read_dataset, read_recording
+
+    rows = []
+    ox = data / "oxford-step-counter" / "optimisation"
+    if ox.exists():
+        by_pos: dict[str, list] = {}
+        for r in read_dataset(ox):
+            pos = OXFORD_POSITIONS.get(str(r.meta.get("position", "")).lower(), str(r.meta.get("position")))
+            by_pos.setdefault(pos, []).append(r)
+        for pos, trained in OXFORD_TRAINED.items():
+            tot: dict = {}
+            for r in by_pos.get(pos, []):
+                tot = _add(tot, score(models["positions-acc"], r))
+            if tot:
+                row = _row(f"Oxford {pos} ({len(by_pos[pos])} walks)", "positions-acc", tot)
+                rows.append({"trained as": trained or "not trained", **row})
+    ifsm = data / "ifsm-flat-phone"
+    if ifsm.exists():
+        files = sorted(ifsm.glob("*.xlsx"))
+        tot = {}
+        for f in files:
+            tot = _add(tot, score(models["positions-acc"], read_recording(f)))
+        rows.append({"trained as": "hand-flat", **_row(f"IFSM flat-held phone ({len(files)} walks)", "positions-acc", tot)})
+    gm = data / "gaitmap-example" / "imu_sample.csv.gz"
+    if gm.exists():
+        for name in ("positions", "positions-acc"):
+            tot = {}
+            for sensor in ("left", "right"):
+                tot = _add(tot, score(models[name], read_recording(gm, sensor=sensor)))
+            rows.append({"trained as": "not trained (foot)", **_row("gaitmap foot-mounted IMU (both feet)", name, tot)})
+    df = pd.DataFrame(rows)
+    if df.empty:
+        return df
+    return df[["data", "trained as", *[c for c in df.columns if c not in ("data", "trained as")]]]
+
+
+def _position_windows(recs, fset: str):
+    """Features, gravity, labels, groups and positions of every 1.5 s window (the demo's windows)."""
+    from gaitml.models import build_window_dataset
+    from gaitml.models.domain import window_gravity
+
+    ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], length_s=1.5, overlap=0.5, feature_set=fset)
+    starts = ds.windows["start"].to_numpy(np.int64)
+    length = int(ds.windows["end"].iloc[0] - starts[0])
+    gravity = np.zeros((len(ds), 3))
+    pos = np.empty(len(ds), dtype=object)
+    for i in np.unique(ds.recording_index):
+        rows = np.flatnonzero(ds.recording_index == i)
+        gravity[rows] = window_gravity(recs[int(i)].acc, starts[rows], length)
+        pos[rows] = recs[int(i)].meta["position"]
+    return ds.inputs("features"), gravity, np.asarray(ds.y), np.asarray(ds.groups), pos
+
+
+def leave_one_position_out_table(train_subjects: int = 8, test_subjects: int = 4, duration_s: float = 120.0) -> pd.DataFrame:
+    """For each carrying position P: the domain fitted on the other positions, the share of P's windows it flags.
+
+    Training: ``train_subjects`` simulated subjects (seed 1000, the models' seed) x
+    ``duration_s`` in every position but P; the domain record (``fit_domain``, the
+    one ``gaitml train`` writes: held-out 0.99 quantiles over the subjects) decides
+    ``in_domain`` exactly as ``gaitml predict`` does. Test: ``test_subjects`` new
+    subjects (seed 2024) in every position: P's windows (should be flagged) and the
+    windows of the trained positions (should not).
+    """
+    from gaitml.features import feature_names
+    from gaitml.models.domain import fit_domain
+    from gaitml.simulate import POSITIONS, simulate_dataset
+
+    train = simulate_dataset(n_subjects=train_subjects, duration_s=duration_s, pose="mixed", seed=1000, positions=POSITIONS)
+    test = simulate_dataset(n_subjects=test_subjects, duration_s=duration_s, pose="mixed", seed=2024, positions=POSITIONS)
+    rows = []
+    for fset in ("all52+gyro", "all52"):
+        Xtr, gtr, ytr, grtr, ptr = _position_windows(train, fset)
+        Xte, gte, _, _, pte = _position_windows(test, fset)
+        for held in POSITIONS:
+            keep = ptr != held
+            dom = fit_domain(
+                Xtr[keep],
+                ytr[keep],
+                grtr[keep],
+                gtr[keep],
+                feature_names=feature_names(fset),
+                feature_set=fset,
+                frame="phone",
+                positions=ptr[keep],
+                seed=1000,
+            )
+            ok = dom.check(Xte, gte)["in_domain"]
+            out = pte == held
+            rows.append(
+                {
+                    "data": f"left out: {held}",
+                    "model": fset,
+                    "windows left out": int(out.sum()),
+                    "left-out position flagged": float(np.mean(~ok[out])),
+                    "trained positions flagged": float(np.mean(~ok[~out])),
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def positions_pdr_table(model, seeds=(0, 1, 2), routes=("rectangle", "arc")) -> pd.DataFrame:
+    """Multi-state (model modes) vs forward-only PDR on simulated routes in every carrying position."""
+    from gaitml.experiments.pdr_routes import VARIANTS, evaluate_route
+    from gaitml.pdr.pipeline import modes_from_labels
+    from gaitml.simulate import POSITIONS, simulate_route
+
+    variants = [v for v in VARIANTS if v[0] in ("multi / model modes / hde", "forward-only / hde", "multi / true modes / hde")]
+    long = []
+    for pos in POSITIONS:
+        for route in routes:
+            for seed in seeds:
+                rows = evaluate_route(route, seed, model=model, variants=variants, keep_results=True, position=pos)
+                rec = simulate_route(route, seed=seed, position=pos)
+                for r in rows:
+                    res = r.pop("result")
+                    if "mode_accuracy" not in r and r["variant"].startswith("forward-only"):
+                        st = res.steps
+                        start = st["start"].to_numpy()
+                        truth = modes_from_labels(rec.labels, start, np.maximum(st["end"].to_numpy(), start + 1))
+                        r["mode_accuracy"] = float(np.mean(truth == "walk"))
+                    long.append(r)
+    df = pd.DataFrame(long)
+    out = []
+    for pos in POSITIONS:
+        d = df[df["position"] == pos]
+        row = {"data": pos}
+        for label, short in (
+            ("multi / model modes / hde", "multi-state"),
+            ("forward-only / hde", "forward-only"),
+            ("multi / true modes / hde", "true modes"),
+        ):
+            v = d[d["variant"] == label]
+            for route in routes:
+                row[f"{short} {route} end error (% dist)"] = float(v[v["route"] == route]["end_error_pct"].mean())
+            if short != "true modes":
+                row[f"{short} step mode accuracy"] = float(v["mode_accuracy"].mean())
+        out.append(row)
+    return pd.DataFrame(out)
+
+
 _PCT = (
     "flagged out of domain",
     "walk among in-domain",
@@ -235,13 +399,17 @@ _PCT = (
     "F1 run",
     "F1 side_left",
     "F1 side_right",
+    "left-out position flagged",
+    "trained positions flagged",
+    "multi-state step mode accuracy",
+    "forward-only step mode accuracy",
 )
 
 
 def _md(df: pd.DataFrame) -> str:
     """Markdown table; fractions as percentages, other floats with 3 significant digits."""
     cols = list(df.columns)
-    lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" if c in ("data", "model") else "---:" for c in cols) + "|"]
+    lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" if c in ("data", "model", "trained as") else "---:" for c in cols) + "|"]
     for _, r in df.iterrows():
         cells = []
         for c in cols:
@@ -258,8 +426,12 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--data", type=Path, default=DEFAULT_DATA, help="the shared data folder (default ../shared/data)")
     ap.add_argument("--out", type=Path, help="write the tables as markdown to this file")
+    ap.add_argument("--positions", action="store_true", help="the tables of models/positions and models/positions-acc instead")
     args = ap.parse_args(argv)
     from gaitml.models import load_model
+
+    if args.positions:
+        return positions_main(args)
 
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
@@ -295,6 +467,33 @@ def main(argv: list[str] | None = None) -> int:
             "### Simulated held-out subjects (seed 2024, 8 subjects x 120 s, all five modes)\n\n" + _md(sim),
             "### Cost of the check\n\n" + _md(cost),
             "### Phone vs gravity frame on the simulator (seed 5, before the adjacent-window correction)\n\n" + _md(frames),
+            f"(run time {time.perf_counter() - t0:.0f} s)",
+        ]
+    )
+    print(text)
+    if args.out:
+        args.out.write_text(text + "\n", encoding="utf-8")
+    return 0
+
+
+def positions_main(args) -> int:
+    """``--positions``: the tables of the shipped models for real phones."""
+    from gaitml.models import load_model
+
+    t0 = time.perf_counter()
+    models = {name: load_model(ROOT / "models" / name) for name in ("positions", "positions-acc")}
+    print("real recordings ...", file=sys.stderr, flush=True)
+    real = positions_real_table(args.data, models)
+    print("leave one position out ...", file=sys.stderr, flush=True)
+    lopo = leave_one_position_out_table()
+    print("PDR routes per position ...", file=sys.stderr, flush=True)
+    pdr = positions_pdr_table(models["positions"])
+    text = "\n\n".join(
+        [
+            "### Real walking read by the models for real phones\n\n" + _md(real),
+            "### Leave one position out (simulator: 8 training subjects, seed 1000; 4 test subjects, seed 2024; 120 s each)\n\n"
+            + _md(lopo),
+            "### Multi-state PDR per carrying position (models/positions; rectangle and arc, seeds 0-2, means)\n\n" + _md(pdr),
             f"(run time {time.perf_counter() - t0:.0f} s)",
         ]
     )

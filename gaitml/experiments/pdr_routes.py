@@ -61,13 +61,30 @@ VARIANTS = (
 CALIBRATION_S = 150.0
 
 
-def evaluate_route(route: str, seed: int, *, model=None, variants=VARIANTS, keep_results: bool = False) -> list[dict]:
-    """Run every variant on one simulated route; one dict per variant."""
-    from gaitml.simulate import sample_subjects, simulate_recording, simulate_route
+def evaluate_route(
+    route: str, seed: int, *, model=None, variants=VARIANTS, keep_results: bool = False, position: str | None = None
+) -> list[dict]:
+    """Run every variant on one simulated route; one dict per variant.
 
-    rec = simulate_route(route, seed=seed)
+    ``position`` (one of :data:`gaitml.simulate.POSITIONS`; None: the subject's hand pose,
+    as before) carries the phone there on the route and on the calibration walk (the same
+    subject, pose or placement as :func:`gaitml.simulate.simulate_route` draws). Rows of
+    model-mode variants carry ``mode_accuracy``: the fraction of steps whose mode is the
+    true mode.
+    """
+    from gaitml.simulate import POSITIONS, sample_subjects, simulate_recording, simulate_route
+    from gaitml.simulate.positions import HAND_POSITIONS, Placement
+
+    rec = simulate_route(route, seed=seed, position=position)
     subject = sample_subjects(1, seed)[0]  # the subject simulate_route draws for this seed
-    cal_rec = simulate_recording(subject, route="straight", duration_s=CALIBRATION_S, seed=(seed, 4242))
+    placement = None
+    if position is not None:  # the draw of simulate_route for this seed and position
+        prng = np.random.default_rng([int(seed), 977, 3, POSITIONS.index(position)])
+        if position in HAND_POSITIONS:
+            subject = subject.with_pose(HAND_POSITIONS[position], prng)
+        else:
+            placement = Placement.random(position, prng)
+    cal_rec = simulate_recording(subject, route="straight", duration_s=CALIBRATION_S, seed=(seed, 4242), placement=placement)
     cal = calibrate_from_reference(cal_rec)
     truth = rec.reference["trajectory"]
     xy_true = truth[["x_m", "y_m"]].to_numpy(float)
@@ -99,6 +116,8 @@ def evaluate_route(route: str, seed: int, *, model=None, variants=VARIANTS, keep
             "end_error_m": err,
             "end_error_pct": pct,
         }
+        if position is not None:
+            row["position"] = position
         if kw.get("modes") == "model":
             start = res.steps["start"].to_numpy()
             true_modes = modes_from_labels(rec.labels, start, np.maximum(res.steps["end"].to_numpy(), start + 1))

@@ -230,9 +230,11 @@ def model_card(info: dict) -> str:
     out += ["", "## Training data", "", *_training_lines(info), "", "## Cross-validation", "", *_cv_lines(info)]
     src = ((info.get("training_config") or {}).get("data") or {}).get("source")
     out += ["", "## Domain it is valid for", ""]
+    sim_positions = (((info.get("training_config") or {}).get("data") or {}).get("simulated") or {}).get("positions") or []
     if src == "simulated":
+        carried = f"carrying the phone {', '.join(map(str, sim_positions))}" if sim_positions else "with the phone held in the hand"
         out.append(
-            f"Simulated walkers ({', '.join(map(str, labels))}) with the phone held in the hand. The scores above are on simulated "
+            f"Simulated walkers ({', '.join(map(str, labels))}) {carried}. The scores above are on simulated "
             "subjects it was not trained on; on real recordings expect lower accuracy until it is checked on them."
         )
     else:
@@ -243,6 +245,11 @@ def model_card(info: dict) -> str:
         failures[2] = (
             "The features are computed in a per-window gravity-aligned frame: the phone's orientation does not change them, "
             "but a carrying position moves the phone with another body segment (thigh, arm, bag), which does."
+        )
+    elif sim_positions:
+        failures[2] = (
+            "The features are computed in the phone frame: a carrying position or phone orientation unlike the simulated "
+            f"ones ({', '.join(map(str, sim_positions))}) changes them and lowers accuracy; the domain check flags it."
         )
     out += ["", "## Known failure cases", ""] + [f"- {t}" for t in failures]
     if "gyro" in str(fset):

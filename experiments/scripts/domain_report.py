@@ -23,14 +23,17 @@ in-domain windows and among all, and the fraction *silently wrong* (in domain an
 the training positions (new seeds), the same subjects with the phone held another way
 (rotated copies), and the cost of the check.
 
-``--positions`` prints the tables of the shipped models for real phones instead
-(``models/positions``: all52+gyro, ``models/positions-acc``: all52, trained with
-``experiments/positions.toml`` / ``positions-acc.toml`` on every simulated carrying
-position): real walking per Oxford position, IFSM and gaitmap; leave-one-position-out on
-the simulator (is a carrying position left out of training flagged?); multi-state vs
-forward-only PDR on simulated routes in each position (about 3-4 minutes)::
+``--positions`` prints the tables of the all-positions models instead (``positions``:
+all52+gyro, ``positions-acc``: all52, trained with ``experiments/positions.toml`` /
+``positions-acc.toml`` on every simulated carrying position; not shipped in ``models/``
+because they do not hold on real phones, see the report): real walking per Oxford
+position, IFSM and gaitmap; leave-one-position-out on the simulator (is a carrying
+position left out of training flagged?); multi-state vs forward-only PDR on simulated
+routes in each position (about 3-4 minutes after training)::
 
-    python -m experiments.scripts.domain_report --positions [--data ../shared/data] [--out FILE]
+    gaitml train experiments/positions.toml --out runs/models/positions
+    gaitml train experiments/positions-acc.toml --out runs/models/positions-acc
+    python -m experiments.scripts.domain_report --positions [--models runs/models] [--data ../shared/data] [--out FILE]
 """
 
 from __future__ import annotations
@@ -247,7 +250,7 @@ OXFORD_TRAINED = {
 
 
 def positions_real_table(data: Path, models: dict) -> pd.DataFrame:
-    """Real walking read by ``models/positions-acc`` (Oxford per position, IFSM) and both models (gaitmap foot IMU)."""
+    """Real walking read by the all-positions accelerometer model (Oxford per position, IFSM) and both models (gaitmap foot IMU)."""
     from gaitml.io import read_dataset, read_recording
 
     rows = []
@@ -426,7 +429,17 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--data", type=Path, default=DEFAULT_DATA, help="the shared data folder (default ../shared/data)")
     ap.add_argument("--out", type=Path, help="write the tables as markdown to this file")
-    ap.add_argument("--positions", action="store_true", help="the tables of models/positions and models/positions-acc instead")
+    ap.add_argument(
+        "--positions",
+        action="store_true",
+        help="the tables of the all-positions models (positions, positions-acc under --models) instead",
+    )
+    ap.add_argument(
+        "--models",
+        type=Path,
+        default=ROOT / "runs" / "models",
+        help="folder holding positions/ and positions-acc/ trained with experiments/positions*.toml (default runs/models)",
+    )
     args = ap.parse_args(argv)
     from gaitml.models import load_model
 
@@ -477,11 +490,19 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def positions_main(args) -> int:
-    """``--positions``: the tables of the shipped models for real phones."""
+    """``--positions``: the tables of the all-positions models (trained from experiments/positions*.toml, not shipped)."""
     from gaitml.models import load_model
 
     t0 = time.perf_counter()
-    models = {name: load_model(ROOT / "models" / name) for name in ("positions", "positions-acc")}
+    missing = [n for n in ("positions", "positions-acc") if not (args.models / n / "model.json").is_file()]
+    if missing:
+        print(
+            f"domain_report: error: no trained {', '.join(missing)} in {args.models}; train them first: "
+            + " && ".join(f"gaitml train experiments/{n}.toml --out {args.models / n}" for n in missing),
+            file=sys.stderr,
+        )
+        return 2
+    models = {name: load_model(args.models / name) for name in ("positions", "positions-acc")}
     print("real recordings ...", file=sys.stderr, flush=True)
     real = positions_real_table(args.data, models)
     print("leave one position out ...", file=sys.stderr, flush=True)
@@ -493,7 +514,7 @@ def positions_main(args) -> int:
             "### Real walking read by the models for real phones\n\n" + _md(real),
             "### Leave one position out (simulator: 8 training subjects, seed 1000; 4 test subjects, seed 2024; 120 s each)\n\n"
             + _md(lopo),
-            "### Multi-state PDR per carrying position (models/positions; rectangle and arc, seeds 0-2, means)\n\n" + _md(pdr),
+            "### Multi-state PDR per carrying position (the all-positions gyro model; rectangle and arc, seeds 0-2, means)\n\n" + _md(pdr),
             f"(run time {time.perf_counter() - t0:.0f} s)",
         ]
     )

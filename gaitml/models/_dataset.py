@@ -175,6 +175,23 @@ class WindowDataset:
         return self.features.to_numpy(dtype=float)[rows]
 
 
+def check_dataset_inputs(recordings, groups, feature_set: str, need_raw: bool) -> tuple[float, tuple[str, ...]]:
+    """Checks shared by the window-dataset builders; returns (common sampling rate, raw channels).
+
+    One group per recording and one sampling rate for all; the raw channels are those
+    the feature set and the recordings' sensors allow (:func:`raw_window_channels`).
+    """
+    if len(recordings) == 0:
+        raise InputError("no recordings to window; check the data source.")
+    if len(groups) != len(recordings):
+        raise InputError(f"{len(groups)} groups for {len(recordings)} recordings; give one group per recording.")
+    rates = {float(r.sampling_rate_hz) for r in recordings}
+    if len(rates) != 1:
+        raise InputError(f"recordings have different sampling rates {sorted(rates)}; resample them to one rate first (data.resample_hz).")
+    has_gyr = all(r.has_gyr for r in recordings)
+    return rates.pop(), (raw_window_channels(feature_set, has_gyr) if need_raw else RAW_ACC_CHANNELS)
+
+
 def build_window_dataset(
     recordings: Sequence[Recording],
     *,
@@ -208,16 +225,7 @@ def build_window_dataset(
     """
     from gaitml.features import extract_features, make_windows
 
-    if len(recordings) == 0:
-        raise InputError("no recordings to window; check the data source.")
-    if len(groups) != len(recordings):
-        raise InputError(f"{len(groups)} groups for {len(recordings)} recordings; give one group per recording.")
-    rates = {float(r.sampling_rate_hz) for r in recordings}
-    if len(rates) != 1:
-        raise InputError(f"recordings have different sampling rates {sorted(rates)}; resample them to one rate first (data.resample_hz).")
-    fs = rates.pop()
-    has_gyr = all(r.has_gyr for r in recordings)
-    channels = raw_window_channels(feature_set, has_gyr) if need_raw else RAW_ACC_CHANNELS
+    fs, channels = check_dataset_inputs(recordings, groups, feature_set, need_raw)
     tables, feats, raws, names = [], [], [], []
     n_total = n_frac = n_lab = 0
     dropped: dict[str, int] = {}

@@ -54,16 +54,13 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
         model has no domain record), ``domain_distance`` and ``gravity_angle_deg``
         (float, NaN when not available).
     """
-    n = len(windows)
     dom = getattr(model, "domain", None)
-    if dom is None:
-        return {"in_domain": np.full(n, None, dtype=object), "domain_distance": np.full(n, np.nan), "gravity_angle_deg": np.full(n, np.nan)}
+    if dom is None or len(windows) == 0:
+        return unchecked_domain_columns(dom, len(windows))
     from gaitml.models.domain import window_gravity
 
     starts = windows["start"].to_numpy(np.int64)
     length = int(round(model.length_s * model.sampling_rate_hz))
-    if n == 0:
-        return {"in_domain": np.zeros(0, dtype=object), "domain_distance": np.zeros(0), "gravity_angle_deg": np.zeros(0)}
     same = (
         X is not None
         and model.input_kind == "features"
@@ -75,7 +72,18 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
 
         gyr = recording.gyr if "gyro" in dom.feature_set else None
         X = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
-    res = dom.check(X, window_gravity(recording.acc, starts, length) if dom.gravity_check else None)
+    return checked_domain_columns(dom, X, window_gravity(recording.acc, starts, length) if dom.gravity_check else None)
+
+
+def unchecked_domain_columns(dom, n: int) -> dict[str, np.ndarray]:
+    """The domain columns of ``n`` windows that are not checked: flags None without a domain record, else empty."""
+    flags = np.full(n, None, dtype=object) if dom is None else np.zeros(n, dtype=object)
+    return {"in_domain": flags, "domain_distance": np.full(n, np.nan), "gravity_angle_deg": np.full(n, np.nan)}
+
+
+def checked_domain_columns(dom, X: np.ndarray, gravity: np.ndarray | None) -> dict[str, np.ndarray]:
+    """The domain columns from :meth:`gaitml.models.domain.DomainModel.check` of features ``X`` and window ``gravity``."""
+    res = dom.check(X, gravity)
     return {
         "in_domain": res["in_domain"].astype(object),
         "domain_distance": res["distance"],

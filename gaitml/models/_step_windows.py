@@ -15,7 +15,12 @@ import numpy as np
 import pandas as pd
 
 from gaitml.errors import InputError
-from gaitml.models._dataset import RAW_ACC_CHANNELS, WindowDataset, raw_window_channels, raw_windows, resample_recording
+from gaitml.models._dataset import (
+    WindowDataset,
+    check_dataset_inputs,
+    raw_windows,
+    resample_recording,
+)
 from gaitml.recording import Recording
 
 __all__ = ["build_step_window_dataset", "predict_step_windows", "step_model_inputs", "window_by", "window_detector", "is_step_model"]
@@ -66,16 +71,7 @@ def build_step_window_dataset(
     det = check_window_by(by, detector)
     if by == "time":
         raise InputError("build_step_window_dataset needs by 'steps' or 'strides'; use build_window_dataset for time windows.")
-    if len(recordings) == 0:
-        raise InputError("no recordings to window; check the data source.")
-    if len(groups) != len(recordings):
-        raise InputError(f"{len(groups)} groups for {len(recordings)} recordings; give one group per recording.")
-    rates = {float(r.sampling_rate_hz) for r in recordings}
-    if len(rates) != 1:
-        raise InputError(f"recordings have different sampling rates {sorted(rates)}; resample them to one rate first (data.resample_hz).")
-    fs = rates.pop()
-    has_gyr = all(r.has_gyr for r in recordings)
-    channels = raw_window_channels(feature_set, has_gyr) if need_raw else RAW_ACC_CHANNELS
+    fs, channels = check_dataset_inputs(recordings, groups, feature_set, need_raw)
     tables, feats, raws, names, skipped = [], [], [], [], []
     n_total = n_frac = n_lab = 0
     dropped: dict[str, int] = {}
@@ -148,23 +144,20 @@ def step_domain_columns(model, recording: Recording, windows: pd.DataFrame, X: n
     the mean gravity direction of each step's samples; ``X`` (the model's feature
     matrix of these windows) is reused when the domain is on the model's features.
     """
-    n = len(windows)
+    from gaitml.models._predict import checked_domain_columns, unchecked_domain_columns
+
     dom = getattr(model, "domain", None)
-    if dom is None or n == 0:
-        empty = np.full(n, None, dtype=object) if dom is None else np.zeros(0, dtype=object)
-        return {"in_domain": empty, "domain_distance": np.full(n, np.nan), "gravity_angle_deg": np.full(n, np.nan)}
+    if dom is None or len(windows) == 0:
+        return unchecked_domain_columns(dom, len(windows))
     from gaitml.features.step_windows import extract_step_features
     from gaitml.models.domain import span_gravity
 
     if X is None or model.input_kind != "features" or dom.feature_set != model.feature_set:
         X = extract_step_features(recording, windows, subset=dom.feature_set).to_numpy(dtype=float)
-    gravity = span_gravity(recording.acc, windows["start"].to_numpy(np.int64), windows["end"].to_numpy(np.int64))
-    res = dom.check(X, gravity if dom.gravity_check else None)
-    return {
-        "in_domain": res["in_domain"].astype(object),
-        "domain_distance": res["distance"],
-        "gravity_angle_deg": np.degrees(res["gravity_angle_rad"]),
-    }
+    gravity = (
+        span_gravity(recording.acc, windows["start"].to_numpy(np.int64), windows["end"].to_numpy(np.int64)) if dom.gravity_check else None
+    )
+    return checked_domain_columns(dom, X, gravity)
 
 
 def predict_step_windows(model, recording: Recording, correction: bool = True, *, spans: pd.DataFrame | None = None) -> pd.DataFrame:

@@ -85,16 +85,8 @@ def window_gravity(acc, starts, length: int) -> np.ndarray:
 
     Windows whose mean is (nearly) zero (free fall) have no direction: NaN rows.
     """
-    acc = np.asarray(acc, dtype=float)
     starts = np.asarray(starts, dtype=np.int64).reshape(-1)
-    cum = np.zeros((len(acc) + 1, 3))
-    np.cumsum(acc, axis=0, out=cum[1:])
-    mean = (cum[starts + int(length)] - cum[starts]) / float(length)
-    norm = np.linalg.norm(mean, axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        out = mean / norm[:, None]
-    out[~(norm > 1e-6)] = np.nan
-    return out
+    return span_gravity(acc, starts, starts + int(length))
 
 
 def span_gravity(acc, starts, ends) -> np.ndarray:

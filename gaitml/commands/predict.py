@@ -1,7 +1,7 @@
 """`gaitml predict MODEL_DIR INPUT [--out FILE] [--no-correction] [--json]`: per-window motion modes.
 
 A step-window model (``window.by`` steps or strides in model.json) gives one row per
-detected step (stride) instead (:func:`_run_steps`).
+detected step (stride) instead; both are reported by :func:`_report`.
 """
 
 from __future__ import annotations
@@ -10,48 +10,63 @@ from gaitml.commands._util import emit_json, is_large_input, load_input, log, re
 
 
 def run(args) -> int:
-    from gaitml.io import write_csv
-    from gaitml.models import load_model, predict_recording
+    from gaitml.models import load_model
 
     model = load_model(args.model_dir)
     if model.window_by != "time":
-        return _run_steps(args, model)
+        from gaitml.models import predict_step_windows
+
+        table = predict_step_windows(model, load_input(args), correction=not args.no_correction)
+        unit = "strides" if model.window_by == "strides" else "steps"
+        return _report(args, model, table, unit, {"window_by": model.window_by, "detector": model.window_detector})
     if is_large_input(args):
         from gaitml.longrun import long_predict
 
         log("gaitml predict: long input, processing in chunks of 10 min (bounded memory)")
         table = long_predict(model, args.input, correction=not args.no_correction, **read_kwargs(args))
     else:
-        rec = load_input(args)
-        table = predict_recording(model, rec, correction=not args.no_correction)
+        from gaitml.models import predict_recording
+
+        table = predict_recording(model, load_input(args), correction=not args.no_correction)
+    return _report(args, model, table, "windows", {"window_s": model.length_s, "overlap": model.overlap})
+
+
+def _report(args, model, table, unit: str, settings: dict) -> int:
+    """Write / print the prediction table of windows (time-window model) or steps / strides (step-window model).
+
+    ``settings``: the model's window settings for the JSON (length and overlap, or
+    ``window_by`` and detector). Out-of-domain check (:mod:`gaitml.models.domain`): one
+    warning line, the fraction in the JSON.
+    """
+    from gaitml.io import write_csv
+    from gaitml.models.domain import domain_warning, out_of_domain_fraction
+
     if table.attrs.get("resampled_from_hz"):
         log(
             f"gaitml predict: resampled the input from {table.attrs['resampled_from_hz']:g} Hz to the model's {model.sampling_rate_hz:g} Hz"
         )
     if args.out:
         write_csv(args.out, table)
-        log(f"gaitml predict: {len(table)} windows written to {args.out}")
+        log(f"gaitml predict: {len(table)} {unit} written to {args.out}")
     counts = {str(k): int(v) for k, v in table["mode"].value_counts().sort_index().items()}
-    # ---- out-of-domain check (gaitml.models.domain): one warning line, fraction in the JSON
-    from gaitml.models.domain import domain_warning, out_of_domain_fraction
-
     in_domain = table["in_domain"].to_numpy(dtype=object) if "in_domain" in table else []
     ood_fraction = out_of_domain_fraction(in_domain)
-    warning = domain_warning(model, in_domain)
+    warning = domain_warning(model, in_domain, unit)
     if warning:
         log(f"gaitml: warning: {warning}")
+    by_steps = unit != "windows"
     if args.json:
         emit_json(
             {
                 "model": str(model.path),
                 "sampling_rate_hz": model.sampling_rate_hz,
-                "window_s": model.length_s,
-                "overlap": model.overlap,
+                **settings,
                 "correction": not args.no_correction,
                 "windows": [
                     {
                         "t_start_s": float(r.t_start_s),
                         "t_end_s": float(r.t_end_s),
+                        **({"t_event_s": float(r.t_event_s)} if by_steps else {}),
                         "mode": str(r.mode),
                         "in_domain": None if r.in_domain is None else bool(r.in_domain),
                     }
@@ -62,64 +77,13 @@ def run(args) -> int:
             }
         )
     elif not args.out:
+        if by_steps:
+            detail = f" detected by {model.window_detector}"
+        else:
+            detail = "" if ood_fraction is None else f", {100 * ood_fraction:.1f} % out of the model's domain"
         log(
             "gaitml predict: "
             + ", ".join(f"{k} {v}" for k, v in counts.items())
-            + f" ({len(table)} windows"
-            + ("" if ood_fraction is None else f", {100 * ood_fraction:.1f} % out of the model's domain")
-            + "; use --out FILE or --json for the table)"
-        )
-    return 0
-
-
-def _run_steps(args, model) -> int:
-    """A step-window model (model.json ``window.by`` steps/strides): one row per detected step (stride)."""
-    from gaitml.io import write_csv
-    from gaitml.models import predict_step_windows
-
-    rec = load_input(args)
-    table = predict_step_windows(model, rec, correction=not args.no_correction)
-    unit = "strides" if model.window_by == "strides" else "steps"
-    if table.attrs.get("resampled_from_hz"):
-        log(
-            f"gaitml predict: resampled the input from {table.attrs['resampled_from_hz']:g} Hz to the model's {model.sampling_rate_hz:g} Hz"
-        )
-    if args.out:
-        write_csv(args.out, table)
-        log(f"gaitml predict: {len(table)} {unit} written to {args.out}")
-    counts = {str(k): int(v) for k, v in table["mode"].value_counts().sort_index().items()}
-    from gaitml.models.domain import domain_warning, out_of_domain_fraction
-
-    in_domain = table["in_domain"].to_numpy(dtype=object) if "in_domain" in table else []
-    warning = domain_warning(model, in_domain, unit)
-    if warning:
-        log(f"gaitml: warning: {warning}")
-    if args.json:
-        emit_json(
-            {
-                "model": str(model.path),
-                "sampling_rate_hz": model.sampling_rate_hz,
-                "window_by": model.window_by,
-                "detector": model.window_detector,
-                "correction": not args.no_correction,
-                "windows": [
-                    {
-                        "t_start_s": float(r.t_start_s),
-                        "t_end_s": float(r.t_end_s),
-                        "t_event_s": float(r.t_event_s),
-                        "mode": str(r.mode),
-                        "in_domain": None if r.in_domain is None else bool(r.in_domain),
-                    }
-                    for r in table.itertuples()
-                ],
-                "counts": counts,
-                "out_of_domain_fraction": out_of_domain_fraction(in_domain),
-            }
-        )
-    elif not args.out:
-        log(
-            "gaitml predict: "
-            + ", ".join(f"{k} {v}" for k, v in counts.items())
-            + f" ({len(table)} {unit} detected by {model.window_detector}; use --out FILE or --json for the table)"
+            + f" ({len(table)} {unit}{detail}; use --out FILE or --json for the table)"
         )
     return 0

@@ -175,6 +175,17 @@ class WindowDataset:
         return self.features.to_numpy(dtype=float)[rows]
 
 
+def drop_unkept_labels(windows: pd.DataFrame, keep: set[str], dropped: dict[str, int]) -> tuple[pd.DataFrame, int]:
+    """Windows whose label is in ``keep``; the others are counted per label into ``dropped``.
+
+    Returns the kept windows (index reset) and the number dropped.
+    """
+    bad = ~windows["label"].astype(str).isin(keep)
+    for lab, cnt in windows.loc[bad, "label"].astype(str).value_counts().items():
+        dropped[lab] = dropped.get(lab, 0) + int(cnt)
+    return windows.loc[~bad].reset_index(drop=True), int(bad.sum())
+
+
 def check_dataset_inputs(recordings, groups, feature_set: str, need_raw: bool) -> tuple[float, tuple[str, ...]]:
     """Checks shared by the window-dataset builders; returns (common sampling rate, raw channels).
 
@@ -243,11 +254,8 @@ def build_window_dataset(
         n_frac += int(w.attrs.get("n_dropped", 0))
         w = w.reset_index(drop=True)
         if keep is not None:
-            bad = ~w["label"].astype(str).isin(keep)
-            for lab, cnt in w.loc[bad, "label"].astype(str).value_counts().items():
-                dropped[lab] = dropped.get(lab, 0) + int(cnt)
-            n_lab += int(bad.sum())
-            w = w.loc[~bad].reset_index(drop=True)
+            w, n_bad = drop_unkept_labels(w, keep, dropped)
+            n_lab += n_bad
         if len(w) == 0:
             continue
         if need_features:

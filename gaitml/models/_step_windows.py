@@ -18,6 +18,7 @@ from gaitml.errors import InputError
 from gaitml.models._dataset import (
     WindowDataset,
     check_dataset_inputs,
+    drop_unkept_labels,
     raw_windows,
     resample_recording,
 )
@@ -87,11 +88,8 @@ def build_step_window_dataset(
             skipped.append(rec.name)  # no step detected: nothing to classify
             continue
         if keep is not None:
-            bad = ~w["label"].astype(str).isin(keep)
-            for lab, cnt in w.loc[bad, "label"].astype(str).value_counts().items():
-                dropped[lab] = dropped.get(lab, 0) + int(cnt)
-            n_lab += int(bad.sum())
-            w = w.loc[~bad].reset_index(drop=True)
+            w, n_bad = drop_unkept_labels(w, keep, dropped)
+            n_lab += n_bad
         if len(w) == 0:
             continue
         if need_features:

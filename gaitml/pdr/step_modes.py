@@ -85,21 +85,7 @@ def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:
     the step time is used (it sees the step best). Steps before the first or after the
     last window take the nearest window.
     """
-    for c in ("t_start_s", "t_end_s", "mode"):
-        if c not in windows:
-            raise InputError(f"the window table has no `{c}` column; pass gaitml.models.predict_recording output.")
-    t = np.asarray(step_t_s, dtype=float)
-    if len(windows) == 0:
-        raise InputError("the model predicted no windows (recording shorter than one window); use --modes true or forward.")
-    centre = 0.5 * (windows["t_start_s"].to_numpy(float) + windows["t_end_s"].to_numpy(float))
-    order = np.argsort(centre)
-    centre = centre[order]
-    modes = windows["mode"].to_numpy().astype(str)[order]
-    j = np.searchsorted(centre, t)
-    lo = np.clip(j - 1, 0, len(centre) - 1)
-    hi = np.clip(j, 0, len(centre) - 1)
-    pick = np.where(np.abs(t - centre[lo]) <= np.abs(centre[hi] - t), lo, hi)
-    return modes[pick]
+    return window_values_at_steps(windows, step_t_s, "mode").astype(str)
 
 
 def window_values_at_steps(windows: pd.DataFrame, step_t_s, column: str) -> np.ndarray:
@@ -107,8 +93,9 @@ def window_values_at_steps(windows: pd.DataFrame, step_t_s, column: str) -> np.n
 
     Used for the per-step out-of-domain flag (``column='in_domain'``); an object array.
     """
-    if column not in windows:
-        raise InputError(f"the window table has no `{column}` column; pass gaitml.models.predict_recording output.")
+    for c in ("t_start_s", "t_end_s", column):
+        if c not in windows:
+            raise InputError(f"the window table has no `{c}` column; pass gaitml.models.predict_recording output.")
     t = np.asarray(step_t_s, dtype=float)
     if len(windows) == 0:
         raise InputError("the model predicted no windows (recording shorter than one window); use --modes true or forward.")

@@ -130,6 +130,9 @@ BOUT_GAP_RATIO = 2.0
 #: (half the evidence of a typical step of the same bout; a ratio, so the same for one-leg bouts whose
 #: confidence is halved by INFERRED_STRIDE_FACTOR)
 EDGE_CONFIDENCE_RATIO = 0.5
+#: a walking bout counts once it holds this many steps: two strides, the shortest run in which each foot's step
+#: repeats (left, right, left, right), as the continuity rule of wrist step counters (Gu et al. 2017: 4 steps)
+MIN_BOUT_STEPS = 4
 
 
 def window_autocorrelation(y: np.ndarray, length: int, hop: int, lags: np.ndarray) -> np.ndarray:
@@ -328,6 +331,7 @@ def adaptive_steps(
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
     fold: bool = True,
     edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
+    min_bout_steps: int = MIN_BOUT_STEPS,
     min_confidence: float = 0.0,
 ) -> dict[str, np.ndarray]:
     """Detect steps in |acc| (m/s^2) with the five stages of the module docstring.
@@ -391,8 +395,11 @@ def adaptive_steps(
         regularity = np.where(np.isnan(interval), 0.0, np.clip(1.0 - np.abs(interval - T) / T, 0.0, 1.0))
         conf = conf * regularity
     conf = np.where(inferred, INFERRED_STRIDE_FACTOR * conf, conf)
-    if edge_confidence_ratio > 0 and len(pk):
-        ok = bout_edge_keep(bout, conf, edge_confidence_ratio)
+    if len(pk):
+        ok = bout_edge_keep(bout, conf, edge_confidence_ratio) if edge_confidence_ratio > 0 else np.ones(len(pk), dtype=bool)
+        # a bout counts once it is confirmed by min_bout_steps steps (after its weak edges are dropped)
+        size = np.bincount(bout[ok], minlength=int(bout[-1]) + 1)
+        ok &= size[bout] >= min_bout_steps
         pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
     if min_confidence > 0:
         ok = conf >= min_confidence
@@ -444,6 +451,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         bout whose confidence is below this fraction of the bout's median
         confidence are dropped (dimensionless, in [0, 1]; 0 keeps them). Not
         in ``param_grid``: a ratio chosen by reasoning, not a setting to fit.
+    min_bout_steps : int, default 4
+        A walking bout counts once this many of its steps remain after the
+        bout-edge rule (stage 5): two strides, left/right seen twice. 1 keeps
+        every bout, a single step included.
     min_confidence : float, default 0.0
         Drop steps whose confidence is below this (0: keep every step and let
         the caller filter on the ``confidence`` column).
@@ -481,8 +492,9 @@ class AdaptiveStepDetector(BaseStepDetector):
     """
 
     name = "adaptive"
-    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio")
+    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps")
     _non_negative = ("min_rms_ms2", "edge_confidence_ratio", "min_confidence")
+    _integer = ("min_bout_steps",)
     #: settings the evaluation may choose on training users (``gaitml.experiments.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
 
@@ -500,6 +512,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         min_distance_ratio: float = MIN_DISTANCE_RATIO,
         fold: bool = True,
         edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
+        min_bout_steps: int = MIN_BOUT_STEPS,
         min_confidence: float = 0.0,
     ):
         self.band_hz = band_hz
@@ -513,6 +526,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.min_distance_ratio = min_distance_ratio
         self.fold = fold
         self.edge_confidence_ratio = edge_confidence_ratio
+        self.min_bout_steps = min_bout_steps
         self.min_confidence = min_confidence
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:

@@ -304,16 +304,21 @@ def bout_edge_keep(bout: np.ndarray, confidence: np.ndarray, ratio: float) -> np
     """
     bout = np.asarray(bout)
     conf = np.asarray(confidence, dtype=float)
-    keep = np.ones(len(conf), dtype=bool)
+    n = len(conf)
+    if n == 0:
+        return np.zeros(0, dtype=bool)
     starts = np.flatnonzero(np.r_[True, bout[1:] != bout[:-1]])
-    ends = np.r_[starts[1:], len(conf)]
-    for a, b in zip(starts.tolist(), ends.tolist(), strict=True):
-        c = conf[a:b]
-        strong = np.flatnonzero(c >= ratio * np.median(c))
-        # strong is never empty: at least half of the bout reaches its median, and ratio <= 1 is validated
-        keep[a : a + strong[0]] = False
-        keep[a + strong[-1] + 1 : b] = False
-    return keep
+    size = np.diff(np.r_[starts, n])
+    member = np.repeat(np.arange(len(starts)), size)  # 0 .. n_bouts - 1 per step
+    # the median of each bout: its confidences sorted within the bout (the bouts stay in their blocks)
+    srt = conf[np.lexsort((conf, member))]
+    median = (srt[starts + (size - 1) // 2] + srt[starts + size // 2]) / 2.0
+    idx = np.arange(n)
+    strong = conf >= ratio * median[member]
+    # strong is never empty in a bout: at least half of it reaches its median, and ratio <= 1
+    first = np.minimum.reduceat(np.where(strong, idx, n), starts)
+    last = np.maximum.reduceat(np.where(strong, idx, -1), starts)
+    return (idx >= first[member]) & (idx <= last[member])
 
 
 def adaptive_steps(

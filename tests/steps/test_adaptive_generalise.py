@@ -164,6 +164,16 @@ def test_bout_edge_keep_trims_only_the_weak_fringe():
     keep = bout_edge_keep(bout, conf, 0.5)
     assert keep.tolist() == [False, False, True, True, True, True, True, False] + [True] * 4
     assert bout_edge_keep(bout, conf, 0.0).all()
+    # the vectorised rule against a loop over bouts
+    rng = np.random.default_rng(3)
+    bout = np.sort(rng.integers(0, 40, 400))
+    conf = rng.uniform(0, 1, 400) ** 2
+    ref = np.ones(400, dtype=bool)
+    for b in np.unique(bout):
+        i = np.flatnonzero(bout == b)
+        strong = i[conf[i] >= 0.5 * np.median(conf[i])]
+        ref[i[(i < strong[0]) | (i > strong[-1])]] = False
+    np.testing.assert_array_equal(bout_edge_keep(bout, conf, 0.5), ref)
 
 
 def test_a_pause_between_bouts_costs_no_step():

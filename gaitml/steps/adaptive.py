@@ -72,11 +72,14 @@ evidence). The per-window cadence is kept in ``cadence_``.
    step keeps most of it. 0.5 means "less than half the evidence of the
    bout's typical step"; being relative to the bout, it needs no absolute
    confidence scale and treats one-leg bouts (confidence halved by
-   ``INFERRED_STRIDE_FACTOR``) like any other. Hardware step counters hold
-   back a new bout's first steps until a run of regular steps confirms it;
-   this rule keeps every confirmed step of the bout and drops only its weak
-   fringe (Oxford hard floor, every position: about 58 fewer false steps for
-   13 true ones lost; ``experiments/reports/steps-heldout.md``).
+   ``INFERRED_STRIDE_FACTOR``) like any other. Last, a bout counts once
+   ``min_bout_steps`` (4) of its steps remain: two strides, the shortest run
+   in which each foot's step repeats. Step counters hold back a new bout until
+   a run of regular steps confirms it and then count the confirming steps
+   too; here the whole confirmed bout counts, so only its weak fringe and
+   unconfirmed fragments (handling, a bump between walks) are lost. Oxford
+   hard floor, every position: 89 fewer false steps for 14 true ones lost
+   (``experiments/reports/steps-heldout.md``, section "Bout edges").
 
 Evaluated on the Oxford step counter optimisation recordings (Salvi et al.,
 CC BY 4.0) in sample and leave-one-user-out (``gaitml evaluate

@@ -119,6 +119,83 @@ def test_bad_adaptive_parameters():
         AdaptiveStepDetector(band_hz=(0.5, 80.0)).detect(rec)
     with pytest.raises(InputError, match="fold"):
         AdaptiveStepDetector(fold="yes").detect(rec)
+    with pytest.raises(InputError, match="edge_confidence_ratio"):
+        AdaptiveStepDetector(edge_confidence_ratio=1.5).detect(rec)
+    for bad in (0, 2.5):
+        with pytest.raises(InputError, match="min_bout_steps"):
+            AdaptiveStepDetector(min_bout_steps=bad).detect(rec)
+
+
+# -- walking bouts (stage 5) -----------------------------------------------------------------------------------
+
+
+def bout_walks(n_bouts=3, n_steps=30, step_period_s=0.55, pause_s=6.0, fs=100.0, handling=False, seed=0) -> Recording:
+    """Walks of ``n_steps`` steps with still pauses between them; with ``handling`` each pause holds four bumps at
+    random times and widths (the phone picked up, tapped, put away), which are not steps."""
+    rng = np.random.default_rng(seed)
+    parts, true, t0 = [], [], 0.0
+    n_pause = int(pause_s * fs)
+    tt = np.arange(n_pause) / fs
+    for _ in range(n_bouts):
+        pause = np.zeros(n_pause)
+        if handling:
+            for c in rng.uniform(0.5, pause_s - 0.5, 4):
+                pause += rng.uniform(1, 3) * np.exp(-0.5 * ((tt - c) / rng.uniform(0.05, 0.15)) ** 2)
+        parts.append(pause)
+        t0 += pause_s
+        n_walk = int(round(n_steps * step_period_s * fs))
+        parts.append(3.0 * np.sin(2 * np.pi * np.arange(n_walk) / fs / step_period_s))
+        true.extend(t0 + (np.arange(n_steps) + 0.25) * step_period_s)
+        t0 += n_walk / fs
+    parts.append(np.zeros(n_pause))
+    z = np.concatenate(parts) + 9.80665
+    n = len(z)
+    acc = np.column_stack([rng.normal(0, 0.05, n), rng.normal(0, 0.05, n), z + rng.normal(0, 0.05, n)])
+    return Recording.from_arrays(acc, fs, reference={"steps_t_s": np.array(true), "n_steps_true": len(true)})
+
+
+def test_bout_edge_keep_trims_only_the_weak_fringe():
+    from gaitml.steps.adaptive import bout_edge_keep
+
+    bout = np.array([0] * 8 + [1] * 4)
+    conf = np.array([0.1, 0.2, 0.9, 0.9, 0.05, 0.9, 0.9, 0.2] + [0.4] * 4)
+    # bout 0: median 0.55, so edges under 0.275 go; the weak step inside stays. Bout 1 (a one-leg bout whose
+    # confidence is halved throughout) is judged against its own median and kept whole.
+    keep = bout_edge_keep(bout, conf, 0.5)
+    assert keep.tolist() == [False, False, True, True, True, True, True, False] + [True] * 4
+    assert bout_edge_keep(bout, conf, 0.0).all()
+    # the vectorised rule against a loop over bouts
+    rng = np.random.default_rng(3)
+    bout = np.sort(rng.integers(0, 40, 400))
+    conf = rng.uniform(0, 1, 400) ** 2
+    ref = np.ones(400, dtype=bool)
+    for b in np.unique(bout):
+        i = np.flatnonzero(bout == b)
+        strong = i[conf[i] >= 0.5 * np.median(conf[i])]
+        ref[i[(i < strong[0]) | (i > strong[-1])]] = False
+    np.testing.assert_array_equal(bout_edge_keep(bout, conf, 0.5), ref)
+
+
+def test_a_pause_between_bouts_costs_no_step():
+    """The steps beside a pause keep their timing evidence (their regularity comes from intervals inside the bout)."""
+    rec = bout_walks()
+    st = AdaptiveStepDetector().detect(rec).steps_
+    assert len(st) == 90
+    assert len(AdaptiveStepDetector(edge_confidence_ratio=0.0, min_bout_steps=1).detect(rec).steps_) == 90
+    t = st["t_peak_s"].to_numpy()
+    edges = np.r_[0, np.flatnonzero(np.diff(t) > 2 * 0.55) + 1]
+    assert len(edges) == 3 and (st["confidence"].to_numpy()[edges] > 0.7).all()
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_bout_rules_drop_handling_between_walks(seed):
+    """Bumps between walks (not steps): the bout rules drop most of what the peak picker finds there (measured with the
+    rules 97 / 92 / 96 / 96 of 90 steps for seeds 0-3, without them 103 / 102 / 106 / 105)."""
+    rec = bout_walks(handling=True, seed=seed)
+    with_rules = len(AdaptiveStepDetector().detect(rec).steps_)
+    without = len(AdaptiveStepDetector(edge_confidence_ratio=0.0, min_bout_steps=1).detect(rec).steps_)
+    assert 90 <= with_rules < without
+    assert with_rules - 90 <= 8
 
 
 def _cli(argv):
@@ -294,28 +371,29 @@ def _by_position(rows) -> pd.Series:
 
 
 def test_adaptive_held_out_user_figures(oxford_recs, tmp_path):
-    """Measured (experiments/reports/steps-heldout.md): LOUO hard mean 97.58 %, worst position 95.33 % (SwingingArm).
+    """Measured (experiments/reports/steps-heldout.md): LOUO hard mean 98.06 %, worst position 95.33 % (SwingingArm).
 
     The defaults have no setting chosen on these recordings, so the held-out figure is the in-sample one; asserted
-    with a margin below the measured figures.
+    with a margin below the measured figures. Before the bout rules (stage 5) the mean was 97.58 % and the neck
+    pouch 97.93 %, below AD-FSM's 98.16 %; now 98.60 %.
     """
     summary = run_steps_real(tmp_path / "run", data_dir=tmp_path, detectors=["adaptive", "adfsm"], recordings=oxford_recs, tune=False)
     hard = summary["oxford"]["adaptive"]["Hard"]
-    assert hard["heldout_user_mean_count_accuracy"] >= 0.970
+    assert hard["heldout_user_mean_count_accuracy"] >= 0.975
     assert hard["heldout_user_worst_position_count_accuracy"] >= 0.945
     assert summary["oxford"]["adaptive"]["Carpet"]["heldout_user_mean_count_accuracy"] >= 0.98
     pos = hard["by_position"]
     adfsm = summary["oxford"]["adfsm"]["Hard"]["by_position"]
-    # at least as good as AD-FSM in every position but the neck pouch (97.93 vs 98.16 %: reported, not met)
+    # never below AD-FSM in any position (the issue's target; the closest is Armband, 98.20 vs 98.04 %)
     for p, v in pos.items():
-        if p != "NeckPouch":
-            assert v["heldout_user_count_accuracy"] >= adfsm[p]["heldout_user_count_accuracy"] - 0.002, p
+        assert v["heldout_user_count_accuracy"] >= adfsm[p]["heldout_user_count_accuracy"], p
     assert pos["BackPocket"]["heldout_user_count_accuracy"] >= 0.955  # the position of the issue (old: strides elsewhere)
+    assert pos["NeckPouch"]["heldout_user_count_accuracy"] >= 0.982
 
 
 @pytest.mark.slow
 def test_adaptive_tuned_held_out(oxford_recs):
-    """The grid variant chosen on training users only stays above the issue's targets (measured 97.81 % LOUO)."""
+    """The grid variant chosen on training users only stays above the issue's targets (measured 97.93 % LOUO)."""
     _, held, chosen = tuned_evaluation(oxford_recs, "adaptive", ("user",))
     acc = _by_position(held["user"])
     assert acc.mean() >= 0.972 and acc.min() >= 0.945

@@ -319,6 +319,7 @@ def silent_tables(data: Path, model) -> dict[str, pd.DataFrame]:
                 "data": f"Oxford {pos}",
                 "windows": len(d),
                 "outside the step span": int(d["outside_span"].sum()),
+                "silent windows outside the span": int((d["outside_span"] & d["silent"]).sum()),
                 "silently wrong": float(np.mean(d["silent"])),
                 "silently wrong inside the span only": float(np.mean(inside["silent"])),
             }

@@ -8,12 +8,12 @@ Models (all trained on the simulator, hand-held phone flat or tilted, five modes
 settings of ``experiments/demo.toml``):
 
 - ``demo``: ``models/demo`` as committed (``all52+gyro``, phone frame);
-- ``acc-phone``: the same config with ``features.set = "all52"`` (no gyroscope, for the
-  accelerometer-only Oxford and IFSM recordings), phone frame;
-- ``acc-gravity``: the same with ``features.frame = "gravity"``.
-
-The last two are trained here into a temporary folder (``gaitml train`` with the
-overrides, no cross-validation), about a minute each.
+- ``demo-acc``: ``models/demo-acc`` as committed (``experiments/demo-acc.toml``: the same
+  config with ``features.set = "all52"``, no gyroscope, for the accelerometer-only Oxford
+  and IFSM recordings), phone frame;
+- ``acc-gravity``: ``experiments/demo-acc.toml`` with ``features.frame = "gravity"``,
+  trained here into a temporary folder (``gaitml train`` with the override, no
+  cross-validation), about a minute.
 
 Tables: every real walking recording in the shared data (Oxford optimisation set per
 carrying position, the IFSM flat-held phone, the gaitmap foot-mounted IMU) with the
@@ -60,13 +60,13 @@ OXFORD_POSITIONS = {
 }
 
 
-def train_variant(out: Path, fset: str, frame: str):
-    """``experiments/demo.toml`` with another feature set / frame, trained without CV."""
+def train_variant(out: Path, frame: str):
+    """``experiments/demo-acc.toml`` in another feature frame, trained without CV."""
     from gaitml.experiments.config import load_config
     from gaitml.experiments.runner import train_config
 
-    cfg = load_config(ROOT / "experiments" / "demo.toml").with_values(
-        {"features.set": fset, "features.frame": frame, "train.cross_validate": False, "name": f"demo-{fset}-{frame}"}
+    cfg = load_config(ROOT / "experiments" / "demo-acc.toml").with_values(
+        {"features.frame": frame, "train.cross_validate": False, "name": f"demo-acc-{frame}"}
     )
     return train_config(cfg, out_dir=out, progress=False)
 
@@ -119,7 +119,7 @@ def real_table(data: Path, models: dict) -> pd.DataFrame:
             pos = OXFORD_POSITIONS.get(str(r.meta.get("position", "")).lower(), str(r.meta.get("position")))
             by_pos.setdefault(pos, []).append(r)
         for pos in OXFORD_POSITIONS.values():
-            for name in ("acc-phone", "acc-gravity"):
+            for name in ("demo-acc", "acc-gravity"):
                 tot: dict = {}
                 for r in by_pos.get(pos, []):
                     tot = _add(tot, score(models[name], r))
@@ -128,14 +128,14 @@ def real_table(data: Path, models: dict) -> pd.DataFrame:
     ifsm = data / "ifsm-flat-phone"
     if ifsm.exists():
         files = sorted(ifsm.glob("*.xlsx"))
-        for name in ("acc-phone", "acc-gravity"):
+        for name in ("demo-acc", "acc-gravity"):
             tot = {}
             for f in files:
                 tot = _add(tot, score(models[name], read_recording(f)))
             rows.append(_row(f"IFSM flat-held phone ({len(files)} walks)", name, tot))
     gm = data / "gaitmap-example" / "imu_sample.csv.gz"
     if gm.exists():
-        for name in ("demo", "acc-phone", "acc-gravity"):
+        for name in ("demo", "demo-acc", "acc-gravity"):
             tot = {}
             for sensor in ("left", "right"):
                 tot = _add(tot, score(models[name], read_recording(gm, sensor=sensor)))
@@ -234,6 +234,240 @@ def _timed(fn) -> float:
     t0 = time.perf_counter()
     fn()
     return time.perf_counter() - t0
+
+
+# ---------------------------------------------------------------- --silent (Oxford InHand, demo-acc)
+_SHORT = {"walk": "w", "backward": "B", "side_left": "L", "side_right": "R", "run": "U"}
+
+
+def _silent_windows(model, rec) -> pd.DataFrame:
+    """Every window of one Oxford walk with its mode, domain columns, foot-switch context and intensity.
+
+    Columns besides :func:`gaitml.models.predict_recording`'s: ``silent`` (in domain
+    and not ``walk``), ``outside_span`` (the window ends before the first or starts
+    after the last foot-switch step), ``part`` (where the window's middle lies in the
+    walking span: first 5 %, last 5 % or between), ``cadence`` (steps/s: median
+    foot-switch step interval within +-3 s of the window's middle), ``irregularity``
+    (std / mean of those intervals), ``pitch_deg`` (phone pitch from the window's
+    gravity direction, asin of its y component) and ``acc_var`` (variance of |acc| in
+    the window, m^2/s^4: the intensity of the steps).
+    """
+    from gaitml.models import predict_recording, resample_recording
+    from gaitml.models.domain import window_gravity
+
+    t = predict_recording(model, rec)
+    r = resample_recording(rec, model.sampling_rate_hz)
+    length = int(round(model.length_s * model.sampling_rate_hz))
+    starts = t["start"].to_numpy(np.int64)
+    g = window_gravity(r.acc, starts, length)
+    mag = np.linalg.norm(r.acc, axis=1)
+    steps = np.sort(np.asarray(rec.reference["steps_t_s"], dtype=float))
+    mid = 0.5 * (t["t_start_s"].to_numpy() + t["t_end_s"].to_numpy())
+    cad, irr = np.full(len(t), np.nan), np.full(len(t), np.nan)
+    for i, m in enumerate(mid):
+        iv = np.diff(steps[(steps > m - 3.0) & (steps < m + 3.0)])
+        if len(iv):
+            cad[i] = 1.0 / np.median(iv)
+        if len(iv) > 2:
+            irr[i] = np.std(iv) / np.mean(iv)
+    frac = (mid - steps[0]) / (steps[-1] - steps[0])
+    ok = np.array([bool(v) for v in t["in_domain"]])
+    t["ok"] = ok
+    t["silent"] = ok & (t["mode"] != "walk").to_numpy()
+    t["outside_span"] = (t["t_end_s"].to_numpy() <= steps[0]) | (t["t_start_s"].to_numpy() >= steps[-1])
+    t["part"] = np.where(frac < 0.05, "first 5 %", np.where(frac > 0.95, "last 5 %", "middle 90 %"))
+    t["cadence"] = cad
+    t["irregularity"] = irr
+    t["pitch_deg"] = np.degrees(np.arcsin(np.clip(g[:, 1], -1.0, 1.0)))
+    t["acc_var"] = np.array([np.var(mag[s : s + length]) for s in starts])
+    t["recording"] = str(rec.meta.get("id"))
+    t["position"] = str(rec.meta.get("position"))
+    # does the window's mode beat walk in its own pairwise machine (linear OVO SVM)? (a vote artefact would not)
+    est = model.estimator
+    if hasattr(est, "pairwise_decision_function") and "walk" in list(est.classes_):
+        from gaitml.models._predict import model_inputs
+
+        dec = est.pairwise_decision_function(model_inputs(model, r, t))
+        cls = [str(c) for c in est.classes_]
+        iw = cls.index("walk")
+        beats = np.zeros(len(t), dtype=bool)
+        for k, (i, j) in enumerate(np.asarray(est.pairs_)):
+            for winner, loser, sign in ((i, j, 1.0), (j, i, -1.0)):
+                if loser == iw:
+                    sel = (t["mode_raw"] == cls[winner]).to_numpy()
+                    beats[sel] = sign * dec[sel, k] > 0
+        t["beats_walk"] = beats
+    return t
+
+
+def silent_tables(data: Path, model) -> dict[str, pd.DataFrame]:
+    """Where the silently wrong windows of hand-held Oxford walking are (model ``demo-acc``).
+
+    Tables: per recording; by part of the walk; by local cadence; the domain distances of
+    the silent windows against the thresholds; simulated walk vs backward (held-out
+    subjects, seed 2024) for the intensity.
+    """
+    from gaitml.io import read_dataset
+    from gaitml.simulate import simulate_dataset
+
+    ALL = pd.concat([_silent_windows(model, r) for r in read_dataset(data / "oxford-step-counter" / "optimisation")], ignore_index=True)
+    span_rows = []
+    for pos, d in ALL.groupby("position", sort=True):
+        inside = d[~d["outside_span"]]
+        span_rows.append(
+            {
+                "data": f"Oxford {pos}",
+                "windows": len(d),
+                "outside the step span": int(d["outside_span"].sum()),
+                "silent windows outside the span": int((d["outside_span"] & d["silent"]).sum()),
+                "silently wrong": float(np.mean(d["silent"])),
+                "silently wrong inside the span only": float(np.mean(inside["silent"])),
+            }
+        )
+    T = ALL[ALL["position"].str.lower() == "inhand"].reset_index(drop=True)
+    per = []
+    for name, d in T.groupby("recording", sort=True):
+        sil = d[d["silent"]]
+        per.append(
+            {
+                "data": name,
+                "windows": len(d),
+                "cadence (steps/s)": float(np.nanmedian(d["cadence"])),
+                "pitch (deg)": float(np.median(d["pitch_deg"])),
+                "|acc| variance (m2/s4)": float(np.median(d["acc_var"])),
+                "flagged out of domain": float(np.mean(~d["ok"])),
+                "walk among all": float(np.mean(d["mode"] == "walk")),
+                "silently wrong": float(np.mean(d["silent"])),
+                "silent modes": ", ".join(f"{m} {n}" for m, n in sil["mode"].value_counts().items()) or "-",
+                "silent outside the step span": int(sil["outside_span"].sum()),
+            }
+        )
+    per = pd.DataFrame(per).sort_values("cadence (steps/s)")
+
+    def by(col, bins=None) -> pd.DataFrame:
+        key = T[col] if bins is None else pd.cut(T[col], bins).astype(str)
+        rows = []
+        for k, d in T.groupby(key, sort=True):
+            rows.append(
+                {
+                    "data": f"{col} {k}",
+                    "windows": len(d),
+                    "silently wrong": float(np.mean(d["silent"])),
+                    "silent windows": int(d["silent"].sum()),
+                }
+            )
+        return pd.DataFrame(rows)
+
+    span = pd.concat(
+        [
+            pd.DataFrame(
+                [
+                    {
+                        "data": "outside the foot-switch walking span",
+                        "windows": int(T["outside_span"].sum()),
+                        "silently wrong": float(np.mean(T.loc[T["outside_span"], "silent"])) if T["outside_span"].any() else float("nan"),
+                        "silent windows": int((T["outside_span"] & T["silent"]).sum()),
+                    }
+                ]
+            ),
+            by("part"),
+            by("cadence", [0, 1.5, 1.6, 1.7, 1.8, 1.9, 2.0, 3.0]),
+            by("irregularity", list(np.nanquantile(T["irregularity"], [0, 0.2, 0.4, 0.6, 0.8, 1.0]).round(3))),
+        ],
+        ignore_index=True,
+    )
+    dom = model.domain
+    dist_thr, grav_thr = dom.distance_threshold, float(np.degrees(dom.gravity_threshold_rad))
+    ref = []
+    for label, sel in (("silently wrong windows", T["silent"]), ("in-domain walk windows", T["ok"] & (T["mode"] == "walk"))):
+        d = T[sel]
+        ref.append(
+            {
+                "data": label,
+                "windows": len(d),
+                "gravity angle median (deg)": float(np.median(d["gravity_angle_deg"])),
+                "gravity angle max (deg)": float(np.max(d["gravity_angle_deg"])),
+                "feature distance median": float(np.median(d["domain_distance"])),
+                "feature distance max": float(np.max(d["domain_distance"])),
+                "within 10 % of the distance threshold": float(np.mean(d["domain_distance"] > 0.9 * dist_thr)),
+            }
+        )
+    ref = pd.DataFrame(ref)
+    if "beats_walk" in T:
+        sil = T[T["silent"] & (T["mode_raw"] == T["mode"])]
+        ref["its mode beats walk head-to-head"] = [float(np.mean(sil["beats_walk"])), float("nan")]
+    ref.attrs["thresholds"] = (dist_thr, grav_thr)
+    sim = []
+    for r in simulate_dataset(n_subjects=8, duration_s=120.0, pose="mixed", seed=2024):
+        from gaitml.features import make_windows
+
+        w = make_windows(r, model.length_s, model.overlap, min_label_fraction=0.99)
+        mag = np.linalg.norm(r.acc, axis=1)
+        n = int(round(model.length_s * r.sampling_rate_hz))
+        for s, lab in zip(w["start"].to_numpy(np.int64), w["label"].to_numpy(), strict=True):
+            sim.append({"mode": lab, "acc_var": float(np.var(mag[s : s + n])), "pose": r.meta.get("pose", "")})
+    sim = pd.DataFrame(sim)
+    intensity = pd.DataFrame(
+        [
+            {
+                "data": f"simulated {m} (8 held-out subjects, seed 2024)",
+                "windows": int((sim["mode"] == m).sum()),
+                "|acc| variance median (m2/s4)": float(sim.loc[sim["mode"] == m, "acc_var"].median()),
+                "10 % quantile": float(sim.loc[sim["mode"] == m, "acc_var"].quantile(0.1)),
+                "90 % quantile": float(sim.loc[sim["mode"] == m, "acc_var"].quantile(0.9)),
+            }
+            for m in ("walk", "backward")
+        ]
+        + [
+            {
+                "data": f"Oxford InHand {label}",
+                "windows": int(sel.sum()),
+                "|acc| variance median (m2/s4)": float(T.loc[sel, "acc_var"].median()),
+                "10 % quantile": float(T.loc[sel, "acc_var"].quantile(0.1)),
+                "90 % quantile": float(T.loc[sel, "acc_var"].quantile(0.9)),
+            }
+            for label, sel in (("read as walk", T["mode"] == "walk"), ("silently wrong", T["silent"]))
+        ]
+    )
+    strips = {
+        name: "".join(_SHORT[m] if ok else "." for m, ok in zip(d["mode"], d["ok"], strict=True)) for name, d in T.groupby("recording")
+    }
+    worst = per.sort_values("silently wrong", ascending=False)["data"].head(2)
+    return {
+        "per recording": per,
+        "where": span,
+        "span": pd.DataFrame(span_rows),
+        "domain": ref,
+        "intensity": intensity,
+        "strips": {k: strips[k] for k in worst},
+    }
+
+
+def silent_main(args) -> int:
+    """``--silent``: the silently wrong windows of Oxford InHand walking read by models/demo-acc."""
+    from gaitml.models import load_model
+
+    t0 = time.perf_counter()
+    model = load_model(ROOT / "models" / "demo-acc")
+    tabs = silent_tables(args.data, model)
+    dist_thr, grav_thr = tabs["domain"].attrs["thresholds"]
+    strips = "\n".join(f"{k}:\n    {v}" for k, v in tabs["strips"].items())
+    text = "\n\n".join(
+        [
+            "### Oxford InHand read by demo-acc, per walk (sorted by foot-switch cadence)\n\n" + _md(tabs["per recording"]),
+            "### Where the silently wrong windows are\n\n" + _md(tabs["where"]),
+            "### Windows outside the foot-switch walking span, every Oxford position (demo-acc)\n\n" + _md(tabs["span"]),
+            f"### Domain check of the silently wrong windows (thresholds: distance {dist_thr:.2f}, gravity {grav_thr:.2f} deg)\n\n"
+            + _md(tabs["domain"]),
+            "### Step intensity: variance of |acc| per 1.5 s window\n\n" + _md(tabs["intensity"]),
+            "### Window modes of the two worst walks (w walk, B backward, L/R side step, U run, . flagged)\n\n```\n" + strips + "\n```",
+            f"(run time {time.perf_counter() - t0:.0f} s)",
+        ]
+    )
+    print(text)
+    if args.out:
+        args.out.write_text(text + "\n", encoding="utf-8")
+    return 0
 
 
 # ---------------------------------------------------------------- --positions (models for real phones)
@@ -405,6 +639,9 @@ _PCT = (
     "left-out position flagged",
     "trained positions flagged",
     "multi-state step mode accuracy",
+    "within 10 % of the distance threshold",
+    "its mode beats walk head-to-head",
+    "silently wrong inside the span only",
     "forward-only step mode accuracy",
 )
 
@@ -440,19 +677,25 @@ def main(argv: list[str] | None = None) -> int:
         default=ROOT / "runs" / "models",
         help="folder holding positions/ and positions-acc/ trained with experiments/positions*.toml (default runs/models)",
     )
+    ap.add_argument(
+        "--silent",
+        action="store_true",
+        help="where the silently wrong windows of Oxford InHand walking read by models/demo-acc are, instead",
+    )
     args = ap.parse_args(argv)
     from gaitml.models import load_model
 
     if args.positions:
         return positions_main(args)
+    if args.silent:
+        return silent_main(args)
 
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
-        models = {"demo": load_model(ROOT / "models" / "demo")}
-        for name, fset, frame in (("acc-phone", "all52", "phone"), ("acc-gravity", "all52", "gravity")):
-            print(f"training {name} ...", file=sys.stderr, flush=True)
-            train_variant(Path(tmp) / name, fset, frame)
-            models[name] = load_model(Path(tmp) / name)
+        models = {"demo": load_model(ROOT / "models" / "demo"), "demo-acc": load_model(ROOT / "models" / "demo-acc")}
+        print("training acc-gravity ...", file=sys.stderr, flush=True)
+        train_variant(Path(tmp) / "acc-gravity", "gravity")
+        models["acc-gravity"] = load_model(Path(tmp) / "acc-gravity")
         thresholds = pd.DataFrame(
             [
                 {

@@ -132,7 +132,8 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     rec.require_samples(length, f"one {model.length_s} s window of the model")
     if "gyro" in model.feature_set:
         rec.require_gyr(
-            f"the model's feature set {model.feature_set!r}", "a model trained on feature set 'all52' (e.g. experiments/paper-svm.toml)"
+            f"the model's feature set {model.feature_set!r}",
+            "the accelerometer-only model models/demo-acc (feature set 'all52')",
         )
     w = _windows_for(rec, model.length_s, model.overlap)
     X = model_inputs(model, rec, w)

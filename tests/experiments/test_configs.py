@@ -18,7 +18,15 @@ CONFIGS = sorted((ROOT / "experiments").glob("*.toml"))
 
 def test_the_committed_configs_are_there():
     names = {p.name for p in CONFIGS}
-    assert {"paper-svm.toml", "window-sweep.toml", "torch-mlp.toml", "torch-cnn.toml", "oxford-position.toml", "demo.toml"} <= names
+    assert {
+        "paper-svm.toml",
+        "window-sweep.toml",
+        "torch-mlp.toml",
+        "torch-cnn.toml",
+        "oxford-position.toml",
+        "demo.toml",
+        "demo-acc.toml",
+    } <= names
 
 
 @pytest.mark.parametrize("path", CONFIGS, ids=lambda p: p.name)
@@ -207,12 +215,13 @@ def _gait(subject) -> tuple:
     return tuple(v for k, v in dataclasses.asdict(subject).items() if k not in ("subject", "pose"))
 
 
-def test_the_demo_model_never_saw_the_walkers_it_is_evaluated_on():
-    """The shipped model is trained on other subjects than the PDR route table (seeds 0-19) and the demo walker."""
+@pytest.mark.parametrize("config", ["demo.toml", "demo-acc.toml"])
+def test_the_demo_model_never_saw_the_walkers_it_is_evaluated_on(config):
+    """The shipped models are trained on other subjects than the PDR route table (seeds 0-19) and the demo walker."""
     from gaitml.demo import DEMO_SETTINGS
     from gaitml.simulate import sample_subjects
 
-    cfg = load_config(ROOT / "experiments" / "demo.toml")
+    cfg = load_config(ROOT / "experiments" / config)
     sim = cfg["data"]["simulated"]
     trained = {_gait(s) for s in sample_subjects(sim["subjects"], cfg.seed)}
     walkers = {seed: _gait(sample_subjects(1, seed)[0]) for seed in [*range(20), DEMO_SETTINGS["route_seed"]]}

@@ -299,4 +299,4 @@ def test_shipped_gyro_model_on_accelerometer_only_data_names_the_fix(tmp_path, c
     write_gaitml_csv(Recording.from_arrays(acc, 50.0), path)
     assert main(["predict", str(root / "models" / "demo"), str(path)]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "needs a gyroscope" in err and "'all52'" in err
+    assert len(err.splitlines()) == 1 and "needs a gyroscope" in err and "'all52'" in err and "models/demo-acc" in err

@@ -1,0 +1,102 @@
+"""The shipped accelerometer-only demo model ``models/demo-acc`` (issue 12).
+
+It is ``experiments/demo-acc.toml`` (``experiments/demo.toml`` with ``features.set =
+"all52"``) trained by ``gaitml train experiments/demo-acc.toml --out models/demo-acc``.
+The fast tests check that the shipped folder was trained from the committed config and
+still predicts what it predicted when it was shipped; the slow test retrains it and
+compares the arrays bit for bit.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from gaitml.experiments.config import load_config
+from gaitml.io import read_recording, write_gaitml_csv
+from gaitml.models import load_model, predict_recording
+from gaitml.recording import Recording
+from tests.conftest import ROOT
+
+DEMO_ACC = ROOT / "models" / "demo-acc"
+CONFIG = ROOT / "experiments" / "demo-acc.toml"
+SAMPLE = ROOT / "data" / "samples" / "S02-mixed.csv"
+
+
+def _flat(d: dict, prefix: str = "") -> dict:
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, dict):
+            out.update(_flat(v, f"{prefix}{k}."))
+        else:
+            out[prefix + k] = v
+    return out
+
+
+def _acc_only(rec: Recording) -> Recording:
+    return Recording.from_arrays(rec.acc, rec.sampling_rate_hz, labels=rec.labels)
+
+
+def test_shipped_demo_acc_was_trained_from_its_config():
+    model = load_model(DEMO_ACC)
+    cfg = load_config(CONFIG)
+    assert model.info["training_config"] == json.loads(json.dumps(cfg.resolved()))
+    assert model.info["name"] == "demo-acc" and model.feature_set == "all52" and model.frame == "phone"
+    assert not [n for n in model.feature_names if n.startswith("gyr")]
+    assert model.info["training_data"]["n_windows"] == 12576  # the demo's windows (the same 32 subjects, seed 1000)
+    assert model.domain is not None and model.domain.gravity_check
+    assert model.domain.positions == {"hand-flat": 9432, "hand-tilted": 3144}
+    assert (DEMO_ACC / "MODEL.md").read_text().startswith("# Model card: demo-acc")
+    assert sum(p.stat().st_size for p in DEMO_ACC.iterdir()) < 200_000
+
+
+def test_demo_acc_config_is_the_demo_config_without_the_gyroscope():
+    acc = _flat(load_config(CONFIG).resolved())
+    demo = _flat(load_config(ROOT / "experiments" / "demo.toml").resolved())
+    differ = {k for k in acc.keys() | demo.keys() if acc.get(k) != demo.get(k)}
+    assert differ == {"name", "description", "features.set", "train.model_dir"}
+    assert (acc["features.set"], demo["features.set"]) == ("all52", "all52+gyro")
+
+
+def test_demo_acc_reads_an_accelerometer_only_recording_as_when_it_was_shipped():
+    """Pinned: the window modes of the committed sample (checked when the model was shipped), gyroscope or not."""
+    model = load_model(DEMO_ACC)
+    rec = read_recording(SAMPLE)
+    with_gyro = predict_recording(model, rec)
+    t = predict_recording(model, _acc_only(rec))
+    np.testing.assert_array_equal(t["mode_raw"].to_numpy(), with_gyro["mode_raw"].to_numpy())
+    assert t["mode"].value_counts().to_dict() == {"side_left": 20, "backward": 15, "walk": 14, "run": 14, "side_right": 14}
+    assert bool(t["in_domain"].astype(bool).all())
+    sel = t["label_fraction"].to_numpy() >= 0.5
+    assert np.mean(t["mode"].to_numpy()[sel] == t["label"].to_numpy()[sel]) > 0.98
+
+
+def test_gaitml_predict_with_demo_acc_on_an_accelerometer_only_file(tmp_path, capsys):
+    from gaitml.cli import main
+
+    path = tmp_path / "acc_only.csv"
+    write_gaitml_csv(_acc_only(read_recording(SAMPLE)), path)
+    assert main(["predict", str(DEMO_ACC), str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["out_of_domain_fraction"] == 0.0
+    assert {w["in_domain"] for w in out["windows"]} == {True}
+
+
+@pytest.mark.slow
+def test_retraining_demo_acc_gives_the_shipped_arrays(tmp_path):
+    """``gaitml train experiments/demo-acc.toml`` again (about 40 s): the same arrays, bit for bit."""
+    from gaitml.cli import main
+
+    assert main(["train", str(CONFIG), "--out", str(tmp_path / "demo-acc")]) == 0
+    shipped = np.load(DEMO_ACC / "arrays.npz", allow_pickle=False)
+    again = np.load(tmp_path / "demo-acc" / "arrays.npz", allow_pickle=False)
+    assert sorted(shipped.files) == sorted(again.files)
+    for name in shipped.files:
+        np.testing.assert_array_equal(again[name], shipped[name], err_msg=name)
+    a = json.loads((DEMO_ACC / "model.json").read_text())
+    b = json.loads((tmp_path / "demo-acc" / "model.json").read_text())
+    for key in ("training_config", "training_data", "domain", "estimator", "feature_names", "labels", "window"):
+        assert a[key] == b[key], key
+    assert a["cv_scores"]["accuracy_before"] == b["cv_scores"]["accuracy_before"]

@@ -411,33 +411,32 @@ class DomainModel:
         (standardise, one product with the stacked factors, squared norms per class,
         min, sqrt; the largest cosine to the kept gravity directions, clipped, arccos),
         so the same numbers bit for bit, with a dozen array operations instead of about
-        thirty: the non-finite masks and ``np.errstate`` give way to a test of the input
-        magnitudes (plain Python on 52 + 3 numbers: under the bounds nothing can
-        overflow) and of the results (a NaN input makes every class's squared norm NaN,
-        the Cholesky diagonal being positive, and the cosine NaN). Anything else
-        (non-finite or huge input, no kept direction, gravity of another shape) returns
-        None and goes the general way, which handles it as before.
+        thirty (each costs about a microsecond whatever its size, which is what a
+        one-window call spends its time on): the non-finite masks and ``np.errstate``
+        give way to one test of the input magnitudes against bounds computed once
+        (:func:`_feature_bound`, :func:`_gravity_bound`: under them nothing can overflow
+        or be invalid, so nothing needs silencing). Anything else (a non-finite or huge
+        input, no kept direction, gravity of another shape) returns None and goes the
+        general way, which handles it as before.
         """
         stacked, offset, n_classes, center, scale, dirs_t, x_bound, g_bound = self._one_window()
         if self.gravity_check:
             if gravity is None:
                 return None
             g = np.asarray(gravity, dtype=float)
-            if g.size != 3 or not max(map(abs, g.ravel().tolist())) <= g_bound:  # inf, huge (a NaN is caught below)
+            if g.size != 3 or not max(map(abs, g.ravel().tolist())) <= g_bound:  # inf, huge (a NaN may pass: caught below)
                 return None
-        if x_bound < 0 or not max(map(abs, X[0].tolist())) <= x_bound:  # inf, huge (a NaN is caught below)
+        if x_bound < 0 or not np.maximum.reduce(np.abs(X), axis=None) <= x_bound:  # inf, huge, NaN (compares False)
             return None
         Y = (X - center) / scale @ stacked
         Y -= offset
         Y *= Y
-        sq = Y.reshape(n_classes, -1).sum(axis=1).tolist()  # squared distance to every class
-        if math.isnan(sum(sq)):  # under the bound the sum is finite unless a feature is NaN
-            return None
+        sq = np.add.reduce(Y.reshape(n_classes, -1), axis=1).tolist()  # squared distance to every class (ndarray.sum without its wrapper)
         d = math.sqrt(min(sq))  # correctly rounded, as np.sqrt
         ok = d <= self.distance_threshold
         if not self.gravity_check:
             return {"distance": np.array([d]), "gravity_angle_rad": np.array([np.nan]), "in_domain": np.array([ok])}
-        cos = float((g.reshape(1, 3) @ dirs_t).max())
+        cos = float(np.maximum.reduce(g.reshape(1, 3) @ dirs_t, axis=None))  # ndarray.max without its wrapper
         if math.isnan(cos):
             return None
         ang = float(np.arccos(min(max(cos, -1.0), 1.0)))  # np.clip of a number

@@ -419,7 +419,7 @@ class DomainModel:
         input, no kept direction, gravity of another shape) returns None and goes the
         general way, which handles it as before.
         """
-        stacked, offset, n_classes, center, scale, dirs_t, x_bound, g_bound = self._one_window()
+        stacked, offset, n_classes, center, scale, dirs_t, x_bound, g_bound = self.__dict__.get("_one_window_cache") or self._one_window()
         if self.gravity_check:
             if gravity is None:
                 return None

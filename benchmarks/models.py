@@ -37,6 +37,7 @@ Run: ``python -m benchmarks.models [--quick]`` from the repository root.
 from __future__ import annotations
 
 import json
+import math
 import sys
 import time
 from pathlib import Path
@@ -130,8 +131,8 @@ def _stream_domain_loop(rec, model, check: bool) -> tuple[float, int]:
                 # the window's gravity direction: the unit mean of its samples (window_gravity of one window)
                 g = None
                 if dom.gravity_check:
-                    total = acc[s : s + length].sum(axis=0)  # the mean's direction
-                    g = (total / np.sqrt(total @ total))[None, :]
+                    total = np.add.reduce(acc[s : s + length])  # the mean's direction; (3,) is accepted as one row
+                    g = total / math.sqrt(total @ total)
                 n_out += not bool(dom.check(row, g)["in_domain"][0])
             n += 1
     corr.flush()

@@ -43,6 +43,7 @@ training data, not *why*.
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Any
 
 import numpy as np
@@ -152,6 +153,37 @@ def _nearest_angle(g: np.ndarray, dirs: np.ndarray) -> np.ndarray:
     if any_bad:
         out[bad] = np.nan
     return out
+
+
+#: The one-window path keeps every intermediate under this magnitude (far from overflow; see :func:`_feature_bound`).
+_SAFE_MAGNITUDE = 1e300
+
+
+def _feature_bound(center: np.ndarray, scale: np.ndarray, stacked: np.ndarray, offset: np.ndarray) -> float:
+    """Largest ``|x|`` feature entry for which the distance arithmetic cannot overflow; -1 when none is safe.
+
+    With every ``|x_i| <= B``: ``|z_i| <= (B + max|center|) / min(scale)`` and every
+    entry of ``z L - m L`` is at most ``max|z| max_j sum_i |L_ij| + max|m L|``; the
+    bound keeps that entry's square, summed over the ``p`` columns of a class, under
+    :data:`_SAFE_MAGNITUDE`. No floating-point overflow or invalid operation can then
+    occur, so the one-window path needs no ``np.errstate``.
+    """
+    parts = (center, scale, stacked, offset)
+    if not all(np.isfinite(a).all() for a in parts) or not (scale > 0).all() or not len(center):
+        return -1.0
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        a = float(np.abs(center).max())
+        cmax = float(np.abs(stacked).sum(axis=0).max())
+        z_max = (np.sqrt(_SAFE_MAGNITUDE / len(center)) - float(np.abs(offset).max())) / max(cmax, 1e-300)
+        bound = min(1e100, min(z_max, _SAFE_MAGNITUDE) * float(scale.min()) - a)
+    return float(bound) if np.isfinite(bound) and bound > 0 else -1.0
+
+
+def _gravity_bound(dirs: np.ndarray) -> float:
+    """Largest ``|g|`` entry for which ``g @ dirs.T`` cannot overflow; -1 without kept (finite) directions."""
+    if not len(dirs) or not np.isfinite(dirs).all():
+        return -1.0
+    return min(1e100, _SAFE_MAGNITUDE / (3.0 * max(float(np.abs(dirs).max()), 1.0)))
 
 
 def _subsample_dirs(g: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -334,6 +366,11 @@ class DomainModel:
         dict with ``distance`` (k,), ``gravity_angle_rad`` (k,; NaN when not checked)
         and ``in_domain`` (k,) bool.
         """
+        X = np.asarray(X, dtype=float)
+        if X.shape == (1, len(self.feature_names)):  # one window (streaming): the short path when it applies
+            one = self._check_one(X, gravity)
+            if one is not None:
+                return one
         d = self.distances(X)
         ok = d <= self.distance_threshold
         if not self.gravity_check:
@@ -343,6 +380,71 @@ class DomainModel:
         ang = self.gravity_angles(gravity)
         ok &= ang <= self.gravity_threshold_rad  # a NaN angle (no gravity direction) compares False: out of domain
         return {"distance": d, "gravity_angle_rad": ang, "in_domain": ok}
+
+    def _one_window(self) -> tuple:
+        """What the one-window check needs beyond the stored arrays, computed at its first call and cached.
+
+        ``(stacked, offset, n_classes, center, scale, gravity_dirs.T, feature_bound, gravity_bound)``
+        (:meth:`_factors`, :func:`_feature_bound`, :func:`_gravity_bound`).
+        """
+        cache = self.__dict__.get("_one_window_cache")
+        if cache is None:
+            stacked, offset = self._factors()
+            a = self.arrays
+            cache = (
+                stacked,
+                offset,
+                len(self.classes),
+                a["center"],
+                a["scale"],
+                a["gravity_dirs"].T,
+                _feature_bound(a["center"], a["scale"], stacked, offset),
+                _gravity_bound(a["gravity_dirs"]),
+            )
+            object.__setattr__(self, "_one_window_cache", cache)
+        return cache
+
+    def _check_one(self, X: np.ndarray, gravity) -> dict[str, np.ndarray] | None:
+        """:meth:`check` of one window ``X`` (1, p) (streaming), or None when the general path must answer.
+
+        The same arithmetic as :meth:`distances` and :func:`_nearest_angle` on one row
+        (standardise, one product with the stacked factors, squared norms per class,
+        min, sqrt; the largest cosine to the kept gravity directions, clipped, arccos),
+        so the same numbers bit for bit, with a dozen array operations instead of about
+        thirty (each costs about a microsecond whatever its size, which is what a
+        one-window call spends its time on): the non-finite masks and ``np.errstate``
+        give way to one test of the input magnitudes against bounds computed once
+        (:func:`_feature_bound`, :func:`_gravity_bound`: under them nothing can overflow
+        or be invalid, so nothing needs silencing). Anything else (a non-finite or huge
+        input, no kept direction, gravity of another shape) returns None and goes the
+        general way, which handles it as before.
+        """
+        stacked, offset, n_classes, center, scale, dirs_t, x_bound, g_bound = self.__dict__.get("_one_window_cache") or self._one_window()
+        if self.gravity_check:
+            if gravity is None:
+                return None
+            g = np.asarray(gravity, dtype=float)
+            if g.size != 3 or not max(map(abs, g.ravel().tolist())) <= g_bound:  # inf, huge (a NaN may pass: caught below)
+                return None
+        if x_bound < 0 or not np.maximum.reduce(np.abs(X), axis=None) <= x_bound:  # inf, huge, NaN (compares False)
+            return None
+        Y = (X - center) / scale @ stacked
+        Y -= offset
+        Y *= Y
+        sq = np.add.reduce(Y.reshape(n_classes, -1), axis=1).tolist()  # squared distance to every class (ndarray.sum without its wrapper)
+        d = math.sqrt(min(sq))  # correctly rounded, as np.sqrt
+        ok = d <= self.distance_threshold
+        if not self.gravity_check:
+            return {"distance": np.array([d]), "gravity_angle_rad": np.array([np.nan]), "in_domain": np.array([ok])}
+        cos = float(np.maximum.reduce(g.reshape(1, 3) @ dirs_t, axis=None))  # ndarray.max without its wrapper
+        if math.isnan(cos):
+            return None
+        ang = float(np.arccos(min(max(cos, -1.0), 1.0)))  # np.clip of a number
+        return {
+            "distance": np.array([d]),
+            "gravity_angle_rad": np.array([ang]),
+            "in_domain": np.array([ok and ang <= self.gravity_threshold_rad]),
+        }
 
 
 def fit_domain(

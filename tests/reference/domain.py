@@ -1,0 +1,39 @@
+"""Plain per-window reference of the model's domain check (:meth:`gaitml.models.domain.DomainModel.check`).
+
+One window at a time, written straight from the definition in
+:mod:`gaitml.models.domain`: standardise with the training mean and scale, the
+Mahalanobis distance ``sqrt((z - m_c)^T P_c (z - m_c))`` to every class with the
+stored precision ``P_c`` (no Cholesky factors), the smallest; the angle
+``arccos(g . u)`` to every kept training gravity direction ``u``, the smallest. A
+window with a non-finite feature has distance inf, a non-finite gravity vector
+angle NaN (out of domain). It exists to check the vectorised and the one-window
+paths (tests/domain/test_one_window.py); not for production use.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["reference_check"]
+
+
+def reference_check(dom, X, gravity=None) -> dict[str, np.ndarray]:
+    """``dom.check(X, gravity)`` computed window by window with the quadratic forms of the stored precisions."""
+    X = np.asarray(X, dtype=float).reshape(-1, len(dom.feature_names))
+    a = dom.arrays
+    dist = np.empty(len(X))
+    ang = np.full(len(X), np.nan)
+    G = None if gravity is None else np.asarray(gravity, dtype=float).reshape(-1, 3)
+    for i, x in enumerate(X):
+        if not np.isfinite(x).all():
+            dist[i] = np.inf
+        else:
+            z = (x - a["center"]) / a["scale"]
+            quad = [float((z - m) @ P @ (z - m)) for m, P in zip(a["class_means"], a["class_precisions"], strict=True)]
+            dist[i] = np.sqrt(max(min(quad), 0.0))
+        if dom.gravity_check and len(a["gravity_dirs"]) and np.isfinite(G[i]).all():
+            ang[i] = min(float(np.arccos(np.clip(u @ G[i], -1.0, 1.0))) for u in a["gravity_dirs"])
+    ok = dist <= dom.distance_threshold
+    if dom.gravity_check:
+        ok &= ang <= dom.gravity_threshold_rad  # NaN: out of domain
+    return {"distance": dist, "gravity_angle_rad": ang, "in_domain": ok}

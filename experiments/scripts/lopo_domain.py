@@ -47,78 +47,8 @@ QUANTILE = 0.99
 FOLDS = 5
 
 
-# ---------------------------------------------------------------- orientation-dynamics features
-ODYN_NAMES_ACC = (
-    "grav_spread_deg",  # mean angle of 0.3 s chunk gravity directions to the window's
-    "log_var_ratio_vh",  # log(var vertical / var horizontal) of the acceleration
-    "corr_v_h1",  # |corr| of the vertical and the main horizontal component
-    "h_anisotropy",  # second / first eigenvalue of the horizontal covariance
-    "log_std_v",
-    "log_std_h",
-    "grav_range_deg",  # largest angle of a 0.3 s chunk gravity direction to the window's
-    "skew_v",  # skewness of the vertical acceleration
-)
-ODYN_NAMES_GYR = (
-    "log_gyr_mean",  # log mean |omega|
-    "log_gyr_std",
-    "gyr_vertical_share",  # share of the rotation-rate variance about the vertical axis
-    "gyr_axis_share",  # largest eigenvalue share of the rotation-rate covariance
-    "gyr_h1_share",  # share of the rotation-rate variance about the main horizontal acceleration axis
-)
-
-
-def orientation_dynamics(acc: np.ndarray, gyr: np.ndarray | None, starts: np.ndarray, length: int, chunk: int = 15) -> np.ndarray:
-    """Orientation-free descriptors of how the phone moves and turns in each window, shape (k, 6 or 10).
-
-    Independent of a constant rotation of the phone (they use only the window's gravity
-    direction, norms, variances and eigenvalues).
-    """
-    k = len(starts)
-    idx = starts[:, None] + np.arange(length)[None, :]
-    A = acc[idx]  # (k, L, 3)
-    g = A.mean(axis=1)
-    g /= np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-9)
-    nch = length // chunk
-    C = A[:, : nch * chunk].reshape(k, nch, chunk, 3).mean(axis=2)
-    C /= np.maximum(np.linalg.norm(C, axis=2, keepdims=True), 1e-9)
-    ang = np.degrees(np.arccos(np.clip(np.einsum("knj,kj->kn", C, g), -1, 1)))
-    spread = ang.mean(axis=1)
-    v = np.einsum("klj,kj->kl", A, g)
-    H = A - v[:, :, None] * g[:, None, :]
-    v0 = v - v.mean(axis=1, keepdims=True)
-    H0 = H - H.mean(axis=1, keepdims=True)
-    var_v = (v0**2).mean(axis=1)
-    cov_h = np.einsum("kli,klj->kij", H0, H0) / length
-    ev, evec = np.linalg.eigh(cov_h)  # ascending; the smallest is ~0 (the vertical)
-    var_h = ev.sum(axis=1)
-    h1 = np.einsum("kli,ki->kl", H0, evec[:, :, 2])
-    corr = np.abs((v0 * h1).mean(axis=1) / np.sqrt(np.maximum(var_v * ev[:, 2], 1e-12)))
-    aniso = ev[:, 1] / np.maximum(ev[:, 2], 1e-12)
-    cols = [
-        spread,
-        np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9)),
-        corr,
-        aniso,
-        0.5 * np.log(np.maximum(var_v, 1e-12)),
-        0.5 * np.log(np.maximum(var_h, 1e-12)),
-        ang.max(axis=1),
-        (v0**3).mean(axis=1) / np.maximum(var_v, 1e-12) ** 1.5,
-    ]
-    if gyr is not None:
-        W = gyr[idx]
-        mag = np.linalg.norm(W, axis=2)
-        W0 = W - W.mean(axis=1, keepdims=True)
-        cw = np.einsum("kli,klj->kij", W0, W0) / length
-        tot = np.maximum(np.trace(cw, axis1=1, axis2=2), 1e-12)
-        wv = np.einsum("kij,ki,kj->k", cw, g, g)
-        cols += [
-            np.log(np.maximum(mag.mean(axis=1), 1e-6)),
-            np.log(np.maximum(mag.std(axis=1), 1e-6)),
-            wv / tot,
-            np.linalg.eigvalsh(cw)[:, 2] / tot,
-            np.einsum("kij,ki,kj->k", cw, evec[:, :, 2], evec[:, :, 2]) / tot,
-        ]
-    return np.column_stack(cols)
+#: Columns of the descriptors that need no gyroscope (gaitml.models.domain.DYNAMICS_NAMES 0-7).
+ODYN_ACC = 8
 
 
 # ---------------------------------------------------------------- data
@@ -128,7 +58,7 @@ def build(cache: Path | None):
         d = np.load(cache / "lopo.npz", allow_pickle=False)
         return {k: d[k] for k in d.files}
     from gaitml.models import build_window_dataset
-    from gaitml.models.domain import window_gravity
+    from gaitml.models.domain import DYNAMICS_NAMES, orientation_dynamics, window_gravity
     from gaitml.simulate import POSITIONS, simulate_dataset
 
     out = {}
@@ -143,13 +73,13 @@ def build(cache: Path | None):
         length = int(ds.windows["end"].iloc[0] - starts[0])
         ri = np.asarray(ds.recording_index)
         grav = np.zeros((len(ds), 3))
-        odyn = np.zeros((len(ds), len(ODYN_NAMES_ACC) + len(ODYN_NAMES_GYR)))
+        odyn = np.zeros((len(ds), len(DYNAMICS_NAMES)))
         pos = np.empty(len(ds), dtype=object)
         for i in np.unique(ri):
             rows = np.flatnonzero(ri == i)
             r = recs[int(i)]
             grav[rows] = window_gravity(r.acc, starts[rows], length)
-            odyn[rows] = orientation_dynamics(np.asarray(r.acc, float), np.asarray(r.gyr, float), starts[rows], length)
+            odyn[rows] = orientation_dynamics(r.acc, r.gyr, starts[rows], starts[rows] + length, r.sampling_rate_hz)
             pos[rows] = r.meta["position"]
         out[f"{tag}_grav"] = grav
         out[f"{tag}_odyn"] = odyn
@@ -243,7 +173,7 @@ def representations(D, tag):
         "phone": D[f"{tag}_X_phone"],
         "grav": D[f"{tag}_X_gravity"],
         "odyn": D[f"{tag}_odyn"],
-        "odyn-acc": D[f"{tag}_odyn"][:, : len(ODYN_NAMES_ACC)],
+        "odyn-acc": D[f"{tag}_odyn"][:, :ODYN_ACC],
         "grav+odyn": np.hstack([D[f"{tag}_X_gravity"], D[f"{tag}_odyn"]]),
     }
 
@@ -291,6 +221,30 @@ def run(D, candidates=None, positions=None, spans=(SPAN,)):
             seed=1000,
         )
         flags["today"] = ~dom.check(D["te_X_phone"], D["te_grav"])["in_domain"]
+        # the recorded check of this branch: today's plus the orientation-dynamics part (fit_domain(dynamics=...))
+        dom = fit_domain(
+            D["tr_X_phone"][keep],
+            ytr[keep],
+            D["tr_g"][keep],
+            D["tr_grav"][keep],
+            feature_names=feature_names("all52+gyro"),
+            feature_set="all52+gyro",
+            frame="phone",
+            positions=ptr[keep],
+            seed=1000,
+            dynamics=D["tr_odyn"][keep],
+            sequence=D["tr_rec"][keep],
+        )
+        new = np.zeros(len(yte), dtype=bool)
+        dyn_only = np.zeros(len(yte), dtype=bool)
+        for r in np.unique(D["te_rec"]):
+            ix = np.flatnonzero(D["te_rec"] == r)
+            ix = ix[np.argsort(D["te_start"][ix], kind="stable")]
+            res = dom.check(D["te_X_phone"][ix], D["te_grav"][ix], D["te_odyn"][ix])
+            new[ix] = ~res["in_domain"]
+            dyn_only[ix] = res["dynamics_distance"] > dom.dynamics["threshold"]
+        flags["recorded: dynamics span only"] = dyn_only
+        flags["recorded: today + dynamics span"] = new
         for name, (rep, make) in cands.items():
             Xk = Rtr[rep][keep]
             hd = heldout_distances(make, Xk, ytr[keep], ptr[keep], D["tr_g"][keep])

@@ -30,8 +30,28 @@ What is recorded at training time (``model.json`` key ``domain``; the arrays in
   distances would be optimistic (every training window is near its own Gaussian); it
   is recorded next to the held-out one for comparison.
 
-A window is **in domain** when its feature distance is at most the distance threshold
-and (phone frame) its gravity angle is at most the gravity threshold. By construction
+- **orientation dynamics** (models with the gyroscope, ``all52+gyro``): 13 descriptors
+  per window of how the phone moves and turns, independent of how it is held
+  (:func:`orientation_dynamics`: spread of the gravity direction within the window,
+  vertical vs horizontal acceleration variance and their correlation, rotation rate
+  statistics and the axis it turns about). A pocket phone rotates with the thigh, a belt
+  phone hardly rotates, a swinging hand rotates a lot, a bag damps; these differ where
+  the 104 features of a phone placed at a random orientation do not. One Ledoit-Wolf
+  Gaussian per (mode, position) on the standardised descriptors; a window's dynamics
+  distance is its smallest Mahalanobis distance to them, and because a carrying
+  position is a property of a stretch of recording, the decision uses the **median over
+  the last** ``DYNAMICS_SPAN`` **windows** of the recording (this one included, fewer at
+  its start; causal, so a stream can do the same). Its threshold is the quantile of the
+  held-out span medians. Leave one position out on the simulator (8 training subjects,
+  4 new ones, ``experiments/scripts/lopo_domain.py``): a left-out bag, belt or swinging
+  hand is flagged on 91-100 % of its windows (the 104-feature distance: 0-80 %), 0.1-1.9 %
+  of the trained positions' windows; a left-out twin of a trained position (flat vs
+  tilted hand, front vs back pocket) is not flagged (0-32 %). Older records have no
+  dynamics part and check as before.
+
+A window is **in domain** when its feature distance is at most the distance threshold,
+(phone frame) its gravity angle is at most the gravity threshold and (when recorded)
+its span dynamics distance is at most the dynamics threshold. By construction
 about 1 - quantile of new windows from the training distribution (new subjects) fall
 outside each test; the domain report (``experiments/reports/model-domain.md``) measures
 it on new simulated subjects and on real recordings.
@@ -54,6 +74,10 @@ __all__ = [
     "DomainModel",
     "fit_domain",
     "window_gravity",
+    "orientation_dynamics",
+    "DYNAMICS_NAMES",
+    "DYNAMICS_SPAN",
+    "running_median",
     "domain_from_model_info",
     "NO_DOMAIN_WARNING",
     "OUT_OF_DOMAIN_WARN_FRACTION",
@@ -78,6 +102,127 @@ NO_DOMAIN_WARNING = (
     "retrain it with 'gaitml train CONFIG' to get the out-of-domain check"
 )
 _ARRAYS = ("center", "scale", "class_means", "class_precisions", "gravity_dirs", "feature_lo", "feature_hi")
+#: The arrays of the optional orientation-dynamics part.
+_DYN_ARRAYS = ("dyn_center", "dyn_scale", "dyn_means", "dyn_precisions")
+#: Windows in the running span of the dynamics decision (20 windows of 1.5 s at 50 % overlap: 15 s).
+DYNAMICS_SPAN = 20
+#: Length (s) of the chunks whose gravity directions give the within-window spread.
+DYNAMICS_CHUNK_S = 0.3
+#: The orientation-dynamics descriptors (:func:`orientation_dynamics`), in order.
+DYNAMICS_NAMES = (
+    "gravity_spread_deg",
+    "log_var_ratio_vertical_horizontal",
+    "abs_corr_vertical_horizontal",
+    "horizontal_anisotropy",
+    "log_std_vertical",
+    "log_std_horizontal",
+    "gravity_range_deg",
+    "skew_vertical",
+    "log_gyr_mean",
+    "log_gyr_std",
+    "gyr_vertical_share",
+    "gyr_axis_share",
+    "gyr_horizontal_main_share",
+)
+
+
+def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.ndarray:
+    """Orientation-free descriptors of how the phone moves and turns in each window, shape (k, 13).
+
+    Per ``[start, end)`` span of ``acc`` (m/s^2) and ``gyr`` (rad/s), phone frame, with
+    ``g`` the unit window mean of the acceleration (the gravity direction), ``v = a . g``
+    the vertical and ``h = a - v g`` the horizontal acceleration (:data:`DYNAMICS_NAMES`):
+
+    0. mean and 6. largest angle (deg) between ``g`` and the mean directions of the
+       window's chunks of ``DYNAMICS_CHUNK_S`` (how far the phone tilts within it);
+    1. ``log(var v / var h)`` (``var h``: trace of the horizontal covariance);
+    2. ``|corr(v, h1)|``, ``h1`` the horizontal component along the main axis of the
+       horizontal covariance;
+    3. second over first eigenvalue of the horizontal covariance;
+    4. ``log std v``, 5. ``log sqrt(var h)``; 7. skewness of ``v``;
+    8. ``log`` mean and 9. ``log`` std of ``|omega|``;
+    10. share of the rotation-rate variance about ``g``, 11. its largest eigenvalue share,
+        12. its share about the main horizontal acceleration axis.
+
+    All are unchanged by a constant rotation of the phone. Ours (issue 12), not from a paper.
+    """
+    acc = np.asarray(acc, dtype=float)
+    gyr = np.asarray(gyr, dtype=float)
+    starts = np.asarray(starts, dtype=np.int64).reshape(-1)
+    ends = np.asarray(ends, dtype=np.int64).reshape(-1)
+    out = np.full((len(starts), len(DYNAMICS_NAMES)), np.nan)
+    chunk = max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz))))
+    lengths = ends - starts
+    for length in np.unique(lengths):  # time windows: one length; step windows: a few
+        if length < 2:
+            continue
+        rows = np.flatnonzero(lengths == length)
+        idx = starts[rows, None] + np.arange(int(length))[None, :]
+        out[rows] = _dynamics_equal(acc[idx], gyr[idx], chunk)
+    return out
+
+
+def _dynamics_equal(A: np.ndarray, W: np.ndarray, chunk: int) -> np.ndarray:
+    """:func:`orientation_dynamics` of equal-length windows ``A``, ``W`` (k, L, 3)."""
+    k, L, _ = A.shape
+    g = A.mean(axis=1)
+    g = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-9)
+    nch = max(1, L // chunk)
+    C = A[:, : nch * chunk].reshape(k, nch, -1, 3).mean(axis=2) if L >= chunk else A.mean(axis=1, keepdims=True)
+    C = C / np.maximum(np.linalg.norm(C, axis=2, keepdims=True), 1e-9)
+    ang = np.degrees(np.arccos(np.clip((C * g[:, None, :]).sum(axis=2), -1.0, 1.0)))
+    v = (A * g[:, None, :]).sum(axis=2)
+    H = A - v[:, :, None] * g[:, None, :]
+    v0 = v - v.mean(axis=1, keepdims=True)
+    H0 = H - H.mean(axis=1, keepdims=True)
+    var_v = (v0 * v0).mean(axis=1)
+    ev, evec = np.linalg.eigh(np.einsum("kli,klj->kij", H0, H0) / L)  # ascending; the smallest ~0 (vertical)
+    var_h = ev.sum(axis=1)
+    main = evec[:, :, 2]
+    h1 = (H0 * main[:, None, :]).sum(axis=2)
+    mag = np.linalg.norm(W, axis=2)
+    W0 = W - W.mean(axis=1, keepdims=True)
+    cw = np.einsum("kli,klj->kij", W0, W0) / L
+    tot = np.maximum(np.trace(cw, axis1=1, axis2=2), 1e-12)
+    return np.column_stack(
+        [
+            ang.mean(axis=1),
+            np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9)),
+            np.abs((v0 * h1).mean(axis=1) / np.sqrt(np.maximum(var_v * ev[:, 2], 1e-12))),
+            ev[:, 1] / np.maximum(ev[:, 2], 1e-12),
+            0.5 * np.log(np.maximum(var_v, 1e-12)),
+            0.5 * np.log(np.maximum(var_h, 1e-12)),
+            ang.max(axis=1),
+            (v0**3).mean(axis=1) / np.maximum(var_v, 1e-12) ** 1.5,
+            np.log(np.maximum(mag.mean(axis=1), 1e-6)),
+            np.log(np.maximum(mag.std(axis=1), 1e-6)),
+            np.einsum("kij,ki,kj->k", cw, g, g) / tot,
+            np.linalg.eigvalsh(cw)[:, 2] / tot,
+            np.einsum("kij,ki,kj->k", cw, main, main) / tot,
+        ]
+    )
+
+
+def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
+    """Median of the last ``span`` values (this one included; fewer at the start), NaN values skipped.
+
+    ``d`` is in time order within each sequence; ``sequence`` (same length, optional)
+    names the recording of every value: the span never reaches into another one.
+    A value whose span holds no finite value is NaN.
+    """
+    d = np.asarray(d, dtype=float).reshape(-1)
+    out = np.full(len(d), np.nan)
+    seq = np.zeros(len(d), dtype=np.int64) if sequence is None else np.unique(np.asarray(sequence), return_inverse=True)[1].reshape(-1)
+    span = max(1, int(span))
+    for s in np.unique(seq):
+        rows = np.flatnonzero(seq == s)
+        pad = np.concatenate([np.full(span - 1, np.nan), d[rows]])
+        win = np.lib.stride_tricks.sliding_window_view(pad, span)
+        fin = np.isfinite(win).any(axis=1)
+        if fin.any():
+            with np.errstate(all="ignore"):
+                out[rows[fin]] = np.nanmedian(win[fin], axis=1)
+    return out
 
 
 def window_gravity(acc, starts, length: int) -> np.ndarray:
@@ -189,6 +334,12 @@ class DomainModel:
     summary : dict
         JSON-ready numbers for the model card (gravity mean and angle quantiles,
         held-out scheme, window counts, in-sample thresholds).
+    dynamics : dict or None
+        The orientation-dynamics part (None in records without it): ``labels`` (the
+        ``mode|position`` of each Gaussian), ``span`` (windows), ``threshold`` (largest
+        in-domain running median of the dynamics distance, held out) and
+        ``threshold_in_sample``; its arrays ``dyn_center``, ``dyn_scale`` (13,),
+        ``dyn_means`` (g, 13), ``dyn_precisions`` (g, 13, 13) are in ``arrays``.
     """
 
     feature_set: str
@@ -204,6 +355,7 @@ class DomainModel:
     gravity_threshold_in_sample_rad: float
     arrays: dict
     summary: dict = dataclasses.field(default_factory=dict)
+    dynamics: dict | None = None
 
     # ---- persistence (JSON + plain arrays; no pickle)
     def to_json(self) -> dict:
@@ -221,13 +373,17 @@ class DomainModel:
             "gravity_check": bool(self.gravity_check),
             "gravity_threshold_rad": float(self.gravity_threshold_rad),
             "gravity_threshold_in_sample_rad": float(self.gravity_threshold_in_sample_rad),
-            "arrays": [ARRAY_PREFIX + k for k in _ARRAYS],
+            "arrays": [ARRAY_PREFIX + k for k in self._array_names()],
             "summary": self.summary,
+            **({"dynamics": dict(self.dynamics)} if self.dynamics is not None else {}),
         }
+
+    def _array_names(self) -> tuple[str, ...]:
+        return _ARRAYS + (_DYN_ARRAYS if self.dynamics is not None else ())
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The arrays to store in ``arrays.npz`` (names prefixed ``domain__``)."""
-        return {ARRAY_PREFIX + k: np.asarray(self.arrays[k], dtype=float) for k in _ARRAYS}
+        return {ARRAY_PREFIX + k: np.asarray(self.arrays[k], dtype=float) for k in self._array_names()}
 
     @classmethod
     def from_json(cls, info: dict, arrays: dict[str, np.ndarray]) -> DomainModel:
@@ -252,6 +408,21 @@ class DomainModel:
                     raise ValueError(f"{k} has shape {arr[k].shape}, expected {shp}")
             if arr["gravity_dirs"].ndim != 2 or arr["gravity_dirs"].shape[1] != 3:
                 raise ValueError(f"gravity_dirs has shape {arr['gravity_dirs'].shape}, expected (m, 3)")
+            dyn = info.get("dynamics")
+            if dyn is not None:  # the optional orientation-dynamics part (records without it check as before)
+                dyn = {
+                    "labels": [str(v) for v in dyn["labels"]],
+                    "span": int(dyn["span"]),
+                    "threshold": float(dyn["threshold"]),
+                    "threshold_in_sample": float(dyn["threshold_in_sample"]),
+                }
+                arr.update({k: np.asarray(arrays[ARRAY_PREFIX + k], dtype=float) for k in _DYN_ARRAYS})
+                q, g = len(DYNAMICS_NAMES), len(dyn["labels"])
+                for k, shp in {"dyn_center": (q,), "dyn_scale": (q,), "dyn_means": (g, q), "dyn_precisions": (g, q, q)}.items():
+                    if arr[k].shape != shp:
+                        raise ValueError(f"{k} has shape {arr[k].shape}, expected {shp}")
+                if dyn["span"] < 1:
+                    raise ValueError(f"dynamics span {dyn['span']} is below 1")
             return cls(
                 feature_set=str(info["feature_set"]),
                 frame=str(info["frame"]),
@@ -266,6 +437,7 @@ class DomainModel:
                 gravity_threshold_in_sample_rad=float(info["gravity_threshold_in_sample_rad"]),
                 arrays=arr,
                 summary=dict(info.get("summary") or {}),
+                dynamics=dyn,
             )
         except ModelError:
             raise
@@ -320,7 +492,18 @@ class DomainModel:
         """Angle (rad) of each gravity unit vector (rows, phone frame) to the nearest training direction."""
         return _nearest_angle(np.asarray(gravity, dtype=float).reshape(-1, 3), self.arrays["gravity_dirs"])
 
-    def check(self, X, gravity=None) -> dict[str, np.ndarray]:
+    def dynamics_distances(self, dynamics) -> np.ndarray:
+        """Window dynamics distance of every row of ``dynamics`` (:func:`orientation_dynamics`); inf for non-finite rows."""
+        if self.dynamics is None:
+            raise ModelError("this model's domain record has no orientation-dynamics part; retrain the model to get it.")
+        Q = np.asarray(dynamics, dtype=float).reshape(-1, len(DYNAMICS_NAMES))
+        finite = np.isfinite(Q).all(axis=1)
+        Z = (np.where(finite[:, None], Q, 0.0) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
+        d = _min_mahalanobis(Z, self.arrays["dyn_means"], self.arrays["dyn_precisions"])
+        d[~finite] = np.inf
+        return d
+
+    def check(self, X, gravity=None, dynamics=None) -> dict[str, np.ndarray]:
         """In-domain flags of windows.
 
         Parameters
@@ -328,21 +511,33 @@ class DomainModel:
         X : (k, p) features of the windows (``feature_names`` order, raw units).
         gravity : (k, 3) window gravity unit vectors (:func:`window_gravity`), optional;
             needed when ``gravity_check`` is on.
+        dynamics : (k, 13) :func:`orientation_dynamics` of the windows, **all of one
+            recording in time order** (the decision uses the running median over the
+            last ``dynamics["span"]`` windows); checked when the record has a dynamics
+            part and this is given (``gaitml predict`` always gives it). Without it the
+            dynamics part is not checked (one-window callers).
 
         Returns
         -------
-        dict with ``distance`` (k,), ``gravity_angle_rad`` (k,; NaN when not checked)
-        and ``in_domain`` (k,) bool.
+        dict with ``distance`` (k,), ``gravity_angle_rad`` (k,; NaN when not checked),
+        ``dynamics_distance`` (k,; the running median, NaN when not checked) and
+        ``in_domain`` (k,) bool.
         """
         d = self.distances(X)
         ok = d <= self.distance_threshold
+        dyn = np.full(len(d), np.nan)
+        if self.dynamics is not None and dynamics is not None:
+            dyn = running_median(self.dynamics_distances(dynamics), self.dynamics["span"])
+            if len(dyn) != len(d):
+                raise ModelError(f"the domain check got {len(d)} feature rows and {len(dyn)} dynamics rows; pass one row per window.")
+            ok &= dyn <= self.dynamics["threshold"]
         if not self.gravity_check:
-            return {"distance": d, "gravity_angle_rad": np.full(len(d), np.nan), "in_domain": ok}
+            return {"distance": d, "gravity_angle_rad": np.full(len(d), np.nan), "dynamics_distance": dyn, "in_domain": ok}
         if gravity is None:
             raise ModelError("this model's domain checks the gravity direction; pass the window gravity (window_gravity).")
         ang = self.gravity_angles(gravity)
         ok &= ang <= self.gravity_threshold_rad  # a NaN angle (no gravity direction) compares False: out of domain
-        return {"distance": d, "gravity_angle_rad": ang, "in_domain": ok}
+        return {"distance": d, "gravity_angle_rad": ang, "dynamics_distance": dyn, "in_domain": ok}
 
 
 def fit_domain(
@@ -357,6 +552,8 @@ def fit_domain(
     positions=None,
     quantile: float = DEFAULT_QUANTILE,
     seed: int = 0,
+    dynamics=None,
+    sequence=None,
 ) -> DomainModel:
     """Fit the domain record of a training set (see the module docstring).
 
@@ -371,6 +568,12 @@ def fit_domain(
     positions : (n,) carrying position of every window, optional (``"unknown"``).
     quantile : threshold quantile of the held-out distances (0.5-1).
     seed : seeds the gravity-direction subset.
+    dynamics : (n, 13) :func:`orientation_dynamics` of the windows, optional: when
+        given, the orientation-dynamics part is recorded (one Gaussian per
+        ``mode|position``, threshold = the quantile of the held-out running medians
+        over :data:`DYNAMICS_SPAN` windows).
+    sequence : (n,) recording of every window (the running median never crosses
+        recordings); needed with ``dynamics``. Rows of one recording must be in time order.
     """
     from sklearn.model_selection import GroupKFold
 
@@ -383,6 +586,10 @@ def fit_domain(
         raise ModelError(f"fit_domain needs matching rows (X {n}, y {len(y)}, groups {len(groups)}, gravity {len(gravity)}), at least 2.")
     if not 0.5 <= float(quantile) < 1.0:
         raise ModelError(f"domain quantile must be in [0.5, 1), got {quantile}.")
+    if dynamics is not None:
+        dynamics = np.asarray(dynamics, dtype=float)
+        if dynamics.shape != (n, len(DYNAMICS_NAMES)) or sequence is None or len(sequence) != n:
+            raise ModelError(f"fit_domain needs dynamics of shape ({n}, {len(DYNAMICS_NAMES)}) and one sequence id per window.")
     rng = np.random.default_rng(seed)
     classes = sorted({str(c) for c in y})
     gravity_check = frame == "phone"
@@ -390,8 +597,14 @@ def fit_domain(
     k = min(HELDOUT_FOLDS, len(ug))
     held_d = np.full(n, np.nan)
     held_a = np.full(n, np.nan)
+    held_q = np.full(n, np.nan)
+    pos = np.full(n, "unknown", dtype=object) if positions is None else np.asarray(positions).astype(str)
+    dyn_labels = np.char.add(np.char.add(y.astype(str), "|"), pos.astype(str)) if dynamics is not None else None
+    dyn_ok = np.isfinite(dynamics).all(axis=1) if dynamics is not None else None
     if k >= 2:
         for tr, te in GroupKFold(n_splits=k).split(X, y, groups):
+            if dynamics is not None:
+                held_q[te] = _dynamics_fit_distance(dynamics, dyn_labels, dyn_ok, tr, te)
             c, s = _standardiser(X[tr])
             means, precs = _class_gaussians((X[tr] - c) / s, y[tr], sorted(set(y[tr])))
             held_d[te] = _min_mahalanobis((X[te] - c) / s, means, precs)
@@ -413,7 +626,6 @@ def fit_domain(
     gmean = gravity[fin].mean(axis=0) if fin.any() else np.array([0.0, 0.0, 1.0])
     gmean = gmean / max(float(np.linalg.norm(gmean)), 1e-12)
     to_mean = np.degrees(np.arccos(np.clip(gravity[fin] @ gmean, -1, 1))) if fin.any() else np.zeros(1)
-    pos = np.full(n, "unknown", dtype=object) if positions is None else np.asarray(positions).astype(str)
     pos_counts = {str(p): int((pos == p).sum()) for p in sorted(set(pos))}
     summary = {
         "n_windows": int(n),
@@ -424,6 +636,25 @@ def fit_domain(
         "gravity_directions_kept": int(len(dirs)),
         "distance_threshold_heldout_vs_in_sample": [float(np.nanquantile(held_d, q)), float(np.quantile(in_d, q))],
     }
+    dyn_record = None
+    dyn_arrays: dict = {}
+    if dynamics is not None:
+        every = np.arange(n)
+        in_q = _dynamics_fit_distance(dynamics, dyn_labels, dyn_ok, every, every)
+        seq = np.asarray(sequence).astype(str)
+        span_held = running_median(held_q if k >= 2 else in_q, DYNAMICS_SPAN, seq)
+        span_in = running_median(in_q, DYNAMICS_SPAN, seq)
+        labels = sorted(set(dyn_labels[dyn_ok]))
+        c_q, s_q = _standardiser(dynamics[dyn_ok])
+        m_q, p_q = _class_gaussians((dynamics[dyn_ok] - c_q) / s_q, dyn_labels[dyn_ok], labels)
+        dyn_record = {
+            "labels": labels,
+            "span": DYNAMICS_SPAN,
+            "threshold": float(np.nanquantile(span_held, q)),
+            "threshold_in_sample": float(np.nanquantile(span_in, q)),
+        }
+        dyn_arrays = {"dyn_center": c_q, "dyn_scale": s_q, "dyn_means": m_q, "dyn_precisions": p_q}
+        summary["dynamics_threshold_heldout_vs_in_sample"] = [dyn_record["threshold"], dyn_record["threshold_in_sample"]]
     return DomainModel(
         feature_set=feature_set,
         frame=frame,
@@ -444,9 +675,22 @@ def fit_domain(
             "gravity_dirs": dirs if len(dirs) else np.zeros((0, 3)),
             "feature_lo": np.quantile(X, 0.005, axis=0),
             "feature_hi": np.quantile(X, 0.995, axis=0),
+            **dyn_arrays,
         },
         summary=summary,
+        dynamics=dyn_record,
     )
+
+
+def _dynamics_fit_distance(Q, labels, ok, tr, te) -> np.ndarray:
+    """Dynamics distances of rows ``te`` to Gaussians fitted on rows ``tr`` (finite rows only; inf for non-finite ``te`` rows)."""
+    tr = tr[ok[tr]]
+    c, s = _standardiser(Q[tr])
+    means, precs = _class_gaussians((Q[tr] - c) / s, labels[tr], sorted(set(labels[tr])))
+    out = np.full(len(te), np.inf)
+    good = ok[te]
+    out[good] = _min_mahalanobis((Q[te][good] - c) / s, means, precs)
+    return out
 
 
 def domain_from_model_info(info: dict, arrays: dict[str, np.ndarray]) -> DomainModel | None:

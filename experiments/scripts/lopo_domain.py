@@ -1,8 +1,8 @@
 """Leave one carrying position out: which domain check flags a position the model was not trained on? (issue 12)
 
-Run from the repository root (about 3-4 minutes on an idle machine)::
+Run from the repository root (about 4-5 minutes on an idle machine)::
 
-    python -m experiments.scripts.lopo_domain [--out FILE] [--cache DIR]
+    python -m experiments.scripts.lopo_domain [--data ../shared/data] [--out FILE] [--cache DIR]
 
 Protocol (the one of ``domain_report --positions``): 8 simulated training subjects
 (seed 1000) and 4 test subjects (seed 2024), 120 s in each of the seven positions of
@@ -27,9 +27,14 @@ Candidates (window level unless said otherwise):
 - ``posgauss/<repr>``: one Gaussian per (mode, position);
 - ``knn/<repr>``: distance to the k-th nearest of a set of k-means prototypes of the
   standardised training windows;
-- ``.../span``: the window distances aggregated over a running span (median of the
-  last 10 windows of the recording, about 7.5 s) before thresholding; the threshold is
-  the 0.99 quantile of the held-out span medians.
+- ``.../spanN``: the window distances aggregated over a running span (median of the
+  last N windows of the recording, N x 0.75 s) before thresholding; the threshold is
+  the 0.99 quantile of the held-out span medians;
+- ``recorded``: what ``gaitml train`` now records for a gyroscope model
+  (:func:`fit_domain` with ``dynamics``): today's check plus ``posgauss/odyn/span20``.
+
+Then the accelerometer-only descriptors on the real Oxford walks (no gyroscope there),
+and the cost of the check in ``predict_recording``.
 """
 
 from __future__ import annotations
@@ -303,3 +308,202 @@ CANDIDATES.update(
         "knn/odyn-acc": ("odyn-acc", lambda: KNN()),
     }
 )
+
+
+# ---------------------------------------------------------------- report
+def lopo_tables(df: pd.DataFrame) -> str:
+    """Three markdown tables (checks x left-out positions): left-out flagged, left-out silently wrong, trained flagged."""
+    keep = [c for c in dict.fromkeys(df["check"]) if "/span" not in c or "odyn" in c or c.endswith("/span20")]
+    order = list(dict.fromkeys(df["left out"]))
+    out = []
+    for col, title in (
+        ("left-out flagged", "left-out position: windows flagged"),
+        ("left-out silently wrong", "left-out position: windows silently wrong (not flagged, mode wrong)"),
+        ("trained flagged", "new subjects of the trained positions: windows flagged (false alarms)"),
+    ):
+        pv = df.pivot(index="check", columns="left out", values=col).loc[keep, order]
+        lines = ["| check | " + " | ".join(order) + " |", "|---|" + "---:|" * len(order)]
+        lines += ["| " + k + " | " + " | ".join(f"{100 * v:.1f} %" for v in pv.loc[k]) + " |" for k in keep]
+        out.append(f"#### {title}\n\n" + "\n".join(lines))
+    base = df.groupby("left out")[["left-out mode wrong (no check)", "trained mode wrong (no check)"]].first().loc[order]
+    lines = ["| | " + " | ".join(order) + " |", "|---|" + "---:|" * len(order)]
+    for c, lab in (
+        ("left-out mode wrong (no check)", "left-out position, mode wrong"),
+        ("trained mode wrong (no check)", "trained positions (new subjects), mode wrong"),
+    ):
+        lines.append(f"| {lab} | " + " | ".join(f"{100 * v:.1f} %" for v in base[c]) + " |")
+    out.append(
+        "#### the classifier without any check (linear OVO SVM, all52+gyro, phone frame, trained on the six positions)\n\n"
+        + "\n".join(lines)
+    )
+    return "\n\n".join(out)
+
+
+OXFORD = {
+    "inhand": "InHand",
+    "frontpocket": "FrontPocket",
+    "backpocket": "BackPocket",
+    "purse": "Purse",
+    "swingingarm": "SwingingArm",
+    "neckpouch": "NeckPouch",
+    "armband": "Armband",
+}
+
+
+def oxford_table(D, data: Path, span: int = 20) -> pd.DataFrame:
+    """Accelerometer-only descriptors (no gyroscope on the Oxford phones): per-(mode, position) Gaussians fitted on all seven simulated positions."""
+    from gaitml.io import read_dataset
+    from gaitml.models._dataset import resample_recording
+    from gaitml.models.domain import orientation_dynamics
+
+    Xtr = D["tr_odyn"][:, :ODYN_ACC]
+    make = lambda: Gauss(by_position=True)  # noqa: E731
+    hd = heldout_distances(make, Xtr, D["tr_y"], D["tr_pos"], D["tr_g"])
+    thr_w = np.quantile(hd, QUANTILE)
+    thr_s = np.quantile(span_median(hd, D["tr_rec"], D["tr_start"], span), QUANTILE)
+    m = make().fit(Xtr, D["tr_y"], D["tr_pos"])
+    dte = m.dist(D["te_odyn"][:, :ODYN_ACC])
+    rows = [
+        {
+            "data": "simulated new subjects, all seven positions (trained)",
+            "windows": len(dte),
+            "flagged (window)": float(np.mean(dte > thr_w)),
+            f"flagged (span {span})": float(np.mean(span_median(dte, D["te_rec"], D["te_start"], span) > thr_s)),
+        }
+    ]
+    ox = data / "oxford-step-counter" / "optimisation"
+    if not ox.exists():
+        return pd.DataFrame(rows)
+    by: dict[str, list] = {}
+    for r in read_dataset(ox):
+        by.setdefault(OXFORD.get(str(r.meta.get("position", "")).lower(), str(r.meta.get("position"))), []).append(r)
+    for pos in OXFORD.values():
+        fw, fs, n = 0, 0, 0
+        for r in by.get(pos, []):
+            r = resample_recording(r, 50.0)
+            starts = np.arange(0, len(r.acc) - 75 + 1, 37)  # 1.5 s windows, 50 % overlap (as predict: hop 37 samples)
+            q = orientation_dynamics(r.acc, np.zeros_like(r.acc), starts, starts + 75, 50.0)[:, :ODYN_ACC]
+            d = m.dist(q)
+            fw += int((d > thr_w).sum())
+            fs += int((span_median(d, np.zeros(len(d)), starts, span) > thr_s).sum())
+            n += len(d)
+        if n:
+            sim = {
+                "InHand": "hand",
+                "FrontPocket": "front-pocket",
+                "BackPocket": "back-pocket",
+                "Purse": "bag",
+                "SwingingArm": "swinging-hand",
+            }
+            trained = f"trained (simulated {sim[pos]})" if pos in sim else "not trained"
+            rows.append(
+                {
+                    "data": f"Oxford {pos} ({len(by[pos])} walks), {trained}",
+                    "windows": n,
+                    "flagged (window)": fw / n,
+                    f"flagged (span {span})": fs / n,
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def cost_table(D, repeats: int = 5) -> pd.DataFrame:
+    """predict_recording of a 10-minute recording with models/demo: no domain, its domain, its domain plus a dynamics part."""
+    import dataclasses
+
+    from gaitml.features import feature_names
+    from gaitml.models import load_model, predict_recording
+    from gaitml.models.domain import fit_domain
+    from gaitml.simulate import simulate_dataset
+
+    root = Path(__file__).resolve().parents[2]
+    model = load_model(root / "models" / "demo")
+    dyn = fit_domain(
+        D["tr_X_phone"],
+        D["tr_y"],
+        D["tr_g"],
+        D["tr_grav"],
+        feature_names=feature_names("all52+gyro"),
+        feature_set="all52+gyro",
+        frame="phone",
+        positions=D["tr_pos"],
+        seed=1000,
+        dynamics=D["tr_odyn"],
+        sequence=D["tr_rec"],
+    )
+    base = model.domain
+    with_dyn = dataclasses.replace(
+        base, dynamics=dyn.dynamics, arrays={**base.arrays, **{k: v for k, v in dyn.arrays.items() if k.startswith("dyn_")}}
+    )
+    rec = simulate_dataset(n_subjects=1, duration_s=600.0, pose="mixed", seed=77)[0]
+    n = len(predict_recording(model, rec))
+    rows = []
+    for label, dom in (("no domain check", None), ("today's check", base), ("today's check + orientation dynamics", with_dyn)):
+        model.domain = dom
+        best = np.inf
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            predict_recording(model, rec)
+            best = min(best, time.perf_counter() - t0)
+        rows.append({"predict (10 min at 50 Hz)": label, f"best of {repeats} (s)": best, "windows/s": n / best})
+    model.domain = base
+    return pd.DataFrame(rows)
+
+
+def _md(df: pd.DataFrame) -> str:
+    cols = list(df.columns)
+    lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" if df[c].dtype == object else "---:" for c in cols) + "|"]
+    for _, r in df.iterrows():
+        cells = []
+        for c in cols:
+            v = r[c]
+            if isinstance(v, float):
+                cells.append(f"{100 * v:.1f} %" if c.startswith("flagged") else f"{v:.4g}")
+            else:
+                cells.append(str(v))
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description="Leave one carrying position out: candidate domain checks (issue 12).")
+    ap.add_argument("--data", type=Path, default=Path(__file__).resolve().parents[3] / "shared" / "data", help="the shared data folder")
+    ap.add_argument("--out", type=Path, help="write the tables as markdown to this file")
+    ap.add_argument("--cache", type=Path, help="keep the simulated windows here (npz) for a rerun")
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    D = build(args.cache)
+    cands = [
+        "gauss/grav",
+        "posgauss/grav",
+        "pca10-gauss/grav",
+        "knn/grav",
+        "gauss/odyn",
+        "posgauss/odyn",
+        "knn/odyn",
+        "posgauss/odyn-acc",
+        "knn/odyn-acc",
+    ]
+    df = run(D, candidates=cands, spans=(10, 20, 40))
+    print("oxford ...", file=sys.stderr, flush=True)
+    ox = oxford_table(D, args.data)
+    print("cost ...", file=sys.stderr, flush=True)
+    cost = cost_table(D)
+    text = "\n\n".join(
+        [
+            "### Leave one position out (8 training subjects seed 1000, 4 test subjects seed 2024, 120 s per position)\n\n"
+            + lopo_tables(df),
+            "### Accelerometer-only descriptors on real walking (per-(mode, position) Gaussians on all seven simulated positions)\n\n"
+            + _md(ox),
+            "### Cost of the check\n\n" + _md(cost),
+            f"(run time {time.perf_counter() - t0:.0f} s)",
+        ]
+    )
+    print(text)
+    if args.out:
+        args.out.write_text(text + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -108,6 +108,9 @@ _DYN_ARRAYS = ("dyn_center", "dyn_scale", "dyn_means", "dyn_precisions")
 DYNAMICS_SPAN = 20
 #: Length (s) of the chunks whose gravity directions give the within-window spread.
 DYNAMICS_CHUNK_S = 0.3
+#: The descriptors are computed from the signals taken at about this rate (every ``floor(fs / 25)``-th
+#: sample): they describe slow orientation changes, and half the samples halve the cost of the check.
+DYNAMICS_RATE_HZ = 25.0
 #: The orientation-dynamics descriptors (:func:`orientation_dynamics`), in order.
 DYNAMICS_NAMES = (
     "gravity_spread_deg",
@@ -124,6 +127,9 @@ DYNAMICS_NAMES = (
     "gyr_axis_share",
     "gyr_horizontal_main_share",
 )
+
+
+_TRIU_INDEX = {(int(i), int(j)): n for n, (i, j) in enumerate(zip(*np.triu_indices(3), strict=True))}
 
 
 def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.ndarray:
@@ -144,63 +150,108 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     10. share of the rotation-rate variance about ``g``, 11. its largest eigenvalue share,
         12. its share about the main horizontal acceleration axis.
 
+    The signals are first taken at every ``step = max(1, floor(fs / DYNAMICS_RATE_HZ))``-th
+    sample (samples 0, step, 2 step, ...; a window keeps the kept samples inside it).
     All are unchanged by a constant rotation of the phone. Ours (issue 12), not from a paper.
     """
-    acc = np.asarray(acc, dtype=float)
-    gyr = np.asarray(gyr, dtype=float)
-    starts = np.asarray(starts, dtype=np.int64).reshape(-1)
-    ends = np.asarray(ends, dtype=np.int64).reshape(-1)
-    out = np.full((len(starts), len(DYNAMICS_NAMES)), np.nan)
+    step = max(1, int(float(sampling_rate_hz) // DYNAMICS_RATE_HZ))
+    acc = np.asarray(acc, dtype=float)[::step]
+    gyr = np.asarray(gyr, dtype=float)[::step]
+    starts = -(-np.asarray(starts, dtype=np.int64).reshape(-1) // step)  # first kept sample at or after the start
+    ends = -(-np.asarray(ends, dtype=np.int64).reshape(-1) // step)
+    sampling_rate_hz = float(sampling_rate_hz) / step
+    k = len(starts)
+    if not k:
+        return np.zeros((0, len(DYNAMICS_NAMES)))
     chunk = max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz))))
-    lengths = ends - starts
-    for length in np.unique(lengths):  # time windows: one length; step windows: a few
-        if length < 2:
-            continue
-        rows = np.flatnonzero(lengths == length)
-        idx = starts[rows, None] + np.arange(int(length))[None, :]
-        out[rows] = _dynamics_equal(acc[idx], gyr[idx], chunk)
-    return out
+    # every statistic is a moment over the window: prefix sums (of data centred on the recording mean,
+    # which changes no central moment) give all windows at once, whatever their lengths
+    a0 = acc.mean(axis=0)
+    w0 = gyr.mean(axis=0)
+    A = acc - a0
+    W = gyr - w0
+    iu = np.triu_indices(3)
+    it = [(i, j, m) for i in range(3) for j in range(i, 3) for m in range(j, 3)]
+    At, Wt = np.ascontiguousarray(A.T), np.ascontiguousarray(W.T)
+    data = np.empty((31, len(acc)))  # one row per product (rows contiguous: a fast cumulative sum)
+    data[0:3] = At
+    data[3:9] = At[iu[0]] * At[iu[1]]
+    for n, (i, j, m) in enumerate(it):
+        np.multiply(data[3 + _TRIU_INDEX[(i, j)]], At[m], out=data[9 + n])
+    data[19:22] = Wt
+    data[22:28] = Wt[iu[0]] * Wt[iu[1]]
+    data[29] = (gyr * gyr).sum(axis=1)
+    data[28] = np.sqrt(data[29])
+    cum = np.zeros((31, len(acc) + 1))
+    np.cumsum(data, axis=1, out=cum[:, 1:])
+    L = np.maximum(ends - starts, 1).astype(float)
+    M = (cum[:, ends] - cum[:, starts]).T / L[:, None]  # window means of every product
+    o = np.cumsum([0, 3, 6, 10, 3, 6, 1, 1])
+    m1, m2, m3 = M[:, o[0] : o[1]], M[:, o[1] : o[2]], M[:, o[2] : o[3]]
+    w1, w2, gmag, gsq = M[:, o[3] : o[4]], M[:, o[4] : o[5]], M[:, o[5]], M[:, o[6]]
 
+    def _sym(mu, second):  # central covariance (k, 3, 3) from the means of x and of its products
+        S = np.zeros((len(mu), 3, 3))
+        S[:, iu[0], iu[1]] = second
+        S[:, iu[1], iu[0]] = second
+        return S - mu[:, :, None] * mu[:, None, :]
 
-def _dynamics_equal(A: np.ndarray, W: np.ndarray, chunk: int) -> np.ndarray:
-    """:func:`orientation_dynamics` of equal-length windows ``A``, ``W`` (k, L, 3)."""
-    k, L, _ = A.shape
-    g = A.mean(axis=1)
+    cov = _sym(m1, m2)
+    g = m1 + a0
     g = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-9)
-    nch = max(1, L // chunk)
-    C = A[:, : nch * chunk].reshape(k, nch, -1, 3).mean(axis=2) if L >= chunk else A.mean(axis=1, keepdims=True)
-    C = C / np.maximum(np.linalg.norm(C, axis=2, keepdims=True), 1e-9)
-    ang = np.degrees(np.arccos(np.clip((C * g[:, None, :]).sum(axis=2), -1.0, 1.0)))
-    v = (A * g[:, None, :]).sum(axis=2)
-    H = A - v[:, :, None] * g[:, None, :]
-    v0 = v - v.mean(axis=1, keepdims=True)
-    H0 = H - H.mean(axis=1, keepdims=True)
-    var_v = (v0 * v0).mean(axis=1)
-    ev, evec = np.linalg.eigh(np.einsum("kli,klj->kij", H0, H0) / L)  # ascending; the smallest ~0 (vertical)
+    # third central moment of v = a . g: E[(v - mv)^3] = sum g_i g_j g_m E[(a - mu)_i (a - mu)_j (a - mu)_m]
+    T = np.zeros((k, 3, 3, 3))
+    for n, (i, j, m) in enumerate(it):
+        for p in {(i, j, m), (i, m, j), (j, i, m), (j, m, i), (m, i, j), (m, j, i)}:
+            T[(slice(None), *p)] = m3[:, n]
+    mu = m1
+    raw3 = np.einsum("kijm,ki,kj,km->k", T, g, g, g)
+    mv = (mu * g).sum(axis=1)
+    ev2 = np.einsum("kij,ki,kj->k", cov, g, g) + mv * mv  # E[v^2] (centred data)
+    third = raw3 - 3 * mv * ev2 + 2 * mv**3
+    var_v = np.einsum("kij,ki,kj->k", cov, g, g)
+    P = np.eye(3)[None] - g[:, :, None] * g[:, None, :]
+    cov_h = P @ cov @ P
+    ev, evec = np.linalg.eigh(cov_h)  # ascending; the smallest ~0 (vertical)
     var_h = ev.sum(axis=1)
     main = evec[:, :, 2]
-    h1 = (H0 * main[:, None, :]).sum(axis=2)
-    mag = np.linalg.norm(W, axis=2)
-    W0 = W - W.mean(axis=1, keepdims=True)
-    cw = np.einsum("kli,klj->kij", W0, W0) / L
+    cov_vh1 = np.einsum("kij,ki,kj->k", cov, g, main)
+    cw = _sym(w1, w2)
     tot = np.maximum(np.trace(cw, axis1=1, axis2=2), 1e-12)
-    return np.column_stack(
+    # chunk gravity directions: means of A over [start + c chunk, start + (c + 1) chunk)
+    nch = np.maximum(1, (ends - starts) // chunk)
+    ang_mean = np.zeros(k)
+    ang_max = np.zeros(k)
+    cs = np.ascontiguousarray(cum[:3].T)
+    for nc in np.unique(nch):
+        rows = np.flatnonzero(nch == nc)
+        short = (ends[rows] - starts[rows]) < chunk  # a window shorter than a chunk: one chunk, the window
+        c0 = starts[rows, None] + chunk * np.arange(nc)[None, :]
+        c1 = np.where(short[:, None], ends[rows, None], c0 + chunk)
+        C = (cs[c1] - cs[c0]) / np.maximum(c1 - c0, 1)[:, :, None] + a0
+        C = C / np.maximum(np.linalg.norm(C, axis=2, keepdims=True), 1e-9)
+        ang = np.degrees(np.arccos(np.clip((C * g[rows, None, :]).sum(axis=2), -1.0, 1.0)))
+        ang_mean[rows] = ang.mean(axis=1)
+        ang_max[rows] = ang.max(axis=1)
+    out = np.column_stack(
         [
-            ang.mean(axis=1),
+            ang_mean,
             np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9)),
-            np.abs((v0 * h1).mean(axis=1) / np.sqrt(np.maximum(var_v * ev[:, 2], 1e-12))),
+            np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * ev[:, 2], 1e-12))),
             ev[:, 1] / np.maximum(ev[:, 2], 1e-12),
             0.5 * np.log(np.maximum(var_v, 1e-12)),
             0.5 * np.log(np.maximum(var_h, 1e-12)),
-            ang.max(axis=1),
-            (v0**3).mean(axis=1) / np.maximum(var_v, 1e-12) ** 1.5,
-            np.log(np.maximum(mag.mean(axis=1), 1e-6)),
-            np.log(np.maximum(mag.std(axis=1), 1e-6)),
+            ang_max,
+            third / np.maximum(var_v, 1e-12) ** 1.5,
+            np.log(np.maximum(gmag, 1e-6)),
+            0.5 * np.log(np.maximum(gsq - gmag * gmag, 1e-12)),
             np.einsum("kij,ki,kj->k", cw, g, g) / tot,
             np.linalg.eigvalsh(cw)[:, 2] / tot,
             np.einsum("kij,ki,kj->k", cw, main, main) / tot,
         ]
     )
+    out[(ends - starts) < 2] = np.nan
+    return out
 
 
 def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
@@ -218,10 +269,11 @@ def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
         rows = np.flatnonzero(seq == s)
         pad = np.concatenate([np.full(span - 1, np.nan), d[rows]])
         win = np.lib.stride_tricks.sliding_window_view(pad, span)
-        fin = np.isfinite(win).any(axis=1)
-        if fin.any():
-            with np.errstate(all="ignore"):
-                out[rows[fin]] = np.nanmedian(win[fin], axis=1)
+        full = ~np.isnan(win).any(axis=1)
+        out[rows[full]] = np.median(win[full], axis=1)  # the common case, fast
+        part = ~full & ~np.isnan(win).all(axis=1)
+        if part.any():
+            out[rows[part]] = np.nanmedian(win[part], axis=1)
     return out
 
 
@@ -499,7 +551,19 @@ class DomainModel:
         Q = np.asarray(dynamics, dtype=float).reshape(-1, len(DYNAMICS_NAMES))
         finite = np.isfinite(Q).all(axis=1)
         Z = (np.where(finite[:, None], Q, 0.0) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
-        d = _min_mahalanobis(Z, self.arrays["dyn_means"], self.arrays["dyn_precisions"])
+        cache = getattr(self, "_dyn_cache", None)
+        if cache is None:  # stacked Cholesky factors, as in distances(): one matrix product for every Gaussian
+            try:
+                chol = np.linalg.cholesky(self.arrays["dyn_precisions"])
+            except np.linalg.LinAlgError as exc:
+                raise ModelError("the domain record's dynamics precision matrices are not positive definite; retrain the model.") from exc
+            cache = (
+                np.ascontiguousarray(np.concatenate(list(chol), axis=1)),
+                np.concatenate([m @ c for m, c in zip(self.arrays["dyn_means"], chol, strict=True)]),
+            )
+            object.__setattr__(self, "_dyn_cache", cache)
+        Y = (Z @ cache[0] - cache[1]).reshape(len(Z), -1, Q.shape[1])
+        d = np.sqrt((Y * Y).sum(axis=2).min(axis=1))
         d[~finite] = np.inf
         return d
 

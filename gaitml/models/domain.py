@@ -182,10 +182,14 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     data[22:28] = Wt[iu[0]] * Wt[iu[1]]
     data[29] = (gyr * gyr).sum(axis=1)
     data[28] = np.sqrt(data[29])
-    cum = np.zeros((31, len(acc) + 1))
-    np.cumsum(data, axis=1, out=cum[:, 1:])
+    # sums up to every window start and end: sums of the segments between consecutive ones (a fast
+    # vectorised reduction), then a running sum over the few segments
+    inner = np.unique(np.concatenate([[0], starts, ends]))
+    inner = inner[inner < len(acc)]
+    cum = np.zeros((31, len(inner) + 1))
+    np.cumsum(np.add.reduceat(data, inner, axis=1), axis=1, out=cum[:, 1:])
     L = np.maximum(ends - starts, 1).astype(float)
-    M = (cum[:, ends] - cum[:, starts]).T / L[:, None]  # window means of every product
+    M = (cum[:, np.searchsorted(inner, ends)] - cum[:, np.searchsorted(inner, starts)]).T / L[:, None]  # window means of every product
     o = np.cumsum([0, 3, 6, 10, 3, 6, 1, 1])
     m1, m2, m3 = M[:, o[0] : o[1]], M[:, o[1] : o[2]], M[:, o[2] : o[3]]
     w1, w2, gmag, gsq = M[:, o[3] : o[4]], M[:, o[4] : o[5]], M[:, o[5]], M[:, o[6]]
@@ -199,22 +203,30 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     cov = _sym(m1, m2)
     g = m1 + a0
     g = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-9)
-    # third central moment of v = a . g: E[(v - mv)^3] = sum g_i g_j g_m E[(a - mu)_i (a - mu)_j (a - mu)_m]
-    T = np.zeros((k, 3, 3, 3))
-    for n, (i, j, m) in enumerate(it):
-        for p in {(i, j, m), (i, m, j), (j, i, m), (j, m, i), (m, i, j), (m, j, i)}:
-            T[(slice(None), *p)] = m3[:, n]
-    mu = m1
-    raw3 = np.einsum("kijm,ki,kj,km->k", T, g, g, g)
-    mv = (mu * g).sum(axis=1)
-    ev2 = np.einsum("kij,ki,kj->k", cov, g, g) + mv * mv  # E[v^2] (centred data)
-    third = raw3 - 3 * mv * ev2 + 2 * mv**3
+    # third central moment of v = a . g: E[v'^3] = sum over the unique (i <= j <= m) of multiplicity x g_i g_j g_m x E[a_i a_j a_m]
+    raw3 = sum(
+        len({(i, j, m), (i, m, j), (j, i, m), (j, m, i), (m, i, j), (m, j, i)}) * g[:, i] * g[:, j] * g[:, m] * m3[:, n]
+        for n, (i, j, m) in enumerate(it)
+    )
+    mv = (m1 * g).sum(axis=1)
     var_v = np.einsum("kij,ki,kj->k", cov, g, g)
-    P = np.eye(3)[None] - g[:, :, None] * g[:, None, :]
-    cov_h = P @ cov @ P
-    ev, evec = np.linalg.eigh(cov_h)  # ascending; the smallest ~0 (vertical)
-    var_h = ev.sum(axis=1)
-    main = evec[:, :, 2]
+    ev2 = var_v + mv * mv  # E[v^2] (centred data)
+    third = raw3 - 3 * mv * ev2 + 2 * mv**3
+    # the horizontal covariance in a basis (u1, u2) of the plane normal to g: a 2 x 2 eigenproblem in closed form
+    e = np.eye(3)[np.argmin(np.abs(g), axis=1)]
+    u1 = e - (e * g).sum(axis=1, keepdims=True) * g
+    u1 /= np.linalg.norm(u1, axis=1, keepdims=True)
+    u2 = np.cross(g, u1)
+    h11 = np.einsum("kij,ki,kj->k", cov, u1, u1)
+    h22 = np.einsum("kij,ki,kj->k", cov, u2, u2)
+    h12 = np.einsum("kij,ki,kj->k", cov, u1, u2)
+    half = 0.5 * (h11 - h22)
+    rad = np.sqrt(half * half + h12 * h12)
+    lam1 = 0.5 * (h11 + h22) + rad  # largest horizontal eigenvalue
+    lam2 = 0.5 * (h11 + h22) - rad
+    theta = 0.5 * np.arctan2(2.0 * h12, h11 - h22)
+    main = np.cos(theta)[:, None] * u1 + np.sin(theta)[:, None] * u2
+    var_h = h11 + h22
     cov_vh1 = np.einsum("kij,ki,kj->k", cov, g, main)
     cw = _sym(w1, w2)
     tot = np.maximum(np.trace(cw, axis1=1, axis2=2), 1e-12)
@@ -222,7 +234,8 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     nch = np.maximum(1, (ends - starts) // chunk)
     ang_mean = np.zeros(k)
     ang_max = np.zeros(k)
-    cs = np.ascontiguousarray(cum[:3].T)
+    cs = np.zeros((len(acc) + 1, 3))
+    np.cumsum(A, axis=0, out=cs[1:])
     for nc in np.unique(nch):
         rows = np.flatnonzero(nch == nc)
         short = (ends[rows] - starts[rows]) < chunk  # a window shorter than a chunk: one chunk, the window
@@ -237,8 +250,8 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
         [
             ang_mean,
             np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9)),
-            np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * ev[:, 2], 1e-12))),
-            ev[:, 1] / np.maximum(ev[:, 2], 1e-12),
+            np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * lam1, 1e-12))),
+            np.maximum(lam2, 0.0) / np.maximum(lam1, 1e-12),
             0.5 * np.log(np.maximum(var_v, 1e-12)),
             0.5 * np.log(np.maximum(var_h, 1e-12)),
             ang_max,
@@ -246,12 +259,24 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
             np.log(np.maximum(gmag, 1e-6)),
             0.5 * np.log(np.maximum(gsq - gmag * gmag, 1e-12)),
             np.einsum("kij,ki,kj->k", cw, g, g) / tot,
-            np.linalg.eigvalsh(cw)[:, 2] / tot,
+            _largest_eigenvalue(cw) / tot,
             np.einsum("kij,ki,kj->k", cw, main, main) / tot,
         ]
     )
     out[(ends - starts) < 2] = np.nan
     return out
+
+
+def _largest_eigenvalue(S: np.ndarray) -> np.ndarray:
+    """Largest eigenvalue of symmetric 3 x 3 matrices (k, 3, 3), in closed form (trigonometric solution of the cubic)."""
+    q = np.trace(S, axis1=1, axis2=2) / 3.0
+    off = S[:, 0, 1] ** 2 + S[:, 0, 2] ** 2 + S[:, 1, 2] ** 2
+    dq = np.diagonal(S, axis1=1, axis2=2) - q[:, None]
+    p = np.sqrt(((dq * dq).sum(axis=1) + 2.0 * off) / 6.0)
+    safe = p > 1e-15 * (1.0 + np.abs(q))
+    B = (S - q[:, None, None] * np.eye(3)) / np.where(safe, p, 1.0)[:, None, None]
+    r = np.clip(np.linalg.det(B) / 2.0, -1.0, 1.0)
+    return np.where(safe, q + 2.0 * p * np.cos(np.arccos(r) / 3.0), q)
 
 
 def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:

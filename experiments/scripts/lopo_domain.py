@@ -1,6 +1,6 @@
 """Leave one carrying position out: which domain check flags a position the model was not trained on? (issue 12)
 
-Run from the repository root (about 4-5 minutes on an idle machine)::
+Run from the repository root (about 3 minutes on a nearly idle machine, 13 at load 4-5)::
 
     python -m experiments.scripts.lopo_domain [--data ../shared/data] [--out FILE] [--cache DIR]
 

@@ -445,7 +445,7 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     """
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
-    from gaitml.models.domain import fit_domain, span_gravity, window_gravity
+    from gaitml.models.domain import DYNAMICS_NAMES, fit_domain, orientation_dynamics, span_gravity, window_gravity
 
     frame = cfg["features"]["frame"]
     rec_idx = ds.recording_index
@@ -460,9 +460,13 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
         X = np.zeros((len(ds), len(feature_names(fset))))
     gravity = np.zeros((len(ds), 3))
     positions = np.empty(len(ds), dtype=object)
+    # the orientation-dynamics part needs the gyroscope (gaitml.models.domain; without it the check is weak)
+    dynamics = np.zeros((len(ds), len(DYNAMICS_NAMES))) if fset == "all52+gyro" else None
     for i in np.unique(rec_idx):
         rows = np.flatnonzero(rec_idx == i)
         rec = data.recordings[int(i)]
+        if dynamics is not None:
+            dynamics[rows] = orientation_dynamics(rec.acc, rec.gyr, starts[rows], ends[rows], rec.sampling_rate_hz)
         gravity[rows] = span_gravity(rec.acc, starts[rows], ends[rows]) if by_steps else window_gravity(rec.acc, starts[rows], length)
         positions[rows] = str(rec.meta.get("position") or "unknown")
         if model.input_kind != "features" and by_steps:
@@ -471,7 +475,17 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
             gyr = rec.gyr if fset == "all52+gyro" else None
             X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
     return fit_domain(
-        X, ds.y, ds.groups, gravity, feature_names=feature_names(fset), feature_set=fset, frame=frame, positions=positions, seed=cfg.seed
+        X,
+        ds.y,
+        ds.groups,
+        gravity,
+        feature_names=feature_names(fset),
+        feature_set=fset,
+        frame=frame,
+        positions=positions,
+        seed=cfg.seed,
+        dynamics=dynamics,
+        sequence=rec_idx,
     )
 
 

@@ -157,6 +157,14 @@ def _domain_lines(info: dict) -> list[str]:
             )
         else:
             lines.append("- Gravity check: off (gravity-frame features do not depend on the phone's orientation)")
+        dyn = dom.get("dynamics")
+        if isinstance(dyn, dict):
+            lines.append(
+                f"- Orientation dynamics (how the phone moves and turns; independent of how it is held): smallest Mahalanobis "
+                f"distance to {len(dyn['labels'])} mode|position Gaussians, median over the last {int(dyn['span'])} windows of the "
+                f"recording; threshold {float(dyn['threshold']):.2f} (held-out {float(dom['quantile']):g} quantile; in-sample "
+                f"{float(dyn['threshold_in_sample']):.2f}): a stretch carried unlike every training position is out of domain"
+            )
     except (KeyError, TypeError, ValueError):
         lines.append("- (the domain record is incomplete)")
     if sm.get("recorded"):

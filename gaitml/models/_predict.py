@@ -72,7 +72,21 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
 
         gyr = recording.gyr if "gyro" in dom.feature_set else None
         X = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
-    return checked_domain_columns(dom, X, window_gravity(recording.acc, starts, length) if dom.gravity_check else None)
+    return checked_domain_columns(
+        dom,
+        X,
+        window_gravity(recording.acc, starts, length) if dom.gravity_check else None,
+        recording_dynamics(dom, recording, starts, starts + length),
+    )
+
+
+def recording_dynamics(dom, recording: Recording, starts, ends) -> np.ndarray | None:
+    """:func:`gaitml.models.domain.orientation_dynamics` of the windows when the record checks them, else None."""
+    if getattr(dom, "dynamics", None) is None or recording.gyr is None:
+        return None
+    from gaitml.models.domain import orientation_dynamics
+
+    return orientation_dynamics(recording.acc, recording.gyr, starts, ends, recording.sampling_rate_hz)
 
 
 def unchecked_domain_columns(dom, n: int) -> dict[str, np.ndarray]:
@@ -81,9 +95,12 @@ def unchecked_domain_columns(dom, n: int) -> dict[str, np.ndarray]:
     return {"in_domain": flags, "domain_distance": np.full(n, np.nan), "gravity_angle_deg": np.full(n, np.nan)}
 
 
-def checked_domain_columns(dom, X: np.ndarray, gravity: np.ndarray | None) -> dict[str, np.ndarray]:
-    """The domain columns from :meth:`gaitml.models.domain.DomainModel.check` of features ``X`` and window ``gravity``."""
-    res = dom.check(X, gravity)
+def checked_domain_columns(dom, X: np.ndarray, gravity: np.ndarray | None, dynamics: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """The domain columns from :meth:`gaitml.models.domain.DomainModel.check` of features ``X``, window ``gravity`` and ``dynamics``.
+
+    ``dynamics`` rows are the windows of one recording in time order (the running median).
+    """
+    res = dom.check(X, gravity, dynamics)
     return {
         "in_domain": res["in_domain"].astype(object),
         "domain_distance": res["distance"],

@@ -142,7 +142,7 @@ def step_domain_columns(model, recording: Recording, windows: pd.DataFrame, X: n
     the mean gravity direction of each step's samples; ``X`` (the model's feature
     matrix of these windows) is reused when the domain is on the model's features.
     """
-    from gaitml.models._predict import checked_domain_columns, unchecked_domain_columns
+    from gaitml.models._predict import checked_domain_columns, recording_dynamics, unchecked_domain_columns
 
     dom = getattr(model, "domain", None)
     if dom is None or len(windows) == 0:
@@ -155,7 +155,14 @@ def step_domain_columns(model, recording: Recording, windows: pd.DataFrame, X: n
     gravity = (
         span_gravity(recording.acc, windows["start"].to_numpy(np.int64), windows["end"].to_numpy(np.int64)) if dom.gravity_check else None
     )
-    return checked_domain_columns(dom, X, gravity)
+    order = np.argsort(windows["start"].to_numpy(np.int64), kind="stable")  # the running median needs time order
+    dyn = recording_dynamics(dom, recording, windows["start"].to_numpy(np.int64), windows["end"].to_numpy(np.int64))
+    if dyn is None or np.all(order == np.arange(len(order))):
+        return checked_domain_columns(dom, X, gravity, dyn)
+    cols = checked_domain_columns(dom, X[order], None if gravity is None else gravity[order], dyn[order])
+    back = np.empty_like(order)
+    back[order] = np.arange(len(order))
+    return {k: v[back] for k, v in cols.items()}
 
 
 def predict_step_windows(model, recording: Recording, correction: bool = True, *, spans: pd.DataFrame | None = None) -> pd.DataFrame:

@@ -30,8 +30,28 @@ What is recorded at training time (``model.json`` key ``domain``; the arrays in
   distances would be optimistic (every training window is near its own Gaussian); it
   is recorded next to the held-out one for comparison.
 
-A window is **in domain** when its feature distance is at most the distance threshold
-and (phone frame) its gravity angle is at most the gravity threshold. By construction
+- **orientation dynamics** (models with the gyroscope, ``all52+gyro``): 13 descriptors
+  per window of how the phone moves and turns, independent of how it is held
+  (:func:`orientation_dynamics`: spread of the gravity direction within the window,
+  vertical vs horizontal acceleration variance and their correlation, rotation rate
+  statistics and the axis it turns about). A pocket phone rotates with the thigh, a belt
+  phone hardly rotates, a swinging hand rotates a lot, a bag damps; these differ where
+  the 104 features of a phone placed at a random orientation do not. One Ledoit-Wolf
+  Gaussian per (mode, position) on the standardised descriptors; a window's dynamics
+  distance is its smallest Mahalanobis distance to them, and because a carrying
+  position is a property of a stretch of recording, the decision uses the **median over
+  the last** ``DYNAMICS_SPAN`` **windows** of the recording (this one included, fewer at
+  its start; causal, so a stream can do the same). Its threshold is the quantile of the
+  held-out span medians. Leave one position out on the simulator (8 training subjects,
+  4 new ones, ``experiments/scripts/lopo_domain.py``): a left-out bag, belt or swinging
+  hand is flagged on 85-100 % of its windows (the 104-feature distance: 0-80 %), 0.1-0.2 %
+  of the trained positions' windows (0.4-1.1 % with the other tests); a left-out twin of
+  a trained position (flat vs tilted hand, front vs back pocket) is not flagged (0-29 %).
+  Older records have no dynamics part and check as before.
+
+A window is **in domain** when its feature distance is at most the distance threshold,
+(phone frame) its gravity angle is at most the gravity threshold and (when recorded)
+its span dynamics distance is at most the dynamics threshold. By construction
 about 1 - quantile of new windows from the training distribution (new subjects) fall
 outside each test; the domain report (``experiments/reports/model-domain.md``) measures
 it on new simulated subjects and on real recordings.
@@ -55,6 +75,10 @@ __all__ = [
     "DomainModel",
     "fit_domain",
     "window_gravity",
+    "orientation_dynamics",
+    "DYNAMICS_NAMES",
+    "DYNAMICS_SPAN",
+    "running_median",
     "domain_from_model_info",
     "NO_DOMAIN_WARNING",
     "OUT_OF_DOMAIN_WARN_FRACTION",
@@ -79,6 +103,204 @@ NO_DOMAIN_WARNING = (
     "retrain it with 'gaitml train CONFIG' to get the out-of-domain check"
 )
 _ARRAYS = ("center", "scale", "class_means", "class_precisions", "gravity_dirs", "feature_lo", "feature_hi")
+#: The arrays of the optional orientation-dynamics part.
+_DYN_ARRAYS = ("dyn_center", "dyn_scale", "dyn_means", "dyn_precisions")
+#: Windows in the running span of the dynamics decision (20 windows of 1.5 s at 50 % overlap: 15 s).
+DYNAMICS_SPAN = 20
+#: Length (s) of the chunks whose gravity directions give the within-window spread.
+DYNAMICS_CHUNK_S = 0.3
+#: The descriptors are computed from the signals taken at about this rate (every ``floor(fs / 25)``-th
+#: sample): they describe slow orientation changes, and half the samples halve the cost of the check.
+DYNAMICS_RATE_HZ = 25.0
+#: The orientation-dynamics descriptors (:func:`orientation_dynamics`), in order.
+DYNAMICS_NAMES = (
+    "gravity_spread_deg",
+    "log_var_ratio_vertical_horizontal",
+    "abs_corr_vertical_horizontal",
+    "horizontal_anisotropy",
+    "log_std_vertical",
+    "log_std_horizontal",
+    "gravity_range_deg",
+    "skew_vertical",
+    "log_gyr_mean",
+    "log_gyr_std",
+    "gyr_vertical_share",
+    "gyr_axis_share",
+    "gyr_horizontal_main_share",
+)
+
+
+_TRIU_INDEX = {(int(i), int(j)): n for n, (i, j) in enumerate(zip(*np.triu_indices(3), strict=True))}
+
+
+def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.ndarray:
+    """Orientation-free descriptors of how the phone moves and turns in each window, shape (k, 13).
+
+    Per ``[start, end)`` span of ``acc`` (m/s^2) and ``gyr`` (rad/s), phone frame, with
+    ``g`` the unit window mean of the acceleration (the gravity direction), ``v = a . g``
+    the vertical and ``h = a - v g`` the horizontal acceleration (:data:`DYNAMICS_NAMES`):
+
+    0. mean and 6. largest angle (deg) between ``g`` and the mean directions of the
+       window's chunks of ``DYNAMICS_CHUNK_S`` (how far the phone tilts within it);
+    1. ``log(var v / var h)`` (``var h``: trace of the horizontal covariance);
+    2. ``|corr(v, h1)|``, ``h1`` the horizontal component along the main axis of the
+       horizontal covariance;
+    3. second over first eigenvalue of the horizontal covariance;
+    4. ``log std v``, 5. ``log sqrt(var h)``; 7. skewness of ``v``;
+    8. ``log`` mean and 9. ``log`` std of ``|omega|``;
+    10. share of the rotation-rate variance about ``g``, 11. its largest eigenvalue share,
+        12. its share about the main horizontal acceleration axis.
+
+    The signals are first taken at every ``step = max(1, floor(fs / DYNAMICS_RATE_HZ))``-th
+    sample (samples 0, step, 2 step, ...; a window keeps the kept samples inside it).
+    All are unchanged by a constant rotation of the phone. Ours (issue 12), not from a paper.
+    """
+    step = max(1, int(float(sampling_rate_hz) // DYNAMICS_RATE_HZ))
+    acc = np.asarray(acc, dtype=float)[::step]
+    gyr = np.asarray(gyr, dtype=float)[::step]
+    starts = -(-np.asarray(starts, dtype=np.int64).reshape(-1) // step)  # first kept sample at or after the start
+    ends = -(-np.asarray(ends, dtype=np.int64).reshape(-1) // step)
+    sampling_rate_hz = float(sampling_rate_hz) / step
+    k = len(starts)
+    if not k:
+        return np.zeros((0, len(DYNAMICS_NAMES)))
+    chunk = max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz))))
+    # every statistic is a moment over the window: prefix sums (of data centred on the recording mean,
+    # which changes no central moment) give all windows at once, whatever their lengths
+    a0 = acc.mean(axis=0)
+    w0 = gyr.mean(axis=0)
+    A = acc - a0
+    W = gyr - w0
+    iu = np.triu_indices(3)
+    it = [(i, j, m) for i in range(3) for j in range(i, 3) for m in range(j, 3)]
+    At, Wt = np.ascontiguousarray(A.T), np.ascontiguousarray(W.T)
+    data = np.empty((31, len(acc)))  # one row per product (rows contiguous: a fast cumulative sum)
+    data[0:3] = At
+    data[3:9] = At[iu[0]] * At[iu[1]]
+    for n, (i, j, m) in enumerate(it):
+        np.multiply(data[3 + _TRIU_INDEX[(i, j)]], At[m], out=data[9 + n])
+    data[19:22] = Wt
+    data[22:28] = Wt[iu[0]] * Wt[iu[1]]
+    data[29] = (gyr * gyr).sum(axis=1)
+    data[28] = np.sqrt(data[29])
+    # sums up to every window start and end: sums of the segments between consecutive ones (a fast
+    # vectorised reduction), then a running sum over the few segments
+    inner = np.unique(np.concatenate([[0], starts, ends]))
+    inner = inner[inner < len(acc)]
+    cum = np.zeros((31, len(inner) + 1))
+    np.cumsum(np.add.reduceat(data, inner, axis=1), axis=1, out=cum[:, 1:])
+    L = np.maximum(ends - starts, 1).astype(float)
+    M = (cum[:, np.searchsorted(inner, ends)] - cum[:, np.searchsorted(inner, starts)]).T / L[:, None]  # window means of every product
+    o = np.cumsum([0, 3, 6, 10, 3, 6, 1, 1])
+    m1, m2, m3 = M[:, o[0] : o[1]], M[:, o[1] : o[2]], M[:, o[2] : o[3]]
+    w1, w2, gmag, gsq = M[:, o[3] : o[4]], M[:, o[4] : o[5]], M[:, o[5]], M[:, o[6]]
+
+    def _sym(mu, second):  # central covariance (k, 3, 3) from the means of x and of its products
+        S = np.zeros((len(mu), 3, 3))
+        S[:, iu[0], iu[1]] = second
+        S[:, iu[1], iu[0]] = second
+        return S - mu[:, :, None] * mu[:, None, :]
+
+    cov = _sym(m1, m2)
+    g = m1 + a0
+    g = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-9)
+    # third central moment of v = a . g: E[v'^3] = sum over the unique (i <= j <= m) of multiplicity x g_i g_j g_m x E[a_i a_j a_m]
+    raw3 = sum(
+        len({(i, j, m), (i, m, j), (j, i, m), (j, m, i), (m, i, j), (m, j, i)}) * g[:, i] * g[:, j] * g[:, m] * m3[:, n]
+        for n, (i, j, m) in enumerate(it)
+    )
+    mv = (m1 * g).sum(axis=1)
+    var_v = np.einsum("kij,ki,kj->k", cov, g, g)
+    ev2 = var_v + mv * mv  # E[v^2] (centred data)
+    third = raw3 - 3 * mv * ev2 + 2 * mv**3
+    # the horizontal covariance in a basis (u1, u2) of the plane normal to g: a 2 x 2 eigenproblem in closed form
+    e = np.eye(3)[np.argmin(np.abs(g), axis=1)]
+    u1 = e - (e * g).sum(axis=1, keepdims=True) * g
+    u1 /= np.linalg.norm(u1, axis=1, keepdims=True)
+    u2 = np.cross(g, u1)
+    h11 = np.einsum("kij,ki,kj->k", cov, u1, u1)
+    h22 = np.einsum("kij,ki,kj->k", cov, u2, u2)
+    h12 = np.einsum("kij,ki,kj->k", cov, u1, u2)
+    half = 0.5 * (h11 - h22)
+    rad = np.sqrt(half * half + h12 * h12)
+    lam1 = 0.5 * (h11 + h22) + rad  # largest horizontal eigenvalue
+    lam2 = 0.5 * (h11 + h22) - rad
+    theta = 0.5 * np.arctan2(2.0 * h12, h11 - h22)
+    main = np.cos(theta)[:, None] * u1 + np.sin(theta)[:, None] * u2
+    var_h = h11 + h22
+    cov_vh1 = np.einsum("kij,ki,kj->k", cov, g, main)
+    cw = _sym(w1, w2)
+    tot = np.maximum(np.trace(cw, axis1=1, axis2=2), 1e-12)
+    # chunk gravity directions: means of A over [start + c chunk, start + (c + 1) chunk)
+    nch = np.maximum(1, (ends - starts) // chunk)
+    ang_mean = np.zeros(k)
+    ang_max = np.zeros(k)
+    cs = np.zeros((len(acc) + 1, 3))
+    np.cumsum(A, axis=0, out=cs[1:])
+    for nc in np.unique(nch):
+        rows = np.flatnonzero(nch == nc)
+        short = (ends[rows] - starts[rows]) < chunk  # a window shorter than a chunk: one chunk, the window
+        c0 = starts[rows, None] + chunk * np.arange(nc)[None, :]
+        c1 = np.where(short[:, None], ends[rows, None], c0 + chunk)
+        C = (cs[c1] - cs[c0]) / np.maximum(c1 - c0, 1)[:, :, None] + a0
+        C = C / np.maximum(np.linalg.norm(C, axis=2, keepdims=True), 1e-9)
+        ang = np.degrees(np.arccos(np.clip((C * g[rows, None, :]).sum(axis=2), -1.0, 1.0)))
+        ang_mean[rows] = ang.mean(axis=1)
+        ang_max[rows] = ang.max(axis=1)
+    out = np.column_stack(
+        [
+            ang_mean,
+            np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9)),
+            np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * lam1, 1e-12))),
+            np.maximum(lam2, 0.0) / np.maximum(lam1, 1e-12),
+            0.5 * np.log(np.maximum(var_v, 1e-12)),
+            0.5 * np.log(np.maximum(var_h, 1e-12)),
+            ang_max,
+            third / np.maximum(var_v, 1e-12) ** 1.5,
+            np.log(np.maximum(gmag, 1e-6)),
+            0.5 * np.log(np.maximum(gsq - gmag * gmag, 1e-12)),
+            np.einsum("kij,ki,kj->k", cw, g, g) / tot,
+            _largest_eigenvalue(cw) / tot,
+            np.einsum("kij,ki,kj->k", cw, main, main) / tot,
+        ]
+    )
+    out[(ends - starts) < 2] = np.nan
+    return out
+
+
+def _largest_eigenvalue(S: np.ndarray) -> np.ndarray:
+    """Largest eigenvalue of symmetric 3 x 3 matrices (k, 3, 3), in closed form (trigonometric solution of the cubic)."""
+    q = np.trace(S, axis1=1, axis2=2) / 3.0
+    off = S[:, 0, 1] ** 2 + S[:, 0, 2] ** 2 + S[:, 1, 2] ** 2
+    dq = np.diagonal(S, axis1=1, axis2=2) - q[:, None]
+    p = np.sqrt(((dq * dq).sum(axis=1) + 2.0 * off) / 6.0)
+    safe = p > 1e-15 * (1.0 + np.abs(q))
+    B = (S - q[:, None, None] * np.eye(3)) / np.where(safe, p, 1.0)[:, None, None]
+    r = np.clip(np.linalg.det(B) / 2.0, -1.0, 1.0)
+    return np.where(safe, q + 2.0 * p * np.cos(np.arccos(r) / 3.0), q)
+
+
+def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
+    """Median of the last ``span`` values (this one included; fewer at the start), NaN values skipped.
+
+    ``d`` is in time order within each sequence; ``sequence`` (same length, optional)
+    names the recording of every value: the span never reaches into another one.
+    A value whose span holds no finite value is NaN.
+    """
+    d = np.asarray(d, dtype=float).reshape(-1)
+    out = np.full(len(d), np.nan)
+    seq = np.zeros(len(d), dtype=np.int64) if sequence is None else np.unique(np.asarray(sequence), return_inverse=True)[1].reshape(-1)
+    span = max(1, int(span))
+    for s in np.unique(seq):
+        rows = np.flatnonzero(seq == s)
+        pad = np.concatenate([np.full(span - 1, np.nan), d[rows]])
+        win = np.lib.stride_tricks.sliding_window_view(pad, span)
+        full = ~np.isnan(win).any(axis=1)
+        out[rows[full]] = np.median(win[full], axis=1)  # the common case, fast
+        part = ~full & ~np.isnan(win).all(axis=1)
+        if part.any():
+            out[rows[part]] = np.nanmedian(win[part], axis=1)
+    return out
 
 
 def window_gravity(acc, starts, length: int) -> np.ndarray:
@@ -221,6 +443,12 @@ class DomainModel:
     summary : dict
         JSON-ready numbers for the model card (gravity mean and angle quantiles,
         held-out scheme, window counts, in-sample thresholds).
+    dynamics : dict or None
+        The orientation-dynamics part (None in records without it): ``labels`` (the
+        ``mode|position`` of each Gaussian), ``span`` (windows), ``threshold`` (largest
+        in-domain running median of the dynamics distance, held out) and
+        ``threshold_in_sample``; its arrays ``dyn_center``, ``dyn_scale`` (13,),
+        ``dyn_means`` (g, 13), ``dyn_precisions`` (g, 13, 13) are in ``arrays``.
     """
 
     feature_set: str
@@ -236,6 +464,7 @@ class DomainModel:
     gravity_threshold_in_sample_rad: float
     arrays: dict
     summary: dict = dataclasses.field(default_factory=dict)
+    dynamics: dict | None = None
 
     # ---- persistence (JSON + plain arrays; no pickle)
     def to_json(self) -> dict:
@@ -253,13 +482,17 @@ class DomainModel:
             "gravity_check": bool(self.gravity_check),
             "gravity_threshold_rad": float(self.gravity_threshold_rad),
             "gravity_threshold_in_sample_rad": float(self.gravity_threshold_in_sample_rad),
-            "arrays": [ARRAY_PREFIX + k for k in _ARRAYS],
+            "arrays": [ARRAY_PREFIX + k for k in self._array_names()],
             "summary": self.summary,
+            **({"dynamics": dict(self.dynamics)} if self.dynamics is not None else {}),
         }
+
+    def _array_names(self) -> tuple[str, ...]:
+        return _ARRAYS + (_DYN_ARRAYS if self.dynamics is not None else ())
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The arrays to store in ``arrays.npz`` (names prefixed ``domain__``)."""
-        return {ARRAY_PREFIX + k: np.asarray(self.arrays[k], dtype=float) for k in _ARRAYS}
+        return {ARRAY_PREFIX + k: np.asarray(self.arrays[k], dtype=float) for k in self._array_names()}
 
     @classmethod
     def from_json(cls, info: dict, arrays: dict[str, np.ndarray]) -> DomainModel:
@@ -284,6 +517,21 @@ class DomainModel:
                     raise ValueError(f"{k} has shape {arr[k].shape}, expected {shp}")
             if arr["gravity_dirs"].ndim != 2 or arr["gravity_dirs"].shape[1] != 3:
                 raise ValueError(f"gravity_dirs has shape {arr['gravity_dirs'].shape}, expected (m, 3)")
+            dyn = info.get("dynamics")
+            if dyn is not None:  # the optional orientation-dynamics part (records without it check as before)
+                dyn = {
+                    "labels": [str(v) for v in dyn["labels"]],
+                    "span": int(dyn["span"]),
+                    "threshold": float(dyn["threshold"]),
+                    "threshold_in_sample": float(dyn["threshold_in_sample"]),
+                }
+                arr.update({k: np.asarray(arrays[ARRAY_PREFIX + k], dtype=float) for k in _DYN_ARRAYS})
+                q, g = len(DYNAMICS_NAMES), len(dyn["labels"])
+                for k, shp in {"dyn_center": (q,), "dyn_scale": (q,), "dyn_means": (g, q), "dyn_precisions": (g, q, q)}.items():
+                    if arr[k].shape != shp:
+                        raise ValueError(f"{k} has shape {arr[k].shape}, expected {shp}")
+                if dyn["span"] < 1:
+                    raise ValueError(f"dynamics span {dyn['span']} is below 1")
             return cls(
                 feature_set=str(info["feature_set"]),
                 frame=str(info["frame"]),
@@ -298,6 +546,7 @@ class DomainModel:
                 gravity_threshold_in_sample_rad=float(info["gravity_threshold_in_sample_rad"]),
                 arrays=arr,
                 summary=dict(info.get("summary") or {}),
+                dynamics=dyn,
             )
         except ModelError:
             raise
@@ -352,7 +601,30 @@ class DomainModel:
         """Angle (rad) of each gravity unit vector (rows, phone frame) to the nearest training direction."""
         return _nearest_angle(np.asarray(gravity, dtype=float).reshape(-1, 3), self.arrays["gravity_dirs"])
 
-    def check(self, X, gravity=None) -> dict[str, np.ndarray]:
+    def dynamics_distances(self, dynamics) -> np.ndarray:
+        """Window dynamics distance of every row of ``dynamics`` (:func:`orientation_dynamics`); inf for non-finite rows."""
+        if self.dynamics is None:
+            raise ModelError("this model's domain record has no orientation-dynamics part; retrain the model to get it.")
+        Q = np.asarray(dynamics, dtype=float).reshape(-1, len(DYNAMICS_NAMES))
+        finite = np.isfinite(Q).all(axis=1)
+        Z = (np.where(finite[:, None], Q, 0.0) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
+        cache = getattr(self, "_dyn_cache", None)
+        if cache is None:  # stacked Cholesky factors, as in distances(): one matrix product for every Gaussian
+            try:
+                chol = np.linalg.cholesky(self.arrays["dyn_precisions"])
+            except np.linalg.LinAlgError as exc:
+                raise ModelError("the domain record's dynamics precision matrices are not positive definite; retrain the model.") from exc
+            cache = (
+                np.ascontiguousarray(np.concatenate(list(chol), axis=1)),
+                np.concatenate([m @ c for m, c in zip(self.arrays["dyn_means"], chol, strict=True)]),
+            )
+            object.__setattr__(self, "_dyn_cache", cache)
+        Y = (Z @ cache[0] - cache[1]).reshape(len(Z), -1, Q.shape[1])
+        d = np.sqrt((Y * Y).sum(axis=2).min(axis=1))
+        d[~finite] = np.inf
+        return d
+
+    def check(self, X, gravity=None, dynamics=None) -> dict[str, np.ndarray]:
         """In-domain flags of windows.
 
         Parameters
@@ -360,11 +632,17 @@ class DomainModel:
         X : (k, p) features of the windows (``feature_names`` order, raw units).
         gravity : (k, 3) window gravity unit vectors (:func:`window_gravity`), optional;
             needed when ``gravity_check`` is on.
+        dynamics : (k, 13) :func:`orientation_dynamics` of the windows, **all of one
+            recording in time order** (the decision uses the running median over the
+            last ``dynamics["span"]`` windows); checked when the record has a dynamics
+            part and this is given (``gaitml predict`` always gives it). Without it the
+            dynamics part is not checked (one-window callers).
 
         Returns
         -------
-        dict with ``distance`` (k,), ``gravity_angle_rad`` (k,; NaN when not checked)
-        and ``in_domain`` (k,) bool.
+        dict with ``distance`` (k,), ``gravity_angle_rad`` (k,; NaN when not checked),
+        ``dynamics_distance`` (k,; the running median, NaN when not checked) and
+        ``in_domain`` (k,) bool.
         """
         X = np.asarray(X, dtype=float)
         if X.shape == (1, len(self.feature_names)):  # one window (streaming): the short path when it applies
@@ -373,13 +651,19 @@ class DomainModel:
                 return one
         d = self.distances(X)
         ok = d <= self.distance_threshold
+        dyn = np.full(len(d), np.nan)
+        if self.dynamics is not None and dynamics is not None:
+            dyn = running_median(self.dynamics_distances(dynamics), self.dynamics["span"])
+            if len(dyn) != len(d):
+                raise ModelError(f"the domain check got {len(d)} feature rows and {len(dyn)} dynamics rows; pass one row per window.")
+            ok &= dyn <= self.dynamics["threshold"]
         if not self.gravity_check:
-            return {"distance": d, "gravity_angle_rad": np.full(len(d), np.nan), "in_domain": ok}
+            return {"distance": d, "gravity_angle_rad": np.full(len(d), np.nan), "dynamics_distance": dyn, "in_domain": ok}
         if gravity is None:
             raise ModelError("this model's domain checks the gravity direction; pass the window gravity (window_gravity).")
         ang = self.gravity_angles(gravity)
         ok &= ang <= self.gravity_threshold_rad  # a NaN angle (no gravity direction) compares False: out of domain
-        return {"distance": d, "gravity_angle_rad": ang, "in_domain": ok}
+        return {"distance": d, "gravity_angle_rad": ang, "dynamics_distance": dyn, "in_domain": ok}
 
     def _one_window(self) -> tuple:
         """What the one-window check needs beyond the stored arrays, computed at its first call and cached.
@@ -459,6 +743,8 @@ def fit_domain(
     positions=None,
     quantile: float = DEFAULT_QUANTILE,
     seed: int = 0,
+    dynamics=None,
+    sequence=None,
 ) -> DomainModel:
     """Fit the domain record of a training set (see the module docstring).
 
@@ -473,6 +759,12 @@ def fit_domain(
     positions : (n,) carrying position of every window, optional (``"unknown"``).
     quantile : threshold quantile of the held-out distances (0.5-1).
     seed : seeds the gravity-direction subset.
+    dynamics : (n, 13) :func:`orientation_dynamics` of the windows, optional: when
+        given, the orientation-dynamics part is recorded (one Gaussian per
+        ``mode|position``, threshold = the quantile of the held-out running medians
+        over :data:`DYNAMICS_SPAN` windows).
+    sequence : (n,) recording of every window (the running median never crosses
+        recordings); needed with ``dynamics``. Rows of one recording must be in time order.
     """
     from sklearn.model_selection import GroupKFold
 
@@ -485,6 +777,10 @@ def fit_domain(
         raise ModelError(f"fit_domain needs matching rows (X {n}, y {len(y)}, groups {len(groups)}, gravity {len(gravity)}), at least 2.")
     if not 0.5 <= float(quantile) < 1.0:
         raise ModelError(f"domain quantile must be in [0.5, 1), got {quantile}.")
+    if dynamics is not None:
+        dynamics = np.asarray(dynamics, dtype=float)
+        if dynamics.shape != (n, len(DYNAMICS_NAMES)) or sequence is None or len(sequence) != n:
+            raise ModelError(f"fit_domain needs dynamics of shape ({n}, {len(DYNAMICS_NAMES)}) and one sequence id per window.")
     rng = np.random.default_rng(seed)
     classes = sorted({str(c) for c in y})
     gravity_check = frame == "phone"
@@ -492,8 +788,14 @@ def fit_domain(
     k = min(HELDOUT_FOLDS, len(ug))
     held_d = np.full(n, np.nan)
     held_a = np.full(n, np.nan)
+    held_q = np.full(n, np.nan)
+    pos = np.full(n, "unknown", dtype=object) if positions is None else np.asarray(positions).astype(str)
+    dyn_labels = np.char.add(np.char.add(y.astype(str), "|"), pos.astype(str)) if dynamics is not None else None
+    dyn_ok = np.isfinite(dynamics).all(axis=1) if dynamics is not None else None
     if k >= 2:
         for tr, te in GroupKFold(n_splits=k).split(X, y, groups):
+            if dynamics is not None:
+                held_q[te] = _dynamics_fit_distance(dynamics, dyn_labels, dyn_ok, tr, te)
             c, s = _standardiser(X[tr])
             means, precs = _class_gaussians((X[tr] - c) / s, y[tr], sorted(set(y[tr])))
             held_d[te] = _min_mahalanobis((X[te] - c) / s, means, precs)
@@ -515,7 +817,6 @@ def fit_domain(
     gmean = gravity[fin].mean(axis=0) if fin.any() else np.array([0.0, 0.0, 1.0])
     gmean = gmean / max(float(np.linalg.norm(gmean)), 1e-12)
     to_mean = np.degrees(np.arccos(np.clip(gravity[fin] @ gmean, -1, 1))) if fin.any() else np.zeros(1)
-    pos = np.full(n, "unknown", dtype=object) if positions is None else np.asarray(positions).astype(str)
     pos_counts = {str(p): int((pos == p).sum()) for p in sorted(set(pos))}
     summary = {
         "n_windows": int(n),
@@ -526,6 +827,25 @@ def fit_domain(
         "gravity_directions_kept": int(len(dirs)),
         "distance_threshold_heldout_vs_in_sample": [float(np.nanquantile(held_d, q)), float(np.quantile(in_d, q))],
     }
+    dyn_record = None
+    dyn_arrays: dict = {}
+    if dynamics is not None:
+        every = np.arange(n)
+        in_q = _dynamics_fit_distance(dynamics, dyn_labels, dyn_ok, every, every)
+        seq = np.asarray(sequence).astype(str)
+        span_held = running_median(held_q if k >= 2 else in_q, DYNAMICS_SPAN, seq)
+        span_in = running_median(in_q, DYNAMICS_SPAN, seq)
+        labels = sorted(set(dyn_labels[dyn_ok]))
+        c_q, s_q = _standardiser(dynamics[dyn_ok])
+        m_q, p_q = _class_gaussians((dynamics[dyn_ok] - c_q) / s_q, dyn_labels[dyn_ok], labels)
+        dyn_record = {
+            "labels": labels,
+            "span": DYNAMICS_SPAN,
+            "threshold": float(np.nanquantile(span_held, q)),
+            "threshold_in_sample": float(np.nanquantile(span_in, q)),
+        }
+        dyn_arrays = {"dyn_center": c_q, "dyn_scale": s_q, "dyn_means": m_q, "dyn_precisions": p_q}
+        summary["dynamics_threshold_heldout_vs_in_sample"] = [dyn_record["threshold"], dyn_record["threshold_in_sample"]]
     return DomainModel(
         feature_set=feature_set,
         frame=frame,
@@ -546,9 +866,22 @@ def fit_domain(
             "gravity_dirs": dirs if len(dirs) else np.zeros((0, 3)),
             "feature_lo": np.quantile(X, 0.005, axis=0),
             "feature_hi": np.quantile(X, 0.995, axis=0),
+            **dyn_arrays,
         },
         summary=summary,
+        dynamics=dyn_record,
     )
+
+
+def _dynamics_fit_distance(Q, labels, ok, tr, te) -> np.ndarray:
+    """Dynamics distances of rows ``te`` to Gaussians fitted on rows ``tr`` (finite rows only; inf for non-finite ``te`` rows)."""
+    tr = tr[ok[tr]]
+    c, s = _standardiser(Q[tr])
+    means, precs = _class_gaussians((Q[tr] - c) / s, labels[tr], sorted(set(labels[tr])))
+    out = np.full(len(te), np.inf)
+    good = ok[te]
+    out[good] = _min_mahalanobis((Q[te][good] - c) / s, means, precs)
+    return out
 
 
 def domain_from_model_info(info: dict, arrays: dict[str, np.ndarray]) -> DomainModel | None:

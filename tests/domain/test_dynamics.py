@@ -1,0 +1,280 @@
+"""The orientation-dynamics part of the domain record (issue 12: a carrying position left out of training is flagged).
+
+The descriptors, distances and running medians are checked against straightforward
+per-window loops; a small leave-one-position-out run on the simulator must flag the
+left-out position and keep new subjects of the trained positions.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+from scipy.stats import skew
+from sklearn.covariance import LedoitWolf
+
+from gaitml.models.domain import (
+    DYNAMICS_NAMES,
+    DYNAMICS_SPAN,
+    DomainModel,
+    fit_domain,
+    orientation_dynamics,
+    running_median,
+)
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _reference_dynamics(a: np.ndarray, w: np.ndarray, chunk: int) -> np.ndarray:
+    """One window, written out plainly."""
+    g = a.mean(axis=0) / np.linalg.norm(a.mean(axis=0))
+    angles = []
+    for c in range(max(1, len(a) // chunk)):
+        m = a[c * chunk : (c + 1) * chunk].mean(axis=0)
+        angles.append(np.degrees(np.arccos(np.clip(m @ g / np.linalg.norm(m), -1, 1))))
+    v = a @ g
+    h = a - np.outer(v, g)
+    ch = np.cov(h.T, bias=True)
+    ev, evec = np.linalg.eigh(ch)
+    h1 = h @ evec[:, 2]
+    cw = np.cov(w.T, bias=True)
+    mag = np.linalg.norm(w, axis=1)
+    return np.array(
+        [
+            np.mean(angles),
+            np.log(v.var() / np.trace(ch)),
+            abs(np.corrcoef(v, h1)[0, 1]),
+            ev[1] / ev[2],
+            np.log(v.std()),
+            0.5 * np.log(np.trace(ch)),
+            np.max(angles),
+            skew(v),
+            np.log(mag.mean()),
+            np.log(mag.std()),
+            g @ cw @ g / np.trace(cw),
+            np.linalg.eigvalsh(cw)[2] / np.trace(cw),
+            evec[:, 2] @ cw @ evec[:, 2] / np.trace(cw),
+        ]
+    )
+
+
+def _walk(seed: int, n: int = 600):
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) / 50.0
+    acc = np.column_stack(
+        [1.5 * np.sin(2 * np.pi * 1.8 * t), 0.8 * np.cos(2 * np.pi * 0.9 * t + 0.3), 9.81 + 2.0 * np.sin(2 * np.pi * 1.8 * t)]
+    )
+    gyr = np.column_stack([0.6 * np.sin(2 * np.pi * 0.9 * t), 0.2 * np.cos(2 * np.pi * 1.8 * t), 0.1 * np.sin(2 * np.pi * 0.9 * t + 1)])
+    return acc + 0.3 * rng.standard_normal(acc.shape), gyr + 0.05 * rng.standard_normal(gyr.shape)
+
+
+def test_orientation_dynamics_matches_a_per_window_loop():
+    acc, gyr = _walk(1)
+    starts = np.array([0, 37, 75, 300, 500])
+    ends = np.array([75, 112, 150, 340, 575])  # two lengths, as step windows have
+    got = orientation_dynamics(acc, gyr, starts, ends, 50.0)
+    assert got.shape == (5, len(DYNAMICS_NAMES))
+    for i, (s, e) in enumerate(zip(starts, ends, strict=True)):
+        keep = np.arange(s, e)
+        keep = keep[keep % 2 == 0]  # at 50 Hz the descriptors use every second sample (25 Hz; chunks of 0.3 s: 8 samples)
+        np.testing.assert_allclose(got[i], _reference_dynamics(acc[keep], gyr[keep], 8), rtol=1e-9, atol=1e-9)
+
+
+def test_orientation_dynamics_ignore_how_the_phone_is_held():
+    acc, gyr = _walk(2)
+    starts = np.arange(0, 500, 37)
+    base = orientation_dynamics(acc, gyr, starts, starts + 75, 50.0)
+    for seed in range(3):
+        m = Rotation.random(random_state=seed).as_matrix()
+        np.testing.assert_allclose(orientation_dynamics(acc @ m.T, gyr @ m.T, starts, starts + 75, 50.0), base, rtol=1e-7, atol=1e-7)
+
+
+def test_running_median_matches_a_loop_and_never_crosses_recordings():
+    rng = np.random.default_rng(3)
+    d = rng.random(50)
+    d[7] = np.nan
+    seq = np.repeat(["a", "b"], [30, 20])
+    got = running_median(d, 5, seq)
+    for i in range(50):
+        first = 0 if i < 30 else 30
+        np.testing.assert_allclose(got[i], np.nanmedian(d[max(first, i - 4) : i + 1]))
+
+
+def _fit(seed: int = 0):
+    rng = np.random.default_rng(seed)
+    q = len(DYNAMICS_NAMES)
+    n = 600
+    y = np.repeat(["walk", "run"], n // 2)
+    pos = np.tile(np.repeat(["belt", "bag"], n // 4), 2)
+    shift = (y == "run")[:, None] * 3.0 + (pos == "bag")[:, None] * np.linspace(-2, 2, q)
+    Q = rng.standard_normal((n, q)) @ rng.standard_normal((q, q)) * 0.3 + shift
+    X = rng.standard_normal((n, 4)) + (y == "run")[:, None]
+    groups = np.tile(np.repeat([f"s{i}" for i in range(6)], 25), 4)
+    seq = np.repeat(np.arange(n // 50), 50)
+    dom = fit_domain(
+        X,
+        y,
+        groups,
+        np.tile([0.0, 0.0, 1.0], (n, 1)),
+        feature_names=list("abcd"),
+        feature_set="test",
+        frame="gravity",
+        positions=pos,
+        dynamics=Q,
+        sequence=seq,
+    )
+    return dom, Q, y, pos
+
+
+def test_dynamics_distance_is_the_smallest_mahalanobis_distance_to_the_mode_position_gaussians():
+    dom, Q, y, pos = _fit()
+    assert dom.dynamics["labels"] == ["run|bag", "run|belt", "walk|bag", "walk|belt"]
+    c, s = Q.mean(axis=0), Q.std(axis=0)
+    Z = (Q - c) / s
+    lab = np.char.add(np.char.add(y, "|"), pos)
+    ref = np.full(len(Q), np.inf)
+    for label in sorted(set(lab)):
+        lw = LedoitWolf().fit(Z[lab == label])
+        prec = np.linalg.inv(lw.covariance_)
+        for i in range(len(Q)):
+            dz = Z[i] - lw.location_
+            ref[i] = min(ref[i], np.sqrt(dz @ prec @ dz))
+    probe = np.vstack([Q[:40], Q[:3] + 5.0])
+    ref = np.concatenate([ref[:40], [np.inf] * 3])
+    for i in range(3):
+        dz_all = []
+        for label in sorted(set(lab)):
+            lw = LedoitWolf().fit(Z[lab == label])
+            dz = (probe[40 + i] - c) / s - lw.location_
+            dz_all.append(np.sqrt(dz @ np.linalg.inv(lw.covariance_) @ dz))
+        ref[40 + i] = min(dz_all)
+    np.testing.assert_allclose(dom.dynamics_distances(probe), ref, rtol=1e-6)
+    bad = probe.copy()
+    bad[5, 2] = np.nan
+    assert np.isinf(dom.dynamics_distances(bad)[5])
+
+
+def test_check_uses_the_running_median_and_flags_a_stretch_unlike_training():
+    dom, Q, _, _ = _fit()
+    X = np.zeros((60, 4))
+    grav = np.tile([0.0, 0.0, 1.0], (60, 1))
+    stretch = np.vstack([Q[:30], Q[:30] + 8.0])  # 30 trained-like windows, then 30 of another position
+    res = dom.check(X, grav, stretch)
+    np.testing.assert_allclose(res["dynamics_distance"], running_median(dom.dynamics_distances(stretch), DYNAMICS_SPAN))
+    assert res["in_domain"][:30].mean() > 0.9
+    assert not res["in_domain"][30 + DYNAMICS_SPAN // 2 :].any()
+    # without the dynamics the check is today's (one-window callers)
+    assert np.isnan(dom.check(X, grav)["dynamics_distance"]).all()
+
+
+def test_the_record_round_trips_and_an_old_record_checks_as_before():
+    dom, Q, _, _ = _fit()
+    info, arrays = dom.to_json(), dom.to_arrays()
+    assert "domain__dyn_precisions" in arrays and "domain__dyn_precisions" in info["arrays"]
+    back = DomainModel.from_json(info, arrays)
+    X = np.zeros((40, 4))
+    grav = np.tile([0.0, 0.0, 1.0], (40, 1))
+    for k in ("in_domain", "dynamics_distance", "distance"):
+        np.testing.assert_array_equal(back.check(X, grav, Q[:40] + 3)[k], dom.check(X, grav, Q[:40] + 3)[k])
+    old_info = {k: v for k, v in info.items() if k != "dynamics"}
+    old_arrays = {k: v for k, v in arrays.items() if not k.startswith("domain__dyn_")}
+    old = DomainModel.from_json(old_info, old_arrays)
+    assert old.dynamics is None and "dynamics" not in old.to_json()
+    res = old.check(X, grav, Q[:40] + 100.0)  # dynamics given but not recorded: ignored
+    np.testing.assert_array_equal(res["in_domain"], dom.check(X, grav)["in_domain"])
+    broken = {**arrays, "domain__dyn_means": arrays["domain__dyn_means"][:, :5]}
+    from gaitml.errors import ModelError
+
+    with pytest.raises(ModelError, match="dyn_means"):
+        DomainModel.from_json(info, broken)
+
+
+def _position_windows(recs):
+    from gaitml.models import build_window_dataset
+    from gaitml.models.domain import window_gravity
+
+    ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], length_s=1.5, overlap=0.5, feature_set="all52+gyro")
+    starts = ds.windows["start"].to_numpy(np.int64)
+    ri = np.asarray(ds.recording_index)
+    grav = np.zeros((len(ds), 3))
+    dyn = np.zeros((len(ds), len(DYNAMICS_NAMES)))
+    pos = np.empty(len(ds), dtype=object)
+    for i in np.unique(ri):
+        rows = np.flatnonzero(ri == i)
+        r = recs[int(i)]
+        grav[rows] = window_gravity(r.acc, starts[rows], 75)
+        dyn[rows] = orientation_dynamics(r.acc, r.gyr, starts[rows], starts[rows] + 75, r.sampling_rate_hz)
+        pos[rows] = r.meta["position"]
+    return ds.inputs("features"), grav, dyn, np.asarray(ds.y), np.asarray(ds.groups), pos.astype(str), ri
+
+
+def test_a_carrying_position_left_out_of_training_is_flagged():
+    """Leave one position out, small: trained on hand, pocket and bag; a swinging hand must be flagged."""
+    from gaitml.features import feature_names
+    from gaitml.simulate import simulate_dataset
+
+    trained = ("hand-flat", "front-pocket", "bag")
+    train = simulate_dataset(n_subjects=6, duration_s=50.0, pose="mixed", seed=1000, positions=trained)
+    test = simulate_dataset(n_subjects=2, duration_s=50.0, pose="mixed", seed=2024, positions=(*trained, "swinging-hand"))
+    X, g, q, y, grp, pos, ri = _position_windows(train)
+    dom = fit_domain(
+        X,
+        y,
+        grp,
+        g,
+        feature_names=feature_names("all52+gyro"),
+        feature_set="all52+gyro",
+        frame="phone",
+        positions=pos,
+        dynamics=q,
+        sequence=ri,
+    )
+    Xt, gt, qt, _, _, post, rit = _position_windows(test)
+    flagged = np.zeros(len(Xt), dtype=bool)
+    for r in np.unique(rit):
+        rows = np.flatnonzero(rit == r)
+        flagged[rows] = ~dom.check(Xt[rows], gt[rows], qt[rows])["in_domain"]
+    left_out = post == "swinging-hand"
+    assert flagged[left_out].mean() >= 0.8
+    assert flagged[~left_out].mean() <= 0.1
+
+
+def test_a_trained_gyroscope_model_records_the_dynamics_and_predict_uses_them(tmp_path):
+    from gaitml.cli import main
+    from gaitml.models import load_model, predict_recording
+    from gaitml.simulate import sample_subjects, simulate_recording
+    from gaitml.simulate.positions import Placement
+
+    text = (ROOT / "experiments" / "positions.toml").read_text()
+    text = text.replace("subjects = 12", "subjects = 3").replace("duration_s = 150.0", "duration_s = 20.0")
+    text = text.replace("cross_validate = true", "cross_validate = false")
+    text = text.replace('"hand-flat", "hand-tilted", "front-pocket", "back-pocket", "belt", "swinging-hand", "bag"', '"hand-flat", "belt"')
+    (tmp_path / "cfg.toml").write_text(text)
+    assert main(["train", str(tmp_path / "cfg.toml"), "--out", str(tmp_path / "model")]) == 0
+    model = load_model(tmp_path / "model")
+    assert model.domain.dynamics is not None and model.domain.dynamics["span"] == DYNAMICS_SPAN
+    assert set(model.domain.dynamics["labels"]) <= {
+        f"{m}|{p}" for m in ("walk", "backward", "run", "side_left", "side_right") for p in ("hand-flat", "belt")
+    }
+    assert "Orientation dynamics" in (tmp_path / "model" / "MODEL.md").read_text()
+    subject = sample_subjects(1, 41)[0]
+    rec = simulate_recording(
+        subject, duration_s=40.0, modes=["walk"], seed=41, placement=Placement.random("swinging-hand", np.random.default_rng(41))
+    )
+    t = predict_recording(model, rec)
+    dom = model.domain
+    starts = t["start"].to_numpy(np.int64)
+    q = orientation_dynamics(rec.acc, rec.gyr, starts, starts + 75, rec.sampling_rate_hz)
+    from gaitml.models.domain import window_gravity
+
+    ref = dom.check(_features(rec, starts), window_gravity(rec.acc, starts, 75), q)
+    np.testing.assert_array_equal(t["in_domain"].astype(bool).to_numpy(), ref["in_domain"])
+    assert np.isfinite(ref["dynamics_distance"]).all()
+
+
+def _features(rec, starts):
+    from gaitml.features import features_from_arrays
+
+    return features_from_arrays(rec.acc, rec.gyr, rec.sampling_rate_hz, starts, 75, "all52+gyro", "phone")

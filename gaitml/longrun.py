@@ -125,8 +125,16 @@ def long_zupts(
     return mask, intervals_table(mask, fs), fs
 
 
-def _window_chunks(path, length_s, overlap, chunk_s, progress, desc, **read_kwargs) -> Iterator[tuple[Chunk, int, int]]:
-    """Chunks whose cores and margins are multiples of the window hop."""
+def _window_chunks(
+    path, length_s, overlap, chunk_s, progress, desc, *, extra_windows: int = 0, phase_step: int = 1, **read_kwargs
+) -> Iterator[tuple[Chunk, int, int]]:
+    """Chunks whose cores and margins are multiples of the window hop (and of ``phase_step``).
+
+    ``extra_windows`` more hops of context before each core: the windows a per-window
+    statistic over the last windows needs (the domain record's running median).
+    ``phase_step``: chunk offsets are multiples of it, so a computation that keeps every
+    ``phase_step``-th sample of a chunk keeps the same samples as on the whole file.
+    """
     from gaitml.signal import window_params
 
     # the hop depends on the rate, known after the first block: peek at it
@@ -135,12 +143,13 @@ def _window_chunks(path, length_s, overlap, chunk_s, progress, desc, **read_kwar
         first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
         fs_probe = first.recording.sampling_rate_hz
     length, hop = window_params(length_s, overlap, fs_probe)
-    margin_samples = math.ceil(length / hop) * hop
+    align = math.lcm(hop, max(1, int(phase_step)))
+    margin_samples = math.ceil((math.ceil(length / hop) + max(0, int(extra_windows))) * hop / align) * align
     chunks = iter_chunks(
         path,
         chunk_s=chunk_s,
         margin_s=margin_samples / fs_probe,
-        align_samples=hop,
+        align_samples=align,
         **read_kwargs,
     )
     for ch in progress_chunks(chunks, desc, enabled=progress):
@@ -223,7 +232,19 @@ def long_predict(
     parts = []
     if read_kwargs.get("sampling_rate_hz") is None:
         read_kwargs["sampling_rate_hz"] = model.sampling_rate_hz
-    for ch, _length, _hop in _window_chunks(path, model.length_s, model.overlap, chunk_s, progress, "predict", **read_kwargs):
+    # a domain record with an orientation-dynamics part decides on the running median over the last windows
+    # (and keeps every step-th sample): more context before each core, offsets on that sample grid
+    dyn = getattr(getattr(model, "domain", None), "dynamics", None)
+    extra, phase = 0, 1
+    if dyn is not None:
+        from gaitml.models.domain import dynamics_sample_step
+
+        extra = int(dyn.get("span", 1)) - 1
+        phase = dynamics_sample_step(float(read_kwargs["sampling_rate_hz"]))
+    chunks = _window_chunks(
+        path, model.length_s, model.overlap, chunk_s, progress, "predict", extra_windows=extra, phase_step=phase, **read_kwargs
+    )
+    for ch, _length, _hop in chunks:
         rec = ch.recording
         if rec.n_samples < _length:
             continue

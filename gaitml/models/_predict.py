@@ -101,11 +101,14 @@ def checked_domain_columns(dom, X: np.ndarray, gravity: np.ndarray | None, dynam
     ``dynamics`` rows are the windows of one recording in time order (the running median).
     """
     res = dom.check(X, gravity, dynamics)
-    return {
+    out = {
         "in_domain": res["in_domain"].astype(object),
         "domain_distance": res["distance"],
         "gravity_angle_deg": np.degrees(res["gravity_angle_rad"]),
     }
+    if getattr(dom, "dynamics", None) is not None:  # the running median the decision used (why a window is flagged)
+        out["dynamics_distance"] = res["dynamics_distance"]
+    return out
 
 
 def predict_recording(model, recording: Recording, correction: bool = True) -> pd.DataFrame:

@@ -133,6 +133,11 @@ DYNAMICS_NAMES = (
 _TRIU_INDEX = {(int(i), int(j)): n for n, (i, j) in enumerate(zip(*np.triu_indices(3), strict=True))}
 
 
+def dynamics_sample_step(sampling_rate_hz: float) -> int:
+    """Every how many samples :func:`orientation_dynamics` keeps one (about ``DYNAMICS_RATE_HZ``)."""
+    return max(1, int(float(sampling_rate_hz) // DYNAMICS_RATE_HZ))
+
+
 def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.ndarray:
     """Orientation-free descriptors of how the phone moves and turns in each window, shape (k, 13).
 
@@ -155,7 +160,7 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     sample (samples 0, step, 2 step, ...; a window keeps the kept samples inside it).
     All are unchanged by a constant rotation of the phone. Ours (issue 12), not from a paper.
     """
-    step = max(1, int(float(sampling_rate_hz) // DYNAMICS_RATE_HZ))
+    step = dynamics_sample_step(sampling_rate_hz)
     acc = np.asarray(acc, dtype=float)[::step]
     gyr = np.asarray(gyr, dtype=float)[::step]
     starts = -(-np.asarray(starts, dtype=np.int64).reshape(-1) // step)  # first kept sample at or after the start
@@ -606,6 +611,8 @@ class DomainModel:
         if self.dynamics is None:
             raise ModelError("this model's domain record has no orientation-dynamics part; retrain the model to get it.")
         Q = np.asarray(dynamics, dtype=float).reshape(-1, len(DYNAMICS_NAMES))
+        if not len(Q):
+            return np.zeros(0)
         finite = np.isfinite(Q).all(axis=1)
         Z = (np.where(finite[:, None], Q, 0.0) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
         cache = getattr(self, "_dyn_cache", None)
@@ -645,7 +652,8 @@ class DomainModel:
         ``in_domain`` (k,) bool.
         """
         X = np.asarray(X, dtype=float)
-        if X.shape == (1, len(self.feature_names)):  # one window (streaming): the short path when it applies
+        if X.shape == (1, len(self.feature_names)) and (dynamics is None or self.dynamics is None):
+            # one window (streaming) without a dynamics test to make: the short path when it applies
             one = self._check_one(X, gravity)
             if one is not None:
                 return one
@@ -719,7 +727,12 @@ class DomainModel:
         d = math.sqrt(min(sq))  # correctly rounded, as np.sqrt
         ok = d <= self.distance_threshold
         if not self.gravity_check:
-            return {"distance": np.array([d]), "gravity_angle_rad": np.array([np.nan]), "in_domain": np.array([ok])}
+            return {
+                "distance": np.array([d]),
+                "gravity_angle_rad": np.array([np.nan]),
+                "dynamics_distance": np.array([np.nan]),
+                "in_domain": np.array([ok]),
+            }
         cos = float(np.maximum.reduce(g.reshape(1, 3) @ dirs_t, axis=None))  # ndarray.max without its wrapper
         if math.isnan(cos):
             return None
@@ -727,6 +740,7 @@ class DomainModel:
         return {
             "distance": np.array([d]),
             "gravity_angle_rad": np.array([ang]),
+            "dynamics_distance": np.array([np.nan]),
             "in_domain": np.array([ok and ang <= self.gravity_threshold_rad]),
         }
 

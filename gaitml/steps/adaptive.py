@@ -402,6 +402,8 @@ def adaptive_steps(
         # a step alone in its bout has no interval: no timing evidence
         regularity = np.where(np.isnan(interval), 0.0, np.clip(1.0 - np.abs(interval - T) / T, 0.0, 1.0))
         conf = conf * regularity
+    elif len(pk) == 1:  # the only step found: alone in its bout, no timing evidence either
+        conf = np.zeros(1)
     conf = np.where(inferred, INFERRED_STRIDE_FACTOR * conf, conf)
     if len(pk):
         ok = bout_edge_keep(bout, conf, edge_confidence_ratio) if edge_confidence_ratio > 0 else np.ones(len(pk), dtype=bool)

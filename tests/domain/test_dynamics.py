@@ -272,6 +272,35 @@ def test_a_trained_gyroscope_model_records_the_dynamics_and_predict_uses_them(tm
     ref = dom.check(_features(rec, starts), window_gravity(rec.acc, starts, 75), q)
     np.testing.assert_array_equal(t["in_domain"].astype(bool).to_numpy(), ref["in_domain"])
     assert np.isfinite(ref["dynamics_distance"]).all()
+    # the table says why a window is flagged: the running median the decision used
+    np.testing.assert_allclose(t["dynamics_distance"].to_numpy(float), ref["dynamics_distance"])
+    # a recording of one window: its dynamics are checked too (the one-window short path is for callers without them)
+    one = rec.slice(int(starts[20]), int(starts[20]) + 75)
+    t1 = predict_recording(model, one)
+    q1 = orientation_dynamics(one.acc, one.gyr, [0], [75], one.sampling_rate_hz)
+    ref1 = dom.check(_features(one, np.array([0])), window_gravity(one.acc, [0], 75), q1)
+    assert bool(t1["in_domain"].iloc[0]) == bool(ref1["in_domain"][0])
+    assert ref1["dynamics_distance"][0] == dom.dynamics_distances(q1)[0]
+    # a long file read chunk by chunk gives the flags of the whole-file run (context for the running median,
+    # chunk offsets on the descriptors' sample grid)
+    from gaitml.io.gaitml_csv import write_gaitml_csv
+    from gaitml.longrun import long_predict
+
+    write_gaitml_csv(rec, tmp_path / "rec.csv")
+    chunked = long_predict(model, tmp_path / "rec.csv", chunk_s=7.0, progress=False)
+    np.testing.assert_array_equal(chunked["in_domain"].astype(bool).to_numpy(), t["in_domain"].astype(bool).to_numpy())
+    np.testing.assert_allclose(chunked["dynamics_distance"].to_numpy(float), t["dynamics_distance"].to_numpy(float))
+
+
+def test_no_windows_and_one_window_with_dynamics():
+    dom, Q, _, _ = _fit()
+    res = dom.check(np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, len(DYNAMICS_NAMES))))
+    assert all(len(v) == 0 for v in res.values())
+    far = Q[:1] + 8.0
+    one = dom.check(np.zeros((1, 4)), np.array([[0.0, 0.0, 1.0]]), far)
+    assert one["dynamics_distance"][0] == dom.dynamics_distances(far)[0] > dom.dynamics["threshold"]
+    assert not one["in_domain"][0]
+    assert np.isnan(dom.check(np.zeros((1, 4)), np.array([[0.0, 0.0, 1.0]]))["dynamics_distance"][0])
 
 
 def _features(rec, starts):

@@ -435,3 +435,19 @@ PAPER_IFSM_COUNTS = {
 @pytest.mark.parametrize("name", sorted(PAPER_IFSM_COUNTS))
 def test_paper_detectors_ifsm_counts_unchanged(ifsm_recs, name):
     assert tuple(len(get_detector(name).detect(r).steps_) for r in ifsm_recs) == PAPER_IFSM_COUNTS[name]
+
+
+def test_a_step_found_alone_has_no_timing_evidence_and_confidence_zero():
+    """The only step of a short signal is alone in its bout: confidence 0, as for a lone step inside a longer one."""
+    from gaitml.simulate import sample_subjects, simulate_recording
+    from gaitml.steps.adaptive import adaptive_steps
+
+    rec = simulate_recording(sample_subjects(1, seed=1)[0], duration_s=30, seed=1, modes=("walk",))
+    mag = np.linalg.norm(rec.acc, axis=1)
+    found = 0
+    for length in range(90, 200, 3):
+        r = adaptive_steps(mag[200 : 200 + length], 50.0, min_bout_steps=1, edge_confidence_ratio=0.0)
+        if len(r["peak"]) == 1:
+            found += 1
+            assert r["confidence"][0] == 0.0
+    assert found  # the case is exercised

@@ -390,7 +390,7 @@ def adaptive_steps(
     pk, T, R, inferred = pk[keep], T[keep], R[keep], inferred[keep]
     conf = np.clip(R, 0.0, 1.0)
     bout = np.zeros(len(pk), dtype=np.int64)
-    if len(pk) >= 2:
+    if len(pk):  # one step alone gets no interval, hence regularity 0, like a lone step inside a longer signal
         d = np.diff(pk).astype(float)
         # a gap over BOUT_GAP_RATIO local step periods is not a step interval (its timing regularity would be 0):
         # it ends one walking bout and starts the next, and a step's regularity uses its intervals inside its bout
@@ -402,8 +402,6 @@ def adaptive_steps(
         # a step alone in its bout has no interval: no timing evidence
         regularity = np.where(np.isnan(interval), 0.0, np.clip(1.0 - np.abs(interval - T) / T, 0.0, 1.0))
         conf = conf * regularity
-    elif len(pk) == 1:  # the only step found: alone in its bout, no timing evidence either
-        conf = np.zeros(1)
     conf = np.where(inferred, INFERRED_STRIDE_FACTOR * conf, conf)
     if len(pk):
         ok = bout_edge_keep(bout, conf, edge_confidence_ratio) if edge_confidence_ratio > 0 else np.ones(len(pk), dtype=bool)

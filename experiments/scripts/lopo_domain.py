@@ -150,15 +150,16 @@ class KNN:
 
 
 def span_median(d, rec, start, span: int = SPAN):
-    """Median of the distances of the last ``span`` windows of the same recording (fewer at its start)."""
+    """Median of the distances of the last ``span`` windows of the same recording (fewer at its start).
+
+    :func:`gaitml.models.domain.running_median` (what ``check`` uses) over the windows put in
+    time order within each recording.
+    """
+    from gaitml.models.domain import running_median
+
+    order = np.lexsort((start, rec))
     out = np.empty(len(d))
-    for r in np.unique(rec):
-        rows = np.flatnonzero(rec == r)
-        rows = rows[np.argsort(start[rows], kind="stable")]
-        dr = d[rows]
-        pad = np.concatenate([np.full(span - 1, np.nan), dr])
-        win = np.lib.stride_tricks.sliding_window_view(pad, span)
-        out[rows] = np.nanmedian(win, axis=1)
+    out[order] = running_median(np.asarray(d, dtype=float)[order], span, np.asarray(rec)[order])
     return out
 
 
@@ -214,32 +215,12 @@ def run(D, candidates=None, positions=None, spans=(SPAN,)):
         svm = LinearOVOSVM().fit(D["tr_X_phone"][keep], ytr[keep])
         wrong = svm.predict(D["te_X_phone"]) != yte
         flags = {}
-        dom = fit_domain(
-            D["tr_X_phone"][keep],
-            ytr[keep],
-            D["tr_g"][keep],
-            D["tr_grav"][keep],
-            feature_names=feature_names("all52+gyro"),
-            feature_set="all52+gyro",
-            frame="phone",
-            positions=ptr[keep],
-            seed=1000,
-        )
+        training = (D["tr_X_phone"][keep], ytr[keep], D["tr_g"][keep], D["tr_grav"][keep])
+        settings = dict(feature_names=feature_names("all52+gyro"), feature_set="all52+gyro", frame="phone", positions=ptr[keep], seed=1000)
+        dom = fit_domain(*training, **settings)
         flags["today"] = ~dom.check(D["te_X_phone"], D["te_grav"])["in_domain"]
         # the recorded check of this branch: today's plus the orientation-dynamics part (fit_domain(dynamics=...))
-        dom = fit_domain(
-            D["tr_X_phone"][keep],
-            ytr[keep],
-            D["tr_g"][keep],
-            D["tr_grav"][keep],
-            feature_names=feature_names("all52+gyro"),
-            feature_set="all52+gyro",
-            frame="phone",
-            positions=ptr[keep],
-            seed=1000,
-            dynamics=D["tr_odyn"][keep],
-            sequence=D["tr_rec"][keep],
-        )
+        dom = fit_domain(*training, **settings, dynamics=D["tr_odyn"][keep], sequence=D["tr_rec"][keep])
         new = np.zeros(len(yte), dtype=bool)
         dyn_only = np.zeros(len(yte), dtype=bool)
         for r in np.unique(D["te_rec"]):

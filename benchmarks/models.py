@@ -153,7 +153,7 @@ def _best_interleaved(ours, reference, reps: int) -> tuple[float, float]:
 
 
 def _domain_rows(quick: bool) -> list[dict]:
-    """``predict-domain-check`` and ``stream-domain-check-per-window`` (see the module docstring)."""
+    """``predict-domain-check``, ``predict-domain-check-gyro`` and ``stream-domain-check-per-window`` (see the module docstring)."""
     import dataclasses
     import tempfile
 
@@ -162,48 +162,41 @@ def _domain_rows(quick: bool) -> list[dict]:
 
     with tempfile.TemporaryDirectory() as tmp:
         model = _domain_model(quick, Path(tmp) / "model")
-    bare = dataclasses.replace(model, domain=None)
     rec = simulate_dataset(n_subjects=1, duration_s=600.0 if quick else 1800.0, seed=11, sampling_rate_hz=FS_HZ)[0]
-    predict_recording(model, rec.slice(0, 500))  # warm-up (caches, imports)
-    predict_recording(bare, rec.slice(0, 500))
     # interleaved repeats, best of each: a loaded machine's noise hits both alike
     reps = 5 if quick else 7
-    t, tr = _best_interleaved(lambda: predict_recording(model, rec), lambda: predict_recording(bare, rec), reps)
     n = len(predict_recording(model, rec))
-    out = [
-        {
+
+    def batch_row(name: str, m, what: str) -> dict:
+        """``predict_recording`` of ``rec`` with model ``m`` against the same call without its domain record."""
+        bare_m = dataclasses.replace(m, domain=None)
+        predict_recording(m, rec.slice(0, 500))  # warm-up (caches, imports)
+        predict_recording(bare_m, rec.slice(0, 500))
+        t, tr = _best_interleaved(lambda: predict_recording(m, rec), lambda: predict_recording(bare_m, rec), reps)
+        return {
             "area": "models",
-            "name": "predict-domain-check",
+            "name": name,
             "n_items": n,
             "unit": "windows",
             "seconds": t,
             "throughput_per_s": n / t,
             "reference_seconds": tr,
             "ratio": tr / t,
-            "note": f"predict_recording with the domain check (in_domain per window), {rec.duration_s:g} s recording, best of {reps}; "
-            f"reference: the same model without its domain record (no check); check costs {100 * (t / tr - 1):+.1f} % (target <= 20 %)",
+            "note": f"{what}, {rec.duration_s:g} s recording, best of {reps}; reference: the same model without its domain record "
+            f"(no check); check costs {100 * (t / tr - 1):+.1f} % (target <= 20 %)",
         }
-    ]
+
+    out = [batch_row("predict-domain-check", model, "predict_recording with the domain check (in_domain per window)")]
     # a gyroscope model: its record adds the orientation-dynamics part (batch only; one-window callers skip it)
     with tempfile.TemporaryDirectory() as tmp:
         gmodel = _domain_model(quick, Path(tmp) / "model", "all52+gyro")
-    gbare = dataclasses.replace(gmodel, domain=None)
-    predict_recording(gmodel, rec.slice(0, 500))
-    predict_recording(gbare, rec.slice(0, 500))
-    tg, tgr = _best_interleaved(lambda: predict_recording(gmodel, rec), lambda: predict_recording(gbare, rec), reps)
+    has = "with" if gmodel.domain.dynamics is not None else "WITHOUT"
     out.append(
-        {
-            "area": "models",
-            "name": "predict-domain-check-gyro",
-            "n_items": n,
-            "unit": "windows",
-            "seconds": tg,
-            "throughput_per_s": n / tg,
-            "reference_seconds": tgr,
-            "ratio": tgr / tg,
-            "note": f"as predict-domain-check with an all52+gyro model, whose domain record has the orientation-dynamics part "
-            f"({'with' if gmodel.domain.dynamics is not None else 'WITHOUT'} it here); check costs {100 * (tg / tgr - 1):+.1f} % (target <= 20 %)",
-        }
+        batch_row(
+            "predict-domain-check-gyro",
+            gmodel,
+            f"as predict-domain-check with an all52+gyro model, whose domain record has the orientation-dynamics part ({has} it here)",
+        )
     )
     _stream_domain_loop(rec.slice(0, 500), model, True)  # warm-up
     ns = _stream_domain_loop(rec, model, False)[1]

@@ -452,7 +452,7 @@ def silent_main(args) -> int:
     tabs = silent_tables(args.data, model)
     dist_thr, grav_thr = tabs["domain"].attrs["thresholds"]
     strips = "\n".join(f"{k}:\n    {v}" for k, v in tabs["strips"].items())
-    text = "\n\n".join(
+    return emit_tables(
         [
             "### Oxford InHand read by demo-acc, per walk (sorted by foot-switch cadence)\n\n" + _md(tabs["per recording"]),
             "### Where the silently wrong windows are\n\n" + _md(tabs["where"]),
@@ -461,13 +461,10 @@ def silent_main(args) -> int:
             + _md(tabs["domain"]),
             "### Step intensity: variance of |acc| per 1.5 s window\n\n" + _md(tabs["intensity"]),
             "### Window modes of the two worst walks (w walk, B backward, L/R side step, U run, . flagged)\n\n```\n" + strips + "\n```",
-            f"(run time {time.perf_counter() - t0:.0f} s)",
-        ]
+        ],
+        args.out,
+        t0,
     )
-    print(text)
-    if args.out:
-        args.out.write_text(text + "\n", encoding="utf-8")
-    return 0
 
 
 # ---------------------------------------------------------------- --positions (models for real phones)
@@ -646,6 +643,15 @@ _PCT = (
 )
 
 
+def emit_tables(sections: list[str], out, t0: float) -> int:
+    """Print the markdown sections and the run time, write them to ``out`` too when given; exit status 0."""
+    text = "\n\n".join([*sections, f"(run time {time.perf_counter() - t0:.0f} s)"])
+    print(text)
+    if out:
+        out.write_text(text + "\n", encoding="utf-8")
+    return 0
+
+
 def _md(df: pd.DataFrame) -> str:
     """Markdown table; fractions as percentages, other floats with 3 significant digits."""
     cols = list(df.columns)
@@ -716,20 +722,17 @@ def main(argv: list[str] | None = None) -> int:
         cost = cost_table(models["demo"])
         print("phone vs gravity frame (cross-validation) ...", file=sys.stderr, flush=True)
         frames = frame_cv_table()
-    text = "\n\n".join(
+    return emit_tables(
         [
             "### Domain thresholds of the models\n\n" + _md(thresholds),
             "### Real walking recordings\n\n" + _md(real),
             "### Simulated held-out subjects (seed 2024, 8 subjects x 120 s, all five modes)\n\n" + _md(sim),
             "### Cost of the check\n\n" + _md(cost),
             "### Phone vs gravity frame on the simulator (seed 5, before the adjacent-window correction)\n\n" + _md(frames),
-            f"(run time {time.perf_counter() - t0:.0f} s)",
-        ]
+        ],
+        args.out,
+        t0,
     )
-    print(text)
-    if args.out:
-        args.out.write_text(text + "\n", encoding="utf-8")
-    return 0
 
 
 def positions_main(args) -> int:
@@ -752,19 +755,16 @@ def positions_main(args) -> int:
     lopo = leave_one_position_out_table()
     print("PDR routes per position ...", file=sys.stderr, flush=True)
     pdr = positions_pdr_table(models["positions"])
-    text = "\n\n".join(
+    return emit_tables(
         [
             "### Real walking read by the models for real phones\n\n" + _md(real),
             "### Leave one position out (simulator: 8 training subjects, seed 1000; 4 test subjects, seed 2024; 120 s each)\n\n"
             + _md(lopo),
             "### Multi-state PDR per carrying position (the all-positions gyro model; rectangle and arc, seeds 0-2, means)\n\n" + _md(pdr),
-            f"(run time {time.perf_counter() - t0:.0f} s)",
-        ]
+        ],
+        args.out,
+        t0,
     )
-    print(text)
-    if args.out:
-        args.out.write_text(text + "\n", encoding="utf-8")
-    return 0
 
 
 if __name__ == "__main__":

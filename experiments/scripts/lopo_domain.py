@@ -470,20 +470,19 @@ def main(argv: list[str] | None = None) -> int:
     ox = oxford_table(D, args.data)
     print("cost ...", file=sys.stderr, flush=True)
     cost = cost_table(D)
-    text = "\n\n".join(
+    from experiments.scripts.domain_report import emit_tables
+
+    return emit_tables(
         [
             "### Leave one position out (8 training subjects seed 1000, 4 test subjects seed 2024, 120 s per position)\n\n"
             + lopo_tables(df),
             "### Accelerometer-only descriptors on real walking (per-(mode, position) Gaussians on all seven simulated positions)\n\n"
             + _md(ox),
             "### Cost of the check\n\n" + _md(cost),
-            f"(run time {time.perf_counter() - t0:.0f} s)",
-        ]
+        ],
+        args.out,
+        t0,
     )
-    print(text)
-    if args.out:
-        args.out.write_text(text + "\n", encoding="utf-8")
-    return 0
 
 
 if __name__ == "__main__":

@@ -354,8 +354,35 @@ def _class_gaussians(Z: np.ndarray, y: np.ndarray, classes: list[str]) -> tuple[
             continue
         lw = LedoitWolf(assume_centered=False).fit(zc)
         means[i] = lw.location_
-        precs[i] = lw.precision_
+        precs[i] = lw.precision_ if _positive_definite(lw.precision_) else _ridge_precision(lw.covariance_)
     return means, precs
+
+
+#: Ridge added to a class covariance whose shrunk estimate is singular, relative to its mean variance.
+RIDGE_FRACTION = 1e-3
+
+
+def _positive_definite(a: np.ndarray) -> bool:
+    if not np.all(np.isfinite(a)):
+        return False
+    try:
+        np.linalg.cholesky(a)
+    except np.linalg.LinAlgError:
+        return False
+    return True
+
+
+def _ridge_precision(cov: np.ndarray) -> np.ndarray:
+    """Precision of ``cov`` plus a small ridge; unit precision when even that fails.
+
+    Ledoit-Wolf shrinkage can leave the covariance of a class with very few windows (two, say,
+    in a small step-window data set) singular: its shrinkage intensity is estimated as 0.
+    """
+    p = len(cov)
+    ridge = RIDGE_FRACTION * max(float(np.trace(cov)) / p, 1e-12)
+    prec = np.linalg.pinv(cov + ridge * np.eye(p), hermitian=True)
+    prec = 0.5 * (prec + prec.T)
+    return prec if _positive_definite(prec) else np.eye(p)
 
 
 def _min_mahalanobis(Z: np.ndarray, means: np.ndarray, precs: np.ndarray) -> np.ndarray:

@@ -268,3 +268,23 @@ def test_attach_domain_to_an_old_model_keeps_its_classifier(phone_model, tmp_pat
     np.testing.assert_array_equal(load_model(tmp_path / "new").estimator.coef_, ref.estimator.coef_)
     with pytest.raises(ConfigError, match="not the one model"):
         attach_training_domain(cfg.with_values({"windows.length_s": 2.0}), old, tmp_path / "bad")
+
+
+def test_a_class_with_two_windows_gets_a_positive_definite_precision():
+    """Ledoit-Wolf leaves the covariance of a two-window class singular (its shrinkage is
+    estimated as 0); the record must still be usable (a step-window model with few windows of one
+    mode hit this)."""
+    from gaitml.models.domain import _class_gaussians
+
+    rng = np.random.default_rng(0)
+    Z = rng.standard_normal((42, 52))
+    y = np.array(["walk"] * 40 + ["backward"] * 2)
+    means, precs = _class_gaussians(Z, y, ["backward", "walk"])
+    for P in precs:
+        np.linalg.cholesky(P)  # raises if not positive definite
+        assert np.all(np.isfinite(P))
+    assert np.allclose(means[0], Z[40:].mean(axis=0))
+    names = [f"f{i}" for i in range(52)]
+    grav = np.tile([[0.0, 0.0, 1.0]], (42, 1))
+    record = fit_domain(Z, y, np.repeat(np.arange(21), 2), grav, feature_names=names, feature_set="all52", frame="phone")
+    assert np.isfinite(record.distances(Z)).all()

@@ -1,6 +1,6 @@
 """End-point error table of paper 003 sec. 4.3 on simulated mixed-mode routes.
 
-``python -m experiments.scripts.pdr_report [--model MODEL_DIR] [--seeds 0 1 2] [--plot PNG] [--csv FILE]``
+``python -m experiments.scripts.pdr_report [--model MODEL_DIR] [--seeds 0 1 2] [--detector NAME] [--plot PNG] [--csv FILE]``
 from the repository root. The routes, calibration and variants are described in
 :mod:`gaitml.experiments.pdr_routes`; measured tables: ``experiments/scripts/README.md``.
 """
@@ -23,6 +23,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--model", metavar="MODEL_DIR", help="model for the 'model modes' rows (default: models/demo if present)")
     p.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     p.add_argument("--routes", nargs="+", default=["rectangle", "arc"])
+    p.add_argument(
+        "--detector",
+        default="single-peak",
+        help="step detector of every variant (default single-peak, paper 003; adaptive finds the steps of calm walkers)",
+    )
     p.add_argument("--csv", metavar="FILE", help="write the long table (one row per route/seed/variant)")
     p.add_argument("--plot", metavar="PNG", help="trajectory plot of the first route/seed (truth, multi-state, forward-only)")
     args = p.parse_args(argv)
@@ -41,7 +46,7 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     for route in args.routes:
         for seed in args.seeds:
-            rows += evaluate_route(route, seed, model=model, keep_results=bool(args.plot))
+            rows += evaluate_route(route, seed, model=model, keep_results=bool(args.plot), detector=args.detector)
             print(f"  {route} seed {seed} done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
     tab = route_table(rows)
     with pd.option_context("display.width", 200, "display.max_columns", 30, "display.float_format", "{:.2f}".format):

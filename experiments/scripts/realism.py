@@ -197,15 +197,24 @@ def real_window_variability(shared_data: str | Path) -> list[dict[str, float]]:
     return [dict(d) for d in _real_window_variability(str(Path(shared_data).resolve()))]
 
 
-def simulated_walkers(n: int = 6, *, seed: int = 0, duration_s: float = 150.0) -> list[Recording]:
-    """``n`` simulated flat-held walks (walking only, 50 Hz) of subjects drawn from ``seed``."""
+def simulated_walkers(n: int = 6, *, seed: int = 0, duration_s: float = 150.0, hand_gain: float | None = 1.0) -> list[Recording]:
+    """``n`` simulated flat-held walks (walking only, 50 Hz) of subjects drawn from ``seed``.
+
+    ``hand_gain`` (default 1) replaces each subject's drawn
+    :attr:`~gaitml.simulate.subject.Subject.hand_gain`: the two IFSM walkers these walks are
+    compared with walk at about gain 1 (their ``|acc|`` standard deviations of 2.7 and 3.4 m/s^2
+    lie in the gain-1 population's 2.7-4.0); the calm end of the gain range comes from other
+    people (the Oxford ``InHand`` walks). None keeps the drawn gains.
+    """
+    import dataclasses
+
     from gaitml.simulate.dataset import simulate_recording
     from gaitml.simulate.subject import sample_subjects
 
-    return [
-        simulate_recording(s, route="straight", modes=("walk",), duration_s=duration_s, seed=i)
-        for i, s in enumerate(sample_subjects(n, seed=seed, pose="flat"))
-    ]
+    subjects = sample_subjects(n, seed=seed, pose="flat")
+    if hand_gain is not None:
+        subjects = [dataclasses.replace(s, hand_gain=float(hand_gain)) for s in subjects]
+    return [simulate_recording(s, route="straight", modes=("walk",), duration_s=duration_s, seed=i) for i, s in enumerate(subjects)]
 
 
 def variability_table(shared_data: str | Path, *, simulated: list[Recording] | None = None) -> pd.DataFrame:

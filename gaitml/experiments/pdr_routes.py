@@ -62,9 +62,20 @@ CALIBRATION_S = 150.0
 
 
 def evaluate_route(
-    route: str, seed: int, *, model=None, variants=VARIANTS, keep_results: bool = False, position: str | None = None
+    route: str,
+    seed: int,
+    *,
+    model=None,
+    variants=VARIANTS,
+    keep_results: bool = False,
+    position: str | None = None,
+    detector: str = "single-peak",
 ) -> list[dict]:
     """Run every variant on one simulated route; one dict per variant.
+
+    ``detector`` is the step detector of every variant (a registered name; default paper
+    003's ``single-peak``, whose fixed 2 m/s^2 peak height misses steps of the simulator's
+    calm hand-held walkers, hand gain below about 0.5: ``adaptive`` finds them).
 
     ``position`` (one of :data:`gaitml.simulate.POSITIONS`; None: the subject's hand pose,
     as before) carries the phone there on the route and on the calibration walk (the same
@@ -96,6 +107,7 @@ def evaluate_route(
             continue
         kw = dict(kw)
         kw.setdefault("step_length", cal.step_length)
+        kw.setdefault("detector", detector)
         hde_kwargs = kw.pop("hde_kwargs", {})
         r = rec
         if kw.pop("remove_true_gyro_bias", False):
@@ -113,6 +125,7 @@ def evaluate_route(
             "distance_est_m": res.distance_m,
             "n_steps": res.n_steps,
             "n_steps_true": int(rec.reference.get("n_steps_true", len(rec.reference["steps"]))),
+            "detector": kw["detector"] if isinstance(kw["detector"], str) else type(kw["detector"]).__name__,
             "end_error_m": err,
             "end_error_pct": pct,
         }

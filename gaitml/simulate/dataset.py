@@ -224,6 +224,10 @@ def synthesize(
     if placement is None:
         a_up = a_up + b_imp[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
         a_up = a_up - np.where(is_step, b_imp[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
+        if subject.hand_gain != 1.0:  # the arm passes on part of the trunk's motion (not in running: see HAND_GAIN_RANGE)
+            g_mode = np.where(np.arange(len(MOTION_MODES)) == _MODE_INDEX["run"], 1.0, subject.hand_gain)
+            gain = w_cur * g_mode[mode_cur[k]] + (1.0 - w_cur) * g_mode[mode_prev[k]]
+            a_right, a_fwd, a_up = a_right * gain, a_fwd * gain, a_up * gain
     else:  # the trunk bounce and the impact at the carrying segment
         # a phone on one leg feels that leg's heel strikes and stance far more than the other's
         crng = carry_rng if carry_rng is not None else rng

@@ -44,6 +44,16 @@ Ranges (the sources of the numbers):
   (``step_lateral_cv``: arm swing and trunk sway are less regular than the
   vertical bounce), and the hand vibration is modulated slowly by 20-40 %
   (``hand_jitter_drift``: grip tension changes);
+- hand gain 0.25-1.2 (log-uniform, :data:`HAND_GAIN_RANGE`): the fraction
+  of the trunk's acceleration (bounce, sway, forward speed swing, heel-strike
+  impact) that reaches a hand-held phone in walking, side and backward steps.
+  The elbow and wrist are compliant and damp it, more in some people and
+  grips than others: the Oxford ``InHand`` walks range from an ``|acc|``
+  standard deviation of 1.1 m/s^2 (a calm walker) to 3.7 m/s^2, the IFSM
+  flat-held walks (which sized the amplitudes above, gain about 1) 2.7-3.4.
+  Running is not damped (its flight phase is free fall for body and phone
+  alike). The range is fitted to those real walks, each user held out in
+  turn, by ``python -m experiments.scripts.hand_gain``;
 - accelerometer noise 0.03-0.10 m/s^2, bias up to 0.12 m/s^2 per axis;
   gyroscope noise 0.002-0.008 rad/s, bias up to 0.015 rad/s per axis
   (consumer MEMS IMUs after factory calibration).
@@ -58,10 +68,19 @@ import numpy as np
 
 from gaitml.errors import InputError
 
-__all__ = ["Subject", "sample_subjects", "POSES"]
+__all__ = ["Subject", "sample_subjects", "POSES", "HAND_GAIN_RANGE"]
 
 #: Phone holding poses the simulator knows.
 POSES = ("flat", "tilted")
+
+#: Range (log-uniform) of :attr:`Subject.hand_gain`, the fraction of the trunk's acceleration
+#: (all three axes, heel-strike impact included) that reaches a hand-held phone in walking, side
+#: and backward steps (a relaxed elbow and wrist damp it; not in running, whose flight phase is
+#: free fall for body and phone alike). Carried positions (:mod:`.positions`) do not use it. Fitted to the real hand-held walks (IFSM's two flat-held walkers and
+#: the Oxford ``InHand`` walks of three users) by ``python -m experiments.scripts.hand_gain``:
+#: the simulated population's 5-95 % range of the walking ``|acc|`` standard deviation spans the
+#: real walks' range; leave-one-user-out in ``experiments/reports/simulator-positions.md``.
+HAND_GAIN_RANGE = (0.25, 1.2)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -126,6 +145,8 @@ class Subject:
     speed_drift_cv: float = 0.03  # slow walking-speed modulation, log-normal sd
     speed_drift_time_s: float = 5.0  # its correlation time
     hand_jitter_drift: float = 0.3  # slow modulation of the hand vibration amplitude, log-normal sd
+    # fraction of the trunk's acceleration that reaches a hand-held phone (walk, side, backward; HAND_GAIN_RANGE)
+    hand_gain: float = 1.0
 
     def __post_init__(self) -> None:
         if self.pose not in POSES:
@@ -142,6 +163,8 @@ class Subject:
             v = getattr(self, name)
             if not 0.0 <= v <= 0.6:
                 raise InputError(f"Subject.{name} must be a relative variation in 0-0.6, got {v!r}.")
+        if not 0.05 <= self.hand_gain <= 2.0:
+            raise InputError(f"Subject.hand_gain must be a gain in 0.05-2, got {self.hand_gain!r}.")
         if not self.speed_drift_time_s > 0:
             raise InputError(f"Subject.speed_drift_time_s must be > 0 s, got {self.speed_drift_time_s!r}.")
 
@@ -218,6 +241,8 @@ class Subject:
             speed_drift_cv=u(0.015, 0.04),
             speed_drift_time_s=u(3.0, 8.0),
             hand_jitter_drift=u(0.2, 0.4),
+            # drawn after them all (the same reason): log-uniform over HAND_GAIN_RANGE
+            hand_gain=float(np.exp(u(np.log(HAND_GAIN_RANGE[0]), np.log(HAND_GAIN_RANGE[1])))),
         )
 
     def with_pose(self, pose: str, rng: np.random.Generator | None = None) -> Subject:

@@ -62,6 +62,8 @@ Keys (defaults in brackets) of ``task = "classification"``::
     [train]
     model_dir = ""                   # where `gaitml train` writes the model (default models/<name>)
     cross_validate = true            # record CV scores in model.json
+    domain_dynamics = true           # all52+gyro models: record the orientation-dynamics part of the
+                                     # training domain (gaitml.models.domain); false: features and gravity only
     [sweep]
     "windows.length_s" = [0.5, 1.0]  # grid: every combination of the listed values
 
@@ -330,6 +332,7 @@ SCHEMA: dict[str, Any] = {
     "train": {
         "model_dir": _Leaf((str,), ""),
         "cross_validate": _Leaf((bool,), True),
+        "domain_dynamics": _Leaf((bool,), True),
     },
 }
 

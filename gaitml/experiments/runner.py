@@ -461,7 +461,8 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     gravity = np.zeros((len(ds), 3))
     positions = np.empty(len(ds), dtype=object)
     # the orientation-dynamics part needs the gyroscope (gaitml.models.domain; without it the check is weak)
-    dynamics = np.zeros((len(ds), len(DYNAMICS_NAMES))) if fset == "all52+gyro" else None
+    with_dynamics = fset == "all52+gyro" and cfg["train"]["domain_dynamics"]
+    dynamics = np.zeros((len(ds), len(DYNAMICS_NAMES))) if with_dynamics else None
     for i in np.unique(rec_idx):
         rows = np.flatnonzero(rec_idx == i)
         rec = data.recordings[int(i)]

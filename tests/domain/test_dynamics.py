@@ -307,3 +307,26 @@ def _features(rec, starts):
     from gaitml.features import features_from_arrays
 
     return features_from_arrays(rec.acc, rec.gyr, rec.sampling_rate_hz, starts, 75, "all52+gyro", "phone")
+
+
+def test_train_domain_dynamics_false_records_features_and_gravity_only(tmp_path):
+    """``train.domain_dynamics = false`` (experiments/demo.toml): an all52+gyro model without the
+    orientation-dynamics part, like the shipped models/demo."""
+    from gaitml.experiments.config import parse_config
+    from gaitml.experiments.runner import train_config
+    from gaitml.models import load_model
+
+    cfg = parse_config(
+        {
+            "name": "no-dyn",
+            "data": {"simulated": {"subjects": 3, "duration_s": 30.0}},
+            "features": {"set": "all52+gyro"},
+            "train": {"cross_validate": False, "domain_dynamics": False},
+        }
+    )
+    train_config(cfg, out_dir=tmp_path / "m", progress=False)
+    model = load_model(tmp_path / "m")
+    assert model.domain is not None and model.domain.dynamics is None
+    assert load_model(ROOT / "models" / "demo").domain.dynamics is None
+    with pytest.raises(Exception, match="domain_dynamics"):
+        parse_config({"name": "x", "train": {"domain_dynamics": "no"}})

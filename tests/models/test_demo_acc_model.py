@@ -67,10 +67,12 @@ def test_demo_acc_reads_an_accelerometer_only_recording_as_when_it_was_shipped()
     with_gyro = predict_recording(model, rec)
     t = predict_recording(model, _acc_only(rec))
     np.testing.assert_array_equal(t["mode_raw"].to_numpy(), with_gyro["mode_raw"].to_numpy())
-    assert t["mode"].value_counts().to_dict() == {"side_left": 20, "backward": 15, "walk": 14, "run": 14, "side_right": 14}
+    assert t["mode"].value_counts().to_dict() == {"backward": 19, "side_left": 17, "run": 15, "walk": 13, "side_right": 13}
     assert bool(t["in_domain"].astype(bool).all())
     sel = t["label_fraction"].to_numpy() >= 0.5
-    assert np.mean(t["mode"].to_numpy()[sel] == t["label"].to_numpy()[sel]) > 0.98
+    # the sample's walker is a calm one (hand gain 0.30): without the gyroscope 70 % of its windows
+    # are right (models/demo with the gyroscope: 92 %; both models before the hand gain: 38-40 %)
+    assert np.mean(t["mode"].to_numpy()[sel] == t["label"].to_numpy()[sel]) > 0.68
 
 
 def test_gaitml_predict_with_demo_acc_on_an_accelerometer_only_file(tmp_path, capsys):
@@ -100,3 +102,22 @@ def test_retraining_demo_acc_gives_the_shipped_arrays(tmp_path):
     for key in ("training_config", "training_data", "domain", "estimator", "feature_names", "labels", "window"):
         assert a[key] == b[key], key
     assert a["cv_scores"]["accuracy_before"] == b["cv_scores"]["accuracy_before"]
+
+
+@pytest.mark.realdata
+def test_demo_acc_meets_the_issue_targets_on_real_hand_held_walking():
+    """Oxford InHand (16 walks, 3 users): walk >= 90 % of the windows, silently wrong (neither walk
+    nor flagged) <= 5 %; measured 98.9 % and 0.8 % (90.5 % and 5.5 % before the simulator's hand
+    gain; held out per user: 95.1 % and 2.7 %, experiments/reports/model-domain.md)."""
+    from experiments.scripts.domain_report import _add, score
+    from gaitml.io import read_dataset
+    from tests.conftest import shared
+
+    recs = [r for r in read_dataset(shared("oxford-step-counter", "optimisation")) if r.meta.get("position") == "InHand"]
+    assert len(recs) == 16
+    model = load_model(DEMO_ACC)
+    tot: dict = {}
+    for r in recs:
+        tot = _add(tot, score(model, r))
+    assert tot["walk_all"] / tot["windows"] >= 0.90
+    assert tot["silent"] / tot["windows"] <= 0.05

@@ -726,8 +726,10 @@ class DomainModel:
         # non-finite feature are out of domain (distance inf) whatever their other features
         Z = ((X if all_finite else np.where(np.isfinite(X), X, 0.0)) - self.arrays["center"]) / self.arrays["scale"]
         with np.errstate(invalid="ignore", over="ignore"):
-            Y = (Z @ stacked - offset).reshape(len(Z), -1, X.shape[1])
-            d = np.sqrt((Y * Y).sum(axis=2).min(axis=1))
+            Y = Z @ stacked  # in place from here: the same arithmetic without two more (n, c p) temporaries
+            Y -= offset
+            Y *= Y
+            d = np.sqrt(Y.reshape(len(Z), -1, X.shape[1]).sum(axis=2).min(axis=1))
         if not all_finite:
             d[~finite] = np.inf
         return d

@@ -268,7 +268,8 @@ def test_a_trained_gyroscope_model_records_the_dynamics_and_predict_uses_them(tm
     assert set(model.domain.dynamics["labels"]) <= {
         f"{m}|{p}" for m in ("walk", "backward", "run", "side_left", "side_right") for p in ("hand-flat", "belt")
     }
-    assert "Orientation dynamics" in (tmp_path / "model" / "MODEL.md").read_text()
+    card = (tmp_path / "model" / "MODEL.md").read_text()
+    assert "Orientation dynamics" in card and f"one window in {DYNAMICS_EVERY}: windows 0, {DYNAMICS_EVERY}," in card
     subject = sample_subjects(1, 41)[0]
     rec = simulate_recording(
         subject, duration_s=40.0, modes=["walk"], seed=41, placement=Placement.random("swinging-hand", np.random.default_rng(41))

@@ -755,7 +755,8 @@ class DomainModel:
         if not len(Q):
             return np.zeros(0)
         finite = np.isfinite(Q).all(axis=1)
-        Z = (np.where(finite[:, None], Q, 0.0) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
+        all_finite = bool(finite.all())
+        Z = ((Q if all_finite else np.where(finite[:, None], Q, 0.0)) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
         cache = getattr(self, "_dyn_cache", None)
         if cache is None:  # stacked Cholesky factors, as in distances(): one matrix product for every Gaussian
             try:
@@ -767,9 +768,13 @@ class DomainModel:
                 np.concatenate([m @ c for m, c in zip(self.arrays["dyn_means"], chol, strict=True)]),
             )
             object.__setattr__(self, "_dyn_cache", cache)
-        Y = (Z @ cache[0] - cache[1]).reshape(len(Z), -1, Q.shape[1])
-        d = np.sqrt((Y * Y).sum(axis=2).min(axis=1))
-        d[~finite] = np.inf
+        Y = Z @ cache[0]
+        Y -= cache[1]
+        Y *= Y
+        # squared distance to every Gaussian: sums over its 13 columns as one matrix-vector product
+        d = np.sqrt((Y.reshape(-1, Q.shape[1]) @ np.ones(Q.shape[1])).reshape(len(Z), -1).min(axis=1))
+        if not all_finite:
+            d[~finite] = np.inf
         return d
 
     def check(self, X, gravity=None, dynamics=None) -> dict[str, np.ndarray]:

@@ -193,18 +193,19 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     j0 = np.clip(-(-np.asarray(starts, dtype=np.int64).reshape(-1) // step), 0, kept)  # first kept sample at or after the start
     j1 = np.clip(-(-np.asarray(ends, dtype=np.int64).reshape(-1) // step), 0, kept)
     out = np.full((len(j0), len(DYNAMICS_NAMES)), np.nan)
-    good = j1 - j0 >= 2
-    if not len(good):
-        return out
-    if good.all():
-        out[:] = _dynamics_of_spans(acc, gyr, j0, j1, step, max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz) / step))))
-    elif good.any():
-        out[good] = _dynamics_of_spans(
-            acc, gyr, j0[good], j1[good], step, max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz) / step)))
-        )
+    chunk = max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz) / step)))
+    rows = np.flatnonzero(j1 - j0 >= 2)
+    for b in range(0, len(rows), _DYNAMICS_BATCH):  # bounded memory for long recordings (training on every window)
+        r = rows[b : b + _DYNAMICS_BATCH]
+        if len(r) == len(out):
+            out[:] = _dynamics_of_spans(acc, gyr, j0, j1, step, chunk)
+        else:
+            out[r] = _dynamics_of_spans(acc, gyr, j0[r], j1[r], step, chunk)
     return out
 
 
+#: :func:`orientation_dynamics` takes at most this many windows at once (its blocks: about 20 x 8 bytes per kept sample).
+_DYNAMICS_BATCH = 4096
 #: The distinct entries (i <= j) of a symmetric 3 x 3 matrix, and the entry of each (i, j) among them.
 _PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 _SYM = np.array([[0, 1, 2], [1, 3, 4], [2, 4, 5]])

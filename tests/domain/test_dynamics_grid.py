@@ -231,3 +231,16 @@ def test_descriptors_of_windows_of_many_lengths_match_the_loop(fs):
         np.testing.assert_allclose(got[i, other], ref[other], rtol=1e-7, atol=1e-9)
         if len(keep) > 3:  # skewness of 2-3 samples is rounding noise over rounding noise
             np.testing.assert_allclose(got[i, 7], ref[7], rtol=1e-6, atol=1e-6)
+
+
+def test_descriptors_in_batches_equal_one_block(monkeypatch):
+    import gaitml.models.domain as dm
+
+    acc, gyr = _walk(6, 900)
+    starts = np.arange(0, 900 - 75 + 1, 37)
+    ends = starts + 75
+    ends[4] = starts[4] + 1  # too short: NaN, whatever the batch
+    whole = orientation_dynamics(acc, gyr, starts, ends, 50.0)
+    monkeypatch.setattr(dm, "_DYNAMICS_BATCH", 3)
+    np.testing.assert_allclose(orientation_dynamics(acc, gyr, starts, ends, 50.0), whole, rtol=1e-12, atol=1e-12)
+    assert np.isnan(whole[4]).all() and np.isfinite(np.delete(whole, 4, axis=0)).all()

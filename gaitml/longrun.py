@@ -126,14 +126,27 @@ def long_zupts(
 
 
 def _window_chunks(
-    path, length_s, overlap, chunk_s, progress, desc, *, extra_windows: int = 0, phase_step: int = 1, **read_kwargs
+    path,
+    length_s,
+    overlap,
+    chunk_s,
+    progress,
+    desc,
+    *,
+    extra_windows: int = 0,
+    phase_step: int = 1,
+    window_grid: int = 1,
+    **read_kwargs,
 ) -> Iterator[tuple[Chunk, int, int]]:
-    """Chunks whose cores and margins are multiples of the window hop (and of ``phase_step``).
+    """Chunks whose cores and margins are multiples of ``window_grid`` window hops (and of ``phase_step``).
 
     ``extra_windows`` more hops of context before each core: the windows a per-window
-    statistic over the last windows needs (the domain record's running median).
+    statistic over the last windows needs (the domain record's span median).
     ``phase_step``: chunk offsets are multiples of it, so a computation that keeps every
     ``phase_step``-th sample of a chunk keeps the same samples as on the whole file.
+    ``window_grid``: a chunk's window i is window ``i`` mod ``window_grid`` of the whole
+    file too, so a computation on every ``window_grid``-th window (the domain check's
+    dynamics) uses the same windows as on the whole file.
     """
     from gaitml.signal import window_params
 
@@ -143,7 +156,7 @@ def _window_chunks(
         first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
         fs_probe = first.recording.sampling_rate_hz
     length, hop = window_params(length_s, overlap, fs_probe)
-    align = math.lcm(hop, max(1, int(phase_step)))
+    align = math.lcm(hop * max(1, int(window_grid)), max(1, int(phase_step)))
     margin_samples = math.ceil((math.ceil(length / hop) + max(0, int(extra_windows))) * hop / align) * align
     chunks = iter_chunks(
         path,
@@ -232,17 +245,28 @@ def long_predict(
     parts = []
     if read_kwargs.get("sampling_rate_hz") is None:
         read_kwargs["sampling_rate_hz"] = model.sampling_rate_hz
-    # a domain record with an orientation-dynamics part decides on the running median over the last windows
-    # (and keeps every step-th sample): more context before each core, offsets on that sample grid
-    dyn = getattr(getattr(model, "domain", None), "dynamics", None)
-    extra, phase = 0, 1
-    if dyn is not None:
+    # a domain record with an orientation-dynamics part decides on the median over the last windows of the
+    # dynamics of every `every`-th window (which keep every step-th sample): more context before each core,
+    # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
+    dom = getattr(model, "domain", None)
+    extra, phase, grid = 0, 1, 1
+    if getattr(dom, "dynamics", None) is not None:
         from gaitml.models.domain import dynamics_sample_step
 
-        extra = int(dyn.get("span", 1)) - 1
+        extra = int(dom.dynamics.get("span", 1)) - 1
         phase = dynamics_sample_step(float(read_kwargs["sampling_rate_hz"]))
+        grid = dom.dynamics_every
     chunks = _window_chunks(
-        path, model.length_s, model.overlap, chunk_s, progress, "predict", extra_windows=extra, phase_step=phase, **read_kwargs
+        path,
+        model.length_s,
+        model.overlap,
+        chunk_s,
+        progress,
+        "predict",
+        extra_windows=extra,
+        phase_step=phase,
+        window_grid=grid,
+        **read_kwargs,
     )
     for ch, _length, _hop in chunks:
         rec = ch.recording

@@ -159,10 +159,12 @@ def _domain_lines(info: dict) -> list[str]:
             lines.append("- Gravity check: off (gravity-frame features do not depend on the phone's orientation)")
         dyn = dom.get("dynamics")
         if isinstance(dyn, dict):
+            every = int(dyn.get("every", 1))  # records before the grid: every window
+            grid = f" (of the distances of one window in {every}: windows 0, {every}, {2 * every}, ...)" if every > 1 else ""
             lines.append(
                 f"- Orientation dynamics (how the phone moves and turns; independent of how it is held): smallest Mahalanobis "
                 f"distance to {len(dyn['labels'])} mode|position Gaussians, median over the last {int(dyn['span'])} windows of the "
-                f"recording; threshold {float(dyn['threshold']):.2f} (held-out {float(dom['quantile']):g} quantile; in-sample "
+                f"recording{grid}; threshold {float(dyn['threshold']):.2f} (held-out {float(dom['quantile']):g} quantile; in-sample "
                 f"{float(dyn['threshold_in_sample']):.2f}): a stretch carried unlike every training position is out of domain"
             )
     except (KeyError, TypeError, ValueError):

@@ -81,12 +81,18 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
 
 
 def recording_dynamics(dom, recording: Recording, starts, ends) -> np.ndarray | None:
-    """:func:`gaitml.models.domain.orientation_dynamics` of the windows when the record checks them, else None."""
+    """:func:`gaitml.models.domain.orientation_dynamics` of the windows the check reads, or None when it reads none.
+
+    ``starts``, ``ends``: all windows of the recording, in time order; the descriptors are
+    computed for the windows :meth:`~gaitml.models.domain.DomainModel.dynamics_rows` names
+    only (every ``dynamics["every"]``-th: what :meth:`~gaitml.models.domain.DomainModel.check` reads).
+    """
     if getattr(dom, "dynamics", None) is None or recording.gyr is None:
         return None
     from gaitml.models.domain import orientation_dynamics
 
-    return orientation_dynamics(recording.acc, recording.gyr, starts, ends, recording.sampling_rate_hz)
+    rows = dom.dynamics_rows(len(starts))
+    return orientation_dynamics(recording.acc, recording.gyr, np.asarray(starts)[rows], np.asarray(ends)[rows], recording.sampling_rate_hz)
 
 
 def unchecked_domain_columns(dom, n: int) -> dict[str, np.ndarray]:
@@ -98,7 +104,7 @@ def unchecked_domain_columns(dom, n: int) -> dict[str, np.ndarray]:
 def checked_domain_columns(dom, X: np.ndarray, gravity: np.ndarray | None, dynamics: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """The domain columns from :meth:`gaitml.models.domain.DomainModel.check` of features ``X``, window ``gravity`` and ``dynamics``.
 
-    ``dynamics`` rows are the windows of one recording in time order (the running median).
+    ``dynamics`` rows are windows of one recording in time order (:func:`recording_dynamics`: the ones the check reads).
     """
     res = dom.check(X, gravity, dynamics)
     out = {

@@ -155,11 +155,12 @@ def step_domain_columns(model, recording: Recording, windows: pd.DataFrame, X: n
     gravity = (
         span_gravity(recording.acc, windows["start"].to_numpy(np.int64), windows["end"].to_numpy(np.int64)) if dom.gravity_check else None
     )
-    order = np.argsort(windows["start"].to_numpy(np.int64), kind="stable")  # the running median needs time order
-    dyn = recording_dynamics(dom, recording, windows["start"].to_numpy(np.int64), windows["end"].to_numpy(np.int64))
+    starts, ends = windows["start"].to_numpy(np.int64), windows["end"].to_numpy(np.int64)
+    order = np.argsort(starts, kind="stable")  # the span median (and its grid of computed windows) needs time order
+    dyn = recording_dynamics(dom, recording, starts[order], ends[order])
     if dyn is None or np.all(order == np.arange(len(order))):
         return checked_domain_columns(dom, X, gravity, dyn)
-    cols = checked_domain_columns(dom, X[order], None if gravity is None else gravity[order], dyn[order])
+    cols = checked_domain_columns(dom, X[order], None if gravity is None else gravity[order], dyn)
     back = np.empty_like(order)
     back[order] = np.arange(len(order))
     return {k: v[back] for k, v in cols.items()}

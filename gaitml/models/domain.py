@@ -41,13 +41,20 @@ What is recorded at training time (``model.json`` key ``domain``; the arrays in
   distance is its smallest Mahalanobis distance to them, and because a carrying
   position is a property of a stretch of recording, the decision uses the **median over
   the last** ``DYNAMICS_SPAN`` **windows** of the recording (this one included, fewer at
-  its start; causal, so a stream can do the same). Its threshold is the quantile of the
-  held-out span medians. Leave one position out on the simulator (8 training subjects,
-  4 new ones, ``experiments/scripts/lopo_domain.py``): a left-out bag, belt or swinging
-  hand is flagged on 85-100 % of its windows (the 104-feature distance: 0-80 %), 0.1-0.2 %
-  of the trained positions' windows (0.4-1.1 % with the other tests); a left-out twin of
-  a trained position (flat vs tilted hand, front vs back pocket) is not flagged (0-29 %).
-  Older records have no dynamics part and check as before.
+  its start; causal, so a stream can do the same) of the distances of **every**
+  ``DYNAMICS_EVERY``**-th window** (windows 0, 2, 4, ...: the half-overlapping windows
+  then tile the recording; 10 computed windows per span, :func:`span_medians`): the
+  descriptors are computed for those windows only, which halves the cost of the largest
+  part of the check. Its threshold is the quantile of the held-out span medians on the
+  same grid (pooled over its phases); the record keeps its grid step (``every``). Leave
+  one position out on the simulator (8 training subjects, 4 new ones,
+  ``experiments/scripts/lopo_domain.py``): a left-out bag, belt or swinging hand is
+  flagged on 86-100 % of its windows (the 104-feature distance: 0-80 %), 0.1-0.7 % of the
+  trained positions' windows (0.4-1.7 % with the other tests); a left-out twin of a
+  trained position (flat vs tilted hand, front vs back pocket) is not flagged (0-32 %).
+  Records written before the grid (no ``every``) were fitted on every window and are
+  checked on every window (85-100 %, 0.1-0.2 %); older records have no dynamics part and
+  check as before.
 
 A window is **in domain** when its feature distance is at most the distance threshold,
 (phone frame) its gravity angle is at most the gravity threshold and (when recorded)
@@ -78,7 +85,10 @@ __all__ = [
     "orientation_dynamics",
     "DYNAMICS_NAMES",
     "DYNAMICS_SPAN",
+    "DYNAMICS_EVERY",
+    "dynamics_grid_step",
     "running_median",
+    "span_medians",
     "domain_from_model_info",
     "NO_DOMAIN_WARNING",
     "OUT_OF_DOMAIN_WARN_FRACTION",
@@ -107,6 +117,18 @@ _ARRAYS = ("center", "scale", "class_means", "class_precisions", "gravity_dirs",
 _DYN_ARRAYS = ("dyn_center", "dyn_scale", "dyn_means", "dyn_precisions")
 #: Windows in the running span of the dynamics decision (20 windows of 1.5 s at 50 % overlap: 15 s).
 DYNAMICS_SPAN = 20
+#: The check computes the orientation dynamics of every ``DYNAMICS_EVERY``-th window only (windows 0, 2, 4, ...
+#: of the recording) and decides on the median of those within each window's span (10 of its last 20 windows).
+#: The decision is a 15 s running median of a property of the stretch of recording (how the phone is
+#: carried), and the windows overlap by half: every second window tiles the recording, so the computed
+#: windows still see every sample once, at half the cost of the descriptors (the largest part of the
+#: check; ``benchmarks/README.md``). Every 4th window (5 per span) sees half the samples and lost
+#: detection in ``experiments/scripts/lopo_domain.py`` (left-out belt 77 %, swinging hand 74 % against
+#: 89 / 85 % on every window; with 2: 87.5 / 85.6 %). ``fit_domain`` fits the threshold on the same grid
+#: (pooled over its phases), and the record says which step it was fitted with (``dynamics["every"]``;
+#: records without it were fitted on every window and are checked on every window). A span not
+#: divisible by it uses its largest divisor below it (:func:`dynamics_grid_step`).
+DYNAMICS_EVERY = 2
 #: Length (s) of the chunks whose gravity directions give the within-window spread.
 DYNAMICS_CHUNK_S = 0.3
 #: The descriptors are computed from the signals taken at about this rate (every ``floor(fs / 25)``-th
@@ -128,9 +150,6 @@ DYNAMICS_NAMES = (
     "gyr_axis_share",
     "gyr_horizontal_main_share",
 )
-
-
-_TRIU_INDEX = {(int(i), int(j)): n for n, (i, j) in enumerate(zip(*np.triu_indices(3), strict=True))}
 
 
 def dynamics_sample_step(sampling_rate_hz: float) -> int:
@@ -157,132 +176,188 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
         12. its share about the main horizontal acceleration axis.
 
     The signals are first taken at every ``step = max(1, floor(fs / DYNAMICS_RATE_HZ))``-th
-    sample (samples 0, step, 2 step, ...; a window keeps the kept samples inside it).
-    All are unchanged by a constant rotation of the phone. Ours (issue 12), not from a paper.
+    sample (samples 0, step, 2 step, ...; a window keeps the kept samples inside it; spans
+    reaching past the signal are cut at its end). A window with fewer than 2 kept samples
+    gives a NaN row. All are unchanged by a constant rotation of the phone. Ours (issue 12),
+    not from a paper.
+
+    Only the samples of the given windows are read (gathered into one zero-padded
+    (k, longest window, 3) block per signal; the moments are two-pass sums over it), so the
+    cost grows with the number of windows asked for, not with the recording: a caller that
+    needs every ``DYNAMICS_EVERY``-th window only (the check) pays for those.
     """
     step = dynamics_sample_step(sampling_rate_hz)
-    acc = np.asarray(acc, dtype=float)[::step]
-    gyr = np.asarray(gyr, dtype=float)[::step]
-    starts = -(-np.asarray(starts, dtype=np.int64).reshape(-1) // step)  # first kept sample at or after the start
-    ends = -(-np.asarray(ends, dtype=np.int64).reshape(-1) // step)
-    sampling_rate_hz = float(sampling_rate_hz) / step
-    k = len(starts)
-    if not k:
-        return np.zeros((0, len(DYNAMICS_NAMES)))
-    chunk = max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz))))
-    # every statistic is a moment over the window: prefix sums (of data centred on the recording mean,
-    # which changes no central moment) give all windows at once, whatever their lengths
-    a0 = acc.mean(axis=0)
-    w0 = gyr.mean(axis=0)
-    A = acc - a0
-    W = gyr - w0
-    iu = np.triu_indices(3)
-    it = [(i, j, m) for i in range(3) for j in range(i, 3) for m in range(j, 3)]
-    At, Wt = np.ascontiguousarray(A.T), np.ascontiguousarray(W.T)
-    data = np.empty((31, len(acc)))  # one row per product (rows contiguous: a fast cumulative sum)
-    data[0:3] = At
-    data[3:9] = At[iu[0]] * At[iu[1]]
-    for n, (i, j, m) in enumerate(it):
-        np.multiply(data[3 + _TRIU_INDEX[(i, j)]], At[m], out=data[9 + n])
-    data[19:22] = Wt
-    data[22:28] = Wt[iu[0]] * Wt[iu[1]]
-    data[29] = (gyr * gyr).sum(axis=1)
-    data[28] = np.sqrt(data[29])
-    # sums up to every window start and end: sums of the segments between consecutive ones (a fast
-    # vectorised reduction), then a running sum over the few segments
-    inner = np.unique(np.concatenate([[0], starts, ends]))
-    inner = inner[inner < len(acc)]
-    cum = np.zeros((31, len(inner) + 1))
-    np.cumsum(np.add.reduceat(data, inner, axis=1), axis=1, out=cum[:, 1:])
-    L = np.maximum(ends - starts, 1).astype(float)
-    M = (cum[:, np.searchsorted(inner, ends)] - cum[:, np.searchsorted(inner, starts)]).T / L[:, None]  # window means of every product
-    o = np.cumsum([0, 3, 6, 10, 3, 6, 1, 1])
-    m1, m2, m3 = M[:, o[0] : o[1]], M[:, o[1] : o[2]], M[:, o[2] : o[3]]
-    w1, w2, gmag, gsq = M[:, o[3] : o[4]], M[:, o[4] : o[5]], M[:, o[5]], M[:, o[6]]
+    acc = np.asarray(acc, dtype=float)
+    gyr = np.asarray(gyr, dtype=float)
+    kept = -(-len(acc) // step)  # kept samples of the signal
+    j0 = np.clip(-(-np.asarray(starts, dtype=np.int64).reshape(-1) // step), 0, kept)  # first kept sample at or after the start
+    j1 = np.clip(-(-np.asarray(ends, dtype=np.int64).reshape(-1) // step), 0, kept)
+    out = np.full((len(j0), len(DYNAMICS_NAMES)), np.nan)
+    chunk = max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz) / step)))
+    rows = np.flatnonzero(j1 - j0 >= 2)
+    for b in range(0, len(rows), _DYNAMICS_BATCH):  # bounded memory for long recordings (training on every window)
+        r = rows[b : b + _DYNAMICS_BATCH]
+        if len(r) == len(out):
+            out[:] = _dynamics_of_spans(acc, gyr, j0, j1, step, chunk)
+        else:
+            out[r] = _dynamics_of_spans(acc, gyr, j0[r], j1[r], step, chunk)
+    return out
 
-    def _sym(mu, second):  # central covariance (k, 3, 3) from the means of x and of its products
-        S = np.zeros((len(mu), 3, 3))
-        S[:, iu[0], iu[1]] = second
-        S[:, iu[1], iu[0]] = second
-        return S - mu[:, :, None] * mu[:, None, :]
 
-    cov = _sym(m1, m2)
-    g = m1 + a0
-    g = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-9)
-    # third central moment of v = a . g: E[v'^3] = sum over the unique (i <= j <= m) of multiplicity x g_i g_j g_m x E[a_i a_j a_m]
-    raw3 = sum(
-        len({(i, j, m), (i, m, j), (j, i, m), (j, m, i), (m, i, j), (m, j, i)}) * g[:, i] * g[:, j] * g[:, m] * m3[:, n]
-        for n, (i, j, m) in enumerate(it)
-    )
-    mv = (m1 * g).sum(axis=1)
-    var_v = np.einsum("kij,ki,kj->k", cov, g, g)
-    ev2 = var_v + mv * mv  # E[v^2] (centred data)
-    third = raw3 - 3 * mv * ev2 + 2 * mv**3
-    # the horizontal covariance in a basis (u1, u2) of the plane normal to g: a 2 x 2 eigenproblem in closed form
-    e = np.eye(3)[np.argmin(np.abs(g), axis=1)]
-    u1 = e - (e * g).sum(axis=1, keepdims=True) * g
-    u1 /= np.linalg.norm(u1, axis=1, keepdims=True)
-    u2 = np.cross(g, u1)
-    h11 = np.einsum("kij,ki,kj->k", cov, u1, u1)
-    h22 = np.einsum("kij,ki,kj->k", cov, u2, u2)
-    h12 = np.einsum("kij,ki,kj->k", cov, u1, u2)
+#: :func:`orientation_dynamics` takes at most this many windows at once (its blocks: about 20 x 8 bytes per kept sample).
+_DYNAMICS_BATCH = 4096
+#: The distinct entries (i <= j) of a symmetric 3 x 3 matrix, and the entry of each (i, j) among them.
+_PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+_SYM = np.array([[0, 1, 2], [1, 3, 4], [2, 4, 5]])
+
+
+def _window_block(acc: np.ndarray, gyr: np.ndarray, j0: np.ndarray, width: int, step: int) -> np.ndarray:
+    """The kept samples ``j0 + 0 .. width - 1`` (every ``step``-th sample) of both signals, shape (6, k, width).
+
+    Windows past the end repeat the last kept sample (the caller zeroes what lies beyond
+    a window). Evenly spaced windows inside the signal (what the check asks for) are
+    copied from one strided view of each signal, others gathered by index.
+    """
+    k = len(j0)
+    last = (len(acc) - 1) // step  # the last kept sample
+    S = np.empty((6, k, width))
+    gap = int(j0[1] - j0[0]) if k > 1 else 0
+    if j0[0] >= 0 and int(j0[-1]) + width - 1 <= last and gap >= 0 and (k < 3 or (np.diff(j0) == gap).all()):
+        for sig, rows in ((acc, S[:3]), (gyr, S[3:])):
+            s0, s1 = sig.strides
+            rows[...] = np.lib.stride_tricks.as_strided(
+                sig[int(j0[0]) * step :], (3, k, width), (s1, gap * step * s0, step * s0), writeable=False
+            )
+        return S
+    idx = np.minimum(j0[:, None] + np.arange(width), last) * step
+    for c in range(3):
+        S[c] = acc[:, c][idx]
+        S[3 + c] = gyr[:, c][idx]
+    return S
+
+
+def _dynamics_of_spans(acc: np.ndarray, gyr: np.ndarray, j0: np.ndarray, j1: np.ndarray, step: int, chunk: int) -> np.ndarray:
+    """:func:`orientation_dynamics` of spans ``[j0, j1)`` of the kept samples (every ``step``-th), each at least 2 long.
+
+    ``chunk``: kept samples per chunk of the gravity spread. Layout: components first,
+    windows next, samples last (sums over a window's samples are one matrix-vector
+    product), so that every operation is one pass over a small block whatever the
+    number of windows.
+    """
+    k = len(j0)
+    n = j1 - j0
+    width = int(n.max())
+    pos = np.arange(width)
+    S = _window_block(acc, gyr, j0, width, step)  # (6, k, width): acc x, y, z, gyr x, y, z
+    pad = None if (n == width).all() else pos < n[:, None]  # (k, width): the window's own samples
+    if pad is not None:
+        S *= pad
+    ones = np.ones(width)
+    cnt = n.astype(float)
+    mean = (S.reshape(-1, width) @ ones).reshape(6, k) / cnt
+    Ac = S[:3] - mean[:3, :, None]  # centred acceleration (two passes: gravity dwarfs the motion)
+    if pad is not None:
+        Ac *= pad
+    # the six distinct products of the centred acceleration and of the rotation rate (raw: its mean is small
+    # next to its spread), summed over each window with one matrix-vector product
+    P = np.empty((12, k, width))
+    for r, (i, j) in enumerate(_PAIRS):
+        np.multiply(Ac[i], Ac[j], out=P[r])
+        np.multiply(S[3 + i], S[3 + j], out=P[6 + r])
+    m2 = (P.reshape(-1, width) @ ones).reshape(12, k) / cnt
+    cov = m2[_SYM]  # central covariance of the acceleration (3, 3, k)
+    cw = m2[6 + _SYM] - mean[3:, None] * mean[None, 3:]  # and of the rotation rate
+    g = mean[:3] / np.maximum(np.sqrt((mean[:3] * mean[:3]).sum(axis=0)), 1e-9)  # (3, k)
+    v = Ac[0] * g[0][:, None]  # centred vertical acceleration (k, width), 0 on the padding
+    v += Ac[1] * g[1][:, None]
+    v += Ac[2] * g[2][:, None]
+    v3 = v * v
+    v3 *= v
+    third = (v3 @ ones) / cnt
+    # an orthonormal frame (g, u1, u2), u1 from the axis least aligned with g; the covariances in it
+    ax = np.argmin(np.abs(g), axis=0)
+    cols = np.arange(k)
+    u1 = -g * g[ax, cols]
+    u1[ax, cols] += 1.0
+    u1 /= np.sqrt((u1 * u1).sum(axis=0))
+    u2 = g[[1, 2, 0]] * u1[[2, 0, 1]] - g[[2, 0, 1]] * u1[[1, 2, 0]]  # g x u1
+    R = np.stack([g, u1, u2])  # (3 axes, 3, k)
+
+    def in_frame(M: np.ndarray) -> np.ndarray:  # R M R^T of every window, (3, 3, k)
+        MR = (M[None] * R[:, None]).sum(axis=2)
+        return (R[:, None] * MR[None]).sum(axis=2)
+
+    F = in_frame(cov)
+    var_v, h11, h22, h12 = F[0, 0], F[1, 1], F[2, 2], F[1, 2]
+    # the horizontal covariance [[h11, h12], [h12, h22]]: its 2 x 2 eigenproblem in closed form
     half = 0.5 * (h11 - h22)
     rad = np.sqrt(half * half + h12 * h12)
     lam1 = 0.5 * (h11 + h22) + rad  # largest horizontal eigenvalue
     lam2 = 0.5 * (h11 + h22) - rad
-    theta = 0.5 * np.arctan2(2.0 * h12, h11 - h22)
-    main = np.cos(theta)[:, None] * u1 + np.sin(theta)[:, None] * u2
+    theta = 0.5 * np.arctan2(2.0 * h12, h11 - h22)  # main horizontal axis: cos theta u1 + sin theta u2
+    cs, sn = np.cos(theta), np.sin(theta)
     var_h = h11 + h22
-    cov_vh1 = np.einsum("kij,ki,kj->k", cov, g, main)
-    cw = _sym(w1, w2)
-    tot = np.maximum(np.trace(cw, axis1=1, axis2=2), 1e-12)
-    # chunk gravity directions: means of A over [start + c chunk, start + (c + 1) chunk)
-    nch = np.maximum(1, (ends - starts) // chunk)
-    ang_mean = np.zeros(k)
-    ang_max = np.zeros(k)
-    cs = np.zeros((len(acc) + 1, 3))
-    np.cumsum(A, axis=0, out=cs[1:])
-    for nc in np.unique(nch):
-        rows = np.flatnonzero(nch == nc)
-        short = (ends[rows] - starts[rows]) < chunk  # a window shorter than a chunk: one chunk, the window
-        c0 = starts[rows, None] + chunk * np.arange(nc)[None, :]
-        c1 = np.where(short[:, None], ends[rows, None], c0 + chunk)
-        C = (cs[c1] - cs[c0]) / np.maximum(c1 - c0, 1)[:, :, None] + a0
-        C = C / np.maximum(np.linalg.norm(C, axis=2, keepdims=True), 1e-9)
-        ang = np.degrees(np.arccos(np.clip((C * g[rows, None, :]).sum(axis=2), -1.0, 1.0)))
-        ang_mean[rows] = ang.mean(axis=1)
-        ang_max[rows] = ang.max(axis=1)
-    out = np.column_stack(
+    cov_vh1 = cs * F[0, 1] + sn * F[0, 2]
+    Fw = in_frame(cw)
+    tot = np.maximum(Fw[0, 0] + Fw[1, 1] + Fw[2, 2], 1e-12)
+    w_main = cs * cs * Fw[1, 1] + 2.0 * cs * sn * Fw[1, 2] + sn * sn * Fw[2, 2]
+    mag = P[6] + P[9]  # |omega| (k, width), 0 on the padding
+    mag += P[11]
+    np.sqrt(mag, out=mag)
+    mag_mean = (mag @ ones) / cnt
+    mag_var = m2[6] + m2[9] + m2[11] - mag_mean * mag_mean  # E|omega|^2 - (E|omega|)^2
+    # chunk gravity directions: the acceleration summed over [c chunk, (c + 1) chunk) of the window, c below
+    # max(1, n // chunk) (a window shorter than a chunk: its own samples, the padding being 0)
+    nch = np.maximum(1, n // chunk)
+    nc = int(nch.max())
+    member = (pos[:, None] // chunk == np.arange(nc)[None, :]).astype(float)  # (width, nc)
+    C = (S[:3].reshape(-1, width) @ member).reshape(3, k, nc)
+    norm = np.sqrt((C * C).sum(axis=0))
+    cosang = (C * g[:, :, None]).sum(axis=0) / np.maximum(norm, 1e-9 * np.minimum(chunk, n)[:, None])  # 1e-9 on the chunk mean
+    ang = np.degrees(np.arccos(np.clip(cosang, -1.0, 1.0)))
+    if not (nch == nc).all():
+        ang *= np.arange(nc)[None, :] < nch[:, None]  # angles are >= 0: 0 changes neither the sum nor the max
+    return np.column_stack(
         [
-            ang_mean,
+            ang.sum(axis=1) / nch,
             np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9)),
             np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * lam1, 1e-12))),
             np.maximum(lam2, 0.0) / np.maximum(lam1, 1e-12),
             0.5 * np.log(np.maximum(var_v, 1e-12)),
             0.5 * np.log(np.maximum(var_h, 1e-12)),
-            ang_max,
+            ang.max(axis=1),
             third / np.maximum(var_v, 1e-12) ** 1.5,
-            np.log(np.maximum(gmag, 1e-6)),
-            0.5 * np.log(np.maximum(gsq - gmag * gmag, 1e-12)),
-            np.einsum("kij,ki,kj->k", cw, g, g) / tot,
+            np.log(np.maximum(mag_mean, 1e-6)),
+            0.5 * np.log(np.maximum(mag_var, 1e-12)),
+            Fw[0, 0] / tot,
             _largest_eigenvalue(cw) / tot,
-            np.einsum("kij,ki,kj->k", cw, main, main) / tot,
+            w_main / tot,
         ]
     )
-    out[(ends - starts) < 2] = np.nan
-    return out
 
 
 def _largest_eigenvalue(S: np.ndarray) -> np.ndarray:
-    """Largest eigenvalue of symmetric 3 x 3 matrices (k, 3, 3), in closed form (trigonometric solution of the cubic)."""
-    q = np.trace(S, axis1=1, axis2=2) / 3.0
-    off = S[:, 0, 1] ** 2 + S[:, 0, 2] ** 2 + S[:, 1, 2] ** 2
-    dq = np.diagonal(S, axis1=1, axis2=2) - q[:, None]
-    p = np.sqrt(((dq * dq).sum(axis=1) + 2.0 * off) / 6.0)
+    """Largest eigenvalue of symmetric 3 x 3 matrices (3, 3, k), in closed form (trigonometric solution of the cubic)."""
+    q = (S[0, 0] + S[1, 1] + S[2, 2]) / 3.0
+    off = S[0, 1] ** 2 + S[0, 2] ** 2 + S[1, 2] ** 2
+    d0, d1, d2 = S[0, 0] - q, S[1, 1] - q, S[2, 2] - q
+    p = np.sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0)
     safe = p > 1e-15 * (1.0 + np.abs(q))
-    B = (S - q[:, None, None] * np.eye(3)) / np.where(safe, p, 1.0)[:, None, None]
-    r = np.clip(np.linalg.det(B) / 2.0, -1.0, 1.0)
+    # det(S - q I) / p^3 (the determinant written out)
+    det = d0 * (d1 * d2 - S[1, 2] ** 2) - S[0, 1] * (S[0, 1] * d2 - S[1, 2] * S[0, 2]) + S[0, 2] * (S[0, 1] * S[1, 2] - d1 * S[0, 2])
+    pp = np.where(safe, p, 1.0)
+    r = np.clip(det / (2.0 * pp * pp * pp), -1.0, 1.0)
     return np.where(safe, q + 2.0 * p * np.cos(np.arccos(r) / 3.0), q)
+
+
+def dynamics_grid_step(span: int) -> int:
+    """Every how many windows the dynamics part is computed: the largest divisor of ``span`` not above :data:`DYNAMICS_EVERY`.
+
+    A divisor, so that the span of every window (the last ``span`` windows) holds the
+    same number of computed windows, ``span // every`` (fewer at the recording's start).
+    """
+    span = max(1, int(span))
+    return max(d for d in range(1, min(DYNAMICS_EVERY, span) + 1) if span % d == 0)
 
 
 def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
@@ -290,21 +365,81 @@ def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
 
     ``d`` is in time order within each sequence; ``sequence`` (same length, optional)
     names the recording of every value: the span never reaches into another one.
-    A value whose span holds no finite value is NaN.
+    A value whose span holds no finite value is NaN. Equal, bit for bit, to
+    ``np.nanmedian`` of each span (the middle value, or the mean of the two middle
+    ones, of the sorted non-NaN values), all spans at once.
     """
     d = np.asarray(d, dtype=float).reshape(-1)
-    out = np.full(len(d), np.nan)
-    seq = np.zeros(len(d), dtype=np.int64) if sequence is None else np.unique(np.asarray(sequence), return_inverse=True)[1].reshape(-1)
+    n = len(d)
     span = max(1, int(span))
-    for s in np.unique(seq):
-        rows = np.flatnonzero(seq == s)
-        pad = np.concatenate([np.full(span - 1, np.nan), d[rows]])
-        win = np.lib.stride_tricks.sliding_window_view(pad, span)
-        full = ~np.isnan(win).any(axis=1)
-        out[rows[full]] = np.median(win[full], axis=1)  # the common case, fast
-        part = ~full & ~np.isnan(win).all(axis=1)
-        if part.any():
-            out[rows[part]] = np.nanmedian(win[part], axis=1)
+    if sequence is None:
+        order, first = None, np.zeros(n, dtype=np.int64)
+        values = d
+    else:  # rows grouped by sequence (time order kept); first: the position of each row's sequence start
+        codes = np.unique(np.asarray(sequence), return_inverse=True)[1].reshape(-1)
+        order = np.argsort(codes, kind="stable")
+        sc = codes[order]
+        first = np.searchsorted(sc, sc, side="left")
+        values = d[order]
+    at = np.arange(n)[:, None] - np.arange(span - 1, -1, -1)[None, :]  # (n, span) positions of each span
+    win = np.where(at >= first[:, None], values[np.maximum(at, 0)], np.nan)
+    win.sort(axis=1)  # NaN last
+    c = span - np.isnan(win).sum(axis=1)  # values in the span
+    rows = np.arange(n)
+    lo = win[rows, np.maximum(c - 1, 0) // 2]
+    hi = win[rows, c // 2]
+    med = np.where(c % 2 == 1, lo, 0.5 * (lo + hi))  # odd: the middle value; even: the mean of the middle two
+    med[c == 0] = np.nan
+    if order is None:
+        return med
+    out = np.empty(n)
+    out[order] = med
+    return out
+
+
+def span_medians(d, span: int = DYNAMICS_SPAN, every: int = 1, sequence=None, phase: int = 0) -> np.ndarray:
+    """The dynamics decision statistic of every window: the median of the computed windows within its span.
+
+    Rows of ``d`` are windows in time order within each ``sequence`` (recording; one
+    when None). The computed windows are the rows ``phase, phase + every, ...`` of each
+    sequence (their values only are read); a window's statistic is the median of the
+    computed windows among the last ``span`` windows (this one included), NaN skipped,
+    NaN when there is none. ``every`` must divide ``span``: the statistic of the computed
+    window is then :func:`running_median` over ``span // every`` computed windows, held
+    by the ``every - 1`` windows after it (the same computed windows are in their spans).
+    ``every = 1`` is :func:`running_median`.
+    """
+    d = np.asarray(d, dtype=float).reshape(-1)
+    every, span = int(every), max(1, int(span))
+    if every < 1 or span % every:
+        raise ModelError(f"the dynamics grid step {every} must be at least 1 and divide the span {span}; retrain the model.")
+    n = len(d)
+    if sequence is None:
+        rank = np.arange(n)
+        codes = None
+    else:
+        codes = np.unique(np.asarray(sequence), return_inverse=True)[1].reshape(-1)
+        order = np.argsort(codes, kind="stable")
+        rank = np.empty(n, dtype=np.int64)
+        sc = codes[order]
+        rank[order] = np.arange(n) - np.searchsorted(sc, sc, side="left")
+    p = int(phase) % every
+    on = rank % every == p
+    grid = np.flatnonzero(on)  # the computed windows, in row order
+    med = running_median(d[grid], span // every, None if codes is None else codes[grid])
+    # each window takes the statistic of the last computed window at or before it in its sequence (rank - back)
+    back = (rank - p) % every
+    at = np.cumsum(on) - 1  # row -> index in grid (for computed rows)
+    out = np.full(n, np.nan)
+    has = rank >= p  # windows before the first computed one have none
+    if sequence is None:
+        out[has] = med[at[np.flatnonzero(has) - back[has]]]
+        return out
+    # with several sequences the computed row rank - back of the same sequence: through the sorted order
+    pos = np.empty(n, dtype=np.int64)
+    pos[order] = np.arange(n)
+    src = order[pos[has] - back[has]]  # row of the computed window
+    out[has] = med[at[src]]
     return out
 
 
@@ -477,9 +612,10 @@ class DomainModel:
         held-out scheme, window counts, in-sample thresholds).
     dynamics : dict or None
         The orientation-dynamics part (None in records without it): ``labels`` (the
-        ``mode|position`` of each Gaussian), ``span`` (windows), ``threshold`` (largest
-        in-domain running median of the dynamics distance, held out) and
-        ``threshold_in_sample``; its arrays ``dyn_center``, ``dyn_scale`` (13,),
+        ``mode|position`` of each Gaussian), ``span`` (windows), ``every`` (the check
+        computes every ``every``-th window's dynamics, :data:`DYNAMICS_EVERY`; 1 in records
+        written before it), ``threshold`` (largest in-domain span median of the dynamics
+        distance, held out) and ``threshold_in_sample``; its arrays ``dyn_center``, ``dyn_scale`` (13,),
         ``dyn_means`` (g, 13), ``dyn_precisions`` (g, 13, 13) are in ``arrays``.
     """
 
@@ -554,6 +690,8 @@ class DomainModel:
                 dyn = {
                     "labels": [str(v) for v in dyn["labels"]],
                     "span": int(dyn["span"]),
+                    # records written before the grid was fitted on every window: checked on every window
+                    "every": int(dyn.get("every", 1)),
                     "threshold": float(dyn["threshold"]),
                     "threshold_in_sample": float(dyn["threshold_in_sample"]),
                 }
@@ -564,6 +702,8 @@ class DomainModel:
                         raise ValueError(f"{k} has shape {arr[k].shape}, expected {shp}")
                 if dyn["span"] < 1:
                     raise ValueError(f"dynamics span {dyn['span']} is below 1")
+                if dyn["every"] < 1 or dyn["span"] % dyn["every"]:
+                    raise ValueError(f"dynamics grid step {dyn['every']} does not divide the span {dyn['span']}")
             return cls(
                 feature_set=str(info["feature_set"]),
                 frame=str(info["frame"]),
@@ -623,8 +763,10 @@ class DomainModel:
         # non-finite feature are out of domain (distance inf) whatever their other features
         Z = ((X if all_finite else np.where(np.isfinite(X), X, 0.0)) - self.arrays["center"]) / self.arrays["scale"]
         with np.errstate(invalid="ignore", over="ignore"):
-            Y = (Z @ stacked - offset).reshape(len(Z), -1, X.shape[1])
-            d = np.sqrt((Y * Y).sum(axis=2).min(axis=1))
+            Y = Z @ stacked  # in place from here: the same arithmetic without two more (n, c p) temporaries
+            Y -= offset
+            Y *= Y
+            d = np.sqrt(Y.reshape(len(Z), -1, X.shape[1]).sum(axis=2).min(axis=1))
         if not all_finite:
             d[~finite] = np.inf
         return d
@@ -632,6 +774,15 @@ class DomainModel:
     def gravity_angles(self, gravity) -> np.ndarray:
         """Angle (rad) of each gravity unit vector (rows, phone frame) to the nearest training direction."""
         return _nearest_angle(np.asarray(gravity, dtype=float).reshape(-1, 3), self.arrays["gravity_dirs"])
+
+    @property
+    def dynamics_every(self) -> int:
+        """Every how many windows the check computes the orientation dynamics (1 without a dynamics part)."""
+        return 1 if self.dynamics is None else int(self.dynamics.get("every", 1))
+
+    def dynamics_rows(self, n: int) -> np.ndarray:
+        """The windows (of ``n``, in time order) whose :func:`orientation_dynamics` :meth:`check` reads: 0, every, 2 every, ..."""
+        return np.arange(0, max(0, int(n)), self.dynamics_every)
 
     def dynamics_distances(self, dynamics) -> np.ndarray:
         """Window dynamics distance of every row of ``dynamics`` (:func:`orientation_dynamics`); inf for non-finite rows."""
@@ -641,7 +792,8 @@ class DomainModel:
         if not len(Q):
             return np.zeros(0)
         finite = np.isfinite(Q).all(axis=1)
-        Z = (np.where(finite[:, None], Q, 0.0) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
+        all_finite = bool(finite.all())
+        Z = ((Q if all_finite else np.where(finite[:, None], Q, 0.0)) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
         cache = getattr(self, "_dyn_cache", None)
         if cache is None:  # stacked Cholesky factors, as in distances(): one matrix product for every Gaussian
             try:
@@ -653,9 +805,13 @@ class DomainModel:
                 np.concatenate([m @ c for m, c in zip(self.arrays["dyn_means"], chol, strict=True)]),
             )
             object.__setattr__(self, "_dyn_cache", cache)
-        Y = (Z @ cache[0] - cache[1]).reshape(len(Z), -1, Q.shape[1])
-        d = np.sqrt((Y * Y).sum(axis=2).min(axis=1))
-        d[~finite] = np.inf
+        Y = Z @ cache[0]
+        Y -= cache[1]
+        Y *= Y
+        # squared distance to every Gaussian: sums over its 13 columns as one matrix-vector product
+        d = np.sqrt((Y.reshape(-1, Q.shape[1]) @ np.ones(Q.shape[1])).reshape(len(Z), -1).min(axis=1))
+        if not all_finite:
+            d[~finite] = np.inf
         return d
 
     def check(self, X, gravity=None, dynamics=None) -> dict[str, np.ndarray]:
@@ -666,16 +822,19 @@ class DomainModel:
         X : (k, p) features of the windows (``feature_names`` order, raw units).
         gravity : (k, 3) window gravity unit vectors (:func:`window_gravity`), optional;
             needed when ``gravity_check`` is on.
-        dynamics : (k, 13) :func:`orientation_dynamics` of the windows, **all of one
-            recording in time order** (the decision uses the running median over the
-            last ``dynamics["span"]`` windows); checked when the record has a dynamics
-            part and this is given (``gaitml predict`` always gives it). Without it the
-            dynamics part is not checked (one-window callers).
+        dynamics : :func:`orientation_dynamics` of the windows, **all of one recording in
+            time order**: of the windows :meth:`dynamics_rows` names (0, every, 2 every,
+            ...; what ``gaitml predict`` computes) or of all k windows (the others are
+            not read). The decision uses the median of those windows' dynamics
+            distances within the last ``dynamics["span"]`` windows (:func:`span_medians`);
+            checked when the record has a dynamics part and this is given (``gaitml
+            predict`` always gives it). Without it the dynamics part is not checked
+            (one-window callers).
 
         Returns
         -------
         dict with ``distance`` (k,), ``gravity_angle_rad`` (k,; NaN when not checked),
-        ``dynamics_distance`` (k,; the running median, NaN when not checked) and
+        ``dynamics_distance`` (k,; the span median, NaN when not checked) and
         ``in_domain`` (k,) bool.
         """
         X = np.asarray(X, dtype=float)
@@ -688,9 +847,18 @@ class DomainModel:
         ok = d <= self.distance_threshold
         dyn = np.full(len(d), np.nan)
         if self.dynamics is not None and dynamics is not None:
-            dyn = running_median(self.dynamics_distances(dynamics), self.dynamics["span"])
-            if len(dyn) != len(d):
-                raise ModelError(f"the domain check got {len(d)} feature rows and {len(dyn)} dynamics rows; pass one row per window.")
+            every = self.dynamics_every
+            Q = np.asarray(dynamics, dtype=float).reshape(-1, len(DYNAMICS_NAMES))
+            m = -(-len(d) // every)  # computed windows
+            if len(Q) == len(d) and m != len(d):
+                Q = Q[::every]  # every window given: the computed ones
+            if len(Q) != m:
+                raise ModelError(
+                    f"the domain check got {len(d)} feature rows and {len(Q)} dynamics rows; pass one row per window "
+                    f"or one per {every}-th window (DomainModel.dynamics_rows)."
+                )
+            # the median of the computed windows within each window's span: their running median, held (span_medians)
+            dyn = running_median(self.dynamics_distances(Q), self.dynamics["span"] // every)[np.arange(len(d)) // every]
             ok &= dyn <= self.dynamics["threshold"]
         if not self.gravity_check:
             return {"distance": d, "gravity_angle_rad": np.full(len(d), np.nan), "dynamics_distance": dyn, "in_domain": ok}
@@ -786,6 +954,7 @@ def fit_domain(
     seed: int = 0,
     dynamics=None,
     sequence=None,
+    dynamics_every: int | None = None,
 ) -> DomainModel:
     """Fit the domain record of a training set (see the module docstring).
 
@@ -802,10 +971,15 @@ def fit_domain(
     seed : seeds the gravity-direction subset.
     dynamics : (n, 13) :func:`orientation_dynamics` of the windows, optional: when
         given, the orientation-dynamics part is recorded (one Gaussian per
-        ``mode|position``, threshold = the quantile of the held-out running medians
-        over :data:`DYNAMICS_SPAN` windows).
-    sequence : (n,) recording of every window (the running median never crosses
-        recordings); needed with ``dynamics``. Rows of one recording must be in time order.
+        ``mode|position`` fitted on every window; threshold = the quantile of the
+        held-out span medians over :data:`DYNAMICS_SPAN` windows, computed on the grid
+        of every ``dynamics_every``-th window as the check does, :func:`span_medians`,
+        pooled over the grid's phases: every window's statistic once per phase).
+    sequence : (n,) recording of every window (the span never crosses recordings);
+        needed with ``dynamics``. Rows of one recording must be in time order.
+    dynamics_every : the grid step recorded with the dynamics part (default
+        :func:`dynamics_grid_step` of :data:`DYNAMICS_SPAN`, i.e. :data:`DYNAMICS_EVERY`; 1 gives
+        the statistic over every window of records written before the grid).
     """
     from sklearn.model_selection import GroupKFold
 
@@ -874,14 +1048,20 @@ def fit_domain(
         every = np.arange(n)
         in_q = _dynamics_fit_distance(dynamics, dyn_labels, dyn_ok, every, every)
         seq = np.asarray(sequence).astype(str)
-        span_held = running_median(held_q if k >= 2 else in_q, DYNAMICS_SPAN, seq)
-        span_in = running_median(in_q, DYNAMICS_SPAN, seq)
+        every = dynamics_grid_step(DYNAMICS_SPAN) if dynamics_every is None else int(dynamics_every)
+
+        def pooled(d):  # the check's statistic on the grid, each of its phases in turn (every window once per phase)
+            return np.concatenate([span_medians(d, DYNAMICS_SPAN, every, seq, phase) for phase in range(every)])
+
+        span_held = pooled(held_q if k >= 2 else in_q)
+        span_in = pooled(in_q)
         labels = sorted(set(dyn_labels[dyn_ok]))
         c_q, s_q = _standardiser(dynamics[dyn_ok])
         m_q, p_q = _class_gaussians((dynamics[dyn_ok] - c_q) / s_q, dyn_labels[dyn_ok], labels)
         dyn_record = {
             "labels": labels,
             "span": DYNAMICS_SPAN,
+            "every": every,
             "threshold": float(np.nanquantile(span_held, q)),
             "threshold_in_sample": float(np.nanquantile(span_in, q)),
         }

@@ -16,6 +16,7 @@ from scipy.stats import skew
 from sklearn.covariance import LedoitWolf
 
 from gaitml.models.domain import (
+    DYNAMICS_EVERY,
     DYNAMICS_NAMES,
     DYNAMICS_SPAN,
     DomainModel,
@@ -156,13 +157,22 @@ def test_dynamics_distance_is_the_smallest_mahalanobis_distance_to_the_mode_posi
     assert np.isinf(dom.dynamics_distances(bad)[5])
 
 
-def test_check_uses_the_running_median_and_flags_a_stretch_unlike_training():
+def test_check_uses_the_span_median_of_the_computed_windows_and_flags_a_stretch_unlike_training():
     dom, Q, _, _ = _fit()
+    assert dom.dynamics["every"] == DYNAMICS_EVERY == dom.dynamics_every > 1
     X = np.zeros((60, 4))
     grav = np.tile([0.0, 0.0, 1.0], (60, 1))
     stretch = np.vstack([Q[:30], Q[:30] + 8.0])  # 30 trained-like windows, then 30 of another position
     res = dom.check(X, grav, stretch)
-    np.testing.assert_allclose(res["dynamics_distance"], running_median(dom.dynamics_distances(stretch), DYNAMICS_SPAN))
+    # plainly: window i decides on the median of the distances of windows 0, every, 2 every, ... among its last 20
+    d = dom.dynamics_distances(stretch)
+    ref = [np.median([d[j] for j in range(max(0, i - DYNAMICS_SPAN + 1), i + 1) if j % DYNAMICS_EVERY == 0]) for i in range(60)]
+    np.testing.assert_array_equal(res["dynamics_distance"], ref)
+    # the computed windows only (what predict computes) give the same, bit for bit
+    rows = dom.dynamics_rows(60)
+    np.testing.assert_array_equal(rows, np.arange(0, 60, DYNAMICS_EVERY))
+    for k in ("dynamics_distance", "in_domain", "distance"):
+        np.testing.assert_array_equal(dom.check(X, grav, stretch[rows])[k], res[k])
     assert res["in_domain"][:30].mean() > 0.9
     assert not res["in_domain"][30 + DYNAMICS_SPAN // 2 :].any()
     # without the dynamics the check is today's (one-window callers)
@@ -258,7 +268,8 @@ def test_a_trained_gyroscope_model_records_the_dynamics_and_predict_uses_them(tm
     assert set(model.domain.dynamics["labels"]) <= {
         f"{m}|{p}" for m in ("walk", "backward", "run", "side_left", "side_right") for p in ("hand-flat", "belt")
     }
-    assert "Orientation dynamics" in (tmp_path / "model" / "MODEL.md").read_text()
+    card = (tmp_path / "model" / "MODEL.md").read_text()
+    assert "Orientation dynamics" in card and f"one window in {DYNAMICS_EVERY}: windows 0, {DYNAMICS_EVERY}," in card
     subject = sample_subjects(1, 41)[0]
     rec = simulate_recording(
         subject, duration_s=40.0, modes=["walk"], seed=41, placement=Placement.random("swinging-hand", np.random.default_rng(41))
@@ -290,6 +301,32 @@ def test_a_trained_gyroscope_model_records_the_dynamics_and_predict_uses_them(tm
     chunked = long_predict(model, tmp_path / "rec.csv", chunk_s=7.0, progress=False)
     np.testing.assert_array_equal(chunked["in_domain"].astype(bool).to_numpy(), t["in_domain"].astype(bool).to_numpy())
     np.testing.assert_allclose(chunked["dynamics_distance"].to_numpy(float), t["dynamics_distance"].to_numpy(float))
+    # the descriptors of every dom.dynamics_every-th window only: chunk offsets must lie on that window grid too.
+    # At 50 Hz the hop (37) and the sample step (2) already align chunks to every second window, so a record
+    # computing every fourth window (4 divides the span) is what tells an aligned grid from a shifted one
+    import dataclasses
+
+    import gaitml.longrun as longrun
+
+    m4 = dataclasses.replace(model, domain=dataclasses.replace(dom, dynamics={**dom.dynamics, "every": 4}))
+    whole4 = predict_recording(m4, rec)
+    offsets = []
+    real = longrun._window_chunks
+
+    def spy(*args, **kwargs):
+        for ch, length, hop in real(*args, **kwargs):
+            offsets.append((ch.offset, hop))
+            yield ch, length, hop
+
+    longrun._window_chunks = spy
+    try:
+        for chunk_s in (4.3, 7.0):
+            chunked = long_predict(m4, tmp_path / "rec.csv", chunk_s=chunk_s, progress=False)
+            np.testing.assert_array_equal(chunked["in_domain"].astype(bool).to_numpy(), whole4["in_domain"].astype(bool).to_numpy())
+            np.testing.assert_allclose(chunked["dynamics_distance"].to_numpy(float), whole4["dynamics_distance"].to_numpy(float))
+    finally:
+        longrun._window_chunks = real
+    assert len(offsets) > 4 and all(off % (4 * hop) == 0 and off % 2 == 0 for off, hop in offsets)
 
 
 def test_no_windows_and_one_window_with_dynamics():

@@ -180,3 +180,30 @@ def test_stride_window_model_predicts_per_stride_and_pdr_gives_each_step_its_str
     res = json.loads(out)
     assert "stride-window model" in err and res["n_steps"] == len(get_detector("single-peak").detect(rec).steps_)
     assert {p["mode"] for p in res["trajectory"][1:]} <= set(table["mode"])
+
+
+def test_step_windows_check_the_dynamics_of_every_second_step_in_time_order(trained):
+    """The dynamics part of a step model: descriptors of the computed steps (in time order) only, whatever the row order."""
+    from gaitml.features.step_windows import extract_step_features, make_step_windows
+    from gaitml.models._dataset import resample_recording
+    from gaitml.models._step_windows import step_domain_columns
+    from gaitml.models.domain import orientation_dynamics, span_gravity
+
+    d, rec = trained
+    model = load_model(d / "model")
+    dom = model.domain
+    assert dom.dynamics is not None and dom.dynamics_every == 2
+    r = resample_recording(rec, model.sampling_rate_hz)
+    w = make_step_windows(r, "steps", "ifsm", min_label_fraction=0.0)
+    assert len(w) > 20 and (np.diff(w["start"].to_numpy()) > 0).all()
+    s, e = w["start"].to_numpy(np.int64), w["end"].to_numpy(np.int64)
+    X = extract_step_features(r, w, subset=dom.feature_set).to_numpy(dtype=float)
+    # plainly: every step's descriptors, the check reads those of steps 0, 2, 4, ...
+    ref = dom.check(X, span_gravity(r.acc, s, e), orientation_dynamics(r.acc, r.gyr, s, e, r.sampling_rate_hz))
+    got = step_domain_columns(model, r, w)
+    np.testing.assert_array_equal(got["in_domain"].astype(bool), ref["in_domain"])
+    np.testing.assert_allclose(got["dynamics_distance"], ref["dynamics_distance"], rtol=1e-12)
+    shuffled = np.random.default_rng(0).permutation(len(w))  # rows in another order: the same per-step answer
+    back = step_domain_columns(model, r, w.iloc[shuffled].reset_index(drop=True))
+    np.testing.assert_array_equal(back["in_domain"].astype(bool), ref["in_domain"][shuffled])
+    np.testing.assert_allclose(back["dynamics_distance"], ref["dynamics_distance"][shuffled], rtol=1e-12)

@@ -284,6 +284,13 @@ def test_a_class_with_two_windows_gets_a_positive_definite_precision():
         np.linalg.cholesky(P)  # raises if not positive definite
         assert np.all(np.isfinite(P))
     assert np.allclose(means[0], Z[40:].mean(axis=0))
+    # usable distances: new windows of the same distribution are about as far from the two-window
+    # class as from a one-window class (unit covariance: sqrt(p) ~ 7 plus the offset), not hundreds
+    fresh = rng.standard_normal((200, 52))
+    d_two = np.sqrt(np.einsum("ij,jk,ik->i", fresh - means[0], precs[0], fresh - means[0]))
+    d_unit = np.linalg.norm(fresh - means[0], axis=1)
+    assert np.median(d_two) <= np.median(d_unit) + 1e-9
+    assert np.median(d_two) > 0.5 * np.median(d_unit)
     names = [f"f{i}" for i in range(52)]
     grav = np.tile([[0.0, 0.0, 1.0]], (42, 1))
     record = fit_domain(Z, y, np.repeat(np.arange(21), 2), grav, feature_names=names, feature_set="all52", frame="phone")

@@ -24,8 +24,11 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    vertical amplitude and harmonic content, phase skew, speed fluctuation,
    lateral sway, left/right asymmetry of step time and peak, step-to-step
    jitter, phone pose (flat ~3-12 deg pitch or tilted 30-50 deg), slow
-   orientation wander, accelerometer/gyroscope noise and bias, and the sizes
-   of the step-to-step and slow variability (below).
+   orientation wander, accelerometer/gyroscope noise and bias, the sizes
+   of the step-to-step and slow variability (below), and the hand gain: how
+   much of the trunk's acceleration reaches a hand-held phone (0.25-1.2,
+   calm to vigorous walkers; walk, side and backward steps; fitted to the real
+   hand-held walks by ``experiments/scripts/hand_gain.py``).
 2. *Route and steps* (:mod:`.route`, :mod:`.plan`): a path of straight legs,
    turns and arcs (rectangle ~262 m and arc ~400 m of paper 003 sec. 4.3,
    straight legs with turns, random); mode segments of 8-20 s in shuffled
@@ -92,7 +95,8 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    frequency, roll and yaw at half of it) and a smooth random wander; the
    accelerometer gives ``R^T (a + g z)``, the gyroscope ``R^T R'`` from the
    same angles (so a right turn reads a negative z rate when the phone is
-   flat); hand/arm vibration (3-15 Hz band noise, 0.25-0.65 m/s^2 per axis
+   flat); the body acceleration scaled by the subject's hand gain (not in
+   running); hand/arm vibration (3-15 Hz band noise, 0.25-0.65 m/s^2 per axis
    while moving, 15 % of it while standing), bias, white noise, rounding to
    1e-4 m/s^2 and 1e-5 rad/s;
    sampling rate 20-500 Hz (phones: 50-200 Hz).

@@ -96,10 +96,11 @@ def run(args) -> int:
             )
         else:
             h0 = 0.0
+    detector = _detector(args, model, notes)
     res = run_pdr(
         rec,
         model=model,
-        detector=_detector(args, model, notes),
+        detector=detector,
         heading=getattr(args, "heading", "hde"),
         modes=modes,
         mode_boundaries=getattr(args, "mode_boundaries", "auto"),
@@ -132,8 +133,17 @@ def run(args) -> int:
         if warning:
             tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
             log(f"gaitml: warning: {warning}{tail}")
+    # ---- a fixed-threshold detector that misses calm steps (gaitml.steps.crosscheck): one warning line
+    from gaitml.steps.crosscheck import undercount_warning
+
+    count_warning = undercount_warning(rec, res.n_steps, detector) if isinstance(detector, str) else None
+    if count_warning:
+        log(f"gaitml: warning: {count_warning}")
     if args.json:
-        emit_json(res.to_json_dict())
+        obj = res.to_json_dict()
+        if count_warning:
+            obj["warnings"] = [count_warning]
+        emit_json(obj)
         return 0
     x, y = res.end_xy_m
     lines = [

@@ -8,6 +8,7 @@ from gaitml.commands._util import emit_json, is_large_input, load_input, log, re
 from gaitml.evaluation.steps import evaluate_steps, step_times
 from gaitml.io import write_csv
 from gaitml.steps import get_detector
+from gaitml.steps.crosscheck import undercount_warning
 
 
 def _evaluation(rec, steps) -> dict | None:
@@ -54,6 +55,9 @@ def run(args) -> int:
         write_csv(args.out, steps)
     ev = _evaluation(rec, steps)
     t = step_times(steps)
+    warning = undercount_warning(rec, len(steps), args.detector)
+    if warning:
+        log(f"gaitml: warning: {warning}")
     if args.json:
         obj = {
             "detector": args.detector,
@@ -61,6 +65,8 @@ def run(args) -> int:
             "n_steps": int(len(steps)),
             "steps": _json_steps(steps, t),
         }
+        if warning:
+            obj["warnings"] = [warning]
         cadence = _json_cadence(det)
         if cadence is not None:
             obj["cadence"] = cadence

@@ -57,13 +57,32 @@ ODYN_ACC = 8
 
 
 # ---------------------------------------------------------------- data
+def window_descriptors(recs, ds) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per window of ``ds`` (built from ``recs``): gravity direction, orientation-dynamics
+    descriptors (:func:`gaitml.models.domain.orientation_dynamics`) and the recording's position."""
+    from gaitml.models.domain import DYNAMICS_NAMES, orientation_dynamics, window_gravity
+
+    starts = ds.windows["start"].to_numpy(np.int64)
+    length = int(ds.windows["end"].iloc[0] - starts[0])
+    ri = np.asarray(ds.recording_index)
+    grav = np.zeros((len(ds), 3))
+    odyn = np.zeros((len(ds), len(DYNAMICS_NAMES)))
+    pos = np.empty(len(ds), dtype=object)
+    for i in np.unique(ri):
+        rows = np.flatnonzero(ri == i)
+        r = recs[int(i)]
+        grav[rows] = window_gravity(r.acc, starts[rows], length)
+        odyn[rows] = orientation_dynamics(r.acc, r.gyr, starts[rows], starts[rows] + length, r.sampling_rate_hz)
+        pos[rows] = r.meta["position"]
+    return grav, odyn, pos
+
+
 def build(cache: Path | None):
     """Window tables of the training and test sets (cached as npz when ``cache`` is given)."""
     if cache is not None and (cache / "lopo.npz").is_file():
         d = np.load(cache / "lopo.npz", allow_pickle=False)
         return {k: d[k] for k in d.files}
     from gaitml.models import build_window_dataset
-    from gaitml.models.domain import DYNAMICS_NAMES, orientation_dynamics, window_gravity
     from gaitml.simulate import POSITIONS, simulate_dataset
 
     out = {}
@@ -74,25 +93,14 @@ def build(cache: Path | None):
         for frame in ("phone", "gravity"):
             ds = build_window_dataset(recs, groups=groups, length_s=1.5, overlap=0.5, feature_set="all52+gyro", frame=frame)
             out[f"{tag}_X_{frame}"] = ds.inputs("features").astype(float)
-        starts = ds.windows["start"].to_numpy(np.int64)
-        length = int(ds.windows["end"].iloc[0] - starts[0])
-        ri = np.asarray(ds.recording_index)
-        grav = np.zeros((len(ds), 3))
-        odyn = np.zeros((len(ds), len(DYNAMICS_NAMES)))
-        pos = np.empty(len(ds), dtype=object)
-        for i in np.unique(ri):
-            rows = np.flatnonzero(ri == i)
-            r = recs[int(i)]
-            grav[rows] = window_gravity(r.acc, starts[rows], length)
-            odyn[rows] = orientation_dynamics(r.acc, r.gyr, starts[rows], starts[rows] + length, r.sampling_rate_hz)
-            pos[rows] = r.meta["position"]
+        grav, odyn, pos = window_descriptors(recs, ds)
         out[f"{tag}_grav"] = grav
         out[f"{tag}_odyn"] = odyn
         out[f"{tag}_y"] = np.asarray(ds.y).astype(str)
         out[f"{tag}_g"] = np.asarray(ds.groups).astype(str)
         out[f"{tag}_pos"] = pos.astype(str)
-        out[f"{tag}_rec"] = ri.astype(np.int64)
-        out[f"{tag}_start"] = starts
+        out[f"{tag}_rec"] = np.asarray(ds.recording_index).astype(np.int64)
+        out[f"{tag}_start"] = ds.windows["start"].to_numpy(np.int64)
     if cache is not None:
         cache.mkdir(parents=True, exist_ok=True)
         np.savez(cache / "lopo.npz", **out)

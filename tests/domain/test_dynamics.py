@@ -202,21 +202,12 @@ def test_the_record_round_trips_and_an_old_record_checks_as_before():
 
 
 def _position_windows(recs):
+    from experiments.scripts.lopo_domain import window_descriptors
     from gaitml.models import build_window_dataset
-    from gaitml.models.domain import window_gravity
 
     ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], length_s=1.5, overlap=0.5, feature_set="all52+gyro")
-    starts = ds.windows["start"].to_numpy(np.int64)
+    grav, dyn, pos = window_descriptors(recs, ds)
     ri = np.asarray(ds.recording_index)
-    grav = np.zeros((len(ds), 3))
-    dyn = np.zeros((len(ds), len(DYNAMICS_NAMES)))
-    pos = np.empty(len(ds), dtype=object)
-    for i in np.unique(ri):
-        rows = np.flatnonzero(ri == i)
-        r = recs[int(i)]
-        grav[rows] = window_gravity(r.acc, starts[rows], 75)
-        dyn[rows] = orientation_dynamics(r.acc, r.gyr, starts[rows], starts[rows] + 75, r.sampling_rate_hz)
-        pos[rows] = r.meta["position"]
     return ds.inputs("features"), grav, dyn, np.asarray(ds.y), np.asarray(ds.groups), pos.astype(str), ri
 
 

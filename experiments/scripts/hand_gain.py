@@ -197,14 +197,15 @@ def leave_one_user_out(walks: pd.DataFrame, curves: np.ndarray) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _user_recordings(shared_data: Path, user: str) -> list:
-    """The recordings of one real hand-held user, as the domain report scores them (whole walks)."""
+def _user_recordings(shared_data: Path) -> dict[str, list]:
+    """Every real hand-held user's recordings, as the domain report scores them (whole walks, read once)."""
     from gaitml.io import read_dataset, read_recording
 
-    if user.startswith("ifsm-"):
-        return [read_recording(shared_data / REAL_FILES[int(user.split("-")[1]) - 1])]
-    recs = read_dataset(shared_data / "oxford-step-counter" / "optimisation")
-    return [r for r in recs if r.meta.get("position") == "InHand" and r.meta.get("user") == user]
+    out = {f"ifsm-{i}": [read_recording(shared_data / f)] for i, f in enumerate(REAL_FILES, start=1)}
+    for r in read_dataset(shared_data / "oxford-step-counter" / "optimisation"):
+        if r.meta.get("position") == "InHand":
+            out.setdefault(r.meta["user"], []).append(r)
+    return out
 
 
 def _clear_caches(runner) -> None:
@@ -246,7 +247,7 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
 
     from experiments.scripts.domain_report import _add, score
 
-    shared_data = Path(shared_data)
+    recordings = _user_recordings(Path(shared_data))
     all_row = loo[loo["held_out"] == "all (in sample)"].iloc[0]
     rows: list[dict] = []
     pooled: dict[str, dict] = {}
@@ -257,12 +258,11 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
             user = r["held_out"]
             print(f"held out {user} ...", file=sys.stderr, flush=True)
             models["held out"] = _train_acc_model(Path(tmp) / f"fold-{user}", (r["gain_lo"], r["gain_hi"]))
-            recs = _user_recordings(shared_data, user)
+            ranges = {**fixed, "held out": (r["gain_lo"], r["gain_hi"])}
             for name in ("before", "held out", "in sample"):
                 tot: dict = {}
-                for rec in recs:
+                for rec in recordings[user]:
                     tot = _add(tot, score(models[name], rec))
-                ranges = {"before": (1.0, 1.0), "held out": (r["gain_lo"], r["gain_hi"]), "in sample": fixed["in sample"]}
                 rows.append({"user": user, "model": name, "gain range": "{:.2f}-{:.2f}".format(*ranges[name]), **tot})
                 if not user.startswith("ifsm-"):
                     pooled[name] = _add(pooled.get(name, {}), tot)

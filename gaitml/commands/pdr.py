@@ -136,7 +136,7 @@ def run(args) -> int:
     # ---- a fixed-threshold detector that misses calm steps (gaitml.steps.crosscheck): one warning line
     from gaitml.steps.crosscheck import undercount_warning
 
-    count_warning = undercount_warning(rec, res.n_steps, detector) if isinstance(detector, str) else None
+    count_warning = undercount_warning(rec, res.n_steps, detector)
     if count_warning:
         log(f"gaitml: warning: {count_warning}")
     if args.json:

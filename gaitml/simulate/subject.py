@@ -76,10 +76,11 @@ POSES = ("flat", "tilted")
 #: Range (log-uniform) of :attr:`Subject.hand_gain`, the fraction of the trunk's acceleration
 #: (all three axes, heel-strike impact included) that reaches a hand-held phone in walking, side
 #: and backward steps (a relaxed elbow and wrist damp it; not in running, whose flight phase is
-#: free fall for body and phone alike). Carried positions (:mod:`.positions`) do not use it. Fitted to the real hand-held walks (IFSM's two flat-held walkers and
-#: the Oxford ``InHand`` walks of three users) by ``python -m experiments.scripts.hand_gain``:
-#: the simulated population's 5-95 % range of the walking ``|acc|`` standard deviation spans the
-#: real walks' range; leave-one-user-out in ``experiments/reports/simulator-positions.md``.
+#: free fall for body and phone alike). Carried positions (:mod:`.positions`) do not use it.
+#: Fitted to the real hand-held walks (IFSM's two flat-held walkers and the Oxford ``InHand``
+#: walks of three users) by ``python -m experiments.scripts.hand_gain``: the simulated
+#: population's 5-95 % range of the walking ``|acc|`` standard deviation spans the real walks'
+#: range; leave-one-user-out in ``experiments/reports/model-domain.md`` ("Calm hand-held walkers").
 HAND_GAIN_RANGE = (0.25, 1.2)
 
 

@@ -139,12 +139,18 @@ def _population_std(curves: np.ndarray, lo: float, hi: float, grid=GAIN_GRID) ->
     return np.array([np.interp(np.log(g), lg, c) for g, c in zip(gains, curves, strict=True)])
 
 
-def fit_range(real_std: np.ndarray, curves: np.ndarray, *, grid=GAIN_GRID) -> tuple[float, float]:
-    """The hand gain range whose population's 5-95 % ``mag_std`` spans ``real_std`` (module docstring)."""
+def fit_range(real_std: np.ndarray, curves: np.ndarray, *, grid=GAIN_GRID, lo_grid=None, hi_grid=None) -> tuple[float, float]:
+    """The gain range whose population's 5-95 % ``mag_std`` spans ``real_std`` (module docstring).
+
+    ``curves`` holds each subject's ``mag_std`` at the gains of ``grid``; ``lo_grid`` and
+    ``hi_grid`` are the candidate range ends (default: the hand gain's, inside ``GAIN_GRID``).
+    """
+    lo_grid = _LO_GRID if lo_grid is None else np.asarray(lo_grid, dtype=float)
+    hi_grid = _HI_GRID if hi_grid is None else np.asarray(hi_grid, dtype=float)
     target = np.array([np.min(real_std), np.max(real_std)])
     best, arg = np.inf, (1.0, 1.0)
-    for lo in _LO_GRID:
-        for hi in _HI_GRID[_HI_GRID >= lo]:
+    for lo in lo_grid:
+        for hi in hi_grid[hi_grid >= lo]:
             q = np.percentile(_population_std(curves, lo, hi, grid), [5, 95])
             err = float(np.sum((q - target) ** 2))
             if err < best:

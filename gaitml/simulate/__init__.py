@@ -28,7 +28,10 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    of the step-to-step and slow variability (below), and the hand gain: how
    much of the trunk's acceleration reaches a hand-held phone (0.25-1.2,
    calm to vigorous walkers; walk, side and backward steps; fitted to the real
-   hand-held walks by ``experiments/scripts/hand_gain.py``).
+   hand-held walks by ``experiments/scripts/hand_gain.py``). A phone carried in
+   a pocket or a bag draws a vigour instead (:data:`.positions.VIGOUR_RANGE`,
+   fitted to the Oxford pocket and purse walks by
+   ``experiments/scripts/carry_vigour.py``).
 2. *Route and steps* (:mod:`.route`, :mod:`.plan`): a path of straight legs,
    turns and arcs (rectangle ~262 m and arc ~400 m of paper 003 sec. 4.3,
    straight legs with turns, random); mode segments of 8-20 s in shuffled

@@ -239,6 +239,11 @@ def synthesize(
         bounce = placement.vertical_gain * (1.0 + placement.leg_asymmetry * np.cos(np.pi * (phi - leg0)))
         bounce = bounce * np.exp(placement.impact_cv * smooth_noise(crng, n, fs, 0.5)[:, 0])
         a_up = bounce * a_up + placement.impact_gain * spike
+        spike = placement.impact_gain * spike
+        if placement.vigour != 1.0:  # the walker's intensity at the segment (not in running, as the hand gain)
+            g_mode = np.where(np.arange(len(MOTION_MODES)) == _MODE_INDEX["run"], 1.0, placement.vigour)
+            gain = w_cur * g_mode[mode_cur[k]] + (1.0 - w_cur) * g_mode[mode_prev[k]]
+            a_right, a_fwd, a_up, spike = a_right * gain, a_fwd * gain, a_up * gain, spike * gain
 
     # facing heading and direction of travel: smooth through the step midpoints
     t_mid = 0.5 * (st["t_start_s"].to_numpy(float) + st["t_s"].to_numpy(float))
@@ -276,7 +281,7 @@ def synthesize(
         carried = carried_signals(
             placement, fs=fs, phi=phi, mode_idx=mode_cur[k], env=env,
             theta=theta, theta_rate=theta_rate, acc_person=np.column_stack([a_right, a_fwd, a_up]), rng=crng,
-            impact=placement.impact_gain * spike, impact_step=jn,
+            impact=spike, impact_step=jn,
         )  # fmt: skip
         acc, gyr, attitude = carried["acc"], carried["gyr"], carried["attitude"]
         # soft tissue / fabric vibration while moving (3-15 Hz), slowly modulated

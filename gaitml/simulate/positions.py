@@ -19,7 +19,10 @@ carries it; the segment's motion is a kinematic model driven by the same gait
   changes sign. Side steps move the thigh sideways (ab-/adduction, one cycle
   per side step). The back pocket sits on the buttock near the hip joint: a
   shorter lever and a part (about 60 %) of the thigh rotation, with the phone
-  tilted by the buttock's curvature.
+  lying on the buttock's surface, which faces backward and 15-30 deg down
+  whichever way up the phone is (so the screen's normal, not the phone's
+  top, decides the sign of gravity on the phone's z axis: the three Oxford
+  back-pocket users, upright and upside down, all read it negative).
 - ``belt`` (waist clip): the phone follows the *pelvis*: the trunk bounce
   and sway of :mod:`.modes` plus the pelvic rotations of gait: transverse
   rotation (yaw) and obliquity (roll) of a few degrees at the stride
@@ -73,6 +76,7 @@ __all__ = [
     "HAND_POSITIONS",
     "CARRIED_POSITIONS",
     "Placement",
+    "VIGOUR_RANGE",
     "check_positions",
     "carried_signals",
     "rotation_matrices",
@@ -100,6 +104,16 @@ SEGMENT_AMP_CV = 0.15
 BAG_SWING_LIMIT_MS2 = 4.0
 #: Running: the elbow is bent (about 90 deg), so the hand is this fraction of the arm's length from the shoulder.
 RUN_ARM_LEVER = 0.55
+#: Ranges (log-uniform) of :attr:`Placement.vigour` per carried position: how vigorously the
+#: subject walks, as the carrying segment feels it, relative to the placement ranges above
+#: (which were sized on the Oxford users Jamie and Carmelo). Fitted to the walking ``|acc|``
+#: standard deviation of every real Oxford walk in the position (three users; the simulated
+#: 5 % and 95 % quantiles matched to the calmest and the most vigorous real walk) by
+#: ``python -m experiments.scripts.carry_vigour``, which also holds each user out in turn
+#: (``experiments/reports/simulator-positions.md``, section "Vigour"). Positions without
+#: an entry (``belt``: no real walking; ``swinging-hand``: one real user, nobody to hold
+#: out) keep vigour 1 and draw nothing.
+VIGOUR_RANGE = {"front-pocket": (0.7, 1.8), "back-pocket": (0.9, 1.45), "bag": (0.95, 1.1)}
 
 
 def check_positions(positions) -> tuple[str, ...]:
@@ -213,10 +227,13 @@ class Placement:
     wobble_gain: float = 0.0  # soft-tissue wobble: the impact along a random direction per step, relative
     vibration_ms2: float = 0.3  # 3-15 Hz soft-tissue / fabric vibration per axis while moving
     wander_deg: float = 1.5  # slow orientation wander of the phone in the segment
+    vigour: float = 1.0  # walk, side and backward steps: the trunk acceleration and impact at the segment scale by this (VIGOUR_RANGE)
 
     def __post_init__(self) -> None:
         if self.position not in CARRIED_POSITIONS:
             raise InputError(f"Placement.position must be one of {', '.join(CARRIED_POSITIONS)}, got {self.position!r}.")
+        if not 0.2 <= self.vigour <= 3.0:
+            raise InputError(f"Placement.vigour must be a gain in 0.2-3, got {self.vigour!r}.")
 
     @classmethod
     def random(cls, position: str, rng: np.random.Generator) -> Placement:
@@ -226,8 +243,20 @@ class Placement:
         (sagittal thigh range 30-45 deg in walking), pelvic rotations 2-6 deg,
         arm swing 15-35 deg, waist radius 0.12-0.18 m, arm lever 0.55-0.72 m;
         the segment gains and the vibration are sized against the Oxford
-        walks (``experiments/reports/simulator-positions.md``).
+        walks (``experiments/reports/simulator-positions.md``). The vigour is
+        drawn last, log-uniformly over :data:`VIGOUR_RANGE` (positions without
+        an entry keep 1 and draw nothing), so the other fields of a seed do not
+        depend on it.
         """
+        p = cls._random_placement(position, rng)
+        if position not in VIGOUR_RANGE:
+            return p
+        lo, hi = VIGOUR_RANGE[position]
+        return dataclasses.replace(p, vigour=float(np.exp(rng.uniform(np.log(lo), np.log(hi)))))
+
+    @classmethod
+    def _random_placement(cls, position: str, rng: np.random.Generator) -> Placement:
+        """Every field of :meth:`random` but the vigour."""
         u = rng.uniform
         side = 1.0 if u() < 0.5 else -1.0
         if position == "front-pocket":
@@ -242,7 +271,7 @@ class Placement:
         if position == "back-pocket":
             return cls(
                 position, side, upright=bool(u() < 0.6), screen_out=bool(u() < 0.5),
-                tilt_x_deg=u(15, 30), tilt_y_deg=u(-12, 12), tilt_z_deg=u(-15, 15),
+                tilt_x_deg=u(15, 30), tilt_y_deg=u(-12, 12), tilt_z_deg=u(-15, 15),  # tilt_x: the buttock's surface
                 thigh_flex_mean_deg=u(4, 12), thigh_flex_amp_deg=0.6 * u(14, 22), thigh_h2=u(0.1, 0.25),
                 thigh_abduction_deg=u(4, 8), lever_m=u(0.08, 0.14),
                 vertical_gain=u(0.7, 1.0), impact_gain=u(2.0, 3.5), other_leg_impact=u(0.1, 0.3), leg_asymmetry=u(0.5, 0.8), impact_cv=u(0.2, 0.4), wobble_gain=u(0.5, 1.0), thigh_rotation_deg=u(4, 10),
@@ -284,7 +313,12 @@ class Placement:
         if self.position == "front-pocket":  # on the front of the thigh, screen forward (out) or towards the leg
             return _mount([0, 0, up], [0, 1.0 if self.screen_out else -1.0, 0], tilt)
         if self.position == "back-pocket":  # on the buttock, screen backward (out) or towards the body
-            return _mount([0, 0, up], [0, -1.0 if self.screen_out else 1.0, 0], tilt)
+            # the buttock's surface faces backward and down by tilt_x_deg (a property of the body,
+            # so it does not flip with the phone: an upside-down phone lies on the same surface)
+            a = self.tilt_x_deg * _DEG
+            normal = np.array([0.0, -np.cos(a), -np.sin(a)])
+            along = np.array([0.0, -np.sin(a), np.cos(a)])
+            return _mount(up * along, normal if self.screen_out else -normal, (0.0, self.tilt_y_deg, self.tilt_z_deg))
         if self.position == "belt":  # on the waist at an azimuth, screen radially out or in
             b = self.azimuth_deg * _DEG
             radial = np.array([np.sin(b), np.cos(b), 0.0])

@@ -28,6 +28,8 @@ def test_real_and_simulated_pocket_phones_repeat_per_stride(oxford_pockets):
     for pos in ("front-pocket", "back-pocket"):
         sim = [position_statistics(r) for r in simulated_position_walks(pos, n=3, seed=11, duration_s=40.0)]
         assert all(s["r_stride"] > s["r_step"] + 0.15 for s in sim), pos
-        # and the |acc| spread sits where the real pocket walks are (3-7 m/s^2, hand-held 1-3.7)
-        assert all(3.0 < s["mag_std_ms2"] < 7.0 for s in sim), pos
+        # and the |acc| spread sits where the real pocket walks are (2.7-6.7 m/s^2, hand-held 1-3.7;
+        # with the vigour, the simulated walkers span the calm and the vigorous real ones)
+        lo, hi = min(s["mag_std_ms2"] for s in real), max(s["mag_std_ms2"] for s in real)
+        assert all(lo - 0.5 < s["mag_std_ms2"] < hi + 0.5 for s in sim), (pos, [round(s["mag_std_ms2"], 2) for s in sim])
     assert 2.5 < np.median([s["mag_std_ms2"] for s in real]) < 7.0

@@ -1,0 +1,96 @@
+"""The vigour of a carried phone: what it scales, what it leaves alone, and its fit to real walks."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from gaitml.errors import InputError
+from gaitml.simulate import Placement, sample_subjects, simulate_recording
+from gaitml.simulate.positions import CARRIED_POSITIONS, VIGOUR_RANGE
+
+
+def _walk(position: str, vigour: float, modes=("walk",), seed: int = 4, duration_s: float = 30.0):
+    """The same subject, placement and seed at another vigour."""
+    subj = sample_subjects(1, seed)[0]
+    p = dataclasses.replace(Placement.random(position, np.random.default_rng(seed)), vigour=vigour)
+    return simulate_recording(subj, route="straight", duration_s=duration_s, modes=modes, seed=seed, placement=p)
+
+
+@pytest.mark.parametrize("position", ["front-pocket", "back-pocket", "bag"])
+def test_vigour_scales_the_walking_intensity_but_not_the_steps(position):
+    calm, base, vigorous = (_walk(position, v) for v in (0.7, 1.0, 1.6))
+    sd = [np.std(np.linalg.norm(r.acc, axis=1)) for r in (calm, base, vigorous)]
+    assert sd[0] < sd[1] < sd[2]
+    assert sd[2] > 1.2 * sd[1]
+    for r in (calm, vigorous):  # the same walk: steps and truth
+        assert np.array_equal(r.reference["steps_t_s"], base.reference["steps_t_s"])
+        assert np.array_equal(r.reference["trajectory"].to_numpy(), base.reference["trajectory"].to_numpy())
+        # a pocket turns with the thigh whatever the vigour; a bag tilts with its own acceleration
+        same_attitude = np.array_equal(r.reference["attitude_wxyz"], base.reference["attitude_wxyz"])
+        assert same_attitude == (position != "bag")
+
+
+def test_running_ignores_the_vigour():
+    a, b = (_walk("front-pocket", v, modes=("run",), duration_s=20.0) for v in (1.0, 1.6))
+    assert np.array_equal(a.acc, b.acc) and np.array_equal(a.gyr, b.gyr)
+
+
+def test_vigour_is_drawn_last_and_only_where_it_was_fitted():
+    from experiments.scripts.carry_vigour import VIGOUR_POSITIONS, vigour_range
+
+    assert set(VIGOUR_RANGE) == set(VIGOUR_POSITIONS)
+    for position in CARRIED_POSITIONS:
+        drawn = [Placement.random(position, np.random.default_rng(s)) for s in range(200)]
+        v = np.array([p.vigour for p in drawn])
+        if position not in VIGOUR_RANGE:
+            assert np.all(v == 1.0), position
+            continue
+        lo, hi = VIGOUR_RANGE[position]
+        assert v.min() >= lo and v.max() <= hi
+        if hi > lo:  # log-uniform: about half below the geometric middle
+            assert 0.35 < np.mean(v < np.sqrt(lo * hi)) < 0.65
+        # every other field is what the same seed draws at any other range
+        with vigour_range(position, 1.3, 1.3):
+            again = Placement.random(position, np.random.default_rng(7))
+        assert again.vigour == pytest.approx(1.3)
+        assert dataclasses.replace(again, vigour=drawn[7].vigour) == drawn[7]
+
+
+@pytest.mark.parametrize("bad", [0.0, 0.1, 5.0])
+def test_vigour_out_of_range_is_refused(bad):
+    with pytest.raises(InputError, match="vigour"):
+        Placement("front-pocket", vigour=bad)
+
+
+def test_manifest_carries_the_vigour(tmp_path):
+    from gaitml.simulate import simulate_dataset, write_simulation
+
+    recs = simulate_dataset(2, 10.0, ("walk",), seed=3, positions=("front-pocket", "belt"))
+    write_simulation(recs, tmp_path / "sim")
+    import pandas as pd
+
+    man = pd.read_csv(tmp_path / "sim" / "manifest.csv")
+    assert "carry_vigour" in man.columns
+    belt = man[man["position"] == "belt"]["carry_vigour"]
+    assert np.all(belt == 1.0)
+    lo, hi = VIGOUR_RANGE["front-pocket"]
+    pocket = man[man["position"] == "front-pocket"]["carry_vigour"]
+    assert np.all((pocket >= lo) & (pocket <= hi))
+
+
+@pytest.mark.realdata
+@pytest.mark.slow
+def test_shipped_ranges_are_the_fit_on_every_real_oxford_user(shared_data):
+    """VIGOUR_RANGE is what ``python -m experiments.scripts.carry_vigour`` fits on the three Oxford users."""
+    from experiments.scripts.carry_vigour import _END_GRID, VIGOUR_GRID, VIGOUR_POSITIONS, real_carried_walks, vigour_curves
+    from experiments.scripts.hand_gain import fit_range
+
+    walks = real_carried_walks(shared_data)
+    for position in VIGOUR_POSITIONS:
+        pw = walks[walks["position"] == position]
+        assert sorted(pw["user"].unique()) == ["Carmelo", "Dario", "Jamie"], position
+        fitted = fit_range(pw["mag_std_ms2"].to_numpy(), vigour_curves(position), grid=VIGOUR_GRID, lo_grid=_END_GRID, hi_grid=_END_GRID)
+        assert fitted == VIGOUR_RANGE[position], position

@@ -78,9 +78,9 @@ def long_steps(
     """Detect steps in a long recording chunk by chunk; returns one global step table.
 
     ``count_also``: a second detector run on the same chunks (e.g. ``adaptive``, for the
-    count cross-check of :mod:`gaitml.steps.crosscheck`); only its step count is kept, in
-    ``attrs["count_also"] = {"detector": name, "n_steps": total}``, counted like the main detector's (steps anchored in each chunk's core), so memory stays
-    bounded by the chunk.
+    count cross-check of :mod:`gaitml.steps.crosscheck`). Only its step count is kept, in
+    ``attrs["count_also"] = {"detector": name, "n_steps": total}``, counted like the main
+    detector's steps (those anchored in each chunk's core), so memory stays bounded by the chunk.
     """
     from gaitml.steps import get_detector
 

@@ -72,14 +72,22 @@ def long_steps(
     margin_s: float = DEFAULT_MARGIN_S,
     progress: bool = True,
     detector_params: dict | None = None,
+    count_also: str | None = None,
     **read_kwargs,
 ) -> pd.DataFrame:
-    """Detect steps in a long recording chunk by chunk; returns one global step table."""
+    """Detect steps in a long recording chunk by chunk; returns one global step table.
+
+    ``count_also``: a second detector run on the same chunks (e.g. ``adaptive``, for the
+    count cross-check of :mod:`gaitml.steps.crosscheck`). Only its step count is kept, in
+    ``attrs["count_also"] = {"detector": name, "n_steps": total}``, counted like the main
+    detector's steps (those anchored in each chunk's core), so memory stays bounded by the chunk.
+    """
     from gaitml.steps import get_detector
 
     parts = []
     fs = None
     attrs: dict = {}
+    also_counts: list[int] = []
     for ch in progress_chunks(
         iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"steps ({detector})", enabled=progress
     ):
@@ -91,10 +99,23 @@ def long_steps(
         g = _shift_steps(table, ch.offset, fs)
         keep = (g[anchor] >= ch.core_start) & (g[anchor] < ch.core_end)
         parts.append(g[keep])
+        if count_also is not None:
+            also_counts.append(_core_count(get_detector(count_also).detect(ch.recording).steps_, ch))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     out.attrs.update(attrs)
     out.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_s}
+    if count_also is not None:
+        out.attrs["count_also"] = {"detector": count_also, "n_steps": int(sum(also_counts))}
     return out
+
+
+def _core_count(table: pd.DataFrame, ch: Chunk) -> int:
+    """How many steps of a chunk's table are anchored in the chunk's core (as :func:`long_steps` keeps them)."""
+    if not len(table):
+        return 0
+    anchor = "end" if table.attrs.get("event") == "t_end_s" else "peak"
+    idx = table[anchor].to_numpy(dtype=np.int64) + ch.offset
+    return int(((idx >= ch.core_start) & (idx < ch.core_end)).sum())
 
 
 def long_zupts(

@@ -4,6 +4,10 @@ Run from the repository root (about 3 minutes on a nearly idle machine, 13 at lo
 
     python -m experiments.scripts.lopo_domain [--data ../shared/data] [--out FILE] [--cache DIR]
 
+``--cache DIR`` keeps the simulated windows in ``DIR/lopo.npz`` for a rerun, keyed on
+:func:`cache_key` (gaitml's version, the protocol and the sources of the simulator, the
+features and the domain descriptors): a cache made by other code is not used.
+
 Protocol (the one of ``domain_report --positions``): 8 simulated training subjects
 (seed 1000) and 4 test subjects (seed 2024), 120 s in each of the seven positions of
 :data:`gaitml.simulate.POSITIONS`, five modes, 1.5 s windows at 50 Hz with 50 %
@@ -77,21 +81,74 @@ def window_descriptors(recs, ds) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return grav, odyn, pos
 
 
+#: The simulated sets: (tag, subjects, seed); 120 s per position, 1.5 s windows with 50 % overlap.
+SETS = (("tr", 8, 1000), ("te", 4, 2024))
+DURATION_S = 120.0
+WINDOW = {"length_s": 1.5, "overlap": 0.5, "feature_set": "all52+gyro"}
+#: The code the cached windows are computed by (below gaitml/): the simulator and what turns its
+#: recordings into windows, features and descriptors. A change to any of them changes the cache key.
+CACHE_SOURCES = ("simulate", "features", "signal", "models/_dataset.py", "models/domain.py")
+CACHE_FILE = "lopo.npz"
+
+
+def cache_key(root: Path | None = None) -> str:
+    """A hash of what the cached windows depend on: gaitml's version, the protocol and the sources of :data:`CACHE_SOURCES`.
+
+    ``root`` is the package folder (default: the imported ``gaitml``); a source missing there is part of the key too.
+    """
+    import hashlib
+
+    import gaitml
+
+    root = Path(gaitml.__file__).parent if root is None else Path(root)
+    h = hashlib.sha256(f"gaitml {gaitml.__version__}; sets {SETS}; {DURATION_S} s; {sorted(WINDOW.items())}".encode())
+    for rel in CACHE_SOURCES:
+        p = root / rel
+        files = sorted(p.rglob("*.py")) if p.is_dir() else [p]
+        for f in files:
+            h.update(f.relative_to(root).as_posix().encode())
+            h.update(f.read_bytes() if f.is_file() else b"<missing>")
+    return h.hexdigest()
+
+
+def load_cache(cache: Path, key: str) -> dict | None:
+    """The cached arrays when ``cache`` holds them under ``key``; None (a miss) when absent or made by other code."""
+    path = cache / CACHE_FILE
+    if not path.is_file():
+        return None
+    d = np.load(path, allow_pickle=False)
+    if "cache_key" not in d.files or str(d["cache_key"]) != key:
+        print(f"cache {path} was made by other simulator or feature code; simulating again", file=sys.stderr, flush=True)
+        return None
+    return {k: d[k] for k in d.files if k != "cache_key"}
+
+
+def save_cache(cache: Path, key: str, arrays: dict) -> None:
+    """Write ``arrays`` with ``key`` to ``cache`` (atomically: a failure leaves no partial file)."""
+    from gaitml.io import atomic_path
+
+    cache.mkdir(parents=True, exist_ok=True)
+    with atomic_path(cache / CACHE_FILE, suffix=".npz") as tmp:
+        np.savez(tmp, cache_key=np.asarray(key), **arrays)
+
+
 def build(cache: Path | None):
-    """Window tables of the training and test sets (cached as npz when ``cache`` is given)."""
-    if cache is not None and (cache / "lopo.npz").is_file():
-        d = np.load(cache / "lopo.npz", allow_pickle=False)
-        return {k: d[k] for k in d.files}
+    """Window tables of the training and test sets (cached as npz when ``cache`` is given, keyed on :func:`cache_key`)."""
+    key = cache_key() if cache is not None else None
+    if cache is not None:
+        cached = load_cache(cache, key)
+        if cached is not None:
+            return cached
     from gaitml.models import build_window_dataset
     from gaitml.simulate import POSITIONS, simulate_dataset
 
     out = {}
-    for tag, n, seed in (("tr", 8, 1000), ("te", 4, 2024)):
+    for tag, n, seed in SETS:
         print(f"simulating {tag} ...", file=sys.stderr, flush=True)
-        recs = simulate_dataset(n_subjects=n, duration_s=120.0, pose="mixed", seed=seed, positions=POSITIONS)
+        recs = simulate_dataset(n_subjects=n, duration_s=DURATION_S, pose="mixed", seed=seed, positions=POSITIONS)
         groups = [r.meta["subject"] for r in recs]
         for frame in ("phone", "gravity"):
-            ds = build_window_dataset(recs, groups=groups, length_s=1.5, overlap=0.5, feature_set="all52+gyro", frame=frame)
+            ds = build_window_dataset(recs, groups=groups, frame=frame, **WINDOW)
             out[f"{tag}_X_{frame}"] = ds.inputs("features").astype(float)
         grav, odyn, pos = window_descriptors(recs, ds)
         out[f"{tag}_grav"] = grav
@@ -102,8 +159,7 @@ def build(cache: Path | None):
         out[f"{tag}_rec"] = np.asarray(ds.recording_index).astype(np.int64)
         out[f"{tag}_start"] = ds.windows["start"].to_numpy(np.int64)
     if cache is not None:
-        cache.mkdir(parents=True, exist_ok=True)
-        np.savez(cache / "lopo.npz", **out)
+        save_cache(cache, key, out)
     return out
 
 
@@ -458,7 +514,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="Leave one carrying position out: candidate domain checks (issue 12).")
     ap.add_argument("--data", type=Path, default=Path(__file__).resolve().parents[3] / "shared" / "data", help="the shared data folder")
     ap.add_argument("--out", type=Path, help="write the tables as markdown to this file")
-    ap.add_argument("--cache", type=Path, help="keep the simulated windows here (npz) for a rerun")
+    ap.add_argument("--cache", type=Path, help="keep the simulated windows here (npz, keyed on the simulator and feature code) for a rerun")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
     D = build(args.cache)

@@ -133,10 +133,11 @@ def run(args) -> int:
         if warning:
             tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
             log(f"gaitml: warning: {warning}{tail}")
-    # ---- a fixed-threshold detector that misses calm steps (gaitml.steps.crosscheck): one warning line
-    from gaitml.steps.crosscheck import undercount_warning
+    # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
+    # (gaitml.steps.crosscheck): one warning line
+    from gaitml.steps.crosscheck import count_warning as _count_warning
 
-    count_warning = undercount_warning(rec, res.n_steps, detector)
+    count_warning = _count_warning(rec, res.n_steps, detector)
     if count_warning:
         log(f"gaitml: warning: {count_warning}")
     if args.json:

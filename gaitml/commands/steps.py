@@ -8,7 +8,7 @@ from gaitml.commands._util import emit_json, is_large_input, load_input, log, re
 from gaitml.evaluation.steps import evaluate_steps, step_times
 from gaitml.io import write_csv
 from gaitml.steps import get_detector
-from gaitml.steps.crosscheck import undercount_warning
+from gaitml.steps.crosscheck import CROSSCHECK_DETECTOR, FIXED_THRESHOLD_DETECTORS, compare_counts, count_warning
 
 
 def _evaluation(rec, steps) -> dict | None:
@@ -55,7 +55,7 @@ def run(args) -> int:
         write_csv(args.out, steps)
     ev = _evaluation(rec, steps)
     t = step_times(steps)
-    warning = undercount_warning(rec, len(steps), args.detector)
+    warning = count_warning(rec, len(steps), args.detector)
     if warning:
         log(f"gaitml: warning: {warning}")
     if args.json:
@@ -111,21 +111,27 @@ def _run_long(args) -> int:
     """A long input: chunks of 10 min with 30 s margins (bounded memory, see gaitml.longrun)."""
     from gaitml.longrun import long_steps
 
-    steps = long_steps(args.input, args.detector, progress=True, **read_kwargs(args))
+    # the count cross-check (gaitml.steps.crosscheck) on the whole input: adaptive counted on the same chunks
+    also = CROSSCHECK_DETECTOR if args.detector in FIXED_THRESHOLD_DETECTORS else None
+    steps = long_steps(args.input, args.detector, progress=True, count_also=also, **read_kwargs(args))
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
         write_csv(args.out, steps)
     t = step_times(steps) if len(steps) else np.zeros(0)
+    warning = compare_counts(len(steps), steps.attrs["count_also"]["n_steps"], args.detector) if also else None
+    if warning:
+        log(f"gaitml: warning: {warning}")
     if args.json:
-        emit_json(
-            {
-                "detector": args.detector,
-                "sampling_rate_hz": fs,
-                "n_steps": int(len(steps)),
-                "steps": _json_steps(steps, t) if len(steps) else [],
-                "chunked": steps.attrs.get("chunked"),
-            }
-        )
+        obj = {
+            "detector": args.detector,
+            "sampling_rate_hz": fs,
+            "n_steps": int(len(steps)),
+            "steps": _json_steps(steps, t) if len(steps) else [],
+            "chunked": steps.attrs.get("chunked"),
+        }
+        if warning:
+            obj["warnings"] = [warning]
+        emit_json(obj)
         return 0
     print(f"{args.input}: {len(steps)} steps ({args.detector}), processed in chunks of 10 min (30 s margins) at {fs:g} Hz")
     if args.out:

@@ -3,7 +3,7 @@
 The carried positions' parameters (:meth:`gaitml.simulate.positions.Placement.random`:
 segment gains, impact, levers) were sized by hand on the Oxford users Jamie and Carmelo.
 The third user, Dario, walks far more vigorously with the phone in a trouser pocket
-(``|acc|`` standard deviation 5.7-6.7 m/s^2 against 2.7-5.0) than anything that population
+(``|acc|`` standard deviation 5.5-6.7 m/s^2 against 2.7-5.0) than anything that population
 produces, so a model trained on it reads his pocket walks as running or side steps
 (``experiments/reports/model-domain.md``). :attr:`~gaitml.simulate.positions.Placement.vigour`
 scales the trunk's acceleration and heel-strike impact at the carrying segment (walk, side
@@ -40,7 +40,7 @@ simulator with every position's range fitted without each user in turn, and that
 real Oxford walks are scored by it (windows read as walk, flagged out of domain, silently
 wrong), next to the model trained without the vigour and the one with the in-sample ranges.
 
-Run from the repository root (about 2 min on 2 cores; about 3 min more with ``--models``)::
+Run from the repository root (about 1.5 min on 2 cores; 3-8 min with ``--models``, by load)::
 
     python -m experiments.scripts.carry_vigour --data ../shared/data [--models] [--out report.md]
 """
@@ -277,7 +277,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--models",
         action="store_true",
-        help="also train the accelerometer-only all-positions model per held-out user and score the user's real walks (about 3 min more)",
+        help="also train the accelerometer-only all-positions model per held-out user and score the user's real walks (2-7 min more)",
     )
     args = ap.parse_args(argv)
     t0 = time.perf_counter()

@@ -110,7 +110,7 @@ RUN_ARM_LEVER = 0.55
 #: standard deviation of every real Oxford walk in the position (three users; the simulated
 #: 5 % and 95 % quantiles matched to the calmest and the most vigorous real walk) by
 #: ``python -m experiments.scripts.carry_vigour``, which also holds each user out in turn
-#: (``experiments/reports/simulator-positions.md``, section "Vigour"). Positions without
+#: (``experiments/reports/simulator-positions.md``, section "Vigour of carried walks"). Positions without
 #: an entry (``belt``: no real walking; ``swinging-hand``: one real user, nobody to hold
 #: out) keep vigour 1 and draw nothing.
 VIGOUR_RANGE = {"front-pocket": (0.7, 1.8), "back-pocket": (0.9, 1.45), "bag": (0.95, 1.1)}
@@ -191,14 +191,14 @@ class Placement:
 
     Angles in degrees, lengths in m, frequencies in Hz. ``side`` is +1 for the
     right leg / hip / hand, -1 for the left. Fields that do not apply to the
-    position are 0. See the module docstring for the models.
+    position are 0 (the gains 1). See the module docstring for the models.
     """
 
     position: str
     side: float = 1.0
     upright: bool = True  # phone top towards the segment's proximal end (the hip / shoulder)
     screen_out: bool = True  # screen away from the body
-    tilt_x_deg: float = 0.0  # small tilts of the phone in the segment (phone axes)
+    tilt_x_deg: float = 0.0  # small tilts of the phone in the segment (phone axes; back pocket: the buttock surface's angle, body frame)
     tilt_y_deg: float = 0.0
     tilt_z_deg: float = 0.0
     azimuth_deg: float = 0.0  # belt: where around the waist (0 front, 90 right side)

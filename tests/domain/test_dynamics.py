@@ -241,7 +241,7 @@ def test_a_carrying_position_left_out_of_training_is_flagged():
     # issue 12's target is 80 %; since the pockets draw a vigour (more vigorous pocket walkers in
     # training) the full leave-one-position-out run flags 77.9 % of the swinging hand (80.8 %
     # before; experiments/reports/model-domain.md), and this small run 79.7 %
-    assert flagged[left_out].mean() >= 0.75
+    assert flagged[left_out].mean() >= 0.78
     assert flagged[~left_out].mean() <= 0.1
 
 

@@ -25,11 +25,13 @@ def test_real_and_simulated_pocket_phones_repeat_per_stride(oxford_pockets):
     assert len(oxford_pockets) == 12
     real = [position_statistics(r) for r in oxford_pockets]
     assert all(s["r_stride"] > s["r_step"] + 0.1 for s in real), [(round(s["r_step"], 2), round(s["r_stride"], 2)) for s in real]
+    oxford = {"front-pocket": "FrontPocket", "back-pocket": "BackPocket"}
     for pos in ("front-pocket", "back-pocket"):
         sim = [position_statistics(r) for r in simulated_position_walks(pos, n=3, seed=11, duration_s=40.0)]
         assert all(s["r_stride"] > s["r_step"] + 0.15 for s in sim), pos
-        # and the |acc| spread sits where the real pocket walks are (2.7-6.7 m/s^2, hand-held 1-3.7;
-        # with the vigour, the simulated walkers span the calm and the vigorous real ones)
-        lo, hi = min(s["mag_std_ms2"] for s in real), max(s["mag_std_ms2"] for s in real)
+        # and the |acc| spread lies within this position's real walks (front 2.7-5.9 m/s^2, back
+        # 3.8-6.7, within 0.5; hand-held 1-3.7)
+        mine = [position_statistics(r) for r in oxford_pockets if r.meta["position"] == oxford[pos]]
+        lo, hi = min(s["mag_std_ms2"] for s in mine), max(s["mag_std_ms2"] for s in mine)
         assert all(lo - 0.5 < s["mag_std_ms2"] < hi + 0.5 for s in sim), (pos, [round(s["mag_std_ms2"], 2) for s in sim])
     assert 2.5 < np.median([s["mag_std_ms2"] for s in real]) < 7.0

@@ -824,11 +824,11 @@ class DomainModel:
             Y *= Y
             return np.sqrt(Y.reshape(len(Z), -1, Z.shape[1]).sum(axis=2).min(axis=1))
 
-    def _factor_blocks(self) -> list[tuple[int, int, np.ndarray, np.ndarray, np.ndarray]]:
+    def _factor_blocks(self) -> list[tuple[int, int, np.ndarray, np.ndarray]]:
         """The stacked factors of :meth:`_factors` cut into column blocks without their zero rows, cached.
 
         ``L_c`` is lower triangular: its columns ``[j0, j1)`` are zero above row ``j0``. Per
-        block ``(j0, j1, F, o, ones)``: ``F`` (p - j0, c (j1 - j0)) holds rows ``j0:`` of those
+        block ``(j0, j1, F, o)``: ``F`` (p - j0, c (j1 - j0)) holds rows ``j0:`` of those
         columns of every class, ``o`` the matching entries of the offset ``m_c L_c``.
         """
         cache = self.__dict__.get("_block_cache")
@@ -842,7 +842,7 @@ class DomainModel:
             for j0, j1 in zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True):
                 F = np.ascontiguousarray(per_class[j0:, :, j0:j1].reshape(p - j0, c * (j1 - j0)))
                 o = np.ascontiguousarray(offset.reshape(c, p)[:, j0:j1].reshape(-1))
-                cache.append((j0, j1, F, o, np.ones(j1 - j0)))
+                cache.append((j0, j1, F, o))
             object.__setattr__(self, "_block_cache", cache)
         return cache
 
@@ -853,19 +853,22 @@ class DomainModel:
         :data:`_DISTANCE_BLOCK_COLUMNS` columns): 62 % of the multiplications with the 104
         features of ``all52+gyro`` (4 blocks), 75 % with 52 (2 blocks). Equal to the one
         product up to the order of the additions (relative differences of about 1e-16;
-        ``tests/domain/test_check_cost.py``). None when a distance is not finite (an input
-        so large that a sum overflows): the caller then takes the one product, as before.
+        ``tests/domain/test_check_cost.py``). One matrix product per block and plain sums:
+        every multi-threaded BLAS call can wait for a core on a loaded machine, so the
+        squares are not summed with a matrix-vector product. None when a distance is not
+        finite (an input so large that a sum overflows): the caller then takes the one
+        product, as before.
         """
         n = len(Z)
         blocks = self._factor_blocks()
         c = len(blocks[0][3]) // (blocks[0][1] - blocks[0][0])
         sq = np.zeros((n, c))
         with np.errstate(invalid="ignore", over="ignore"):
-            for j0, j1, F, o, ones in blocks:
+            for j0, j1, F, o in blocks:
                 Y = Z[:, j0:] @ F
                 Y -= o
                 Y *= Y
-                sq += (Y.reshape(-1, j1 - j0) @ ones).reshape(n, c)  # sums over the block's columns of every class
+                sq += Y.reshape(n, c, j1 - j0).sum(axis=2)  # over the block's columns of every class (no BLAS call: see above)
             d = np.sqrt(sq.min(axis=1))
         return d if np.isfinite(d).all() else None
 

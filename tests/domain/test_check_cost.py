@@ -104,7 +104,7 @@ def test_blocked_distances_equal_the_one_product_and_the_per_window_reference(gy
         np.testing.assert_allclose(d[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-9)
     assert np.isinf(d[[7, 11]]).all() and fin.sum() == len(X) - 2
     blocks = dom._factor_blocks()
-    assert len(blocks) == 4 and [b[0] for b in blocks] == [0, 26, 52, 78]
+    assert len(blocks) == 4 and [b[0] for b in blocks] == [0, 26, 52, 78] and blocks[0][2].shape == (5 * 26, 104)
     # a sum that overflows in the blocks: the one product answers, as before
     huge = np.where(np.arange(X.shape[1]) == 5, 1e250, X[100:200])
     with np.errstate(over="ignore", invalid="ignore"):

@@ -57,7 +57,7 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
     dom = getattr(model, "domain", None)
     if dom is None or len(windows) == 0:
         return unchecked_domain_columns(dom, len(windows))
-    from gaitml.models.domain import window_gravity
+    from gaitml.models.domain import feature_gravity, window_gravity
 
     starts = windows["start"].to_numpy(np.int64)
     length = int(round(model.length_s * model.sampling_rate_hz))
@@ -72,12 +72,12 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
 
         gyr = recording.gyr if "gyro" in dom.feature_set else None
         X = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
-    return checked_domain_columns(
-        dom,
-        X,
-        window_gravity(recording.acc, starts, length) if dom.gravity_check else None,
-        recording_dynamics(dom, recording, starts, starts + length),
-    )
+    gravity = None
+    if dom.gravity_check:  # phone frame: the features hold the window means of the acceleration (else one pass over the recording)
+        gravity = feature_gravity(X, dom.feature_names) if dom.frame == "phone" else None
+        if gravity is None:
+            gravity = window_gravity(recording.acc, starts, length)
+    return checked_domain_columns(dom, X, gravity, recording_dynamics(dom, recording, starts, starts + length))
 
 
 def recording_dynamics(dom, recording: Recording, starts, ends) -> np.ndarray | None:

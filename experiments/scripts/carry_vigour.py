@@ -58,7 +58,7 @@ import numpy as np
 import pandas as pd
 
 from experiments.scripts.domain_report import emit_tables
-from experiments.scripts.hand_gain import CHECK_STATS, fit_range
+from experiments.scripts.hand_gain import _covered, fit_range, train_without_cv
 from experiments.scripts.realism import OXFORD_POSITIONS, _markdown, oxford_walks, position_statistics
 
 __all__ = [
@@ -143,14 +143,6 @@ def check_population(position: str, lo: float, hi: float, *, n: int = N_CHECK, s
         return _simulate(position, n, seed)
 
 
-def _covered(walks: pd.DataFrame, sim: pd.DataFrame) -> dict[str, float]:
-    out = {}
-    for k, tol in CHECK_STATS.items():
-        a, b = np.percentile(sim[k], [5, 95])
-        out[k] = float(np.mean((walks[k] >= a - tol) & (walks[k] <= b + tol)))
-    return out
-
-
 def leave_one_user_out(walks: pd.DataFrame, curves: dict[str, np.ndarray]) -> pd.DataFrame:
     """Per position and held-out user: the range fitted on the other users and the user's walks covered.
 
@@ -202,22 +194,7 @@ def _ranges(ranges: dict[str, tuple[float, float]]):
 
 def _train_positions_acc(out: Path, ranges: dict[str, tuple[float, float]]):
     """``experiments/positions-acc.toml`` (without CV) on a simulator drawing the vigours from ``ranges``."""
-    from experiments.scripts.hand_gain import _clear_caches
-    from gaitml.experiments import runner
-    from gaitml.experiments.config import load_config
-    from gaitml.models import load_model
-
-    root = Path(__file__).resolve().parents[2]
-    cfg = load_config(root / "experiments" / "positions-acc.toml").with_values(
-        {"train.cross_validate": False, "name": "positions-acc-fold"}
-    )
-    with _ranges(ranges):
-        _clear_caches(runner)  # the simulated data depend on the ranges: never reuse another fold's
-        try:
-            runner.train_config(cfg, out_dir=out, progress=False)
-        finally:
-            _clear_caches(runner)
-    return load_model(out)
+    return train_without_cv("positions-acc.toml", out, _ranges(ranges))
 
 
 def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:

@@ -44,6 +44,7 @@ Run from the repository root (about 40 s on 2 cores; about 2 min with ``--models
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import functools
 import sys
@@ -220,24 +221,40 @@ def _clear_caches(runner) -> None:
     runner._DS_CACHE.clear()
 
 
-def _train_acc_model(out: Path, gain_range: tuple[float, float]):
-    """``experiments/demo-acc.toml`` (without CV) on a simulator whose hand gain range is ``gain_range``."""
-    import gaitml.simulate.subject as subject_mod
+def train_without_cv(config: str, out: Path, patch):
+    """``experiments/<config>`` (without its cross-validation) trained inside the context ``patch``
+    (a simulator setting patched for the fold), the runner's caches cleared around it."""
     from gaitml.experiments import runner
     from gaitml.experiments.config import load_config
     from gaitml.models import load_model
 
     root = Path(__file__).resolve().parents[2]
-    cfg = load_config(root / "experiments" / "demo-acc.toml").with_values({"train.cross_validate": False, "name": "demo-acc-fold"})
+    cfg = load_config(root / "experiments" / config)
+    cfg = cfg.with_values({"train.cross_validate": False, "name": f"{cfg.name}-fold"})
+    with patch:
+        _clear_caches(runner)  # the simulated data depend on the patched setting: never reuse another fold's
+        try:
+            runner.train_config(cfg, out_dir=out, progress=False)
+        finally:
+            _clear_caches(runner)
+    return load_model(out)
+
+
+@contextlib.contextmanager
+def _hand_gain_range(gain_range: tuple[float, float]):
+    import gaitml.simulate.subject as subject_mod
+
     saved = subject_mod.HAND_GAIN_RANGE
+    subject_mod.HAND_GAIN_RANGE = tuple(gain_range)
     try:
-        subject_mod.HAND_GAIN_RANGE = tuple(gain_range)
-        _clear_caches(runner)  # the simulated data depend on the range: never reuse another fold's
-        runner.train_config(cfg, out_dir=out, progress=False)
+        yield
     finally:
         subject_mod.HAND_GAIN_RANGE = saved
-        _clear_caches(runner)
-    return load_model(out)
+
+
+def _train_acc_model(out: Path, gain_range: tuple[float, float]):
+    """``experiments/demo-acc.toml`` (without CV) on a simulator whose hand gain range is ``gain_range``."""
+    return train_without_cv("demo-acc.toml", out, _hand_gain_range(gain_range))
 
 
 def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:

@@ -95,12 +95,9 @@ def long_steps(
         det = get_detector(detector, **(detector_params or {})).detect(ch.recording)
         table = det.steps_
         attrs = dict(table.attrs)
-        anchor = "end" if table.attrs.get("event") == "t_end_s" else "peak"
-        g = _shift_steps(table, ch.offset, fs)
-        keep = (g[anchor] >= ch.core_start) & (g[anchor] < ch.core_end)
-        parts.append(g[keep])
+        parts.append(_shift_steps(table[_in_core(table, ch)], ch.offset, fs))
         if count_also is not None:
-            also_counts.append(_core_count(get_detector(count_also).detect(ch.recording).steps_, ch))
+            also_counts.append(int(_in_core(get_detector(count_also).detect(ch.recording).steps_, ch).sum()))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     out.attrs.update(attrs)
     out.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_s}
@@ -109,13 +106,14 @@ def long_steps(
     return out
 
 
-def _core_count(table: pd.DataFrame, ch: Chunk) -> int:
-    """How many steps of a chunk's table are anchored in the chunk's core (as :func:`long_steps` keeps them)."""
+def _in_core(table: pd.DataFrame, ch: Chunk) -> np.ndarray:
+    """Which steps of a chunk's step table are anchored in the chunk's core (the step's end for
+    detectors whose event is the end, else its peak): the steps :func:`long_steps` keeps."""
     if not len(table):
-        return 0
+        return np.zeros(0, dtype=bool)
     anchor = "end" if table.attrs.get("event") == "t_end_s" else "peak"
     idx = table[anchor].to_numpy(dtype=np.int64) + ch.offset
-    return int(((idx >= ch.core_start) & (idx < ch.core_end)).sum())
+    return (idx >= ch.core_start) & (idx < ch.core_end)
 
 
 def long_zupts(

@@ -366,6 +366,20 @@ def dynamics_grid_step(span: int) -> int:
     return max(d for d in range(1, min(DYNAMICS_EVERY, span) + 1) if span % d == 0)
 
 
+def _sequence_order(sequence) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows grouped by ``sequence`` with their time order kept.
+
+    Returns ``codes`` (an integer per row naming its sequence), ``order`` (the stable sort
+    of the rows by sequence) and ``first`` (for each position of ``order``, the position
+    where its sequence begins), so ``arange(n) - first`` is each sorted row's rank in its
+    sequence.
+    """
+    codes = np.unique(np.asarray(sequence), return_inverse=True)[1].reshape(-1)
+    order = np.argsort(codes, kind="stable")
+    sc = codes[order]
+    return codes, order, np.searchsorted(sc, sc, side="left")
+
+
 def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
     """Median of the last ``span`` values (this one included; fewer at the start), NaN values skipped.
 
@@ -382,10 +396,7 @@ def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
         order, first = None, np.zeros(n, dtype=np.int64)
         values = d
     else:  # rows grouped by sequence (time order kept); first: the position of each row's sequence start
-        codes = np.unique(np.asarray(sequence), return_inverse=True)[1].reshape(-1)
-        order = np.argsort(codes, kind="stable")
-        sc = codes[order]
-        first = np.searchsorted(sc, sc, side="left")
+        _, order, first = _sequence_order(sequence)
         values = d[order]
     at = np.arange(n)[:, None] - np.arange(span - 1, -1, -1)[None, :]  # (n, span) positions of each span
     win = np.where(at >= first[:, None], values[np.maximum(at, 0)], np.nan)
@@ -424,11 +435,9 @@ def span_medians(d, span: int = DYNAMICS_SPAN, every: int = 1, sequence=None, ph
         rank = np.arange(n)
         codes = None
     else:
-        codes = np.unique(np.asarray(sequence), return_inverse=True)[1].reshape(-1)
-        order = np.argsort(codes, kind="stable")
+        codes, order, first = _sequence_order(sequence)
         rank = np.empty(n, dtype=np.int64)
-        sc = codes[order]
-        rank[order] = np.arange(n) - np.searchsorted(sc, sc, side="left")
+        rank[order] = np.arange(n) - first
     p = int(phase) % every
     on = rank % every == p
     grid = np.flatnonzero(on)  # the computed windows, in row order

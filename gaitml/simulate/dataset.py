@@ -144,6 +144,13 @@ def _step_variation(subject: Subject, st: pd.DataFrame, k: np.ndarray, phi: np.n
     return {"gain": gain, "shape": shape, "lateral": lateral, "swing": swing_k[k], "gain_step": gain_k, "swing_step": swing_k}
 
 
+def _not_running_gain(gain: float, w_cur: np.ndarray, mode_cur: np.ndarray, mode_prev: np.ndarray) -> np.ndarray:
+    """Per-sample factor ``gain`` in every mode but running (1 there: its flight phase is free
+    fall whatever the gain), ramped across a mode change with the step pattern's weight ``w_cur``."""
+    g_mode = np.where(np.arange(len(MOTION_MODES)) == _MODE_INDEX["run"], 1.0, gain)
+    return w_cur * g_mode[mode_cur] + (1.0 - w_cur) * g_mode[mode_prev]
+
+
 def synthesize(
     subject: Subject,
     plan: StepPlan,
@@ -225,8 +232,7 @@ def synthesize(
         a_up = a_up + b_imp[jn] * np.exp(-0.5 * ((t - t_ev[jn]) / sig) ** 2)
         a_up = a_up - np.where(is_step, b_imp[k] * sig * np.sqrt(2 * np.pi) / T[k], 0.0)
         if subject.hand_gain != 1.0:  # the arm passes on part of the trunk's motion (not in running: see HAND_GAIN_RANGE)
-            g_mode = np.where(np.arange(len(MOTION_MODES)) == _MODE_INDEX["run"], 1.0, subject.hand_gain)
-            gain = w_cur * g_mode[mode_cur[k]] + (1.0 - w_cur) * g_mode[mode_prev[k]]
+            gain = _not_running_gain(subject.hand_gain, w_cur, mode_cur[k], mode_prev[k])
             a_right, a_fwd, a_up = a_right * gain, a_fwd * gain, a_up * gain
     else:  # the trunk bounce and the impact at the carrying segment
         # a phone on one leg feels that leg's heel strikes and stance far more than the other's
@@ -241,8 +247,7 @@ def synthesize(
         a_up = bounce * a_up + placement.impact_gain * spike
         spike = placement.impact_gain * spike
         if placement.vigour != 1.0:  # the walker's intensity at the segment (not in running, as the hand gain)
-            g_mode = np.where(np.arange(len(MOTION_MODES)) == _MODE_INDEX["run"], 1.0, placement.vigour)
-            gain = w_cur * g_mode[mode_cur[k]] + (1.0 - w_cur) * g_mode[mode_prev[k]]
+            gain = _not_running_gain(placement.vigour, w_cur, mode_cur[k], mode_prev[k])
             a_right, a_fwd, a_up, spike = a_right * gain, a_fwd * gain, a_up * gain, spike * gain
 
     # facing heading and direction of travel: smooth through the step midpoints

@@ -69,6 +69,7 @@ __all__ = [
     "N_CHECK",
     "CHECK_SEED",
     "vigour_range",
+    "vigour_ranges",
     "real_carried_walks",
     "vigour_curves",
     "check_population",
@@ -91,17 +92,22 @@ _END_GRID = np.geomspace(VIGOUR_GRID[0], VIGOUR_GRID[-1], 81)
 
 
 @contextlib.contextmanager
-def vigour_range(position: str, lo: float, hi: float):
-    """Temporarily draw ``position``'s vigour from ``(lo, hi)`` (patches ``VIGOUR_RANGE``)."""
+def vigour_ranges(ranges: dict[str, tuple[float, float]]):
+    """Temporarily draw each position's vigour from its ``(lo, hi)`` in ``ranges`` (patches ``VIGOUR_RANGE``)."""
     from gaitml.simulate import positions as pos_mod
 
     saved = dict(pos_mod.VIGOUR_RANGE)
-    pos_mod.VIGOUR_RANGE[position] = (float(lo), float(hi))
+    pos_mod.VIGOUR_RANGE.update({p: (float(lo), float(hi)) for p, (lo, hi) in ranges.items()})
     try:
         yield
     finally:
         pos_mod.VIGOUR_RANGE.clear()
         pos_mod.VIGOUR_RANGE.update(saved)
+
+
+def vigour_range(position: str, lo: float, hi: float):
+    """Temporarily draw ``position``'s vigour from ``(lo, hi)`` (:func:`vigour_ranges` of one position)."""
+    return vigour_ranges({position: (lo, hi)})
 
 
 @functools.lru_cache(maxsize=2)
@@ -184,17 +190,9 @@ def leave_one_user_out(walks: pd.DataFrame, curves: dict[str, np.ndarray]) -> pd
 SCORED_OXFORD = ("FrontPocket", "BackPocket", "Purse", "InHand", "SwingingArm")
 
 
-@contextlib.contextmanager
-def _ranges(ranges: dict[str, tuple[float, float]]):
-    with contextlib.ExitStack() as stack:
-        for position, (lo, hi) in ranges.items():
-            stack.enter_context(vigour_range(position, lo, hi))
-        yield
-
-
 def _train_positions_acc(out: Path, ranges: dict[str, tuple[float, float]]):
     """``experiments/positions-acc.toml`` (without CV) on a simulator drawing the vigours from ``ranges``."""
-    return train_without_cv("positions-acc.toml", out, _ranges(ranges))
+    return train_without_cv("positions-acc.toml", out, vigour_ranges(ranges))
 
 
 def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:

@@ -135,15 +135,15 @@ def run(args) -> int:
             log(f"gaitml: warning: {warning}{tail}")
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
-    from gaitml.steps.crosscheck import count_warning as _count_warning
+    from gaitml.steps.crosscheck import count_warning
 
-    count_warning = _count_warning(rec, res.n_steps, detector)
-    if count_warning:
-        log(f"gaitml: warning: {count_warning}")
+    count_msg = count_warning(rec, res.n_steps, detector)
+    if count_msg:
+        log(f"gaitml: warning: {count_msg}")
     if args.json:
         obj = res.to_json_dict()
-        if count_warning:
-            obj["warnings"] = [count_warning]
+        if count_msg:
+            obj["warnings"] = [count_msg]
         emit_json(obj)
         return 0
     x, y = res.end_xy_m

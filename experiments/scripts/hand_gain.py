@@ -132,19 +132,24 @@ def gain_curves(*, n: int = N_SIM, seed: int = SIM_SEED, grid=GAIN_GRID) -> np.n
     return out
 
 
-def _population_std(curves: np.ndarray, lo: float, hi: float, grid=GAIN_GRID) -> np.ndarray:
+def _population_std(curves: np.ndarray, lo: float, hi: float, grid=GAIN_GRID, *, log: bool = True) -> np.ndarray:
     q = (np.arange(len(curves)) + 0.5) / len(curves)
     # subject i at quantile q_i; the subjects' order is random, so the quantiles are spread over them
-    gains = np.exp(np.log(lo) + q * (np.log(hi) - np.log(lo)))
-    lg = np.log(grid)
-    return np.array([np.interp(np.log(g), lg, c) for g, c in zip(gains, curves, strict=True)])
+    f = np.log if log else np.asarray
+    values = f(lo) + q * (f(hi) - f(lo))
+    lg = f(np.asarray(grid, dtype=float))
+    return np.array([np.interp(v, lg, c) for v, c in zip(values, curves, strict=True)])
 
 
-def fit_range(real_std: np.ndarray, curves: np.ndarray, *, grid=GAIN_GRID, lo_grid=None, hi_grid=None) -> tuple[float, float]:
+def fit_range(
+    real_std: np.ndarray, curves: np.ndarray, *, grid=GAIN_GRID, lo_grid=None, hi_grid=None, log: bool = True
+) -> tuple[float, float]:
     """The gain range whose population's 5-95 % ``mag_std`` spans ``real_std`` (module docstring).
 
     ``curves`` holds each subject's ``mag_std`` at the gains of ``grid``; ``lo_grid`` and
     ``hi_grid`` are the candidate range ends (default: the hand gain's, inside ``GAIN_GRID``).
+    ``log=False`` fits a uniform (not log-uniform) range, interpolated linearly in the setting:
+    any per-subject statistic and setting work the same way (``experiments.scripts.back_pocket``).
     """
     lo_grid = _LO_GRID if lo_grid is None else np.asarray(lo_grid, dtype=float)
     hi_grid = _HI_GRID if hi_grid is None else np.asarray(hi_grid, dtype=float)
@@ -152,7 +157,7 @@ def fit_range(real_std: np.ndarray, curves: np.ndarray, *, grid=GAIN_GRID, lo_gr
     best, arg = np.inf, (1.0, 1.0)
     for lo in lo_grid:
         for hi in hi_grid[hi_grid >= lo]:
-            q = np.percentile(_population_std(curves, lo, hi, grid), [5, 95])
+            q = np.percentile(_population_std(curves, lo, hi, grid, log=log), [5, 95])
             err = float(np.sum((q - target) ** 2))
             if err < best:
                 best, arg = err, (lo, hi)
@@ -168,9 +173,11 @@ def check_population(lo: float, hi: float, *, n: int = N_CHECK, seed: int = CHEC
     return pd.DataFrame(_simulate(subs))
 
 
-def _covered(walks: pd.DataFrame, sim: pd.DataFrame) -> dict[str, float]:
+def _covered(walks: pd.DataFrame, sim: pd.DataFrame, stats: dict[str, float] | None = None) -> dict[str, float]:
+    """Per statistic of ``stats`` (default :data:`CHECK_STATS`, with its tolerance): the fraction of
+    ``walks`` inside the simulated 5-95 % range widened by the tolerance."""
     out = {}
-    for k, tol in CHECK_STATS.items():
+    for k, tol in (CHECK_STATS if stats is None else stats).items():
         a, b = np.percentile(sim[k], [5, 95])
         out[k] = float(np.mean((walks[k] >= a - tol) & (walks[k] <= b + tol)))
     return out

@@ -106,8 +106,9 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
 
 5. *Carrying positions* (:mod:`.positions`, issue 12): besides the hand-held
    phone (``hand-flat``, ``hand-tilted``: item 4, the default), the phone can
-   ride on the thigh (``front-pocket``, ``back-pocket``: it turns with one leg
-   once per stride, in reverse when walking backwards), the pelvis (``belt``),
+   ride on the thigh (``front-pocket``: it turns with one leg once per
+   stride, in reverse when walking backwards; ``back-pocket``: a blend of the
+   thigh's and the pelvis's motion, fitted to real back-pocket walks), the pelvis (``belt``),
    the swinging arm (``swinging-hand``) or in a ``bag`` (a damped, delayed
    pendulum of the trunk), with a random placement per subject
    (:class:`~gaitml.simulate.positions.Placement`). ``simulate_dataset(...,

@@ -18,11 +18,27 @@ carries it; the segment's motion is a kinematic model driven by the same gait
   and the thigh flexes during stance, so the thigh's pitch rate in stance
   changes sign. Side steps move the thigh sideways (ab-/adduction, one cycle
   per side step). The back pocket sits on the buttock near the hip joint: a
-  shorter lever and a part (about 60 %) of the thigh rotation, with the phone
-  lying on the buttock's surface, which faces backward and 15-30 deg down
-  whichever way up the phone is (so the screen's normal, not the phone's
-  top, decides the sign of gravity on the phone's z axis: the three Oxford
-  back-pocket users, upright and upside down, all read it negative).
+  shorter lever, with the phone lying on the buttock's surface, which faces
+  backward and 15-30 deg down whichever way up the phone is (so the screen's
+  normal, not the phone's top, decides the sign of gravity on the phone's z
+  axis: the three Oxford back-pocket users, upright and upside down, all read
+  it negative). The buttock's surface belongs to the pelvis and the gluteal
+  tissue more than to the thigh: hip flexion swings the front of the thigh
+  through its whole sagittal range but barely moves the skin over the
+  gluteus, which rides on the pelvis. The back pocket's rotation is
+  therefore a blend, ``(1 - pelvis_share)`` times the thigh's (about 60 % of
+  the front pocket's amplitude, stride-periodic) plus ``pelvis_share`` times
+  the pelvis's (the belt's model below: rotation and obliquity once per
+  stride, anterior tilt once per step, a few degrees each). A loose back
+  pocket also lets the phone turn in the screen's plane
+  (``pocket_roll_deg``, added to the small in-plane tilt). Both are drawn per
+  subject over :data:`BACK_POCKET_RANGE`, fitted to the real Oxford
+  back-pocket walks (``python -m experiments.scripts.back_pocket``): the
+  real phones' acceleration has its power at the step frequency (7-10 dB
+  above the stride frequency, summed over the axes; the thigh-driven model
+  gave 1-5 dB) and gravity lies 5-22 deg off the phone's long axis in the
+  screen plane. The fit puts the share at 1 (the pelvis only) and the extra
+  roll at +-13 deg.
 - ``belt`` (waist clip): the phone follows the *pelvis*: the trunk bounce
   and sway of :mod:`.modes` plus the pelvic rotations of gait: transverse
   rotation (yaw) and obliquity (roll) of a few degrees at the stride
@@ -77,6 +93,7 @@ __all__ = [
     "CARRIED_POSITIONS",
     "Placement",
     "VIGOUR_RANGE",
+    "BACK_POCKET_RANGE",
     "check_positions",
     "carried_signals",
     "rotation_matrices",
@@ -113,7 +130,18 @@ RUN_ARM_LEVER = 0.55
 #: (``experiments/reports/simulator-positions.md``, section "Vigour of carried walks"). Positions without
 #: an entry (``belt``: no real walking; ``swinging-hand``: one real user, nobody to hold
 #: out) keep vigour 1 and draw nothing.
-VIGOUR_RANGE = {"front-pocket": (0.7, 1.8), "back-pocket": (0.9, 1.45), "bag": (0.95, 1.1)}
+VIGOUR_RANGE = {"front-pocket": (0.7, 1.8), "back-pocket": (0.85, 1.4), "bag": (0.95, 1.1)}
+#: Ranges (uniform) of the back pocket's own fields, drawn after the vigour (:meth:`Placement.random`):
+#: ``pelvis_share``, how much the buttock follows the pelvis instead of the thigh (0: the thigh's
+#: rotation only, as before; 1: the pelvis's only), and ``pocket_roll_deg``, an extra in-plane turn
+#: of the phone in the pocket (deg, added to ``tilt_z_deg``; symmetric about 0). Fitted to
+#: the real Oxford back-pocket walks (step over stride power of the acceleration, and the roll of
+#: gravity in the phone's screen plane) by ``python -m experiments.scripts.back_pocket``
+#: (``experiments/reports/simulator-positions.md``, section "Back pocket: pelvis and roll").
+BACK_POCKET_RANGE = {"pelvis_share": (1.0, 1.0), "pocket_roll_deg": (-13.0, 13.0)}
+#: The pelvis's rotation amplitudes (deg) drawn for the back pocket (the belt's ranges): transverse
+#: rotation, obliquity, anterior tilt.
+BACK_POCKET_PELVIS_DEG = {"yaw": (3.0, 6.0), "roll": (3.0, 6.0), "pitch": (1.0, 3.0)}
 
 
 def check_positions(positions) -> tuple[str, ...]:
@@ -228,12 +256,16 @@ class Placement:
     vibration_ms2: float = 0.3  # 3-15 Hz soft-tissue / fabric vibration per axis while moving
     wander_deg: float = 1.5  # slow orientation wander of the phone in the segment
     vigour: float = 1.0  # walk, side and backward steps: the trunk acceleration and impact at the segment scale by this (VIGOUR_RANGE)
+    pelvis_share: float = 0.0  # back pocket: the buttock's rotation is (1 - share) x the thigh's + share x the pelvis's (BACK_POCKET_RANGE)
+    pocket_roll_deg: float = 0.0  # back pocket: extra in-plane turn of the phone in the pocket, added to tilt_z_deg (BACK_POCKET_RANGE)
 
     def __post_init__(self) -> None:
         if self.position not in CARRIED_POSITIONS:
             raise InputError(f"Placement.position must be one of {', '.join(CARRIED_POSITIONS)}, got {self.position!r}.")
         if not 0.2 <= self.vigour <= 3.0:
             raise InputError(f"Placement.vigour must be a gain in 0.2-3, got {self.vigour!r}.")
+        if not 0.0 <= self.pelvis_share <= 1.0:
+            raise InputError(f"Placement.pelvis_share must be a fraction in 0-1, got {self.pelvis_share!r}.")
 
     @classmethod
     def random(cls, position: str, rng: np.random.Generator) -> Placement:
@@ -246,13 +278,22 @@ class Placement:
         walks (``experiments/reports/simulator-positions.md``). The vigour is
         drawn last, log-uniformly over :data:`VIGOUR_RANGE` (positions without
         an entry keep 1 and draw nothing), so the other fields of a seed do not
-        depend on it.
+        depend on it. The back pocket then draws its pelvis share and extra
+        in-pocket roll (uniform over :data:`BACK_POCKET_RANGE`) and its pelvis's
+        rotation amplitudes (:data:`BACK_POCKET_PELVIS_DEG`), after the vigour
+        for the same reason.
         """
         p = cls._random_placement(position, rng)
-        if position not in VIGOUR_RANGE:
+        if position in VIGOUR_RANGE:
+            lo, hi = VIGOUR_RANGE[position]
+            p = dataclasses.replace(p, vigour=float(np.exp(rng.uniform(np.log(lo), np.log(hi)))))
+        if position != "back-pocket":
             return p
-        lo, hi = VIGOUR_RANGE[position]
-        return dataclasses.replace(p, vigour=float(np.exp(rng.uniform(np.log(lo), np.log(hi)))))
+        # the back pocket's own fields, after the vigour: the rest of a seed's placement stays the same
+        share = float(rng.uniform(*BACK_POCKET_RANGE["pelvis_share"]))
+        roll = float(rng.uniform(*BACK_POCKET_RANGE["pocket_roll_deg"]))
+        pelvis = {f"pelvis_{k}_deg": float(rng.uniform(lo, hi)) for k, (lo, hi) in BACK_POCKET_PELVIS_DEG.items()}
+        return dataclasses.replace(p, pelvis_share=share, pocket_roll_deg=roll, **pelvis)
 
     @classmethod
     def _random_placement(cls, position: str, rng: np.random.Generator) -> Placement:
@@ -318,7 +359,9 @@ class Placement:
             a = self.tilt_x_deg * _DEG
             normal = np.array([0.0, -np.cos(a), -np.sin(a)])
             along = np.array([0.0, -np.sin(a), np.cos(a)])
-            return _mount(up * along, normal if self.screen_out else -normal, (0.0, self.tilt_y_deg, self.tilt_z_deg))
+            return _mount(
+                up * along, normal if self.screen_out else -normal, (0.0, self.tilt_y_deg, self.tilt_z_deg + self.pocket_roll_deg)
+            )
         if self.position == "belt":  # on the waist at an azimuth, screen radially out or in
             b = self.azimuth_deg * _DEG
             radial = np.array([np.sin(b), np.cos(b), 0.0])
@@ -381,6 +424,23 @@ def _thigh_curve(psi, mean, amp, h2):
     return mean + amp * (np.cos(2 * np.pi * psi) + h2 * np.cos(4 * np.pi * psi - 0.6 * np.pi))
 
 
+def _pelvis_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pelvis's rotation (yaw, pitch, roll in rad, person frame) per sample: transverse rotation and
+    obliquity once per stride, anterior tilt once per step (``p.pelvis_*_deg``; ``w`` as :func:`_smooth_weights`)."""
+    iw, ir, isl, isr, ib = (_MODE_INDEX[m] for m in ("walk", "run", "side_left", "side_right", "backward"))
+    side_dir = w[:, isl] - w[:, isr]  # +1 moving left, -1 moving right
+    w_side = w[:, isl] + w[:, isr]
+    a_y, a_r, a_p = p.pelvis_yaw_deg * _DEG, p.pelvis_roll_deg * _DEG, p.pelvis_pitch_deg * _DEG
+    walkish = w[:, iw] + 1.3 * w[:, ir] + 0.8 * w[:, ib]
+    # the pelvis turns forward on the side of the swinging leg; it drops on the swing side
+    right = (phi - 1.0) / 2.0
+    direction = w[:, iw] + w[:, ir] - w[:, ib]
+    yaw = -a_y * np.cos(2 * np.pi * right) * direction + w_side * 0.5 * a_y * np.cos(2 * np.pi * phi)
+    roll = a_r * np.sin(2 * np.pi * right) * walkish + w_side * side_dir * a_r * np.sin(2 * np.pi * phi)
+    pitch = a_p * np.cos(2 * np.pi * phi) * (walkish + 0.5 * w_side)
+    return yaw, pitch, roll
+
+
 def _segment_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The segment's own rotation (yaw, pitch, roll in rad, person frame) per sample."""
     iw, ir, isl, isr, ib = (_MODE_INDEX[m] for m in ("walk", "run", "side_left", "side_right", "backward"))
@@ -408,15 +468,13 @@ def _segment_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.nd
         rot = p.thigh_rotation_deg * _DEG * gait
         yaw = p.side * rot * np.sin(2 * np.pi * psi)
         roll = roll + p.side * 0.6 * rot * np.cos(2 * np.pi * psi + 0.3 * np.pi)
+        if p.position == "back-pocket" and p.pelvis_share > 0:
+            # the buttock's surface moves with the pelvis (and the gluteal tissue) as much as with the thigh
+            s = p.pelvis_share
+            py, pp, pr = _pelvis_angles(p, phi, w)
+            yaw, pitch, roll = (1 - s) * yaw + s * py, (1 - s) * pitch + s * pp, (1 - s) * roll + s * pr
     elif p.position == "belt":
-        a_y, a_r, a_p = p.pelvis_yaw_deg * _DEG, p.pelvis_roll_deg * _DEG, p.pelvis_pitch_deg * _DEG
-        walkish = w[:, iw] + 1.3 * w[:, ir] + 0.8 * w[:, ib]
-        # the pelvis turns forward on the side of the swinging leg; it drops on the swing side
-        right = (phi - 1.0) / 2.0
-        direction = w[:, iw] + w[:, ir] - w[:, ib]
-        yaw = -a_y * np.cos(2 * np.pi * right) * direction + w_side * 0.5 * a_y * np.cos(2 * np.pi * phi)
-        roll = a_r * np.sin(2 * np.pi * right) * walkish + w_side * side_dir * a_r * np.sin(2 * np.pi * phi)
-        pitch = a_p * np.cos(2 * np.pi * phi) * (walkish + 0.5 * w_side)
+        yaw, pitch, roll = _pelvis_angles(p, phi, w)
     elif p.position == "swinging-hand":
         a = p.arm_swing_deg * _DEG
         # the arm is forward (flexed) when the other leg lands; backward walking runs it in reverse

@@ -83,7 +83,12 @@ def test_back_pocket_gravity_on_z_follows_the_screen_not_the_phone_top(upright, 
     """The buttock's surface faces backward and down: standing still, a screen facing out reads
     gravity negative on the phone's z axis, a screen facing the body positive, whichever way up."""
     p = dataclasses.replace(
-        Placement.random("back-pocket", np.random.default_rng(3)), upright=upright, screen_out=screen_out, tilt_y_deg=0.0, tilt_z_deg=0.0
+        Placement.random("back-pocket", np.random.default_rng(3)),
+        upright=upright,
+        screen_out=screen_out,
+        tilt_y_deg=0.0,
+        tilt_z_deg=0.0,
+        pocket_roll_deg=0.0,
     )
     m = p.mount()
     assert np.allclose(m.T @ m, np.eye(3), atol=1e-12) and np.isclose(np.linalg.det(m), 1.0)

@@ -42,6 +42,12 @@ This script fits both ranges to real signals only (never to a classifier's score
   fits and checks on all three users; the row ``before`` checks every user against the
   simulator without either field (share 0, no extra roll).
 
+The in-sample fit is recorded as :data:`gaitml.simulate.positions.BACK_POCKET_FIT` (share 1, roll
++-13 deg) and is **not shipped**: it matches the two statistics it was fitted on but lowers the
+back pocket's realism verdict on the others (partial -> no match: steps too alike, bounce too
+dominant), so the shipped :data:`~gaitml.simulate.positions.BACK_POCKET_RANGE` stays the
+thigh-driven model (share 0, no extra roll). :func:`back_pocket_ranges` patches the fit in.
+
 With ``--models`` (:func:`heldout_models`) the accelerometer-only all-positions model
 (``experiments/positions-acc.toml`` without its cross-validation) is trained without the two
 fields, with each user's fold ranges and with the in-sample ranges, and the real Oxford walks are

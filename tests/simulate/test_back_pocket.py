@@ -10,7 +10,14 @@ import pytest
 from experiments.scripts.back_pocket import back_pocket_ranges, back_pocket_statistics
 from gaitml.errors import InputError
 from gaitml.simulate import Placement, sample_subjects, simulate_recording
-from gaitml.simulate.positions import BACK_POCKET_PELVIS_DEG, BACK_POCKET_RANGE, CARRIED_POSITIONS, _segment_angles, _smooth_weights
+from gaitml.simulate.positions import (
+    BACK_POCKET_FIT,
+    BACK_POCKET_PELVIS_DEG,
+    BACK_POCKET_RANGE,
+    CARRIED_POSITIONS,
+    _segment_angles,
+    _smooth_weights,
+)
 
 
 def _walk(p: Placement, seed: int = 4, duration_s: float = 40.0):
@@ -112,9 +119,11 @@ def test_manifest_carries_the_pelvis_share_and_roll(tmp_path):
 
 
 @pytest.mark.realdata
-def test_real_back_pocket_phones_move_at_the_step_frequency_and_the_simulator_now_does(shared_data):
-    """The statistic fitted separates the back pocket from the front pocket in the real walks, and the
-    shipped simulator reaches the real back pocket's band (the thigh-driven model stayed below 6 dB)."""
+def test_real_back_pocket_phones_move_at_the_step_frequency_the_fit_does_and_the_shipped_model_does_not(shared_data):
+    """The statistic fitted separates the back pocket from the front pocket in the real walks; the
+    fitted back pocket (BACK_POCKET_FIT) reaches the real back pocket's band, the shipped thigh-driven
+    one stays below it (the documented gap: the fit is not shipped because it lowers the other
+    statistics' realism)."""
     from experiments.scripts.back_pocket import real_pocket_walks
 
     walks = real_pocket_walks(shared_data)
@@ -122,17 +131,29 @@ def test_real_back_pocket_phones_move_at_the_step_frequency_and_the_simulator_no
     front = walks[walks["position"] == "front-pocket"]["step_stride_db"]
     assert len(back) == 6 and len(front) == 6
     assert back.min() > 7.0 and front.max() < 5.0
-    sim = [back_pocket_statistics(_walk(Placement.random("back-pocket", np.random.default_rng(s)), s, 30.0)) for s in (4, 5, 6)]
-    assert all(s["step_stride_db"] > 5.5 for s in sim), [round(s["step_stride_db"], 1) for s in sim]
+
+    def simulated():
+        return [
+            back_pocket_statistics(_walk(Placement.random("back-pocket", np.random.default_rng(s)), s, 30.0))["step_stride_db"]
+            for s in (4, 5, 6)
+        ]
+
+    shipped = simulated()
+    assert all(d < back.min() - 1.0 for d in shipped), [round(d, 1) for d in shipped]
+    with back_pocket_ranges(share=BACK_POCKET_FIT["pelvis_share"], roll=BACK_POCKET_FIT["pocket_roll_deg"]):
+        fitted = simulated()
+    assert all(d > 5.5 for d in fitted), [round(d, 1) for d in fitted]
 
 
 @pytest.mark.realdata
 @pytest.mark.slow
-def test_shipped_ranges_are_the_fit_on_every_real_oxford_user(shared_data):
-    """BACK_POCKET_RANGE is what ``python -m experiments.scripts.back_pocket`` fits on the three Oxford users."""
+def test_the_recorded_fit_is_the_fit_on_every_real_oxford_user(shared_data):
+    """BACK_POCKET_FIT is what ``python -m experiments.scripts.back_pocket`` fits on the three Oxford users
+    (not shipped: BACK_POCKET_RANGE keeps the thigh-driven back pocket)."""
     from experiments.scripts.back_pocket import fit_back_pocket, real_pocket_walks, share_curves
 
     walks = real_pocket_walks(shared_data)
     back = walks[walks["position"] == "back-pocket"]
     assert sorted(back["user"].unique()) == ["Carmelo", "Dario", "Jamie"]
-    assert fit_back_pocket(back, share_curves()) == BACK_POCKET_RANGE
+    assert fit_back_pocket(back, share_curves()) == BACK_POCKET_FIT
+    assert BACK_POCKET_RANGE == {"pelvis_share": (0.0, 0.0), "pocket_roll_deg": (0.0, 0.0)}

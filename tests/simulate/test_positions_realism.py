@@ -37,19 +37,27 @@ def test_real_and_simulated_pocket_phones_repeat_per_stride(oxford_pockets):
     assert 2.5 < np.median([s["mag_std_ms2"] for s in real]) < 7.0
 
 
-def test_pocket_power_at_the_step_frequency_matches_each_pocket(oxford_pockets):
+def test_pocket_power_at_the_step_frequency_per_pocket(oxford_pockets):
     """The acceleration's power at the step over the stride frequency (summed over the axes): the real
-    back pocket 7-10.5 dB, the real front pocket 0.8-4.8 dB; the simulated back pocket (pelvis share,
-    fitted by experiments/scripts/back_pocket.py) and front pocket (thigh) each near their own (within
-    2 dB of the real range; the thigh-driven back pocket gave 0.8-5.4 dB). Known gap, not fitted: the
-    simulated back pocket's steps are more alike (r_step 0.3-0.5) than the real ones (0.04-0.15)."""
-    from experiments.scripts.back_pocket import back_pocket_statistics
+    back pocket 7-10.5 dB, the real front pocket 0.8-4.8 dB. The simulated front pocket (thigh) lies
+    within 2 dB of its real range. The shipped back pocket (thigh-driven, 0.8-5.4 dB) lies below the
+    real back pocket's: a known gap. The fitted pelvis share (BACK_POCKET_FIT, not shipped because
+    its steps are more alike, r_step 0.3-0.5 against 0.04-0.15 real) reaches it."""
+    from experiments.scripts.back_pocket import back_pocket_ranges, back_pocket_statistics
+    from gaitml.simulate.positions import BACK_POCKET_FIT
 
     real = {}
     for r in oxford_pockets:
         if r.meta.get("surface") == "Hard":
             real.setdefault(r.meta["position"], []).append(back_pocket_statistics(r)["step_stride_db"])
     assert min(real["BackPocket"]) > max(real["FrontPocket"]) + 2.0
-    for pos, ox in (("back-pocket", "BackPocket"), ("front-pocket", "FrontPocket")):
-        db = [back_pocket_statistics(r)["step_stride_db"] for r in simulated_position_walks(pos, n=3, seed=11, duration_s=40.0)]
-        assert all(min(real[ox]) - 2.0 < d < max(real[ox]) + 2.0 for d in db), (pos, [round(d, 1) for d in db])
+
+    def sim(pos):
+        return [back_pocket_statistics(r)["step_stride_db"] for r in simulated_position_walks(pos, n=3, seed=11, duration_s=40.0)]
+
+    front, back = sim("front-pocket"), sim("back-pocket")
+    assert all(min(real["FrontPocket"]) - 2.0 < d < max(real["FrontPocket"]) + 2.0 for d in front), [round(d, 1) for d in front]
+    assert all(d < min(real["BackPocket"]) for d in back), [round(d, 1) for d in back]
+    with back_pocket_ranges(share=BACK_POCKET_FIT["pelvis_share"], roll=BACK_POCKET_FIT["pocket_roll_deg"]):
+        fitted = sim("back-pocket")
+    assert all(min(real["BackPocket"]) - 2.0 < d < max(real["BackPocket"]) + 2.0 for d in fitted), [round(d, 1) for d in fitted]

@@ -1,6 +1,6 @@
 """Leave one position out: choose the span of the dynamics decision on one seed set, score it on held-out seeds (issue 12).
 
-Run from the repository root (two simulated seed sets; about 10 minutes on an idle machine)::
+Run from the repository root (two simulated seed sets; 20 minutes at load 4-7 on 2 cores)::
 
     python -m experiments.scripts.lopo_span [--data ../shared/data] [--out FILE] [--cache DIR]
 
@@ -300,7 +300,7 @@ def main(argv: list[str] | None = None) -> int:
             _, s = choose(df)
             for span, r in s.iterrows():
                 lines.append(
-                    f"| {name} | {span} | {r['reached']} | {100 * r['mean_false_alarms']:.2f} % | {100 * r['max_false_alarms']:.2f} % |"
+                    f"| {name} | {span} | {int(r['reached'])} | {100 * r['mean_false_alarms']:.2f} % | {100 * r['max_false_alarms']:.2f} % |"
                 )
         parts.append("### The rule's summary\n\n" + "\n".join(lines))
         if "held-out" in dfs and args.data.exists():

@@ -122,6 +122,9 @@ _BLOCKED_MIN_ROWS = 64
 #: The arrays of the optional orientation-dynamics part.
 _DYN_ARRAYS = ("dyn_center", "dyn_scale", "dyn_means", "dyn_precisions")
 #: Windows in the running span of the dynamics decision (20 windows of 1.5 s at 50 % overlap: 15 s).
+#: Kept after a choice on held-out seeds: span 30, chosen among 10-60 on the usual simulated seeds,
+#: flags a left-out position on >= 80 % for as few positions as 20 on new seeds
+#: (``experiments/reports/model-domain.md``, "Choosing the span with held-out seeds"; ``fit_domain(dynamics_span=)``).
 DYNAMICS_SPAN = 20
 #: The check computes the orientation dynamics of every ``DYNAMICS_EVERY``-th window only (windows 0, 2, 4, ...
 #: of the recording) and decides on the median of those within each window's span (10 of its last 20 windows).

@@ -169,7 +169,6 @@ def run(D, spans=SPANS, reactions: bool = False) -> pd.DataFrame:
 
     ptr, pte = D["tr_pos"], D["te_pos"]
     recs = _recordings(D)
-    first = np.zeros(len(pte), dtype=bool)  # windows within the first span of their recording, per span below
     rank = np.zeros(len(pte), dtype=np.int64)
     for rows in recs.values():
         rank[rows] = np.arange(len(rows))
@@ -185,7 +184,7 @@ def run(D, spans=SPANS, reactions: bool = False) -> pd.DataFrame:
             dyn = np.zeros(len(pte), dtype=bool)
             for rows in recs.values():
                 flag[rows], dyn[rows] = _check(dom, D, rows)
-            first = rank < span
+            first = rank < span  # windows within the first span of their recording
             row = {
                 "left out": label,
                 "span": span,

@@ -91,17 +91,18 @@ CACHE_SOURCES = ("simulate", "features", "signal", "models/_dataset.py", "models
 CACHE_FILE = "lopo.npz"
 
 
-def cache_key(root: Path | None = None) -> str:
+def cache_key(root: Path | None = None, sets=SETS) -> str:
     """A hash of what the cached windows depend on: gaitml's version, the protocol and the sources of :data:`CACHE_SOURCES`.
 
     ``root`` is the package folder (default: the imported ``gaitml``); a source missing there is part of the key too.
+    ``sets`` are the simulated sets (default :data:`SETS`; ``lopo_span`` keys its other seeds on them).
     """
     import hashlib
 
     import gaitml
 
     root = Path(gaitml.__file__).parent if root is None else Path(root)
-    h = hashlib.sha256(f"gaitml {gaitml.__version__}; sets {SETS}; {DURATION_S} s; {sorted(WINDOW.items())}".encode())
+    h = hashlib.sha256(f"gaitml {gaitml.__version__}; sets {tuple(sets)}; {DURATION_S} s; {sorted(WINDOW.items())}".encode())
     for rel in CACHE_SOURCES:
         p = root / rel
         files = sorted(p.rglob("*.py")) if p.is_dir() else [p]
@@ -111,9 +112,9 @@ def cache_key(root: Path | None = None) -> str:
     return h.hexdigest()
 
 
-def load_cache(cache: Path, key: str) -> dict | None:
-    """The cached arrays when ``cache`` holds them under ``key``; None (a miss) when absent or made by other code."""
-    path = cache / CACHE_FILE
+def load_cache(cache: Path, key: str, name: str = CACHE_FILE) -> dict | None:
+    """The cached arrays when ``cache`` holds them (file ``name``) under ``key``; None (a miss) when absent or made by other code."""
+    path = cache / name
     if not path.is_file():
         return None
     d = np.load(path, allow_pickle=False)
@@ -123,12 +124,12 @@ def load_cache(cache: Path, key: str) -> dict | None:
     return {k: d[k] for k in d.files if k != "cache_key"}
 
 
-def save_cache(cache: Path, key: str, arrays: dict) -> None:
-    """Write ``arrays`` with ``key`` to ``cache`` (atomically: a failure leaves no partial file)."""
+def save_cache(cache: Path, key: str, arrays: dict, name: str = CACHE_FILE) -> None:
+    """Write ``arrays`` with ``key`` to ``cache`` (file ``name``; atomically: a failure leaves no partial file)."""
     from gaitml.io import atomic_path
 
     cache.mkdir(parents=True, exist_ok=True)
-    with atomic_path(cache / CACHE_FILE, suffix=".npz") as tmp:
+    with atomic_path(cache / name, suffix=".npz") as tmp:
         np.savez(tmp, cache_key=np.asarray(key), **arrays)
 
 

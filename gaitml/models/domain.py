@@ -122,6 +122,9 @@ _BLOCKED_MIN_ROWS = 64
 #: The arrays of the optional orientation-dynamics part.
 _DYN_ARRAYS = ("dyn_center", "dyn_scale", "dyn_means", "dyn_precisions")
 #: Windows in the running span of the dynamics decision (20 windows of 1.5 s at 50 % overlap: 15 s).
+#: Kept after a choice on held-out seeds: span 30, chosen among 10-60 on the usual simulated seeds,
+#: flags a left-out position on >= 80 % for as few positions as 20 on new seeds
+#: (``experiments/reports/model-domain.md``, "Choosing the span with held-out seeds"; ``fit_domain(dynamics_span=)``).
 DYNAMICS_SPAN = 20
 #: The check computes the orientation dynamics of every ``DYNAMICS_EVERY``-th window only (windows 0, 2, 4, ...
 #: of the recording) and decides on the median of those within each window's span (10 of its last 20 windows).
@@ -1068,6 +1071,7 @@ def fit_domain(
     dynamics=None,
     sequence=None,
     dynamics_every: int | None = None,
+    dynamics_span: int | None = None,
 ) -> DomainModel:
     """Fit the domain record of a training set (see the module docstring).
 
@@ -1093,6 +1097,8 @@ def fit_domain(
     dynamics_every : the grid step recorded with the dynamics part (default
         :func:`dynamics_grid_step` of :data:`DYNAMICS_SPAN`, i.e. :data:`DYNAMICS_EVERY`; 1 gives
         the statistic over every window of records written before the grid).
+    dynamics_span : windows in the running span recorded with the dynamics part (default
+        :data:`DYNAMICS_SPAN`); the grid step then defaults to :func:`dynamics_grid_step` of it.
     """
     from sklearn.model_selection import GroupKFold
 
@@ -1105,6 +1111,9 @@ def fit_domain(
         raise ModelError(f"fit_domain needs matching rows (X {n}, y {len(y)}, groups {len(groups)}, gravity {len(gravity)}), at least 2.")
     if not 0.5 <= float(quantile) < 1.0:
         raise ModelError(f"domain quantile must be in [0.5, 1), got {quantile}.")
+    span = DYNAMICS_SPAN if dynamics_span is None else int(dynamics_span)
+    if span < 1:
+        raise ModelError(f"the dynamics span must be at least 1 window, got {dynamics_span}.")
     if dynamics is not None:
         dynamics = np.asarray(dynamics, dtype=float)
         if dynamics.shape != (n, len(DYNAMICS_NAMES)) or sequence is None or len(sequence) != n:
@@ -1161,10 +1170,10 @@ def fit_domain(
         every = np.arange(n)
         in_q = _dynamics_fit_distance(dynamics, dyn_labels, dyn_ok, every, every)
         seq = np.asarray(sequence).astype(str)
-        every = dynamics_grid_step(DYNAMICS_SPAN) if dynamics_every is None else int(dynamics_every)
+        every = dynamics_grid_step(span) if dynamics_every is None else int(dynamics_every)
 
         def pooled(d):  # the check's statistic on the grid, each of its phases in turn (every window once per phase)
-            return np.concatenate([span_medians(d, DYNAMICS_SPAN, every, seq, phase) for phase in range(every)])
+            return np.concatenate([span_medians(d, span, every, seq, phase) for phase in range(every)])
 
         span_held = pooled(held_q if k >= 2 else in_q)
         span_in = pooled(in_q)
@@ -1173,7 +1182,7 @@ def fit_domain(
         m_q, p_q = _class_gaussians((dynamics[dyn_ok] - c_q) / s_q, dyn_labels[dyn_ok], labels)
         dyn_record = {
             "labels": labels,
-            "span": DYNAMICS_SPAN,
+            "span": span,
             "every": every,
             "threshold": float(np.nanquantile(span_held, q)),
             "threshold_in_sample": float(np.nanquantile(span_in, q)),

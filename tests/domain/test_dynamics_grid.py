@@ -156,10 +156,14 @@ def test_records_without_a_grid_step_check_every_window_as_they_were_fitted():
         DomainModel.from_json(info, dom.to_arrays())
 
 
-@pytest.mark.parametrize("every", [1, 2, 4])
-def test_the_threshold_is_fitted_on_the_grid_the_check_uses(every):
-    """One training group: the threshold is the quantile of the in-sample span medians, pooled over the grid's phases."""
-    rng = np.random.default_rng(every)
+@pytest.mark.parametrize("every, span", [(1, None), (2, None), (4, None), (2, 10), (None, 40), (None, 30), (4, 60)])
+def test_the_threshold_is_fitted_on_the_grid_the_check_uses(every, span):
+    """One training group: the threshold is the quantile of the in-sample span medians, pooled over the grid's phases.
+
+    ``dynamics_span`` (None: :data:`DYNAMICS_SPAN`) is the span recorded and fitted; the grid
+    step defaults to :func:`dynamics_grid_step` of it.
+    """
+    rng = np.random.default_rng(0 if every is None else every)
     q = len(DYNAMICS_NAMES)
     n = 400
     y = np.repeat(["walk", "run"], n // 2)
@@ -177,17 +181,38 @@ def test_the_threshold_is_fitted_on_the_grid_the_check_uses(every):
         dynamics=Q,
         sequence=seq,
         dynamics_every=every,
+        dynamics_span=span,
     )
-    assert dom.dynamics["every"] == every
+    span = DYNAMICS_SPAN if span is None else span
+    every = dynamics_grid_step(span) if every is None else every
+    assert dom.dynamics["every"] == every and dom.dynamics["span"] == span
     d = dom.dynamics_distances(Q)
-    pooled = np.concatenate([span_medians(d, DYNAMICS_SPAN, every, seq, p) for p in range(every)])
+    pooled = np.concatenate([span_medians(d, span, every, seq, p) for p in range(every)])
     assert dom.dynamics["threshold"] == dom.dynamics["threshold_in_sample"]
     np.testing.assert_allclose(dom.dynamics["threshold"], np.nanquantile(pooled, 0.99), rtol=1e-9)
     # what the check of one training recording gives is that statistic at phase 0
     rec = seq == 3
     np.testing.assert_allclose(
-        dom.check(np.zeros((50, 3)), None, Q[rec])["dynamics_distance"], span_medians(d[rec], DYNAMICS_SPAN, every), rtol=1e-12
+        dom.check(np.zeros((50, 3)), None, Q[rec])["dynamics_distance"], span_medians(d[rec], span, every), rtol=1e-12
     )
+
+
+@pytest.mark.parametrize("span", [0, -3])
+def test_a_dynamics_span_below_one_window_is_refused(span):
+    n = 40
+    with pytest.raises(ModelError, match="dynamics span must be at least 1"):
+        fit_domain(
+            np.zeros((n, 3)),
+            np.repeat(["walk", "run"], n // 2),
+            np.zeros(n),
+            np.tile([0.0, 0.0, 1.0], (n, 1)),
+            feature_names=list("abc"),
+            feature_set="test",
+            frame="gravity",
+            dynamics=np.zeros((n, len(DYNAMICS_NAMES))),
+            sequence=np.zeros(n),
+            dynamics_span=span,
+        )
 
 
 # ---------------------------------------------------------------- the descriptors from the windows' own samples

@@ -392,6 +392,8 @@ def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
     d = np.asarray(d, dtype=float).reshape(-1)
     n = len(d)
     span = max(1, int(span))
+    if sequence is None and n and not np.isnan(np.add.reduce(d)):  # one recording without NaN (what the check gives)
+        return _running_median_finite(d, span)
     if sequence is None:
         order, first = None, np.zeros(n, dtype=np.int64)
         values = d
@@ -412,6 +414,27 @@ def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
     out = np.empty(n)
     out[order] = med
     return out
+
+
+def _running_median_finite(d: np.ndarray, span: int) -> np.ndarray:
+    """:func:`running_median` of one sequence without NaN values (an inf is a value), the same numbers bit for bit.
+
+    Each span is a row of one strided view of the values after ``span - 1`` NaN (the
+    missing values before the start), sorted (NaN last); the first ``span - 1`` rows hold
+    ``i + 1`` values, every later row ``span``: no NaN count, no index arithmetic per span
+    entry. The median is then picked as in :func:`running_median`.
+    """
+    n = len(d)
+    pad = np.empty(n + span - 1)
+    pad[: span - 1] = np.nan
+    pad[span - 1 :] = d
+    win = np.sort(np.lib.stride_tricks.as_strided(pad, (n, span), (pad.strides[0], pad.strides[0]), writeable=False), axis=1)
+    c = np.arange(1, n + 1)
+    np.minimum(c, span, out=c)  # values in each span
+    rows = np.arange(n)
+    lo = win[rows, (c - 1) // 2]
+    hi = win[rows, c // 2]
+    return np.where(c % 2 == 1, lo, 0.5 * (lo + hi))  # odd: the middle value; even: the mean of the middle two
 
 
 def span_medians(d, span: int = DYNAMICS_SPAN, every: int = 1, sequence=None, phase: int = 0) -> np.ndarray:
@@ -816,10 +839,10 @@ class DomainModel:
         # plain array operations (no nan_to_num, no einsum): a one-window call (streaming) costs tens of
         # microseconds, not hundreds (benchmarks/models.py stream-domain-check-per-window); rows with a
         # non-finite feature are out of domain (distance inf) whatever their other features
-        Z = ((X if all_finite else np.where(np.isfinite(X), X, 0.0)) - self.arrays["center"]) / self.arrays["scale"]
-        d = self._blocked_distances(Z) if len(Z) >= _BLOCKED_MIN_ROWS else None
+        Xf = X if all_finite else np.where(np.isfinite(X), X, 0.0)
+        d = self._blocked_distances(Xf) if len(X) >= _BLOCKED_MIN_ROWS else None  # standardises inside its products
         if d is None:
-            d = self._stacked_distances(Z)
+            d = self._stacked_distances((Xf - self.arrays["center"]) / self.arrays["scale"])
         if not all_finite:
             d[~finite] = np.inf
         return d
@@ -833,14 +856,18 @@ class DomainModel:
             Y *= Y
             return np.sqrt(Y.reshape(len(Z), -1, Z.shape[1]).sum(axis=2).min(axis=1))
 
-    def _factor_blocks(self) -> list[tuple[int, int, np.ndarray, np.ndarray]]:
-        """The stacked factors of :meth:`_factors` cut into column blocks without their zero rows, cached.
+    def _factor_blocks(self) -> list[tuple[int, int, np.ndarray]]:
+        """The stacked factors of :meth:`_factors` cut into column blocks without their zero rows, with the standardisation folded in; cached.
 
-        ``L_c`` is lower triangular: its columns ``[j0, j1)`` are zero above row ``j0``. Per
-        block ``(j0, j1, F^T, o)``: ``F`` (p - j0, c (j1 - j0)) holds rows ``j0:`` of those
-        columns of every class, ``o`` (c (j1 - j0), 1) the matching entries of the offset
-        ``m_c L_c``. Kept transposed: the products are taken as ``F^T Z^T`` (windows last),
-        which measured 15-20 % faster than ``Z F`` with two BLAS threads.
+        ``L_c`` is lower triangular: its columns ``[j0, j1)`` are zero above row ``j0``. With
+        ``F`` (p - j0, c (j1 - j0)) the rows ``j0:`` of those columns of every class and ``o``
+        the matching entries of the offsets ``m_c L_c``, the block's entries of ``z L - m L``
+        for a raw feature row ``x`` (``z = (x - center) / scale``) are ``x A`` with the
+        augmented ``x = [x_j0.., 1]`` and ``A = [F / scale; -(o + (center / scale) F)]``
+        (p - j0 + 1, c (j1 - j0)): the standardisation and the offset are taken inside the one
+        product instead of two more passes over the (windows x features) and (windows x
+        c p) arrays. Per block ``(j0, j1, A^T)``; kept transposed: the products are taken as
+        ``A^T X^T`` (windows last), which measured 15-20 % faster than ``X A`` with two BLAS threads.
         """
         cache = self.__dict__.get("_block_cache")
         if cache is None:
@@ -848,37 +875,42 @@ class DomainModel:
             p = len(self.feature_names)
             c = len(offset) // p
             per_class = stacked.reshape(p, c, p)  # [row, class, column]
+            center, scale = self.arrays["center"], self.arrays["scale"]
             edges = np.linspace(0, p, max(1, round(p / _DISTANCE_BLOCK_COLUMNS)) + 1).round().astype(int)
             cache = []
             for j0, j1 in zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True):
                 F = per_class[j0:, :, j0:j1].reshape(p - j0, c * (j1 - j0))
-                o = offset.reshape(c, p)[:, j0:j1].reshape(-1, 1)
-                cache.append((j0, j1, np.ascontiguousarray(F.T), np.ascontiguousarray(o)))
+                o = offset.reshape(c, p)[:, j0:j1].reshape(-1)
+                A = np.concatenate([F / scale[j0:, None], -(o + (center[j0:] / scale[j0:]) @ F)[None, :]], axis=0)
+                cache.append((j0, j1, np.ascontiguousarray(A.T)))
             object.__setattr__(self, "_block_cache", cache)
         return cache
 
-    def _blocked_distances(self, Z: np.ndarray) -> np.ndarray | None:
-        """:meth:`_stacked_distances` without the products with the factors' zeros (batch rows), or None.
+    def _blocked_distances(self, X: np.ndarray) -> np.ndarray | None:
+        """:meth:`_stacked_distances` of raw finite rows ``X`` without the products with the factors' zeros (batch rows), or None.
 
-        The same sums of the same nonzero products, grouped per column block (about
+        The same quadratic forms, grouped per column block (about
         :data:`_DISTANCE_BLOCK_COLUMNS` columns): 62 % of the multiplications with the 104
-        features of ``all52+gyro`` (4 blocks), 75 % with 52 (2 blocks). Equal to the one
-        product up to the order of the additions (relative differences of about 1e-16;
-        ``tests/domain/test_check_cost.py``). One matrix product per block and plain sums:
-        every multi-threaded BLAS call can wait for a core on a loaded machine, so the
-        squares are not summed with a matrix-vector product. None when a distance is not
-        finite (an input so large that a sum overflows): the caller then takes the one
-        product, as before.
+        features of ``all52+gyro`` (4 blocks), 75 % with 52 (2 blocks), each block one
+        matrix product that also standardises and subtracts the class offsets
+        (:meth:`_factor_blocks`). Equal to the one product up to rounding (the sums in
+        another order, the centre subtracted inside the product: relative differences of
+        about 1e-14; ``tests/domain/test_check_cost.py``). Plain sums of the squares:
+        every multi-threaded BLAS call can wait for a core on a loaded machine, so they
+        are not summed with a matrix-vector product. None when a distance is not finite
+        (an input so large that a sum overflows): the caller then takes the one product,
+        as before.
         """
-        n = len(Z)
+        n, p = X.shape
         blocks = self._factor_blocks()
-        c = len(blocks[0][3]) // (blocks[0][1] - blocks[0][0])
-        ZT = np.ascontiguousarray(Z.T)  # features x windows: the blocks' rows are slices of it
+        c = len(blocks[0][2]) // (blocks[0][1] - blocks[0][0])
+        XT = np.empty((p + 1, n))  # features x windows and a row of ones (the offsets): the blocks' rows are slices of it
+        XT[:p] = X.T
+        XT[p] = 1.0
         sq = np.zeros((c, n))
         with np.errstate(invalid="ignore", over="ignore"):
-            for j0, j1, FT, oT in blocks:
-                Y = FT @ ZT[j0:]  # (c (j1 - j0), n): the block's columns of every class, transposed
-                Y -= oT
+            for j0, j1, AT in blocks:
+                Y = AT @ XT[j0:]  # (c (j1 - j0), n): the block's columns of z L - m L of every class, transposed
                 Y *= Y
                 sq += Y.reshape(c, j1 - j0, n).sum(axis=1)  # over the block's columns of every class (no BLAS call: see above)
             d = np.sqrt(sq.min(axis=0))
@@ -906,26 +938,44 @@ class DomainModel:
             return np.zeros(0)
         finite = np.isfinite(Q).all(axis=1)
         all_finite = bool(finite.all())
-        Z = ((Q if all_finite else np.where(finite[:, None], Q, 0.0)) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
-        cache = getattr(self, "_dyn_cache", None)
-        if cache is None:  # stacked Cholesky factors, as in distances(): one matrix product for every Gaussian
-            try:
-                chol = np.linalg.cholesky(self.arrays["dyn_precisions"])
-            except np.linalg.LinAlgError as exc:
-                raise ModelError("the domain record's dynamics precision matrices are not positive definite; retrain the model.") from exc
-            cache = (
-                np.ascontiguousarray(np.concatenate(list(chol), axis=1)),
-                np.concatenate([m @ c for m, c in zip(self.arrays["dyn_means"], chol, strict=True)]),
-            )
-            object.__setattr__(self, "_dyn_cache", cache)
-        Y = Z @ cache[0]
-        Y -= cache[1]
-        Y *= Y
-        # squared distance to every Gaussian: sums over its 13 columns as one matrix-vector product
-        d = np.sqrt((Y.reshape(-1, Q.shape[1]) @ np.ones(Q.shape[1])).reshape(len(Z), -1).min(axis=1))
+        cache = self.__dict__.get("_dyn_cache")
+        if cache is None:
+            cache = self._dynamics_factors()
+        A, g = cache
+        q = Q.shape[1]
+        Qa = np.empty((len(Q), q + 1))  # the descriptors and a column of ones (the offsets)
+        Qa[:, :q] = Q if all_finite else np.where(finite[:, None], Q, 0.0)
+        Qa[:, q] = 1.0
+        with np.errstate(invalid="ignore", over="ignore"):
+            Y = Qa @ A  # z L - m L of every Gaussian, standardised inside the product
+            Y *= Y
+            # squared distance to every Gaussian: sums over its q columns as one matrix-vector product, the smallest
+            d = np.sqrt((Y.reshape(-1, q) @ np.ones(q)).reshape(len(Q), g).min(axis=1))
         if not all_finite:
             d[~finite] = np.inf
+        d[np.isnan(d)] = np.inf  # an input so large that a sum overflows: out of domain
         return d
+
+    def _dynamics_factors(self) -> tuple[np.ndarray, int]:
+        """The stacked Cholesky factors of the dynamics Gaussians with the standardisation folded in, cached.
+
+        As :meth:`_factor_blocks` for the features: with ``L_g`` the Cholesky factor of
+        Gaussian g's precision (lower triangular) and ``m_g`` its mean, ``z L_g - m_g L_g``
+        for descriptors ``x`` (``z = (x - dyn_center) / dyn_scale``) is ``[x, 1] A_g`` with
+        ``A_g = [L_g / dyn_scale; -(m_g + dyn_center / dyn_scale) L_g]``. Returns ``([A_1 .. A_g], g)``
+        ((q + 1, g q), one matrix product serves every Gaussian) and the number of Gaussians.
+        """
+        try:
+            chol = np.linalg.cholesky(self.arrays["dyn_precisions"])
+        except np.linalg.LinAlgError as exc:
+            raise ModelError("the domain record's dynamics precision matrices are not positive definite; retrain the model.") from exc
+        center, scale = self.arrays["dyn_center"], self.arrays["dyn_scale"]
+        stacked = np.concatenate(list(chol), axis=1)
+        offset = np.concatenate([m @ c for m, c in zip(self.arrays["dyn_means"], chol, strict=True)])
+        A = np.ascontiguousarray(np.concatenate([stacked / scale[:, None], -(offset + (center / scale) @ stacked)[None, :]], axis=0))
+        cache = (A, len(chol))
+        object.__setattr__(self, "_dyn_cache", cache)
+        return cache
 
     def check(self, X, gravity=None, dynamics=None) -> dict[str, np.ndarray]:
         """In-domain flags of windows.

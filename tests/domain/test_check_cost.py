@@ -21,9 +21,15 @@ from gaitml.experiments.config import parse_config
 from gaitml.experiments.runner import train_config
 from gaitml.models import load_model, predict_recording
 from gaitml.models._predict import _windows_for, model_inputs
-from gaitml.models.domain import _BLOCKED_MIN_ROWS, ACC_MEAN_FEATURES, feature_gravity, span_medians, window_gravity
+from gaitml.models.domain import _BLOCKED_MIN_ROWS, ACC_MEAN_FEATURES, feature_gravity, orientation_dynamics, running_median, window_gravity
 from gaitml.simulate import simulate_dataset
-from tests.reference.domain import reference_check, stacked_distances
+from tests.reference.domain import (
+    dynamics_distances_loop,
+    reference_check,
+    span_median_loop,
+    stacked_distances,
+    stacked_dynamics_distances,
+)
 
 GYRO = {
     "name": "domain-check-cost",
@@ -60,13 +66,11 @@ def _before(model, rec) -> dict[str, np.ndarray]:
     cos = np.where(np.isfinite(G).all(axis=1)[:, None], G, 0.0) @ dom.arrays["gravity_dirs"].T
     ang = np.arccos(np.clip(cos.max(axis=1), -1.0, 1.0))
     ang[~np.isfinite(G).all(axis=1)] = np.nan
-    from gaitml.models.domain import orientation_dynamics
-
     rows = dom.dynamics_rows(len(starts))  # the descriptors of every dynamics_every-th window, as predict computes them
     q = orientation_dynamics(rec.acc, rec.gyr, starts[rows], starts[rows] + length, rec.sampling_rate_hz)
     per_window = np.full(len(starts), np.nan)
-    per_window[rows] = dom.dynamics_distances(q)
-    dyn = span_medians(per_window, dom.dynamics["span"], dom.dynamics_every)  # reads the grid rows only
+    per_window[rows] = stacked_dynamics_distances(dom, q)  # standardised first, then the stacked factors
+    dyn = span_median_loop(per_window, dom.dynamics["span"], dom.dynamics_every)  # nanmedian of each span's grid windows
     ok = (d <= dom.distance_threshold) & (ang <= dom.gravity_threshold_rad) & (dyn <= dom.dynamics["threshold"])
     return {"in_domain": ok, "domain_distance": d, "gravity_angle_deg": np.degrees(ang), "dynamics_distance": dyn}
 
@@ -81,7 +85,7 @@ def test_predict_flags_equal_the_previous_computation(gyro_model, walker, case):
     np.testing.assert_allclose(t["domain_distance"].to_numpy(float), ref["domain_distance"], rtol=1e-12)
     # arccos near 0 magnifies the last bit of a cosine: absolute 1e-9 deg (thresholds are degrees)
     np.testing.assert_allclose(t["gravity_angle_deg"].to_numpy(float), ref["gravity_angle_deg"], rtol=0, atol=1e-9)
-    np.testing.assert_array_equal(t["dynamics_distance"].to_numpy(float), ref["dynamics_distance"])  # that part is unchanged
+    np.testing.assert_allclose(t["dynamics_distance"].to_numpy(float), ref["dynamics_distance"], rtol=1e-12)  # standardised in the product
     flagged = 1.0 - ref["in_domain"].mean()
     assert (flagged < 0.5) if case == "as recorded" else (flagged == 1.0)  # both outcomes are exercised
 
@@ -104,7 +108,7 @@ def test_blocked_distances_equal_the_one_product_and_the_per_window_reference(gy
         np.testing.assert_allclose(d[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-9)
     assert np.isinf(d[[7, 11]]).all() and fin.sum() == len(X) - 2
     blocks = dom._factor_blocks()
-    assert len(blocks) == 4 and [b[0] for b in blocks] == [0, 26, 52, 78] and blocks[0][2].shape == (5 * 26, 104)
+    assert len(blocks) == 4 and [b[0] for b in blocks] == [0, 26, 52, 78] and blocks[0][2].shape == (5 * 26, 105)
     # a sum that overflows in the blocks: the one product answers, as before
     huge = np.where(np.arange(X.shape[1]) == 5, 1e250, X[100:200])
     with np.errstate(over="ignore", invalid="ignore"):
@@ -138,3 +142,46 @@ def test_a_gravity_frame_record_reads_the_recording_not_the_features(gyro_model,
     cols = domain_columns(odd, walker, w)  # features recomputed in the record's frame
     G = window_gravity(walker.acc, w["start"].to_numpy(np.int64), 75)
     np.testing.assert_allclose(cols["gravity_angle_deg"], np.degrees(dom.gravity_angles(G)), rtol=0, atol=1e-9)
+
+
+def test_dynamics_distances_equal_the_stacked_product_and_the_per_window_loop(gyro_model, walker):
+    """The dynamics distance with the standardisation and offsets inside its one product: the same numbers to rounding."""
+    dom = gyro_model.domain
+    w = _windows_for(walker, gyro_model.length_s, gyro_model.overlap)
+    starts = w["start"].to_numpy(np.int64)
+    Q = orientation_dynamics(walker.acc, walker.gyr, starts, starts + 75, walker.sampling_rate_hz)
+    rng = np.random.default_rng(8)
+    Q = np.vstack([Q, Q[:30] + rng.normal(0, 4, (30, Q.shape[1])) * Q.std(axis=0)])  # and far windows
+    Q[4, 2] = np.nan
+    Q[9, 0] = np.inf
+    d = dom.dynamics_distances(Q)
+    before = stacked_dynamics_distances(dom, Q)
+    np.testing.assert_array_equal(np.isinf(d), np.isinf(before))
+    assert np.isinf(d[[4, 9]]).all() and np.isfinite(d).sum() == len(Q) - 2
+    fin = np.isfinite(before)
+    np.testing.assert_allclose(d[fin], before[fin], rtol=1e-12)
+    np.testing.assert_allclose(d[fin], dynamics_distances_loop(dom, Q)[fin], rtol=1e-9)
+    # the flags the threshold gives are those of the standardised product
+    np.testing.assert_array_equal(d <= dom.dynamics["threshold"], before <= dom.dynamics["threshold"])
+    # an overflowing input is out of domain (inf), never a NaN the span median would skip
+    with np.errstate(over="ignore", invalid="ignore"):
+        huge = dom.dynamics_distances(np.where(np.arange(Q.shape[1]) == 3, 1e300, Q[:5]))
+    assert np.isinf(huge).all()
+
+
+@pytest.mark.parametrize("span", [1, 2, 3, 10, 20, 40, 60])
+def test_running_median_of_one_recording_without_nan_is_the_span_loop(span):
+    """The check's running median (one recording, no NaN: the sorted strided spans) against nanmedian of each span, any span."""
+    rng = np.random.default_rng(span)
+    for n in (0, 1, span - 1, span, span + 1, 3 * span + 7, 400):
+        d = rng.gamma(2.0, 2.0, max(n, 0))
+        if n > 5:
+            d[[2, n // 2]] = np.inf  # a non-finite descriptor gives inf: a value, not a gap
+            d[n // 3] = d[n // 3 + 1]  # ties
+        got = running_median(d, span)
+        np.testing.assert_array_equal(got, span_median_loop(d, span), err_msg=f"span {span}, n {n}")
+        # the general path (rows of several recordings, NaN skipped) gives the same numbers for one recording
+        np.testing.assert_array_equal(got, running_median(d, span, np.zeros(len(d))), err_msg=f"span {span}, n {n}")
+    d = rng.gamma(2.0, 2.0, 3 * span + 7)
+    d[span // 2] = np.nan  # a NaN: the general path, still the nanmedian of each span
+    np.testing.assert_array_equal(running_median(d, span), span_median_loop(d, span))

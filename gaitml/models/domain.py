@@ -69,8 +69,10 @@ training data, not *why*.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
+import threading
 from typing import Any
 
 import numpy as np
@@ -116,7 +118,7 @@ NO_DOMAIN_WARNING = (
 _ARRAYS = ("center", "scale", "class_means", "class_precisions", "gravity_dirs", "feature_lo", "feature_hi")
 #: The batch feature distance (:meth:`DomainModel.distances` of at least ``_BLOCKED_MIN_ROWS`` rows) multiplies by the
 #: Cholesky factors in column blocks of about this many columns, skipping the zeros above their diagonal.
-_DISTANCE_BLOCK_COLUMNS = 26
+_DISTANCE_BLOCK_COLUMNS = 13  # 8 blocks of 104 features: 56 % of the full product's multiplications (4 blocks: 62 %, 0.3 ms slower)
 #: Fewer rows (a stream's one window) take one product with the whole stacked factors: fewer calls.
 _BLOCKED_MIN_ROWS = 64
 #: The arrays of the optional orientation-dynamics part.
@@ -201,12 +203,13 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     out = np.full((len(j0), len(DYNAMICS_NAMES)), np.nan)
     chunk = max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz) / step)))
     rows = np.flatnonzero(j1 - j0 >= 2)
-    for b in range(0, len(rows), _DYNAMICS_BATCH):  # bounded memory for long recordings (training on every window)
-        r = rows[b : b + _DYNAMICS_BATCH]
-        if len(r) == len(out):
-            out[:] = _dynamics_of_spans(acc, gyr, j0, j1, step, chunk)
-        else:
-            out[r] = _dynamics_of_spans(acc, gyr, j0[r], j1[r], step, chunk)
+    with one_blas_thread():  # its matrix-vector products: one BLAS thread (see one_blas_thread)
+        for b in range(0, len(rows), _DYNAMICS_BATCH):  # bounded memory for long recordings (training on every window)
+            r = rows[b : b + _DYNAMICS_BATCH]
+            if len(r) == len(out):
+                out[:] = _dynamics_of_spans(acc, gyr, j0, j1, step, chunk)
+            else:
+                out[r] = _dynamics_of_spans(acc, gyr, j0[r], j1[r], step, chunk)
     return out
 
 
@@ -229,6 +232,11 @@ def _window_block(acc: np.ndarray, gyr: np.ndarray, j0: np.ndarray, width: int, 
     S = np.empty((6, k, width))
     gap = int(j0[1] - j0[0]) if k > 1 else 0
     if j0[0] >= 0 and int(j0[-1]) + width - 1 <= last and gap >= 0 and (k < 3 or (np.diff(j0) == gap).all()):
+        if gap == width or k == 1:  # windows that tile the kept samples (the check's grid): one slice of each signal
+            a = int(j0[0]) * step
+            for sig, rows in ((acc, S[:3]), (gyr, S[3:])):
+                rows[...] = sig[a : a + k * width * step : step].T.reshape(3, k, width)
+            return S
         for sig, rows in ((acc, S[:3]), (gyr, S[3:])):
             s0, s1 = sig.strides
             rows[...] = np.lib.stride_tricks.as_strided(
@@ -323,23 +331,21 @@ def _dynamics_of_spans(acc: np.ndarray, gyr: np.ndarray, j0: np.ndarray, j1: np.
     ang = np.degrees(np.arccos(np.clip(cosang, -1.0, 1.0)))
     if not (nch == nc).all():
         ang *= np.arange(nc)[None, :] < nch[:, None]  # angles are >= 0: 0 changes neither the sum nor the max
-    return np.column_stack(
-        [
-            ang.sum(axis=1) / nch,
-            np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9)),
-            np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * lam1, 1e-12))),
-            np.maximum(lam2, 0.0) / np.maximum(lam1, 1e-12),
-            0.5 * np.log(np.maximum(var_v, 1e-12)),
-            0.5 * np.log(np.maximum(var_h, 1e-12)),
-            ang.max(axis=1),
-            third / np.maximum(var_v, 1e-12) ** 1.5,
-            np.log(np.maximum(mag_mean, 1e-6)),
-            0.5 * np.log(np.maximum(mag_var, 1e-12)),
-            Fw[0, 0] / tot,
-            _largest_eigenvalue(cw) / tot,
-            w_main / tot,
-        ]
-    )
+    out = np.empty((len(DYNAMICS_NAMES), k))  # rows filled in place, one transposed view returned (no column_stack copy)
+    np.divide(ang.sum(axis=1), nch, out=out[0])
+    np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9), out=out[1])
+    np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * lam1, 1e-12)), out=out[2])
+    np.divide(np.maximum(lam2, 0.0), np.maximum(lam1, 1e-12), out=out[3])
+    np.multiply(0.5, np.log(np.maximum(var_v, 1e-12)), out=out[4])
+    np.multiply(0.5, np.log(np.maximum(var_h, 1e-12)), out=out[5])
+    np.max(ang, axis=1, out=out[6])
+    np.divide(third, np.maximum(var_v, 1e-12) ** 1.5, out=out[7])
+    np.log(np.maximum(mag_mean, 1e-6), out=out[8])
+    np.multiply(0.5, np.log(np.maximum(mag_var, 1e-12)), out=out[9])
+    np.divide(Fw[0, 0], tot, out=out[10])
+    np.divide(_largest_eigenvalue(cw), tot, out=out[11])
+    np.divide(w_main, tot, out=out[12])
+    return out.T
 
 
 def _largest_eigenvalue(S: np.ndarray) -> np.ndarray:
@@ -661,6 +667,49 @@ def _subsample_dirs(g: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     return g
 
 
+#: The BLAS libraries whose thread count the batch check limits (threadpoolctl controllers), found at its first call.
+_BLAS_LIBS: list | None = None
+_BLAS_LOCK = threading.Lock()
+_BLAS_STATE = {"depth": 0, "saved": []}
+
+
+@contextlib.contextmanager
+def one_blas_thread():
+    """Run the block with one BLAS thread (restored after; nested and concurrent uses restore once, at the last exit).
+
+    The batch check's matrix products are small (the largest, the feature distance of a
+    10-minute recording, about 10 million multiply-adds per block): a second BLAS thread
+    saves about a millisecond on an idle machine, but when the other core is busy the
+    product waits for it, and OpenBLAS's threads spin meanwhile: the same products then
+    took 15-60 ms instead of 3-4 ms (``experiments/reports/model-domain.md``, "The cost,
+    third follow-up"). One thread keeps the check's cost what its arithmetic costs,
+    loaded or not. The first call finds the BLAS libraries (threadpoolctl, a dependency
+    of scikit-learn; about 20 ms once); without threadpoolctl the block runs unchanged.
+    """
+    global _BLAS_LIBS
+    if _BLAS_LIBS is None:
+        try:
+            from threadpoolctl import ThreadpoolController
+
+            _BLAS_LIBS = [lib for lib in ThreadpoolController().lib_controllers if lib.user_api == "blas"]
+        except ImportError:  # no threadpoolctl: leave the threads alone
+            _BLAS_LIBS = []
+    with _BLAS_LOCK:
+        if _BLAS_STATE["depth"] == 0:
+            _BLAS_STATE["saved"] = [lib.get_num_threads() for lib in _BLAS_LIBS]
+            for lib in _BLAS_LIBS:
+                lib.set_num_threads(1)
+        _BLAS_STATE["depth"] += 1
+    try:
+        yield
+    finally:
+        with _BLAS_LOCK:
+            _BLAS_STATE["depth"] -= 1
+            if _BLAS_STATE["depth"] == 0:
+                for lib, k in zip(_BLAS_LIBS, _BLAS_STATE["saved"], strict=True):
+                    lib.set_num_threads(k)
+
+
 @dataclasses.dataclass
 class DomainModel:
     """The training domain of a model (see the module docstring).
@@ -890,8 +939,8 @@ class DomainModel:
         """:meth:`_stacked_distances` of raw finite rows ``X`` without the products with the factors' zeros (batch rows), or None.
 
         The same quadratic forms, grouped per column block (about
-        :data:`_DISTANCE_BLOCK_COLUMNS` columns): 62 % of the multiplications with the 104
-        features of ``all52+gyro`` (4 blocks), 75 % with 52 (2 blocks), each block one
+        :data:`_DISTANCE_BLOCK_COLUMNS` columns): 56 % of the multiplications with the 104
+        features of ``all52+gyro`` (8 blocks), 62 % with 52 (4 blocks), each block one
         matrix product that also standardises and subtracts the class offsets
         (:meth:`_factor_blocks`). Equal to the one product up to rounding (the sums in
         another order, the centre subtracted inside the product: relative differences of
@@ -1006,6 +1055,11 @@ class DomainModel:
             one = self._check_one(X, gravity)
             if one is not None:
                 return one
+        with one_blas_thread():  # the products of a batch: one BLAS thread (see one_blas_thread)
+            return self._check_batch(X, gravity, dynamics)
+
+    def _check_batch(self, X: np.ndarray, gravity, dynamics) -> dict[str, np.ndarray]:
+        """:meth:`check` of any number of windows (the general path)."""
         d = self.distances(X)
         ok = d <= self.distance_threshold
         dyn = np.full(len(d), np.nan)

@@ -108,7 +108,7 @@ def test_blocked_distances_equal_the_one_product_and_the_per_window_reference(gy
         np.testing.assert_allclose(d[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-9)
     assert np.isinf(d[[7, 11]]).all() and fin.sum() == len(X) - 2
     blocks = dom._factor_blocks()
-    assert len(blocks) == 4 and [b[0] for b in blocks] == [0, 26, 52, 78] and blocks[0][2].shape == (5 * 26, 105)
+    assert [b[0] for b in blocks] == list(range(0, 104, 13)) and blocks[0][2].shape == (5 * 13, 105) and blocks[-1][2].shape == (5 * 13, 14)
     # a sum that overflows in the blocks: the one product answers, as before
     huge = np.where(np.arange(X.shape[1]) == 5, 1e250, X[100:200])
     with np.errstate(over="ignore", invalid="ignore"):
@@ -185,3 +185,51 @@ def test_running_median_of_one_recording_without_nan_is_the_span_loop(span):
     d = rng.gamma(2.0, 2.0, 3 * span + 7)
     d[span // 2] = np.nan  # a NaN: the general path, still the nanmedian of each span
     np.testing.assert_array_equal(running_median(d, span), span_median_loop(d, span))
+
+
+def test_descriptors_of_tiling_windows_equal_the_gathered_samples(walker):
+    """The check's grid (windows tiling the kept samples: one slice per signal) gives the descriptors of the general gather, bit for bit."""
+    fs = walker.sampling_rate_hz
+    starts = np.arange(0, len(walker.acc) - 75, 76)  # every second 1.5 s window at 50 Hz: 38 kept samples each, back to back
+    tiled = orientation_dynamics(walker.acc, walker.gyr, starts, starts + 75, fs)
+    odd = np.r_[starts, 1]  # one window off the grid: the samples are gathered by index
+    np.testing.assert_array_equal(tiled, orientation_dynamics(walker.acc, walker.gyr, odd, odd + 75, fs)[:-1])
+    # one window alone (its slice): the same up to the last bit of a BLAS sum of another length
+    np.testing.assert_allclose(
+        tiled[3:4], orientation_dynamics(walker.acc, walker.gyr, starts[3:4], starts[3:4] + 75, fs), rtol=1e-12, atol=1e-15
+    )
+    assert np.isfinite(tiled).all() and tiled.shape == (len(starts), 13)
+
+
+def test_the_batch_check_runs_on_one_blas_thread_and_restores_the_count(gyro_model, walker):
+    """The batch check's products run with one BLAS thread; the caller's thread count is back afterwards, also after an error."""
+    from threadpoolctl import threadpool_info
+
+    from gaitml.errors import ModelError
+    from gaitml.models import domain as D
+
+    def counts():
+        return [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+
+    before = counts()
+    seen = []
+    real = D.DomainModel.distances
+
+    def spy(self, X):
+        seen.append(counts())
+        return real(self, X)
+
+    w = _windows_for(walker, gyro_model.length_s, gyro_model.overlap)
+    X = model_inputs(gyro_model, walker, w)
+    try:
+        D.DomainModel.distances = spy
+        gyro_model.domain.check(X, feature_gravity(X, gyro_model.domain.feature_names))
+        with pytest.raises(ModelError, match="gravity"):
+            gyro_model.domain.check(X, None)  # an error inside: the count is restored all the same
+        with D.one_blas_thread(), D.one_blas_thread():  # nested: restored once, at the outer exit
+            assert set(counts()) <= {1}
+        assert counts() == before
+    finally:
+        D.DomainModel.distances = real
+    assert seen and all(set(c) <= {1} for c in seen)
+    assert counts() == before

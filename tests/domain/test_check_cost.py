@@ -82,7 +82,8 @@ def test_predict_flags_equal_the_previous_computation(gyro_model, walker, case):
     ref = _before(gyro_model, rec)
     assert len(t) > 2 * _BLOCKED_MIN_ROWS  # the batch (column-block) path
     np.testing.assert_array_equal(t["in_domain"].astype(bool).to_numpy(), ref["in_domain"])
-    np.testing.assert_allclose(t["domain_distance"].to_numpy(float), ref["domain_distance"], rtol=1e-12)
+    # float32 distances (about 1e-7 relative), float64 where a window lies near the threshold: the flags are equal above
+    np.testing.assert_allclose(t["domain_distance"].to_numpy(float), ref["domain_distance"], rtol=1e-6)
     # arccos near 0 magnifies the last bit of a cosine: absolute 1e-9 deg (thresholds are degrees)
     np.testing.assert_allclose(t["gravity_angle_deg"].to_numpy(float), ref["gravity_angle_deg"], rtol=0, atol=1e-9)
     np.testing.assert_allclose(t["dynamics_distance"].to_numpy(float), ref["dynamics_distance"], rtol=1e-12)  # standardised in the product
@@ -104,8 +105,13 @@ def test_blocked_distances_equal_the_one_product_and_the_per_window_reference(gy
         before = stacked_distances(dom, X[:n])
         np.testing.assert_array_equal(np.isinf(d), np.isinf(before))
         fin = np.isfinite(before)
-        np.testing.assert_allclose(d[fin], before[fin], rtol=1e-12)
-        np.testing.assert_allclose(d[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-9)
+        # float32 from 64 rows on (float64 near the threshold): the flags of the float64 distances, the numbers to 1e-6
+        np.testing.assert_allclose(d[fin], before[fin], rtol=1e-12 if n < _BLOCKED_MIN_ROWS else 1e-6)
+        np.testing.assert_array_equal(d <= dom.distance_threshold, before <= dom.distance_threshold)
+        np.testing.assert_allclose(d[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-6)
+        Xf = np.where(np.isfinite(X[:n]), X[:n], 0.0)
+        np.testing.assert_allclose(dom._blocked_distances(Xf)[fin], before[fin], rtol=1e-12)  # the float64 blocks
+        np.testing.assert_allclose(dom._blocked_distances(Xf)[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-9)
     assert np.isinf(d[[7, 11]]).all() and fin.sum() == len(X) - 2
     blocks = dom._factor_blocks()
     assert [b[0] for b in blocks] == list(range(0, 104, 13)) and blocks[0][2].shape == (5 * 13, 105) and blocks[-1][2].shape == (5 * 13, 14)
@@ -233,3 +239,24 @@ def test_the_batch_check_runs_on_one_blas_thread_and_restores_the_count(gyro_mod
         D.DomainModel.distances = real
     assert seen and all(set(c) <= {1} for c in seen)
     assert counts() == before
+
+
+def test_float32_distances_give_the_float64_flags_at_any_threshold(gyro_model, walker):
+    """Thresholds placed on the windows' own distances: every flag equals the float64 one; the windows near it get float64 numbers."""
+    dom = gyro_model.domain
+    w = _windows_for(walker, gyro_model.length_s, gyro_model.overlap)
+    X = model_inputs(gyro_model, walker, w)
+    exact = dom._blocked_distances(X)  # float64
+    far = dom.distances(X)
+    np.testing.assert_allclose(far, exact, rtol=1e-6)
+    assert np.abs(far / exact - 1).max() > 1e-12  # the float32 products do answer away from the threshold
+    picks = np.argsort(exact)[[0, len(X) // 4, len(X) // 2, 3 * len(X) // 4, -1]]
+    for i in picks:
+        # thresholds 1e-12 .. 1e-7 from a window's distance: far above float64 rounding (about 1e-16; a product of
+        # another number of rows can move a distance by an ulp, as the one-window path does), far below float32's
+        for thr in exact[i] * np.array([1 - 1e-7, 1 - 1e-12, 1 + 1e-12, 1 + 1e-7]):
+            at = dataclasses.replace(dom, distance_threshold=float(thr))
+            d = at.distances(X)
+            np.testing.assert_array_equal(d <= thr, exact <= thr, err_msg=f"threshold {thr!r} at window {i}")
+            assert abs(d[i] / exact[i] - 1) < 1e-14  # near the threshold: recomputed in float64
+            np.testing.assert_array_equal(at.check(X, feature_gravity(X, dom.feature_names))["distance"] <= thr, exact <= thr)

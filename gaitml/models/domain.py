@@ -877,7 +877,13 @@ class DomainModel:
         return cache
 
     def distances(self, X) -> np.ndarray:
-        """Feature distance of every row of ``X`` (raw feature units, columns ``feature_names``)."""
+        """Feature distance of every row of ``X`` (raw feature units, columns ``feature_names``).
+
+        From :data:`_BLOCKED_MIN_ROWS` rows on, the distances are float32-accurate (about
+        1e-7 relative) except within a rounding-error bound of ``distance_threshold``,
+        where they are float64: ``distance <= distance_threshold`` is the float64 decision
+        on every row (:meth:`_certified_distances`). Fewer rows (a stream's one window): float64.
+        """
         X = np.asarray(X, dtype=float)
         if X.ndim != 2 or X.shape[1] != len(self.feature_names):
             raise ModelError(f"the domain check takes {len(self.feature_names)} features, got shape {X.shape}; retrain the model.")

@@ -153,7 +153,26 @@ def _best_interleaved(ours, reference, reps: int) -> tuple[float, float]:
 
 
 def _domain_rows(quick: bool) -> list[dict]:
-    """``predict-domain-check``, ``predict-domain-check-gyro`` and ``stream-domain-check-per-window`` (see the module docstring)."""
+    """``predict-domain-check``, ``predict-domain-check-gyro`` and ``stream-domain-check-per-window`` (see the module docstring).
+
+    Both sides of every row run with one BLAS thread. On this 2-core machine shared with other jobs, OpenBLAS's
+    second thread waits for the busy core and its threads spin meanwhile: a whole process then slows down for
+    stretches of seconds, the reference ``predict`` from 40 to 80 ms and the check's products from 5 to 70 ms
+    (``experiments/reports/model-domain.md``, "The cost, third follow-up"), so the ratio measured which side
+    hit such a stretch. The check itself runs its products on one BLAS thread
+    (:func:`gaitml.models.domain.one_blas_thread`); the reference's BLAS calls (the SVM's one product) are small.
+    """
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        rows = _domain_rows_one_thread(quick)
+    for r in rows:
+        r["note"] += "; one BLAS thread"
+    return rows
+
+
+def _domain_rows_one_thread(quick: bool) -> list[dict]:
+    """The rows of :func:`_domain_rows`, timed with whatever BLAS threads the caller set."""
     import dataclasses
     import tempfile
 
@@ -163,8 +182,13 @@ def _domain_rows(quick: bool) -> list[dict]:
     with tempfile.TemporaryDirectory() as tmp:
         model = _domain_model(quick, Path(tmp) / "model")
     rec = simulate_dataset(n_subjects=1, duration_s=600.0 if quick else 1800.0, seed=11, sampling_rate_hz=FS_HZ)[0]
-    # interleaved repeats, best of each: a loaded machine's noise hits both alike
+    # interleaved repeats, best of each: a loaded machine's noise hits both alike. A batch call takes about 40 ms,
+    # so its rows take 15 (21) pairs: on a machine shared with other jobs five pairs often held no undisturbed run
+    # of one side and the cost swung by 10-50 points between runs (experiments/reports/model-domain.md, "The cost,
+    # third follow-up"); the streaming loop (0.5 s a run at 600 s) takes 9 pairs (best of five swung by about 6 points)
     reps = 5 if quick else 7
+    batch_reps = 3 * reps
+    stream_reps = 9
     n = len(predict_recording(model, rec))
 
     def batch_row(name: str, m, what: str) -> dict:
@@ -172,7 +196,7 @@ def _domain_rows(quick: bool) -> list[dict]:
         bare_m = dataclasses.replace(m, domain=None)
         predict_recording(m, rec.slice(0, 500))  # warm-up (caches, imports)
         predict_recording(bare_m, rec.slice(0, 500))
-        t, tr = _best_interleaved(lambda: predict_recording(m, rec), lambda: predict_recording(bare_m, rec), reps)
+        t, tr = _best_interleaved(lambda: predict_recording(m, rec), lambda: predict_recording(bare_m, rec), batch_reps)
         return {
             "area": "models",
             "name": name,
@@ -182,7 +206,7 @@ def _domain_rows(quick: bool) -> list[dict]:
             "throughput_per_s": n / t,
             "reference_seconds": tr,
             "ratio": tr / t,
-            "note": f"{what}, {rec.duration_s:g} s recording, best of {reps}; reference: the same model without its domain record "
+            "note": f"{what}, {rec.duration_s:g} s recording, best of {batch_reps} interleaved; reference: the same model without its domain record "
             f"(no check); check costs {100 * (t / tr - 1):+.1f} % (target <= 20 %)",
         }
 
@@ -200,7 +224,7 @@ def _domain_rows(quick: bool) -> list[dict]:
     )
     _stream_domain_loop(rec.slice(0, 500), model, True)  # warm-up
     ns = _stream_domain_loop(rec, model, False)[1]
-    ts, tsr = _best_interleaved(lambda: _stream_domain_loop(rec, model, True), lambda: _stream_domain_loop(rec, model, False), reps)
+    ts, tsr = _best_interleaved(lambda: _stream_domain_loop(rec, model, True), lambda: _stream_domain_loop(rec, model, False), stream_reps)
     out.append(
         {
             "area": "models",
@@ -212,7 +236,7 @@ def _domain_rows(quick: bool) -> list[dict]:
             "reference_seconds": tsr,
             "ratio": tsr / ts,
             "note": f"{1000 * ts / ns:.3f} ms per window: streaming features of one hop + LinearOVOSVM.predict + domain check of the window "
-            f"(features + gravity) + correction, best of {reps}; reference: the same loop without the check ({1000 * tsr / ns:.3f} ms); "
+            f"(features + gravity) + correction, best of {stream_reps} interleaved; reference: the same loop without the check ({1000 * tsr / ns:.3f} ms); "
             f"check costs {100 * (ts / tsr - 1):+.1f} % (target <= 20 %)",
         }
     )

@@ -69,8 +69,10 @@ training data, not *why*.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
+import threading
 from typing import Any
 
 import numpy as np
@@ -116,7 +118,7 @@ NO_DOMAIN_WARNING = (
 _ARRAYS = ("center", "scale", "class_means", "class_precisions", "gravity_dirs", "feature_lo", "feature_hi")
 #: The batch feature distance (:meth:`DomainModel.distances` of at least ``_BLOCKED_MIN_ROWS`` rows) multiplies by the
 #: Cholesky factors in column blocks of about this many columns, skipping the zeros above their diagonal.
-_DISTANCE_BLOCK_COLUMNS = 26
+_DISTANCE_BLOCK_COLUMNS = 13  # 8 blocks of 104 features: 56 % of the full product's multiplications (4 blocks: 62 %, 0.3 ms slower)
 #: Fewer rows (a stream's one window) take one product with the whole stacked factors: fewer calls.
 _BLOCKED_MIN_ROWS = 64
 #: The arrays of the optional orientation-dynamics part.
@@ -204,12 +206,13 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     out = np.full((len(j0), len(DYNAMICS_NAMES)), np.nan)
     chunk = max(1, int(round(DYNAMICS_CHUNK_S * float(sampling_rate_hz) / step)))
     rows = np.flatnonzero(j1 - j0 >= 2)
-    for b in range(0, len(rows), _DYNAMICS_BATCH):  # bounded memory for long recordings (training on every window)
-        r = rows[b : b + _DYNAMICS_BATCH]
-        if len(r) == len(out):
-            out[:] = _dynamics_of_spans(acc, gyr, j0, j1, step, chunk)
-        else:
-            out[r] = _dynamics_of_spans(acc, gyr, j0[r], j1[r], step, chunk)
+    with one_blas_thread():  # its matrix-vector products: one BLAS thread (see one_blas_thread)
+        for b in range(0, len(rows), _DYNAMICS_BATCH):  # bounded memory for long recordings (training on every window)
+            r = rows[b : b + _DYNAMICS_BATCH]
+            if len(r) == len(out):
+                out[:] = _dynamics_of_spans(acc, gyr, j0, j1, step, chunk)
+            else:
+                out[r] = _dynamics_of_spans(acc, gyr, j0[r], j1[r], step, chunk)
     return out
 
 
@@ -232,6 +235,11 @@ def _window_block(acc: np.ndarray, gyr: np.ndarray, j0: np.ndarray, width: int, 
     S = np.empty((6, k, width))
     gap = int(j0[1] - j0[0]) if k > 1 else 0
     if j0[0] >= 0 and int(j0[-1]) + width - 1 <= last and gap >= 0 and (k < 3 or (np.diff(j0) == gap).all()):
+        if gap == width or k == 1:  # windows that tile the kept samples (the check's grid): one slice of each signal
+            a = int(j0[0]) * step
+            for sig, rows in ((acc, S[:3]), (gyr, S[3:])):
+                rows[...] = sig[a : a + k * width * step : step].T.reshape(3, k, width)
+            return S
         for sig, rows in ((acc, S[:3]), (gyr, S[3:])):
             s0, s1 = sig.strides
             rows[...] = np.lib.stride_tricks.as_strided(
@@ -326,23 +334,21 @@ def _dynamics_of_spans(acc: np.ndarray, gyr: np.ndarray, j0: np.ndarray, j1: np.
     ang = np.degrees(np.arccos(np.clip(cosang, -1.0, 1.0)))
     if not (nch == nc).all():
         ang *= np.arange(nc)[None, :] < nch[:, None]  # angles are >= 0: 0 changes neither the sum nor the max
-    return np.column_stack(
-        [
-            ang.sum(axis=1) / nch,
-            np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9)),
-            np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * lam1, 1e-12))),
-            np.maximum(lam2, 0.0) / np.maximum(lam1, 1e-12),
-            0.5 * np.log(np.maximum(var_v, 1e-12)),
-            0.5 * np.log(np.maximum(var_h, 1e-12)),
-            ang.max(axis=1),
-            third / np.maximum(var_v, 1e-12) ** 1.5,
-            np.log(np.maximum(mag_mean, 1e-6)),
-            0.5 * np.log(np.maximum(mag_var, 1e-12)),
-            Fw[0, 0] / tot,
-            _largest_eigenvalue(cw) / tot,
-            w_main / tot,
-        ]
-    )
+    out = np.empty((len(DYNAMICS_NAMES), k))  # rows filled in place, one transposed view returned (no column_stack copy)
+    np.divide(ang.sum(axis=1), nch, out=out[0])
+    np.log(np.maximum(var_v, 1e-9) / np.maximum(var_h, 1e-9), out=out[1])
+    np.abs(cov_vh1 / np.sqrt(np.maximum(var_v * lam1, 1e-12)), out=out[2])
+    np.divide(np.maximum(lam2, 0.0), np.maximum(lam1, 1e-12), out=out[3])
+    np.multiply(0.5, np.log(np.maximum(var_v, 1e-12)), out=out[4])
+    np.multiply(0.5, np.log(np.maximum(var_h, 1e-12)), out=out[5])
+    np.max(ang, axis=1, out=out[6])
+    np.divide(third, np.maximum(var_v, 1e-12) ** 1.5, out=out[7])
+    np.log(np.maximum(mag_mean, 1e-6), out=out[8])
+    np.multiply(0.5, np.log(np.maximum(mag_var, 1e-12)), out=out[9])
+    np.divide(Fw[0, 0], tot, out=out[10])
+    np.divide(_largest_eigenvalue(cw), tot, out=out[11])
+    np.divide(w_main, tot, out=out[12])
+    return out.T
 
 
 def _largest_eigenvalue(S: np.ndarray) -> np.ndarray:
@@ -395,6 +401,8 @@ def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
     d = np.asarray(d, dtype=float).reshape(-1)
     n = len(d)
     span = max(1, int(span))
+    if sequence is None and n and not np.isnan(np.add.reduce(d)):  # one recording without NaN (what the check gives)
+        return _running_median_finite(d, span)
     if sequence is None:
         order, first = None, np.zeros(n, dtype=np.int64)
         values = d
@@ -415,6 +423,27 @@ def running_median(d, span: int = DYNAMICS_SPAN, sequence=None) -> np.ndarray:
     out = np.empty(n)
     out[order] = med
     return out
+
+
+def _running_median_finite(d: np.ndarray, span: int) -> np.ndarray:
+    """:func:`running_median` of one sequence without NaN values (an inf is a value), the same numbers bit for bit.
+
+    Each span is a row of one strided view of the values after ``span - 1`` NaN (the
+    missing values before the start), sorted (NaN last); the first ``span - 1`` rows hold
+    ``i + 1`` values, every later row ``span``: no NaN count, no index arithmetic per span
+    entry. The median is then picked as in :func:`running_median`.
+    """
+    n = len(d)
+    pad = np.empty(n + span - 1)
+    pad[: span - 1] = np.nan
+    pad[span - 1 :] = d
+    win = np.sort(np.lib.stride_tricks.as_strided(pad, (n, span), (pad.strides[0], pad.strides[0]), writeable=False), axis=1)
+    c = np.arange(1, n + 1)
+    np.minimum(c, span, out=c)  # values in each span
+    rows = np.arange(n)
+    lo = win[rows, (c - 1) // 2]
+    hi = win[rows, c // 2]
+    return np.where(c % 2 == 1, lo, 0.5 * (lo + hi))  # odd: the middle value; even: the mean of the middle two
 
 
 def span_medians(d, span: int = DYNAMICS_SPAN, every: int = 1, sequence=None, phase: int = 0) -> np.ndarray:
@@ -641,6 +670,49 @@ def _subsample_dirs(g: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     return g
 
 
+#: The BLAS libraries whose thread count the batch check limits (threadpoolctl controllers), found at its first call.
+_BLAS_LIBS: list | None = None
+_BLAS_LOCK = threading.Lock()
+_BLAS_STATE = {"depth": 0, "saved": []}
+
+
+@contextlib.contextmanager
+def one_blas_thread():
+    """Run the block with one BLAS thread (restored after; nested and concurrent uses restore once, at the last exit).
+
+    The batch check's matrix products are small (the largest, the feature distance of a
+    10-minute recording, about 10 million multiply-adds per block): a second BLAS thread
+    saves about a millisecond on an idle machine, but when the other core is busy the
+    product waits for it, and OpenBLAS's threads spin meanwhile: the same products then
+    took 15-60 ms instead of 3-4 ms (``experiments/reports/model-domain.md``, "The cost,
+    third follow-up"). One thread keeps the check's cost what its arithmetic costs,
+    loaded or not. The first call finds the BLAS libraries (threadpoolctl, a dependency
+    of scikit-learn; about 20 ms once); without threadpoolctl the block runs unchanged.
+    """
+    global _BLAS_LIBS
+    if _BLAS_LIBS is None:
+        try:
+            from threadpoolctl import ThreadpoolController
+
+            _BLAS_LIBS = [lib for lib in ThreadpoolController().lib_controllers if lib.user_api == "blas"]
+        except ImportError:  # no threadpoolctl: leave the threads alone
+            _BLAS_LIBS = []
+    with _BLAS_LOCK:
+        if _BLAS_STATE["depth"] == 0:
+            _BLAS_STATE["saved"] = [lib.get_num_threads() for lib in _BLAS_LIBS]
+            for lib in _BLAS_LIBS:
+                lib.set_num_threads(1)
+        _BLAS_STATE["depth"] += 1
+    try:
+        yield
+    finally:
+        with _BLAS_LOCK:
+            _BLAS_STATE["depth"] -= 1
+            if _BLAS_STATE["depth"] == 0:
+                for lib, k in zip(_BLAS_LIBS, _BLAS_STATE["saved"], strict=True):
+                    lib.set_num_threads(k)
+
+
 @dataclasses.dataclass
 class DomainModel:
     """The training domain of a model (see the module docstring).
@@ -808,7 +880,13 @@ class DomainModel:
         return cache
 
     def distances(self, X) -> np.ndarray:
-        """Feature distance of every row of ``X`` (raw feature units, columns ``feature_names``)."""
+        """Feature distance of every row of ``X`` (raw feature units, columns ``feature_names``).
+
+        From :data:`_BLOCKED_MIN_ROWS` rows on, the distances are float32-accurate (about
+        1e-7 relative) except within a rounding-error bound of ``distance_threshold``,
+        where they are float64: ``distance <= distance_threshold`` is the float64 decision
+        on every row (:meth:`_certified_distances`). Fewer rows (a stream's one window): float64.
+        """
         X = np.asarray(X, dtype=float)
         if X.ndim != 2 or X.shape[1] != len(self.feature_names):
             raise ModelError(f"the domain check takes {len(self.feature_names)} features, got shape {X.shape}; retrain the model.")
@@ -819,10 +897,10 @@ class DomainModel:
         # plain array operations (no nan_to_num, no einsum): a one-window call (streaming) costs tens of
         # microseconds, not hundreds (benchmarks/models.py stream-domain-check-per-window); rows with a
         # non-finite feature are out of domain (distance inf) whatever their other features
-        Z = ((X if all_finite else np.where(np.isfinite(X), X, 0.0)) - self.arrays["center"]) / self.arrays["scale"]
-        d = self._blocked_distances(Z) if len(Z) >= _BLOCKED_MIN_ROWS else None
+        Xf = X if all_finite else np.where(np.isfinite(X), X, 0.0)
+        d = self._certified_distances(Xf) if len(X) >= _BLOCKED_MIN_ROWS else None  # float32, exact where a flag is at stake
         if d is None:
-            d = self._stacked_distances(Z)
+            d = self._stacked_distances((Xf - self.arrays["center"]) / self.arrays["scale"])
         if not all_finite:
             d[~finite] = np.inf
         return d
@@ -836,14 +914,18 @@ class DomainModel:
             Y *= Y
             return np.sqrt(Y.reshape(len(Z), -1, Z.shape[1]).sum(axis=2).min(axis=1))
 
-    def _factor_blocks(self) -> list[tuple[int, int, np.ndarray, np.ndarray]]:
-        """The stacked factors of :meth:`_factors` cut into column blocks without their zero rows, cached.
+    def _factor_blocks(self) -> list[tuple[int, int, np.ndarray]]:
+        """The stacked factors of :meth:`_factors` cut into column blocks without their zero rows, with the standardisation folded in; cached.
 
-        ``L_c`` is lower triangular: its columns ``[j0, j1)`` are zero above row ``j0``. Per
-        block ``(j0, j1, F^T, o)``: ``F`` (p - j0, c (j1 - j0)) holds rows ``j0:`` of those
-        columns of every class, ``o`` (c (j1 - j0), 1) the matching entries of the offset
-        ``m_c L_c``. Kept transposed: the products are taken as ``F^T Z^T`` (windows last),
-        which measured 15-20 % faster than ``Z F`` with two BLAS threads.
+        ``L_c`` is lower triangular: its columns ``[j0, j1)`` are zero above row ``j0``. With
+        ``F`` (p - j0, c (j1 - j0)) the rows ``j0:`` of those columns of every class and ``o``
+        the matching entries of the offsets ``m_c L_c``, the block's entries of ``z L - m L``
+        for a raw feature row ``x`` (``z = (x - center) / scale``) are ``x A`` with the
+        augmented ``x = [x_j0.., 1]`` and ``A = [F / scale; -(o + (center / scale) F)]``
+        (p - j0 + 1, c (j1 - j0)): the standardisation and the offset are taken inside the one
+        product instead of two more passes over the (windows x features) and (windows x
+        c p) arrays. Per block ``(j0, j1, A^T)``; kept transposed: the products are taken as
+        ``A^T X^T`` (windows last), which measured 15-20 % faster than ``X A`` with two BLAS threads.
         """
         cache = self.__dict__.get("_block_cache")
         if cache is None:
@@ -851,37 +933,113 @@ class DomainModel:
             p = len(self.feature_names)
             c = len(offset) // p
             per_class = stacked.reshape(p, c, p)  # [row, class, column]
+            center, scale = self.arrays["center"], self.arrays["scale"]
             edges = np.linspace(0, p, max(1, round(p / _DISTANCE_BLOCK_COLUMNS)) + 1).round().astype(int)
             cache = []
             for j0, j1 in zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True):
                 F = per_class[j0:, :, j0:j1].reshape(p - j0, c * (j1 - j0))
-                o = offset.reshape(c, p)[:, j0:j1].reshape(-1, 1)
-                cache.append((j0, j1, np.ascontiguousarray(F.T), np.ascontiguousarray(o)))
+                o = offset.reshape(c, p)[:, j0:j1].reshape(-1)
+                A = np.concatenate([F / scale[j0:, None], -(o + (center[j0:] / scale[j0:]) @ F)[None, :]], axis=0)
+                cache.append((j0, j1, np.ascontiguousarray(A.T)))
             object.__setattr__(self, "_block_cache", cache)
         return cache
 
-    def _blocked_distances(self, Z: np.ndarray) -> np.ndarray | None:
-        """:meth:`_stacked_distances` without the products with the factors' zeros (batch rows), or None.
+    def _float32_blocks(self) -> tuple[list[tuple[int, int, np.ndarray]], float]:
+        """The column blocks of :meth:`_factor_blocks` in float32 on standardised rows, and the error scale; cached.
 
-        The same sums of the same nonzero products, grouped per column block (about
-        :data:`_DISTANCE_BLOCK_COLUMNS` columns): 62 % of the multiplications with the 104
-        features of ``all52+gyro`` (4 blocks), 75 % with 52 (2 blocks). Equal to the one
-        product up to the order of the additions (relative differences of about 1e-16;
-        ``tests/domain/test_check_cost.py``). One matrix product per block and plain sums:
-        every multi-threaded BLAS call can wait for a core on a loaded machine, so the
-        squares are not summed with a matrix-vector product. None when a distance is not
-        finite (an input so large that a sum overflows): the caller then takes the one
-        product, as before.
+        Per block ``(j0, j1, B^T)`` with ``B = [F; -o]`` (p - j0 + 1, c (j1 - j0)) in float32
+        (``F``, ``o`` as in :meth:`_factor_blocks`, not folded with the standardisation: the
+        rows are standardised in float64 first, which keeps the float32 products' error
+        small), and ``max_c ||[L_c; -m_c L_c]||_F``, the largest Frobenius norm of a class's
+        augmented factor, which bounds that error (:meth:`_certified_distances`).
         """
-        n = len(Z)
+        cache = self.__dict__.get("_f32_cache")
+        if cache is None:
+            stacked, offset = self._factors()
+            p = len(self.feature_names)
+            c = len(offset) // p
+            per_class = stacked.reshape(p, c, p)
+            edges = np.linspace(0, p, max(1, round(p / _DISTANCE_BLOCK_COLUMNS)) + 1).round().astype(int)
+            blocks = []
+            for j0, j1 in zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True):
+                F = per_class[j0:, :, j0:j1].reshape(p - j0, c * (j1 - j0))
+                o = offset.reshape(c, p)[:, j0:j1].reshape(-1)
+                blocks.append((j0, j1, np.ascontiguousarray(np.concatenate([F, -o[None, :]], axis=0).T, dtype=np.float32)))
+            norm = float(np.sqrt(np.max((per_class * per_class).sum(axis=(0, 2)) + (offset.reshape(c, p) ** 2).sum(axis=1))))
+            cache = (blocks, norm)
+            object.__setattr__(self, "_f32_cache", cache)
+        return cache
+
+    def _certified_distances(self, X: np.ndarray) -> np.ndarray | None:
+        """Feature distances of raw finite rows ``X`` in float32, recomputed in float64 wherever the flag could differ; or None.
+
+        The column-block products of :meth:`_blocked_distances` taken in float32 on the
+        rows standardised in float64 (about 60 % of the time of the float64 products). A
+        float32 distance ``d~`` differs from the exact one by at most
+        ``eps = 2 (gamma + 2u) (N ||z_aug|| + d~)`` with ``u = 2^-24``, ``gamma = (p + 3) u /
+        (1 - (p + 3) u)`` (Higham's bound for a sum of ``p + 1`` products), ``N`` the
+        largest Frobenius norm of a class's augmented factor (:meth:`_float32_blocks`) and
+        ``z_aug = [z, 1]``: the rounding of the inputs, of every product's sums (entry by
+        entry at most ``gamma |B|^T |z_aug|``, whose norm Cauchy-Schwarz bounds by
+        ``N ||z_aug||``) and of the sum of the squares, with a factor 2 to spare. Every
+        window whose ``d~`` lies within its ``eps`` of the distance threshold (or is not
+        finite) is recomputed in float64 (:meth:`_blocked_distances`): the flags
+        ``distance <= threshold`` are those of the float64 distances, by construction. The
+        distances themselves are float32-accurate (about 1e-7 relative, 3e-7 measured:
+        ``tests/domain/test_check_cost.py``), those near the threshold float64 (the bound is
+        about 0.015 for distances of 3-10: none of the 788 windows of the benchmark recording).
+        None when the float64 recomputation overflows (the caller takes the one product).
+        """
+        n, p = X.shape
+        blocks, norm = self._float32_blocks()
+        c = len(blocks[0][2]) // (blocks[0][1] - blocks[0][0])
+        Z = (X - self.arrays["center"]) / self.arrays["scale"]
+        ZT = np.empty((p + 1, n), dtype=np.float32)  # standardised features x windows and a row of ones (the offsets)
+        ZT[:p] = Z.T
+        ZT[p] = 1.0
+        sq = np.zeros((c, n), dtype=np.float32)
+        with np.errstate(invalid="ignore", over="ignore"):
+            for j0, j1, BT in blocks:
+                Y = BT @ ZT[j0:]
+                Y *= Y
+                sq += Y.reshape(c, j1 - j0, n).sum(axis=1)
+            d = np.sqrt(sq.min(axis=0), dtype=float)
+            u = 2.0**-24
+            gamma = (p + 3) * u / (1.0 - (p + 3) * u)
+            eps = 2.0 * (gamma + 2.0 * u) * (norm * np.sqrt(np.add.reduce(Z * Z, axis=1) + 1.0) + d)
+            exact = ~(np.abs(d - self.distance_threshold) > eps)  # near the threshold, or not finite (NaN compares False)
+        if exact.any():
+            d64 = self._blocked_distances(X[exact])
+            if d64 is None:
+                return None
+            d[exact] = d64
+        return d
+
+    def _blocked_distances(self, X: np.ndarray) -> np.ndarray | None:
+        """:meth:`_stacked_distances` of raw finite rows ``X`` without the products with the factors' zeros (batch rows), or None.
+
+        The same quadratic forms, grouped per column block (about
+        :data:`_DISTANCE_BLOCK_COLUMNS` columns): 56 % of the multiplications with the 104
+        features of ``all52+gyro`` (8 blocks), 62 % with 52 (4 blocks), each block one
+        matrix product that also standardises and subtracts the class offsets
+        (:meth:`_factor_blocks`). Equal to the one product up to rounding (the sums in
+        another order, the centre subtracted inside the product: relative differences of
+        about 1e-14; ``tests/domain/test_check_cost.py``). Plain sums of the squares:
+        every multi-threaded BLAS call can wait for a core on a loaded machine, so they
+        are not summed with a matrix-vector product. None when a distance is not finite
+        (an input so large that a sum overflows): the caller then takes the one product,
+        as before.
+        """
+        n, p = X.shape
         blocks = self._factor_blocks()
-        c = len(blocks[0][3]) // (blocks[0][1] - blocks[0][0])
-        ZT = np.ascontiguousarray(Z.T)  # features x windows: the blocks' rows are slices of it
+        c = len(blocks[0][2]) // (blocks[0][1] - blocks[0][0])
+        XT = np.empty((p + 1, n))  # features x windows and a row of ones (the offsets): the blocks' rows are slices of it
+        XT[:p] = X.T
+        XT[p] = 1.0
         sq = np.zeros((c, n))
         with np.errstate(invalid="ignore", over="ignore"):
-            for j0, j1, FT, oT in blocks:
-                Y = FT @ ZT[j0:]  # (c (j1 - j0), n): the block's columns of every class, transposed
-                Y -= oT
+            for j0, j1, AT in blocks:
+                Y = AT @ XT[j0:]  # (c (j1 - j0), n): the block's columns of z L - m L of every class, transposed
                 Y *= Y
                 sq += Y.reshape(c, j1 - j0, n).sum(axis=1)  # over the block's columns of every class (no BLAS call: see above)
             d = np.sqrt(sq.min(axis=0))
@@ -909,26 +1067,44 @@ class DomainModel:
             return np.zeros(0)
         finite = np.isfinite(Q).all(axis=1)
         all_finite = bool(finite.all())
-        Z = ((Q if all_finite else np.where(finite[:, None], Q, 0.0)) - self.arrays["dyn_center"]) / self.arrays["dyn_scale"]
-        cache = getattr(self, "_dyn_cache", None)
-        if cache is None:  # stacked Cholesky factors, as in distances(): one matrix product for every Gaussian
-            try:
-                chol = np.linalg.cholesky(self.arrays["dyn_precisions"])
-            except np.linalg.LinAlgError as exc:
-                raise ModelError("the domain record's dynamics precision matrices are not positive definite; retrain the model.") from exc
-            cache = (
-                np.ascontiguousarray(np.concatenate(list(chol), axis=1)),
-                np.concatenate([m @ c for m, c in zip(self.arrays["dyn_means"], chol, strict=True)]),
-            )
-            object.__setattr__(self, "_dyn_cache", cache)
-        Y = Z @ cache[0]
-        Y -= cache[1]
-        Y *= Y
-        # squared distance to every Gaussian: sums over its 13 columns as one matrix-vector product
-        d = np.sqrt((Y.reshape(-1, Q.shape[1]) @ np.ones(Q.shape[1])).reshape(len(Z), -1).min(axis=1))
+        cache = self.__dict__.get("_dyn_cache")
+        if cache is None:
+            cache = self._dynamics_factors()
+        A, g = cache
+        q = Q.shape[1]
+        Qa = np.empty((len(Q), q + 1))  # the descriptors and a column of ones (the offsets)
+        Qa[:, :q] = Q if all_finite else np.where(finite[:, None], Q, 0.0)
+        Qa[:, q] = 1.0
+        with np.errstate(invalid="ignore", over="ignore"):
+            Y = Qa @ A  # z L - m L of every Gaussian, standardised inside the product
+            Y *= Y
+            # squared distance to every Gaussian: sums over its q columns as one matrix-vector product, the smallest
+            d = np.sqrt((Y.reshape(-1, q) @ np.ones(q)).reshape(len(Q), g).min(axis=1))
         if not all_finite:
             d[~finite] = np.inf
+        d[np.isnan(d)] = np.inf  # an input so large that a sum overflows: out of domain
         return d
+
+    def _dynamics_factors(self) -> tuple[np.ndarray, int]:
+        """The stacked Cholesky factors of the dynamics Gaussians with the standardisation folded in, cached.
+
+        As :meth:`_factor_blocks` for the features: with ``L_g`` the Cholesky factor of
+        Gaussian g's precision (lower triangular) and ``m_g`` its mean, ``z L_g - m_g L_g``
+        for descriptors ``x`` (``z = (x - dyn_center) / dyn_scale``) is ``[x, 1] A_g`` with
+        ``A_g = [L_g / dyn_scale; -(m_g + dyn_center / dyn_scale) L_g]``. Returns ``([A_1 .. A_g], g)``
+        ((q + 1, g q), one matrix product serves every Gaussian) and the number of Gaussians.
+        """
+        try:
+            chol = np.linalg.cholesky(self.arrays["dyn_precisions"])
+        except np.linalg.LinAlgError as exc:
+            raise ModelError("the domain record's dynamics precision matrices are not positive definite; retrain the model.") from exc
+        center, scale = self.arrays["dyn_center"], self.arrays["dyn_scale"]
+        stacked = np.concatenate(list(chol), axis=1)
+        offset = np.concatenate([m @ c for m, c in zip(self.arrays["dyn_means"], chol, strict=True)])
+        A = np.ascontiguousarray(np.concatenate([stacked / scale[:, None], -(offset + (center / scale) @ stacked)[None, :]], axis=0))
+        cache = (A, len(chol))
+        object.__setattr__(self, "_dyn_cache", cache)
+        return cache
 
     def check(self, X, gravity=None, dynamics=None) -> dict[str, np.ndarray]:
         """In-domain flags of windows.
@@ -959,6 +1135,11 @@ class DomainModel:
             one = self._check_one(X, gravity)
             if one is not None:
                 return one
+        with one_blas_thread():  # the products of a batch: one BLAS thread (see one_blas_thread)
+            return self._check_batch(X, gravity, dynamics)
+
+    def _check_batch(self, X: np.ndarray, gravity, dynamics) -> dict[str, np.ndarray]:
+        """:meth:`check` of any number of windows (the general path)."""
         d = self.distances(X)
         ok = d <= self.distance_threshold
         dyn = np.full(len(d), np.nan)

@@ -77,7 +77,9 @@ def test_random_rows_equal_the_general_path_and_the_reference(synthetic):
     _assert_same(one, _one_by_one_general(dom, Xt, Gt))
     _assert_near_reference(one, reference_check(dom, Xt, Gt))
     batch = dom.check(Xt, Gt)
-    np.testing.assert_allclose(one["distance"], batch["distance"], rtol=1e-12)
+    # the batch (at least 64 rows) takes its distances in float32 and recomputes in float64 where a flag is at stake
+    np.testing.assert_allclose(one["distance"], batch["distance"], rtol=1e-6)
+    np.testing.assert_array_equal(one["distance"] <= dom.distance_threshold, batch["distance"] <= dom.distance_threshold)
     # arccos near 0 magnifies the last bit of the cosine (the batch product sums in another order): absolute 1e-12 rad
     np.testing.assert_allclose(one["gravity_angle_rad"], batch["gravity_angle_rad"], rtol=0, atol=1e-12)
     assert 0.1 < one["in_domain"].mean() < 0.95  # both outcomes occur

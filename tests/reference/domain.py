@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["reference_check", "stacked_distances"]
+__all__ = ["reference_check", "stacked_distances", "stacked_dynamics_distances", "dynamics_distances_loop", "span_median_loop"]
 
 
 def reference_check(dom, X, gravity=None) -> dict[str, np.ndarray]:
@@ -59,3 +59,57 @@ def stacked_distances(dom, X) -> np.ndarray:
         d = np.sqrt(Y.reshape(len(Z), -1, X.shape[1]).sum(axis=2).min(axis=1))
     d[~finite] = np.inf
     return d
+
+
+def dynamics_distances_loop(dom, Q) -> np.ndarray:
+    """:meth:`DomainModel.dynamics_distances` window by window: the quadratic forms of the stored dynamics precisions.
+
+    Standardise with ``dyn_center`` / ``dyn_scale``, ``sqrt((z - m_g)^T P_g (z - m_g))`` to every
+    (mode, position) Gaussian, the smallest; inf for a row with a non-finite descriptor.
+    """
+    a = dom.arrays
+    Q = np.asarray(Q, dtype=float).reshape(-1, len(a["dyn_center"]))
+    out = np.empty(len(Q))
+    for i, q in enumerate(Q):
+        if not np.isfinite(q).all():
+            out[i] = np.inf
+            continue
+        z = (q - a["dyn_center"]) / a["dyn_scale"]
+        quad = [float((z - m) @ P @ (z - m)) for m, P in zip(a["dyn_means"], a["dyn_precisions"], strict=True)]
+        out[i] = np.sqrt(max(min(quad), 0.0))
+    return out
+
+
+def stacked_dynamics_distances(dom, Q) -> np.ndarray:
+    """The dynamics distance as :meth:`DomainModel.dynamics_distances` computed it before the standardisation was folded
+    into its product (issue 12 speed): standardise, one product with the stacked Cholesky factors, subtract
+    ``m_g L_g``, squares summed per Gaussian, the smallest, its root; inf for a non-finite row.
+    """
+    a = dom.arrays
+    Q = np.asarray(Q, dtype=float).reshape(-1, len(a["dyn_center"]))
+    chol = np.linalg.cholesky(a["dyn_precisions"])
+    stacked = np.concatenate(list(chol), axis=1)
+    offset = np.concatenate([m @ L for m, L in zip(a["dyn_means"], chol, strict=True)])
+    finite = np.isfinite(Q).all(axis=1)
+    Z = (np.where(finite[:, None], Q, 0.0) - a["dyn_center"]) / a["dyn_scale"]
+    Y = (Z @ stacked - offset) ** 2
+    d = np.sqrt(Y.reshape(len(Q), -1, Q.shape[1]).sum(axis=2).min(axis=1))
+    d[~finite] = np.inf
+    return d
+
+
+def span_median_loop(per_window, span: int, every: int = 1) -> np.ndarray:
+    """The dynamics decision statistic of every window of one recording, one window at a time.
+
+    ``per_window`` (k,) holds the window distance of the computed windows (rows 0, every,
+    2 every, ...; the other rows are not read). Window i takes ``np.nanmedian`` of the
+    computed windows among rows ``i - span + 1 .. i``; NaN when there is none.
+    """
+    per_window = np.asarray(per_window, dtype=float).reshape(-1)
+    out = np.full(len(per_window), np.nan)
+    for i in range(len(per_window)):
+        vals = [per_window[j] for j in range(max(0, i - span + 1), i + 1) if j % every == 0]
+        vals = [v for v in vals if not np.isnan(v)]
+        if vals:
+            out[i] = float(np.median(np.asarray(vals)))
+    return out

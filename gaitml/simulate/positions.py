@@ -45,14 +45,15 @@ carries it; the segment's motion is a kinematic model driven by the same gait
   left and right steps differ in shape while its power sits at the step
   frequency, which neither the thigh nor the symmetric pelvis produces.
   **The one-sided step** (``stance_gate``): averaged per foot over the
-  strides (the Oxford foot switches), a real back-pocket phone feels almost
-  the whole step bounce in one leg's step (heel-strike peak, mid-stance dip,
+  strides (the Oxford foot switches), a real back-pocket phone feels most of
+  the step bounce in one leg's step (heel-strike peak, mid-stance dip,
   rise towards the next strike) and little in the other's (the quieter mean
-  step's spread is 0.3-0.6 of the louder one's, 0.4-0.5 in the front
-  pocket, 0.84 in the thigh-driven simulator). The gluteus maximus and
-  medius of the carrying side contract from late swing through the loading
-  response into mid-stance (hip extension and abduction support; Winter,
-  ch. 4 and 7, muscle activity in gait): in that leg's stance the
+  step's ``|acc|`` spread is 0.34-0.65 of the louder one's; 0.73-0.96 in the
+  thigh-driven simulator). The gluteus maximus and
+  medius of the carrying side are active from terminal swing through the
+  loading response (hip extension and frontal-plane support; Perry &
+  Burnfield, *Gait Analysis: Normal and Pathological Function*, the hip's
+  muscle activity in gait): in that leg's stance the
   buttock's tissue under the phone is stiff and passes the trunk's
   acceleration to it; in that leg's swing the muscle is relaxed and the
   soft tissue (and the loose pocket) isolates the phone from much of it.

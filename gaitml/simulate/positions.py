@@ -349,7 +349,8 @@ class Placement:
         depend on it. The back pocket then draws its pelvis share and extra
         in-pocket roll (uniform over :data:`BACK_POCKET_RANGE`) and its pelvis's
         rotation amplitudes (:data:`BACK_POCKET_PELVIS_DEG`), after the vigour
-        for the same reason.
+        for the same reason, and last of all its stance gate (uniform over
+        :data:`STANCE_GATE_RANGE`: the one-sided step).
         """
         p = cls._random_placement(position, rng)
         if position in VIGOUR_RANGE:

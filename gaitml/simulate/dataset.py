@@ -42,7 +42,16 @@ from gaitml.simulate.plan import (
     mode_schedule,
     plan_steps,
 )
-from gaitml.simulate.positions import HAND_POSITIONS, POSITIONS, Placement, carried_signals, check_positions, quaternions, rotation_matrices
+from gaitml.simulate.positions import (
+    HAND_POSITIONS,
+    POSITIONS,
+    Placement,
+    carried_signals,
+    check_positions,
+    quaternions,
+    rotation_matrices,
+    stance_gate,
+)
 from gaitml.simulate.route import ROUTES, make_path
 from gaitml.simulate.sensor import (
     ACC_RESOLUTION_MS2,
@@ -244,6 +253,9 @@ def synthesize(
         leg0 = 0.0 if placement.side < 0 else 1.0
         bounce = placement.vertical_gain * (1.0 + placement.leg_asymmetry * np.cos(np.pi * (phi - leg0)))
         bounce = bounce * np.exp(placement.impact_cv * smooth_noise(crng, n, fs, 0.5)[:, 0])
+        if placement.stance_gate > 0:  # back pocket: the gluteal tissue passes the trunk's motion in its own leg's step
+            gate = stance_gate(phi, placement.side, placement.stance_gate)
+            bounce, a_right, a_fwd = bounce * gate, a_right * gate, a_fwd * gate
         a_up = bounce * a_up + placement.impact_gain * spike
         spike = placement.impact_gain * spike
         if placement.vigour != 1.0:  # the walker's intensity at the segment (not in running, as the hand gain)

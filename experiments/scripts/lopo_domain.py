@@ -61,6 +61,19 @@ ODYN_ACC = 8
 
 
 # ---------------------------------------------------------------- data
+def store_window_set(out: dict, tag: str, recs, ds) -> None:
+    """Store set ``tag``'s per-window arrays in ``out`` (the cache layout): gravity and orientation-dynamics
+    descriptors, mode labels, subjects, positions, recording index and start sample of each window of ``ds``."""
+    grav, odyn, pos = window_descriptors(recs, ds)
+    out[f"{tag}_grav"] = grav
+    out[f"{tag}_odyn"] = odyn
+    out[f"{tag}_y"] = np.asarray(ds.y).astype(str)
+    out[f"{tag}_g"] = np.asarray(ds.groups).astype(str)
+    out[f"{tag}_pos"] = pos.astype(str)
+    out[f"{tag}_rec"] = np.asarray(ds.recording_index).astype(np.int64)
+    out[f"{tag}_start"] = ds.windows["start"].to_numpy(np.int64)
+
+
 def window_descriptors(recs, ds) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per window of ``ds`` (built from ``recs``): gravity direction, orientation-dynamics
     descriptors (:func:`gaitml.models.domain.orientation_dynamics`) and the recording's position."""
@@ -151,14 +164,7 @@ def build(cache: Path | None):
         for frame in ("phone", "gravity"):
             ds = build_window_dataset(recs, groups=groups, frame=frame, **WINDOW)
             out[f"{tag}_X_{frame}"] = ds.inputs("features").astype(float)
-        grav, odyn, pos = window_descriptors(recs, ds)
-        out[f"{tag}_grav"] = grav
-        out[f"{tag}_odyn"] = odyn
-        out[f"{tag}_y"] = np.asarray(ds.y).astype(str)
-        out[f"{tag}_g"] = np.asarray(ds.groups).astype(str)
-        out[f"{tag}_pos"] = pos.astype(str)
-        out[f"{tag}_rec"] = np.asarray(ds.recording_index).astype(np.int64)
-        out[f"{tag}_start"] = ds.windows["start"].to_numpy(np.int64)
+        store_window_set(out, tag, recs, ds)
     if cache is not None:
         save_cache(cache, key, out)
     return out

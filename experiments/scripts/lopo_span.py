@@ -83,14 +83,7 @@ def build(sets, cache: Path | None) -> dict:
         recs = simulate_dataset(n_subjects=n, duration_s=ld.DURATION_S, pose="mixed", seed=seed, positions=POSITIONS)
         ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], frame="phone", **ld.WINDOW)
         out[f"{tag}_X_phone"] = ds.inputs("features").astype(float)
-        grav, odyn, pos = ld.window_descriptors(recs, ds)
-        out[f"{tag}_grav"] = grav
-        out[f"{tag}_odyn"] = odyn
-        out[f"{tag}_y"] = np.asarray(ds.y).astype(str)
-        out[f"{tag}_g"] = np.asarray(ds.groups).astype(str)
-        out[f"{tag}_pos"] = pos.astype(str)
-        out[f"{tag}_rec"] = np.asarray(ds.recording_index).astype(np.int64)
-        out[f"{tag}_start"] = ds.windows["start"].to_numpy(np.int64)
+        ld.store_window_set(out, tag, recs, ds)
     if cache is not None:
         ld.save_cache(cache, key, out, name)
     return out

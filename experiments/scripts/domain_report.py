@@ -23,6 +23,13 @@ in-domain windows and among all, and the fraction *silently wrong* (in domain an
 the training positions (new seeds), the same subjects with the phone held another way
 (rotated copies), and the cost of the check.
 
+``--shipped`` prints what the shipped hand-held models say in every simulated carrying
+position instead (new subjects, seed 2024: flagged, mode accuracy in domain, silently
+wrong; ``models/demo``'s multi-state PDR per position with the share of steps moved
+forward as out of domain; about a minute)::
+
+    python -m experiments.scripts.domain_report --shipped
+
 ``--positions`` prints the tables of the all-positions models instead (``positions``:
 all52+gyro, ``positions-acc``: all52, trained with ``experiments/positions.toml`` /
 ``positions-acc.toml`` on every simulated carrying position; not shipped in ``models/``
@@ -582,8 +589,12 @@ def leave_one_position_out_table(train_subjects: int = 8, test_subjects: int = 4
     return pd.DataFrame(rows)
 
 
-def positions_pdr_table(model, seeds=(0, 1, 2), routes=("rectangle", "arc")) -> pd.DataFrame:
-    """Multi-state (model modes) vs forward-only PDR on simulated routes in every carrying position."""
+def positions_pdr_table(model, seeds=(0, 1, 2), routes=("rectangle", "arc"), out_of_domain: bool = False) -> pd.DataFrame:
+    """Multi-state (model modes) vs forward-only PDR on simulated routes in every carrying position.
+
+    ``out_of_domain``: a column with the share of the multi-state steps that the model's
+    domain check moved forward (``out_of_domain_steps`` of ``gaitml pdr --json``).
+    """
     from gaitml.experiments.pdr_routes import VARIANTS, evaluate_route
     from gaitml.pdr.pipeline import modes_from_labels
     from gaitml.simulate import POSITIONS, simulate_route
@@ -597,6 +608,8 @@ def positions_pdr_table(model, seeds=(0, 1, 2), routes=("rectangle", "arc")) -> 
                 rec = simulate_route(route, seed=seed, position=pos)
                 for r in rows:
                     res = r.pop("result")
+                    if r["variant"] == "multi / model modes / hde":
+                        r["ood_share"] = (res.info["out_of_domain_steps"] or 0) / max(res.n_steps, 1)
                     if "mode_accuracy" not in r and r["variant"].startswith("forward-only"):
                         st = res.steps
                         start = st["start"].to_numpy()
@@ -608,6 +621,8 @@ def positions_pdr_table(model, seeds=(0, 1, 2), routes=("rectangle", "arc")) -> 
     for pos in POSITIONS:
         d = df[df["position"] == pos]
         row = {"data": pos}
+        if out_of_domain:
+            row["steps moved forward as out of domain"] = float(d["ood_share"].mean())
         for label, short in (
             ("multi / model modes / hde", "multi-state"),
             ("forward-only / hde", "forward-only"),
@@ -640,7 +655,44 @@ _PCT = (
     "its mode beats walk head-to-head",
     "silently wrong inside the span only",
     "forward-only step mode accuracy",
+    "mode accuracy among in-domain",
+    "steps moved forward as out of domain",
 )
+
+
+def shipped_positions_table(models: dict, seed: int = 2024, subjects: int = 8, duration_s: float = 120.0) -> pd.DataFrame:
+    """The shipped hand-held models on new simulated subjects in every carrying position.
+
+    ``subjects`` new subjects (``seed``, not the models' 1000) x ``duration_s`` in each
+    position of :data:`gaitml.simulate.POSITIONS`, all five modes; every window read
+    through ``predict_recording`` as ``gaitml predict`` does. Trained positions: the
+    fraction flagged is the false-alarm rate; the others were left out of training
+    (flagged should be high). *Silently wrong*: in domain and not the true mode.
+    """
+    from gaitml.models import predict_recording
+    from gaitml.simulate import POSITIONS, simulate_dataset
+
+    recs = simulate_dataset(n_subjects=subjects, duration_s=duration_s, pose="mixed", seed=seed, positions=POSITIONS)
+    rows = []
+    for name, model in models.items():
+        trained = set(model.domain.positions or ())
+        for pos in POSITIONS:
+            t = pd.concat([predict_recording(model, r) for r in recs if r.meta["position"] == pos])
+            t = t[t["label"].notna()]
+            ok = t["in_domain"].astype(bool).to_numpy()
+            right = (t["mode"] == t["label"]).to_numpy()
+            rows.append(
+                {
+                    "data": pos,
+                    "trained as": "trained" if pos in trained else "left out",
+                    "model": name,
+                    "windows": len(t),
+                    "flagged out of domain": float(np.mean(~ok)),
+                    "mode accuracy among in-domain": float(right[ok].mean()) if ok.any() else float("nan"),
+                    "silently wrong": float(np.mean(ok & ~right)),
+                }
+            )
+    return pd.DataFrame(rows)
 
 
 def emit_tables(sections: list[str], out, t0: float) -> int:
@@ -688,9 +740,16 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="where the silently wrong windows of Oxford InHand walking read by models/demo-acc are, instead",
     )
+    ap.add_argument(
+        "--shipped",
+        action="store_true",
+        help="models/demo and models/demo-acc on new simulated subjects in every carrying position, and models/demo's PDR per position, instead",
+    )
     args = ap.parse_args(argv)
     from gaitml.models import load_model
 
+    if args.shipped:
+        return shipped_main()
     if args.positions:
         return positions_main(args)
     if args.silent:
@@ -731,6 +790,26 @@ def main(argv: list[str] | None = None) -> int:
             "### Phone vs gravity frame on the simulator (seed 5, before the adjacent-window correction)\n\n" + _md(frames),
         ],
         args.out,
+        t0,
+    )
+
+
+def shipped_main() -> int:
+    """``--shipped``: what the shipped hand-held models say in every simulated carrying position (about a minute)."""
+    from gaitml.models import load_model
+
+    t0 = time.perf_counter()
+    models = {name: load_model(ROOT / "models" / name) for name in ("demo", "demo-acc")}
+    print("simulated positions ...", file=sys.stderr, flush=True)
+    flags = shipped_positions_table(models)
+    print("PDR routes per position ...", file=sys.stderr, flush=True)
+    pdr = positions_pdr_table(models["demo"], out_of_domain=True)
+    return emit_tables(
+        [
+            "### The shipped models in every simulated carrying position (8 new subjects, seed 2024, 120 s per position)\n\n" + _md(flags),
+            "### Multi-state PDR per carrying position with models/demo (rectangle and arc, seeds 0-2, means)\n\n" + _md(pdr),
+        ],
+        None,
         t0,
     )
 

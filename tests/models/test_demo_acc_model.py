@@ -4,7 +4,9 @@ It is ``experiments/demo-acc.toml`` (``experiments/demo.toml`` with ``features.s
 "all52"``) trained by ``gaitml train experiments/demo-acc.toml --out models/demo-acc``.
 The fast tests check that the shipped folder was trained from the committed config and
 still predicts what it predicted when it was shipped; the slow test retrains it and
-compares the arrays bit for bit.
+compares it with the shipped one: the same model up to floating-point rounding (another
+CPU's vector width changes the last bit of a mean, and liblinear then stops one iteration
+earlier or later inside its tolerance), and the same modes and flags window for window.
 """
 
 from __future__ import annotations
@@ -87,21 +89,44 @@ def test_gaitml_predict_with_demo_acc_on_an_accelerometer_only_file(tmp_path, ca
 
 
 @pytest.mark.slow
-def test_retraining_demo_acc_gives_the_shipped_arrays(tmp_path):
-    """``gaitml train experiments/demo-acc.toml`` again (about 40 s): the same arrays, bit for bit."""
+def test_retraining_demo_acc_gives_the_shipped_model(tmp_path):
+    """``gaitml train experiments/demo-acc.toml`` again (about 40 s): the shipped model up to rounding.
+
+    Preprocessing and domain arrays agree to 1e-9 (relative to the array's largest entry); the SVM weights to 2 % of the
+    largest weight (liblinear's stopping tolerance: on one machine a pair's solver took one
+    iteration more, which moved a weight by 0.026 of a largest 3.16); and what a user sees,
+    the mode and the flag of every window, is the same.
+    """
     from gaitml.cli import main
+    from gaitml.simulate import simulate_dataset
 
     assert main(["train", str(CONFIG), "--out", str(tmp_path / "demo-acc")]) == 0
     shipped = np.load(DEMO_ACC / "arrays.npz", allow_pickle=False)
     again = np.load(tmp_path / "demo-acc" / "arrays.npz", allow_pickle=False)
     assert sorted(shipped.files) == sorted(again.files)
     for name in shipped.files:
-        np.testing.assert_array_equal(again[name], shipped[name], err_msg=name)
+        a, b = shipped[name], again[name]
+        assert a.shape == b.shape and a.dtype == b.dtype, name
+        if name == "n_iter_":  # the solver's iteration counts are what rounding may change
+            np.testing.assert_allclose(b, a, atol=2, err_msg=name)
+        elif a.dtype.kind != "f":
+            np.testing.assert_array_equal(b, a, err_msg=name)
+        elif name in ("coef_", "intercept_"):
+            np.testing.assert_allclose(b, a, rtol=0, atol=0.02 * np.abs(shipped["coef_"]).max(), err_msg=name)
+        else:
+            np.testing.assert_allclose(b, a, rtol=1e-9, atol=1e-9 * np.abs(a).max(), err_msg=name)
     a = json.loads((DEMO_ACC / "model.json").read_text())
     b = json.loads((tmp_path / "demo-acc" / "model.json").read_text())
-    for key in ("training_config", "training_data", "domain", "estimator", "feature_names", "labels", "window"):
+    for key in ("training_config", "training_data", "estimator", "feature_names", "labels", "window"):
         assert a[key] == b[key], key
-    assert a["cv_scores"]["accuracy_before"] == b["cv_scores"]["accuracy_before"]
+    for key in ("distance_threshold", "distance_threshold_in_sample", "gravity_threshold_rad", "gravity_threshold_in_sample_rad"):
+        assert b["domain"][key] == pytest.approx(a["domain"][key], rel=1e-9), key
+    assert b["cv_scores"]["accuracy_before"] == pytest.approx(a["cv_scores"]["accuracy_before"], abs=2e-3)
+    shipped_model, retrained = load_model(DEMO_ACC), load_model(tmp_path / "demo-acc")
+    for rec in [read_recording(SAMPLE), *simulate_dataset(n_subjects=2, duration_s=120.0, pose="mixed", seed=2024)]:
+        ta, tb = predict_recording(shipped_model, rec), predict_recording(retrained, rec)
+        np.testing.assert_array_equal(tb["mode"].to_numpy(), ta["mode"].to_numpy())
+        np.testing.assert_array_equal(tb["in_domain"].to_numpy(), ta["in_domain"].to_numpy())
 
 
 @pytest.mark.realdata

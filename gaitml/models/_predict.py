@@ -150,7 +150,6 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
         feature set needs.
     """
     from gaitml.models._dataset import resample_recording
-    from gaitml.postprocess import adjacent_window_correction
 
     fs0 = recording.sampling_rate_hz
     rec = resample_recording(recording, model.sampling_rate_hz)
@@ -163,20 +162,41 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
         )
     w = _windows_for(rec, model.length_s, model.overlap)
     X = model_inputs(model, rec, w)
-    pred = np.asarray(model.estimator.predict(X)).astype(str)
     out = w[["start", "end", "t_start_s", "t_end_s"]].copy()
-    out["mode_raw"] = pred
-    out["mode"] = np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred
+    out["mode_raw"], out["mode"] = predicted_modes(model, X, correction)
     # ---- out-of-domain check (gaitml.models.domain)
-    for c, v in domain_columns(model, rec, w, X if model.input_kind == "features" else None).items():
-        out[c] = v
-    for c in ("label", "label_fraction"):
-        if c in w.columns:
-            out[c] = w[c].to_numpy()
-    out.attrs.update(
-        sampling_rate_hz=model.sampling_rate_hz,
+    domain = domain_columns(model, rec, w, X if model.input_kind == "features" else None)
+    return finish_predictions(
+        out,
+        w,
+        domain,
+        model,
         resampled_from_hz=None if rec is recording else fs0,
-        correction=bool(correction),
+        correction=correction,
         has_domain=getattr(model, "domain", None) is not None,
     )
+
+
+def predicted_modes(model, X: np.ndarray, correction: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The model's mode of every row of ``X`` as str, raw and (with ``correction``) after the adjacent-window correction."""
+    from gaitml.postprocess import adjacent_window_correction
+
+    pred = np.asarray(model.estimator.predict(X)).astype(str)
+    return pred, (np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred)
+
+
+def finish_predictions(
+    out: pd.DataFrame, windows: pd.DataFrame, domain: dict, model, *, resampled_from_hz, correction: bool, **attrs
+) -> pd.DataFrame:
+    """The common end of a prediction table: the out-of-domain columns, the windows' labels, the ``attrs``.
+
+    ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz``,
+    ``correction`` and then the caller's own ``attrs``.
+    """
+    for c, v in domain.items():
+        out[c] = v
+    for c in ("label", "label_fraction"):
+        if c in windows.columns:
+            out[c] = windows[c].to_numpy()
+    out.attrs.update(sampling_rate_hz=model.sampling_rate_hz, resampled_from_hz=resampled_from_hz, correction=bool(correction), **attrs)
     return out

@@ -151,7 +151,6 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     """
     from gaitml.models._dataset import resample_recording
 
-    fs0 = recording.sampling_rate_hz
     rec = resample_recording(recording, model.sampling_rate_hz)
     length = int(round(model.length_s * model.sampling_rate_hz))
     rec.require_samples(length, f"one {model.length_s} s window of the model")
@@ -166,15 +165,7 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     out["mode_raw"], out["mode"] = predicted_modes(model, X, correction)
     # ---- out-of-domain check (gaitml.models.domain)
     domain = domain_columns(model, rec, w, X if model.input_kind == "features" else None)
-    return finish_predictions(
-        out,
-        w,
-        domain,
-        model,
-        resampled_from_hz=None if rec is recording else fs0,
-        correction=correction,
-        has_domain=getattr(model, "domain", None) is not None,
-    )
+    return finish_predictions(out, w, domain, model, recording, rec, correction, has_domain=getattr(model, "domain", None) is not None)
 
 
 def predicted_modes(model, X: np.ndarray, correction: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -186,17 +177,23 @@ def predicted_modes(model, X: np.ndarray, correction: bool) -> tuple[np.ndarray,
 
 
 def finish_predictions(
-    out: pd.DataFrame, windows: pd.DataFrame, domain: dict, model, *, resampled_from_hz, correction: bool, **attrs
+    out: pd.DataFrame, windows: pd.DataFrame, domain: dict, model, recording: Recording, rec: Recording, correction: bool, **attrs
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the windows' labels, the ``attrs``.
 
-    ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz``,
-    ``correction`` and then the caller's own ``attrs``.
+    ``rec`` is ``recording`` at the model's rate (``recording`` itself when no resampling was needed).
+    ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz`` (``recording``'s rate,
+    or None), ``correction`` and then the caller's own ``attrs``.
     """
     for c, v in domain.items():
         out[c] = v
     for c in ("label", "label_fraction"):
         if c in windows.columns:
             out[c] = windows[c].to_numpy()
-    out.attrs.update(sampling_rate_hz=model.sampling_rate_hz, resampled_from_hz=resampled_from_hz, correction=bool(correction), **attrs)
+    out.attrs.update(
+        sampling_rate_hz=model.sampling_rate_hz,
+        resampled_from_hz=None if rec is recording else recording.sampling_rate_hz,
+        correction=bool(correction),
+        **attrs,
+    )
     return out

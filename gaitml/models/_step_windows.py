@@ -190,7 +190,6 @@ def predict_step_windows(model, recording: Recording, correction: bool = True, *
     by, det = window_by(model), window_detector(model)
     if by == "time":
         raise InputError("predict_step_windows needs a step-window model (window.by steps or strides); use predict_recording.")
-    fs0 = recording.sampling_rate_hz
     rec = resample_recording(recording, model.sampling_rate_hz)
     if "gyro" in model.feature_set:
         rec.require_gyr(
@@ -208,13 +207,5 @@ def predict_step_windows(model, recording: Recording, correction: bool = True, *
         out["mode"] = pd.Series(dtype=str)
     domain = step_domain_columns(model, rec, w, X if model.input_kind == "features" else None)
     return finish_predictions(
-        out,
-        w,
-        domain,
-        model,
-        resampled_from_hz=None if rec is recording else fs0,
-        correction=correction,
-        by=by,
-        detector=det,
-        n_short=int(w.attrs.get("n_short", 0)),
+        out, w, domain, model, recording, rec, correction, by=by, detector=det, n_short=int(w.attrs.get("n_short", 0))
     )

@@ -72,8 +72,9 @@ import numpy as np
 import pandas as pd
 import scipy.signal
 
+from experiments.scripts.carry_vigour import score_oxford_models
 from experiments.scripts.domain_report import emit_tables
-from experiments.scripts.hand_gain import _covered, fit_range, train_without_cv
+from experiments.scripts.hand_gain import _covered, fit_range
 from experiments.scripts.realism import _markdown, oxford_walks, position_statistics
 
 __all__ = [
@@ -505,20 +506,12 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
     pocket's ranges fitted without the user (``loo``'s rows: :func:`leave_one_user_out`, or
     :func:`leave_one_user_out_joint` with the gate and the vigour); ``in sample``: fitted on every user. Scores as
     :mod:`experiments.scripts.domain_report` (windows read as walk, flagged, silently wrong), per
-    Oxford position and user, then the users pooled.
+    Oxford position and user, then the users pooled (:func:`experiments.scripts.carry_vigour.score_oxford_models`).
     """
-    import tempfile
-
-    from experiments.scripts.domain_report import _add, score
-    from gaitml.io import read_dataset
-
-    recs: dict[tuple[str, str], list] = {}
-    for r in read_dataset(Path(shared_data) / "oxford-step-counter" / "optimisation"):
-        if r.meta.get("position") in SCORED_OXFORD:
-            recs.setdefault((r.meta["position"], r.meta["user"]), []).append(r)
-    users = sorted({u for _, u in recs})
 
     def ranges(label: str):
+        if label == "before":
+            return back_pocket_ranges(share=(0.0, 0.0), roll=(0.0, 0.0), gate=(0.0, 0.0), vigour=VIGOUR_BEFORE)
         row = loo[loo["held_out"] == label].iloc[0]
         if "gate_lo" in loo:  # the joint fit (leave_one_user_out_joint): share, gate and vigour
             fit = {
@@ -527,38 +520,7 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
             return joint_ranges(fit)
         return back_pocket_ranges(share=(row["share_lo"], row["share_hi"]), roll=(-row["roll_hi"], row["roll_hi"]))
 
-    def train(out: Path, patch):
-        return train_without_cv("positions-acc.toml", out, patch)
-
-    rows: list[dict] = []
-    with tempfile.TemporaryDirectory() as tmp:
-        models = {
-            "before": train(
-                Path(tmp) / "before", back_pocket_ranges(share=(0.0, 0.0), roll=(0.0, 0.0), gate=(0.0, 0.0), vigour=VIGOUR_BEFORE)
-            ),
-            "in sample": train(Path(tmp) / "in", ranges("all (in sample)")),
-        }
-        for user in users:
-            print(f"held out {user} ...", file=sys.stderr, flush=True)
-            models["held out"] = train(Path(tmp) / f"fold-{user}", ranges(user))
-            for position in SCORED_OXFORD:
-                for name in ("before", "held out", "in sample"):
-                    tot: dict = {}
-                    for rec in recs.get((position, user), []):
-                        tot = _add(tot, score(models[name], rec))
-                    if tot:
-                        rows.append({"oxford": position, "user": user, "model": name, **tot})
-    out = pd.DataFrame(rows)
-    num = ["windows", "ood", "walk_all", "silent"]
-    pooled = out.groupby(["oxford", "model"], sort=False)[num].sum().reset_index().assign(user="pooled")
-    out = pd.concat([out, pooled], ignore_index=True)
-    n = out["windows"]
-    pct = {"walk %": out["walk_all"], "flagged %": out["ood"], "silently wrong %": out["silent"]}
-    out = out.assign(**{k: 100.0 * v / n for k, v in pct.items()})[["oxford", "user", "model", "windows", *pct]]
-    order = {p: i for i, p in enumerate(SCORED_OXFORD)}
-    return out.sort_values(["oxford", "user"], key=lambda c: c.map(order) if c.name == "oxford" else c, kind="stable").reset_index(
-        drop=True
-    )
+    return score_oxford_models(shared_data, SCORED_OXFORD, ranges)
 
 
 #: Step-shape statistics shown per user (the one-sided step).

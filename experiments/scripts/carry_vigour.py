@@ -75,6 +75,7 @@ __all__ = [
     "check_population",
     "leave_one_user_out",
     "heldout_models",
+    "score_oxford_models",
     "main",
 ]
 
@@ -190,18 +191,15 @@ def leave_one_user_out(walks: pd.DataFrame, curves: dict[str, np.ndarray]) -> pd
 SCORED_OXFORD = ("FrontPocket", "BackPocket", "Purse", "InHand", "SwingingArm")
 
 
-def _train_positions_acc(out: Path, ranges: dict[str, tuple[float, float]]):
-    """``experiments/positions-acc.toml`` (without CV) on a simulator drawing the vigours from ``ranges``."""
-    return train_without_cv("positions-acc.toml", out, vigour_ranges(ranges))
+def score_oxford_models(shared_data: str | Path, scored: tuple[str, ...], patch) -> pd.DataFrame:
+    """The real Oxford walks in the ``scored`` positions read by ``positions-acc`` trained three ways.
 
-
-def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
-    """Each user's real Oxford walks read by ``positions-acc`` trained without the vigour, held out and in sample.
-
-    ``before``: every vigour 1 (the placement ranges sized on Jamie and Carmelo); ``held out``:
-    every fitted position's range fitted without the user (``loo``'s rows); ``in sample``:
-    the ranges fitted on every user. Scores as :mod:`experiments.scripts.domain_report`.
-    One row per Oxford position, model and user, then the users pooled.
+    ``experiments/positions-acc.toml`` (without its cross-validation) is trained inside the context
+    ``patch(label)`` for ``label`` ``"before"``, ``"all (in sample)"`` and, per user, the user's name
+    (fitted without the user); each user's walks are read by the model of the three labels
+    (``before``, ``in sample``, ``held out``). Scores as :mod:`experiments.scripts.domain_report`
+    (windows read as walk, flagged out of domain, silently wrong, in %). One row per Oxford position
+    (in ``scored`` order), user and model, then the users pooled.
     """
     import tempfile
 
@@ -210,22 +208,23 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
 
     recs: dict[tuple[str, str], list] = {}
     for r in read_dataset(Path(shared_data) / "oxford-step-counter" / "optimisation"):
-        if r.meta.get("position") in SCORED_OXFORD:
+        if r.meta.get("position") in scored:
             recs.setdefault((r.meta["position"], r.meta["user"]), []).append(r)
     users = sorted({u for _, u in recs})
 
-    def fitted(label: str) -> dict[str, tuple[float, float]]:
-        sel = loo[loo["held_out"] == label]
-        return {r["position"]: (r["vigour_lo"], r["vigour_hi"]) for _, r in sel.iterrows()}
+    def train(out: Path, label: str):
+        return train_without_cv("positions-acc.toml", out, patch(label))
 
     rows: list[dict] = []
     with tempfile.TemporaryDirectory() as tmp:
-        variants = {"before": dict.fromkeys(VIGOUR_POSITIONS, (1.0, 1.0)), "in sample": fitted("all (in sample)")}
-        models = {k: _train_positions_acc(Path(tmp) / k.replace(" ", "-"), v) for k, v in variants.items()}
+        models = {
+            name: train(Path(tmp) / name.replace(" ", "-"), label)
+            for name, label in (("before", "before"), ("in sample", "all (in sample)"))
+        }
         for user in users:
             print(f"held out {user} ...", file=sys.stderr, flush=True)
-            models["held out"] = _train_positions_acc(Path(tmp) / f"fold-{user}", fitted(user))
-            for position in SCORED_OXFORD:
+            models["held out"] = train(Path(tmp) / f"fold-{user}", user)
+            for position in scored:
                 for name in ("before", "held out", "in sample"):
                     tot: dict = {}
                     for rec in recs.get((position, user), []):
@@ -239,10 +238,29 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
     n = out["windows"]
     pct = {"walk %": out["walk_all"], "flagged %": out["ood"], "silently wrong %": out["silent"]}
     out = out.assign(**{k: 100.0 * v / n for k, v in pct.items()})[["oxford", "user", "model", "windows", *pct]]
-    order = {p: i for i, p in enumerate(SCORED_OXFORD)}
+    order = {p: i for i, p in enumerate(scored)}
     return out.sort_values(["oxford", "user"], key=lambda c: c.map(order) if c.name == "oxford" else c, kind="stable").reset_index(
         drop=True
     )
+
+
+def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
+    """Each user's real Oxford walks read by ``positions-acc`` trained without the vigour, held out and in sample.
+
+    ``before``: every vigour 1 (the placement ranges sized on Jamie and Carmelo); ``held out``:
+    every fitted position's range fitted without the user (``loo``'s rows); ``in sample``:
+    the ranges fitted on every user. Scores as :mod:`experiments.scripts.domain_report`
+    (:func:`score_oxford_models`). One row per Oxford position, model and user, then the users pooled.
+    """
+
+    def fitted(label: str):
+        """The simulator drawing every fitted position's vigour from the ``loo`` rows of ``label``."""
+        if label == "before":
+            return vigour_ranges(dict.fromkeys(VIGOUR_POSITIONS, (1.0, 1.0)))
+        sel = loo[loo["held_out"] == label]
+        return vigour_ranges({r["position"]: (r["vigour_lo"], r["vigour_hi"]) for _, r in sel.iterrows()})
+
+    return score_oxford_models(shared_data, SCORED_OXFORD, fitted)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -150,9 +150,7 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
         feature set needs.
     """
     from gaitml.models._dataset import resample_recording
-    from gaitml.postprocess import adjacent_window_correction
 
-    fs0 = recording.sampling_rate_hz
     rec = resample_recording(recording, model.sampling_rate_hz)
     length = int(round(model.length_s * model.sampling_rate_hz))
     rec.require_samples(length, f"one {model.length_s} s window of the model")
@@ -163,20 +161,39 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
         )
     w = _windows_for(rec, model.length_s, model.overlap)
     X = model_inputs(model, rec, w)
-    pred = np.asarray(model.estimator.predict(X)).astype(str)
     out = w[["start", "end", "t_start_s", "t_end_s"]].copy()
-    out["mode_raw"] = pred
-    out["mode"] = np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred
+    out["mode_raw"], out["mode"] = predicted_modes(model, X, correction)
     # ---- out-of-domain check (gaitml.models.domain)
-    for c, v in domain_columns(model, rec, w, X if model.input_kind == "features" else None).items():
+    domain = domain_columns(model, rec, w, X if model.input_kind == "features" else None)
+    return finish_predictions(out, w, domain, model, recording, rec, correction, has_domain=getattr(model, "domain", None) is not None)
+
+
+def predicted_modes(model, X: np.ndarray, correction: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The model's mode of every row of ``X`` as str, raw and (with ``correction``) after the adjacent-window correction."""
+    from gaitml.postprocess import adjacent_window_correction
+
+    pred = np.asarray(model.estimator.predict(X)).astype(str)
+    return pred, (np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred)
+
+
+def finish_predictions(
+    out: pd.DataFrame, windows: pd.DataFrame, domain: dict, model, recording: Recording, rec: Recording, correction: bool, **attrs
+) -> pd.DataFrame:
+    """The common end of a prediction table: the out-of-domain columns, the windows' labels, the ``attrs``.
+
+    ``rec`` is ``recording`` at the model's rate (``recording`` itself when no resampling was needed).
+    ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz`` (``recording``'s rate,
+    or None), ``correction`` and then the caller's own ``attrs``.
+    """
+    for c, v in domain.items():
         out[c] = v
     for c in ("label", "label_fraction"):
-        if c in w.columns:
-            out[c] = w[c].to_numpy()
+        if c in windows.columns:
+            out[c] = windows[c].to_numpy()
     out.attrs.update(
         sampling_rate_hz=model.sampling_rate_hz,
-        resampled_from_hz=None if rec is recording else fs0,
+        resampled_from_hz=None if rec is recording else recording.sampling_rate_hz,
         correction=bool(correction),
-        has_domain=getattr(model, "domain", None) is not None,
+        **attrs,
     )
     return out

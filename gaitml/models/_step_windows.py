@@ -185,12 +185,11 @@ def predict_step_windows(model, recording: Recording, correction: bool = True, *
         ``detector``, ``n_short`` (spans too short to classify).
     """
     from gaitml.features.step_windows import make_step_windows
-    from gaitml.postprocess import adjacent_window_correction
+    from gaitml.models._predict import finish_predictions, predicted_modes
 
     by, det = window_by(model), window_detector(model)
     if by == "time":
         raise InputError("predict_step_windows needs a step-window model (window.by steps or strides); use predict_recording.")
-    fs0 = recording.sampling_rate_hz
     rec = resample_recording(recording, model.sampling_rate_hz)
     if "gyro" in model.feature_set:
         rec.require_gyr(
@@ -201,24 +200,12 @@ def predict_step_windows(model, recording: Recording, correction: bool = True, *
     out = w[cols].copy()
     if len(w):
         X = step_model_inputs(model, rec, w)
-        pred = np.asarray(model.estimator.predict(X)).astype(str)
-        out["mode_raw"] = pred
-        out["mode"] = np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred
+        out["mode_raw"], out["mode"] = predicted_modes(model, X, correction)
     else:
         X = None
         out["mode_raw"] = pd.Series(dtype=str)
         out["mode"] = pd.Series(dtype=str)
-    for key, val in step_domain_columns(model, rec, w, X if model.input_kind == "features" else None).items():
-        out[key] = val
-    for c in ("label", "label_fraction"):
-        if c in w.columns:
-            out[c] = w[c].to_numpy()
-    out.attrs.update(
-        sampling_rate_hz=model.sampling_rate_hz,
-        resampled_from_hz=None if rec is recording else fs0,
-        correction=bool(correction),
-        by=by,
-        detector=det,
-        n_short=int(w.attrs.get("n_short", 0)),
+    domain = step_domain_columns(model, rec, w, X if model.input_kind == "features" else None)
+    return finish_predictions(
+        out, w, domain, model, recording, rec, correction, by=by, detector=det, n_short=int(w.attrs.get("n_short", 0))
     )
-    return out

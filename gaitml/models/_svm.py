@@ -31,7 +31,7 @@ from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils.validation import check_is_fitted
 
 from gaitml.errors import InputError
-from gaitml.models._validation import seed_from, validate_fit, validate_predict
+from gaitml.models._validation import seed_from, set_classes, standardisation, validate_fit, validate_predict
 
 __all__ = ["LinearOVOSVM", "ovo_vote"]
 
@@ -169,16 +169,9 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
 
         self._check_params()
         X, y = validate_fit(self, X, y)
-        self.classes_, codes = np.unique(y, return_inverse=True)
-        if len(self.classes_) < 2:
-            raise InputError(
-                f"need at least 2 classes to train a classifier, got {len(self.classes_)} class ({', '.join(map(str, self.classes_)) or 'none'}); check the labels of the training data."
-            )
+        codes = set_classes(self, y)
         seed = seed_from(self.random_state)
-        self.mean_ = X.mean(axis=0)
-        scale = X.std(axis=0)
-        scale[scale == 0] = 1.0  # constant feature: leave it at 0 after centring
-        self.scale_ = scale
+        self.mean_, self.scale_ = standardisation(X)
         Z = (X - self.mean_) / self.scale_
         pairs = np.array(list(combinations(range(len(self.classes_)), 2)), dtype=int)
         coef = np.zeros((len(pairs), X.shape[1]))

@@ -19,7 +19,7 @@ from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.validation import check_is_fitted
 
 from gaitml.errors import InputError, ModelError
-from gaitml.models._validation import seed_from, validate_fit, validate_predict
+from gaitml.models._validation import seed_from, set_classes, standardisation, validate_fit, validate_predict
 
 __all__ = ["TorchMLPClassifier", "TorchCNN1DClassifier", "require_torch", "torch_available"]
 
@@ -111,11 +111,7 @@ class _TorchClassifier(ClassifierMixin, BaseEstimator):
         torch = require_torch(f"model kind {self._kind!r}")
         self._check_params()
         X, y = validate_fit(self, X, y, allow_nd=self._allow_nd, ensure_min_features=self._min_features)
-        self.classes_, codes = np.unique(y, return_inverse=True)
-        if len(self.classes_) < 2:
-            raise InputError(
-                f"need at least 2 classes to train a classifier, got {len(self.classes_)} class ({', '.join(map(str, self.classes_)) or 'none'}); check the labels of the training data."
-            )
+        codes = set_classes(self, y)
         Xp = self._prepare(X, fitting=True)
         seed = seed_from(self.random_state)
         torch.manual_seed(seed)
@@ -259,10 +255,7 @@ class TorchMLPClassifier(_TorchClassifier):
         """Standardise a validated 2-D feature matrix (fitting: learn mean and scale)."""
         arr = np.asarray(X, dtype=float)
         if fitting:
-            self.mean_ = arr.mean(axis=0)
-            s = arr.std(axis=0)
-            s[s == 0] = 1.0
-            self.scale_ = s
+            self.mean_, self.scale_ = standardisation(arr)
         return (arr - self.mean_) / self.scale_
 
     def _build(self, torch, n_in, n_classes):
@@ -338,10 +331,7 @@ class TorchCNN1DClassifier(_TorchClassifier):
             raise InputError(f"the 1-D CNN needs raw windows of shape (n, length, channels) or (n, length), got shape {arr.shape}.")
         if fitting:
             self.window_shape_ = arr.shape[1:]
-            self.mean_ = arr.mean(axis=(0, 1))
-            s = arr.std(axis=(0, 1))
-            s[s == 0] = 1.0
-            self.scale_ = s
+            self.mean_, self.scale_ = standardisation(arr, axis=(0, 1))
         elif arr.shape[1:] != tuple(self.window_shape_):
             raise InputError(
                 f"the model expects raw windows of shape {tuple(self.window_shape_)}, got {arr.shape[1:]}; use its window length and rate."

@@ -5,6 +5,7 @@ scikit-learn's checks (``validate_data``, ``check_classification_targets``) rais
 (a ``ValueError`` subclass, so scikit-learn's own estimator checks still see a
 ``ValueError``) on one line, with the original message kept (the estimator
 checks match parts of it, e.g. ``"Reshape your data"``) and the fix appended.
+The classes and the standardisation every classifier fits first live here too.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from sklearn.utils.validation import validate_data
 
 from gaitml.errors import GaitmlError, InputError
 
-__all__ = ["validate_fit", "validate_predict", "seed_from", "FIX"]
+__all__ = ["validate_fit", "validate_predict", "set_classes", "standardisation", "seed_from", "FIX"]
 
 #: The fix appended to a scikit-learn input error.
 FIX = "pass a finite numeric array of shape (windows, features) (raw windows: (windows, samples, channels))"
@@ -75,6 +76,31 @@ def validate_predict(estimator, X, *, allow_nd: bool = False) -> np.ndarray:
         raise
     except ValueError as exc:
         raise _one_line(exc, f"{FIX}; use the feature set and window the model was trained on") from exc
+
+
+def set_classes(estimator, y: np.ndarray) -> np.ndarray:
+    """Set ``classes_`` (the sorted labels of validated ``y``) and return each row's index into it.
+
+    Raises
+    ------
+    InputError
+        Fewer than 2 classes (``classes_`` is set all the same).
+    """
+    estimator.classes_, codes = np.unique(y, return_inverse=True)
+    classes = estimator.classes_
+    if len(classes) < 2:
+        raise InputError(
+            f"need at least 2 classes to train a classifier, got {len(classes)} class ({', '.join(map(str, classes)) or 'none'}); check the labels of the training data."
+        )
+    return codes
+
+
+def standardisation(X: np.ndarray, axis=0) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and scale of ``X`` over ``axis``: the std, with 1 for a constant column (left at 0 after centring)."""
+    mean = X.mean(axis=axis)
+    scale = X.std(axis=axis)
+    scale[scale == 0] = 1.0
+    return mean, scale
 
 
 def seed_from(random_state) -> int:

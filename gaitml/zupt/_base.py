@@ -15,10 +15,11 @@ import numpy as np
 from gaitml._base import BaseAlgorithm
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.zupt._intervals import intervals_table
+from gaitml.zupt._intervals import apply_blockwise, half_window_samples, intervals_table
 
 __all__ = [
     "BaseZuptDetector",
+    "FixedThresholdZuptDetector",
     "MIN_RECORDING_S",
     "REFERENCE_HALF_WIDTH_S",
     "empirical_upper_threshold",
@@ -137,6 +138,29 @@ class BaseZuptDetector(BaseAlgorithm):
         self.sampling_rate_hz_ = recording.sampling_rate_hz
         self.zupts_ = intervals_table(self.per_sample_zupts_, recording.sampling_rate_hz)
         return self
+
+
+class FixedThresholdZuptDetector(BaseZuptDetector):
+    """Base of the fixed-threshold detectors (paper 001's methods 1 and 2).
+
+    Their parameters are ``half_window_s`` and the keyword thresholds of a per-sample
+    function ``zupts(acc, gyr, s, **thresholds)`` over the centred window ``[i - s, i + s]``.
+    """
+
+    _positive = ("half_window_s",)
+
+    def _window_samples(self, sampling_rate_hz: float) -> int:
+        return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
+
+    def _thresholded(self, recording: Recording, needs: str, zupts):
+        """``zupts`` over the whole recording (block-wise) with this detector's thresholds, and the gyro.
+
+        ``needs`` names the detector in the error of a recording without a gyroscope.
+        """
+        gyr = recording.require_gyr(needs)
+        thresholds = self.get_params()
+        s = half_window_samples(thresholds.pop("half_window_s"), recording.sampling_rate_hz)
+        return apply_blockwise(lambda a, w: zupts(a, w, s, **thresholds), (recording.acc, gyr), s), gyr
 
 
 def empirical_upper_threshold(values: np.ndarray, eps: float) -> float:

@@ -1,4 +1,4 @@
-"""Shared helpers of the zero-velocity detectors: centred window sums and run tables.
+"""Shared helpers of the zero-velocity detectors: input checks, centred window sums and run tables.
 
 All of these are vectorised; the window sums are :func:`gaitml.signal.centered_window_sums` (cumulative sums, ``np.diff`` on the mask); nothing
 loops over samples.
@@ -14,6 +14,7 @@ from gaitml.errors import InputError
 from gaitml.signal import centered_window_sums
 
 __all__ = [
+    "acc_gyr_window",
     "centered_sums",
     "half_window_samples",
     "intervals_table",
@@ -33,6 +34,25 @@ def half_window_samples(half_window_s: float, sampling_rate_hz: float, *, what: 
     if not np.isfinite(half_window_s) or half_window_s <= 0:
         raise InputError(f"`{what}` must be a positive number of seconds, got {half_window_s!r}.")
     return max(1, int(round(float(half_window_s) * float(sampling_rate_hz))))
+
+
+def acc_gyr_window(acc_ms2: np.ndarray, gyr_rads: np.ndarray, half: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """The inputs of a windowed acc-and-gyro detector: both as float arrays of shape (n, 3), and ``s >= 1``.
+
+    Raises
+    ------
+    InputError
+        The shapes differ or are not (n, 3), or the half-window ``half`` (in
+        samples, ``half_window_samples`` in the messages) is below 1.
+    """
+    a = np.asarray(acc_ms2, dtype=float)
+    w = np.asarray(gyr_rads, dtype=float)
+    if a.ndim != 2 or a.shape[1] != 3 or w.shape != a.shape:
+        raise InputError(f"acc and gyr must both have shape (n, 3), got {a.shape} and {w.shape}.")
+    s = int(half)
+    if s < 1:
+        raise InputError(f"`half_window_samples` must be >= 1, got {half}.")
+    return a, w, s
 
 
 def centered_sums(x: np.ndarray, half: int) -> tuple[np.ndarray, np.ndarray]:

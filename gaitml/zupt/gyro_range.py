@@ -15,11 +15,10 @@ import numpy as np
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 
 from gaitml.consts import GRAVITY_MS2
-from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
-from gaitml.zupt._base import BaseZuptDetector
-from gaitml.zupt._intervals import apply_blockwise, half_window_samples
+from gaitml.zupt._base import FixedThresholdZuptDetector
+from gaitml.zupt._intervals import acc_gyr_window
 
 __all__ = ["GyroRangeZuptDetector", "gyro_range_zupts", "DEFAULT_GYR_RANGE_RADS", "DEFAULT_ACC_MAX_MS2"]
 
@@ -59,20 +58,14 @@ def gyro_range_zupts(
     gyr_range : ndarray, shape (n,)  largest per-axis gyro range (rad/s)
     acc_max : ndarray, shape (n,)  window maximum of |a| (m/s^2)
     """
-    a = np.asarray(acc_ms2, dtype=float)
-    w = np.asarray(gyr_rads, dtype=float)
-    if a.ndim != 2 or a.shape[1] != 3 or w.shape != a.shape:
-        raise InputError(f"acc and gyr must both have shape (n, 3), got {a.shape} and {w.shape}.")
-    s = int(half_window_samples)
-    if s < 1:
-        raise InputError(f"`half_window_samples` must be >= 1, got {half_window_samples}.")
+    a, w, s = acc_gyr_window(acc_ms2, gyr_rads, half_window_samples)
     wt = np.ascontiguousarray(w.T)  # filter contiguous rows (3, n): much faster than strided columns
     gyr_range = (_window_max(wt, s) - _window_min(wt, s)).max(axis=0)
     acc_max = _window_max(magnitude(a), s)
     return (gyr_range < gyr_range_rads) | (acc_max < acc_max_ms2), gyr_range, acc_max
 
 
-class GyroRangeZuptDetector(BaseZuptDetector):
+class GyroRangeZuptDetector(FixedThresholdZuptDetector):
     """Gyro-range detector, paper 001's method 1 (gyro range OR |a| maximum, fixed thresholds).
 
     Parameters
@@ -93,7 +86,6 @@ class GyroRangeZuptDetector(BaseZuptDetector):
     """
 
     name = "gyro-range"
-    _positive = ("half_window_s",)
 
     def __init__(
         self,
@@ -106,13 +98,9 @@ class GyroRangeZuptDetector(BaseZuptDetector):
         self.acc_max_ms2 = acc_max_ms2
         self.half_window_s = half_window_s
 
-    def _window_samples(self, sampling_rate_hz: float) -> int:
-        return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
-
     def _mask(self, recording: Recording):
-        gyr = recording.require_gyr("the gyro-range detector (gyro range + |a| maximum, paper 001 method 1)")
-        thresholds = self.get_params()
-        s = half_window_samples(thresholds.pop("half_window_s"), recording.sampling_rate_hz)
-        mask, gyr_range, acc_max = apply_blockwise(lambda a, w: gyro_range_zupts(a, w, s, **thresholds), (recording.acc, gyr), s)
+        (mask, gyr_range, acc_max), _ = self._thresholded(
+            recording, "the gyro-range detector (gyro range + |a| maximum, paper 001 method 1)", gyro_range_zupts
+        )
         self.acc_max_ms2_series_ = acc_max
         return mask, gyr_range

@@ -12,11 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
-from gaitml.zupt._base import BaseZuptDetector
-from gaitml.zupt._intervals import apply_blockwise, centered_sums, half_window_samples
+from gaitml.zupt._base import FixedThresholdZuptDetector
+from gaitml.zupt._intervals import acc_gyr_window, centered_sums
 
 __all__ = ["MagnitudeStdZuptDetector", "magnitude_std_zupts"]
 
@@ -56,13 +55,7 @@ def magnitude_std_zupts(
     and ``std(|w|) < gyr_std``, the stds over the centred window ``[i - s, i + s]``
     (truncated at the edges).
     """
-    a = np.asarray(acc_ms2, dtype=float)
-    w = np.asarray(gyr_rads, dtype=float)
-    if a.ndim != 2 or a.shape[1] != 3 or w.shape != a.shape:
-        raise InputError(f"acc and gyr must both have shape (n, 3), got {a.shape} and {w.shape}.")
-    s = int(half_window_samples)
-    if s < 1:
-        raise InputError(f"`half_window_samples` must be >= 1, got {half_window_samples}.")
+    a, w, s = acc_gyr_window(acc_ms2, gyr_rads, half_window_samples)
     am = magnitude(a)
     wm = magnitude(w)
     return (
@@ -74,7 +67,7 @@ def magnitude_std_zupts(
     )
 
 
-class MagnitudeStdZuptDetector(BaseZuptDetector):
+class MagnitudeStdZuptDetector(FixedThresholdZuptDetector):
     """Magnitude-and-std detector, paper 001's method 2 (four fixed-threshold conditions, AND).
 
     Parameters
@@ -98,7 +91,6 @@ class MagnitudeStdZuptDetector(BaseZuptDetector):
     """
 
     name = "magnitude-std"
-    _positive = ("half_window_s",)
 
     def __init__(
         self,
@@ -117,12 +109,8 @@ class MagnitudeStdZuptDetector(BaseZuptDetector):
         self.gyr_std_rads = gyr_std_rads
         self.half_window_s = half_window_s
 
-    def _window_samples(self, sampling_rate_hz: float) -> int:
-        return 2 * half_window_samples(self.half_window_s, sampling_rate_hz) + 1
-
     def _mask(self, recording: Recording):
-        gyr = recording.require_gyr("the magnitude-std detector (acc/gyro magnitude and std, paper 001 method 2)")
-        thresholds = self.get_params()
-        s = half_window_samples(thresholds.pop("half_window_s"), recording.sampling_rate_hz)
-        mask = apply_blockwise(lambda a, w: magnitude_std_zupts(a, w, s, **thresholds), (recording.acc, gyr), s)
+        mask, gyr = self._thresholded(
+            recording, "the magnitude-std detector (acc/gyro magnitude and std, paper 001 method 2)", magnitude_std_zupts
+        )
         return mask, magnitude(gyr)

@@ -15,7 +15,7 @@ classifier's score:
 - **Statistic**: the phone's holding angle, pitch (rotation about the phone's x axis: gravity
   towards +y) and roll (towards x) of the mean acceleration direction of every 2 s chunk, and
   their median over the walk (per walk, the 10 % and 90 % quantiles too).
-- **Rule** (:func:`fit_tilted`, stated before any model was trained with it): walks with a
+- **Rule** (:func:`fit_tilted`; written after two variants had been scored on the Oxford walks, which the report discloses): walks with a
   median pitch above ``FLAT_MAX_DEG`` (12 deg, the top of the flat pose) are tilted; the lower
   end of the tilted range is their smallest median pitch less ``MARGIN_DEG`` (5 deg), floored
   to a whole degree; the upper end is the larger of the prior 50 deg and their largest median

@@ -23,7 +23,7 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
 1. *Subjects* (:mod:`.subject`): height, cadence and step length per mode,
    vertical amplitude and harmonic content, phase skew, speed fluctuation,
    lateral sway, left/right asymmetry of step time and peak, step-to-step
-   jitter, phone pose (flat ~3-12 deg pitch or tilted 30-50 deg), slow
+   jitter, phone pose (flat ~3-12 deg pitch or tilted 14-50 deg), slow
    orientation wander, accelerometer/gyroscope noise and bias, the sizes
    of the step-to-step and slow variability (below), and the hand gain: how
    much of the trunk's acceleration reaches a hand-held phone (0.25-1.2,

@@ -69,10 +69,10 @@ def test_demo_acc_reads_an_accelerometer_only_recording_as_when_it_was_shipped()
     with_gyro = predict_recording(model, rec)
     t = predict_recording(model, _acc_only(rec))
     np.testing.assert_array_equal(t["mode_raw"].to_numpy(), with_gyro["mode_raw"].to_numpy())
-    assert t["mode"].value_counts().to_dict() == {"backward": 19, "side_left": 17, "run": 15, "walk": 13, "side_right": 13}
+    assert t["mode"].value_counts().to_dict() == {"backward": 18, "side_left": 17, "run": 15, "walk": 14, "side_right": 13}
     assert bool(t["in_domain"].astype(bool).all())
     sel = t["label_fraction"].to_numpy() >= 0.5
-    # the sample's walker is a calm one (hand gain 0.30): without the gyroscope 70 % of its windows
+    # the sample's walker is a calm one (hand gain 0.30): without the gyroscope 71 % of its windows
     # are right (models/demo with the gyroscope: 92 %; both models before the hand gain: 38-40 %)
     assert np.mean(t["mode"].to_numpy()[sel] == t["label"].to_numpy()[sel]) > 0.68
 

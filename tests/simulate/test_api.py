@@ -17,6 +17,7 @@ from gaitml.simulate import (
     simulate_dataset,
     simulate_route,
 )
+from gaitml.simulate.subject import HAND_TILTED_PITCH_DEG
 
 
 @pytest.fixture(scope="module")
@@ -107,7 +108,8 @@ def test_subjects_are_reproducible_and_prefix_stable():
     assert sample_subjects(3, seed=5) != a
     rng = np.random.default_rng(0)
     s = Subject.random(rng, subject="S09", pose="tilted")
-    assert s.subject == "S09" and s.pose == "tilted" and s.pitch_rad > 0.5
+    lo, hi = np.radians(HAND_TILTED_PITCH_DEG)
+    assert s.subject == "S09" and s.pose == "tilted" and lo <= s.pitch_rad <= hi
 
 
 def test_route_recordings():

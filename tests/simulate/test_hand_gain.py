@@ -9,7 +9,7 @@ import pytest
 
 from gaitml.errors import InputError
 from gaitml.simulate import simulate_dataset
-from gaitml.simulate.subject import HAND_GAIN_RANGE, Subject, sample_subjects
+from gaitml.simulate.subject import HAND_GAIN_RANGE, HAND_TILTED_PITCH_DEG, Subject, sample_subjects
 
 
 def _walks(gains, modes=("walk",), positions=None, duration_s=30.0):
@@ -50,10 +50,14 @@ def test_default_subject_has_gain_one_and_drawn_gains_stay_in_range():
 def test_the_gain_is_drawn_last_so_other_parameters_keep_their_seeded_values():
     """Subject S02 of seed 9 as drawn before the hand gain existed (gaitml at 465f11e: the same
     dict for all three subjects, checked when the gain was added); the first and the last
-    parameter drawn before the gain are pinned."""
+    parameter drawn before the gain are pinned. Its pose is tilted: the pitch is the same
+    uniform draw, mapped since onto the fitted tilted range (0.65581 rad of 0.52-0.87 then)."""
     s = sample_subjects(3, 9)[1].to_dict()
-    pinned = {"walk_cadence_hz": 2.051129, "walk_vertical_ms2": 3.459382, "pitch_rad": 0.65581, "hand_jitter_drift": 0.325248}
+    pinned = {"walk_cadence_hz": 2.051129, "walk_vertical_ms2": 3.459382, "hand_jitter_drift": 0.325248}
     assert {k: s[k] for k in pinned} == pinned
+    lo, hi = np.radians(HAND_TILTED_PITCH_DEG)
+    assert s["pose"] == "tilted"
+    assert (s["pitch_rad"] - lo) / (hi - lo) == pytest.approx((0.65581 - 0.52) / (0.87 - 0.52), abs=2e-5)
 
 
 @pytest.mark.parametrize("bad", [0.0, -1.0, 3.0])

@@ -749,7 +749,7 @@ def main(argv: list[str] | None = None) -> int:
     from gaitml.models import load_model
 
     if args.shipped:
-        return shipped_main()
+        return shipped_main(args)
     if args.positions:
         return positions_main(args)
     if args.silent:
@@ -794,7 +794,7 @@ def main(argv: list[str] | None = None) -> int:
     )
 
 
-def shipped_main() -> int:
+def shipped_main(args) -> int:
     """``--shipped``: what the shipped hand-held models say in every simulated carrying position (about a minute)."""
     from gaitml.models import load_model
 
@@ -809,7 +809,7 @@ def shipped_main() -> int:
             "### The shipped models in every simulated carrying position (8 new subjects, seed 2024, 120 s per position)\n\n" + _md(flags),
             "### Multi-state PDR per carrying position with models/demo (rectangle and arc, seeds 0-2, means)\n\n" + _md(pdr),
         ],
-        None,
+        args.out,
         t0,
     )
 

@@ -596,6 +596,11 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
         "fit_s": round(fit_s, 3),
         "cv_scores": cv_scores,
     }
+    if cfg["data"]["source"] == "simulated":
+        # the simulator's hand pose at training time (the model card states it; it was fitted to real phones later)
+        from gaitml.simulate.subject import HAND_TILTED_PITCH_DEG
+
+        info["training_data"]["hand_tilted_pitch_deg"] = [float(v) for v in HAND_TILTED_PITCH_DEG]
     if model.input_kind == "features" and list(ds.feature_names) != info["feature_names"]:
         raise InputError(f"the feature table columns differ from feature_names({fset!r}); this is a bug in the feature set definition.")
     info["feature_frame"] = cfg["features"]["frame"]

@@ -25,7 +25,7 @@ Ranges (the sources of the numbers):
 - phone pitch 3-12 deg when "flat" (the real files show about 8 deg: mean
   acc_y 1.4 m/s^2), 14-50 deg when "tilted" (reading posture,
   :data:`HAND_TILTED_PITCH_DEG`: the Oxford ``InHand`` phones are held at
-  19.5-36 deg, walk medians; 30-50 deg before that fit);
+  19.2-35.7 deg, walk medians; 30-50 deg before that fit);
 - hand vibration 0.25-0.65 m/s^2 per axis in 3-15 Hz (the real files have
   0.45-0.49 m/s^2 on x and y above their N = 5 moving average);
 - step-to-step and slow variability (applied by :mod:`.plan` and
@@ -88,7 +88,7 @@ HAND_GAIN_RANGE = (0.25, 1.2)
 #: Range (uniform, deg) of the pitch of a phone held "tilted" (reading posture; "flat" is 3-12
 #: deg). The lower end is fitted to the real hand-held walks by ``python -m
 #: experiments.scripts.hand_pose``: the smallest median pitch of the tuning users' tilted walks
-#: (over 12 deg) less 5 deg, floored to a whole degree (the Oxford ``InHand`` phones: 19.5-36 deg;
+#: (over 12 deg) less 5 deg, floored to a whole degree (the Oxford ``InHand`` phones: 19.2-35.7 deg;
 #: each user held out in turn gives the same 14 deg); the upper end keeps the prior 50 deg,
 #: above every real walk. It was 30-50 deg, which left real phones held at 15-30 deg outside
 #: the shipped models' gravity domain (``experiments/reports/model-domain.md``, "The phone's

@@ -47,6 +47,10 @@ def test_default_subject_has_gain_one_and_drawn_gains_stay_in_range():
     assert 0.4 < np.mean(gains < np.sqrt(lo * hi)) < 0.6
 
 
+#: Subject S01 of seed 9 (flat) as drawn before the tilted pitch range was fitted.
+FLAT_S01_PITCH = 0.12210360697185185
+
+
 def test_the_gain_is_drawn_last_so_other_parameters_keep_their_seeded_values():
     """Subject S02 of seed 9 as drawn before the hand gain existed (gaitml at 465f11e: the same
     dict for all three subjects, checked when the gain was added); the first and the last
@@ -57,6 +61,9 @@ def test_the_gain_is_drawn_last_so_other_parameters_keep_their_seeded_values():
     assert {k: s[k] for k in pinned} == pinned
     lo, hi = np.radians(HAND_TILTED_PITCH_DEG)
     assert s["pose"] == "tilted"
+    # a flat subject is drawn as before the tilted range was fitted (its pitch as gaitml at 6c8d3b0 drew it)
+    flat = [x for x in sample_subjects(3, 9) if x.pose == "flat"]
+    assert flat and flat[0].subject == "S01" and flat[0].pitch_rad == pytest.approx(FLAT_S01_PITCH, abs=1e-12)
     assert (s["pitch_rad"] - lo) / (hi - lo) == pytest.approx((0.65581 - 0.52) / (0.87 - 0.52), abs=2e-5)
 
 

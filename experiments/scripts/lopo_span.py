@@ -57,6 +57,7 @@ SEED_SETS = {
 GROUPS = {
     "hand-held (flat + tilted)": ("hand-flat", "hand-tilted"),
     "trouser pocket (front + back)": ("front-pocket", "back-pocket"),
+    "pelvis-borne (back pocket + belt)": ("back-pocket", "belt"),
 }
 TARGET = 0.80
 MAX_MEAN_FALSE_ALARMS = 0.01

@@ -212,7 +212,7 @@ def check_invariance(recs, seed: int = 0) -> float:
 
 # ---------------------------------------------------------------- data
 def build(sets, cache: Path | None) -> dict:
-    """Labels, subjects, positions, recordings, starts, the 13 descriptors and the candidates of each window of ``sets``."""
+    """Per window of ``sets``: what :func:`lopo_domain.store_window_set` keeps (the 13 descriptors among them) and the candidates."""
     import hashlib
 
     from experiments.scripts import lopo_domain as ld
@@ -224,7 +224,6 @@ def build(sets, cache: Path | None) -> dict:
         if hit is not None:
             return hit
     from gaitml.models import build_window_dataset
-    from gaitml.models.domain import orientation_dynamics
     from gaitml.simulate import POSITIONS, simulate_dataset
 
     out = {}
@@ -236,25 +235,16 @@ def build(sets, cache: Path | None) -> dict:
             print(f"largest change of a candidate under a random rotation: {worst:.2e}", file=sys.stderr, flush=True)
             assert worst < 1e-6, worst
         ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], need_features=False, **ld.WINDOW)
+        ld.store_window_set(out, tag, recs, ds)  # labels, subjects, positions, recording, start, the 13 descriptors
         starts = ds.windows["start"].to_numpy(np.int64)
         ends = ds.windows["end"].to_numpy(np.int64)
         ri = np.asarray(ds.recording_index)
-        odyn = np.zeros((len(ds), 13))
         new = np.zeros((len(ds), len(CANDIDATE_NAMES)))
-        pos = np.empty(len(ds), dtype=object)
         for i in np.unique(ri):
             rows = np.flatnonzero(ri == i)
             r = recs[int(i)]
-            odyn[rows] = orientation_dynamics(r.acc, r.gyr, starts[rows], ends[rows], r.sampling_rate_hz)
             new[rows] = candidate_dynamics(r.acc, r.gyr, starts[rows], ends[rows], r.sampling_rate_hz)
-            pos[rows] = r.meta["position"]
-        out[f"{tag}_odyn"] = odyn
         out[f"{tag}_new"] = new
-        out[f"{tag}_y"] = np.asarray(ds.y).astype(str)
-        out[f"{tag}_g"] = np.asarray(ds.groups).astype(str)
-        out[f"{tag}_pos"] = pos.astype(str)
-        out[f"{tag}_rec"] = ri.astype(np.int64)
-        out[f"{tag}_start"] = starts
     if cache is not None:
         ld.save_cache(cache, key, out, name)
     return out

@@ -64,7 +64,9 @@ __all__ = [
     "N_CHECK",
     "CHECK_SEED",
     "CHECK_STATS",
+    "real_hand_recordings",
     "real_hand_walks",
+    "subject_setting",
     "gain_curves",
     "fit_range",
     "check_population",
@@ -89,23 +91,33 @@ _HI_GRID = np.geomspace(0.5, GAIN_GRID[-1], 61)
 ROUND_TO = 0.05
 
 
-@functools.lru_cache(maxsize=2)
-def _real_hand_walks(root: str) -> tuple:
+def real_hand_recordings(shared_data: str | Path):
+    """Every real hand-held walk as ``(user, walk, surface, recording, step times in s)``.
+
+    The two IFSM flat-held walks (users ``ifsm-1``, ``ifsm-2``; steps: the realism settings'
+    peaks) and every Oxford ``InHand`` walk (resampled to 50 Hz; steps: its foot switches).
+    """
     from gaitml.io import read_recording
     from gaitml.io.oxford import list_oxford_folders, read_oxford_folder
 
-    rows = []
+    root = Path(shared_data)
     for i, f in enumerate(REAL_FILES, start=1):
-        rec = read_recording(Path(root) / f)
+        rec = read_recording(root / f)
         peaks = count_peaks(rec, height_above_g_ms2=PEAK_ABOVE_G_MS2, min_distance_s=MIN_PEAK_DISTANCE_S)
-        st = position_statistics(rec, peaks / rec.sampling_rate_hz)
-        rows.append({"user": f"ifsm-{i}", "walk": Path(f).stem, "surface": "Hard", **st})
-    for d in list_oxford_folders(Path(root) / "oxford-step-counter"):
+        yield f"ifsm-{i}", Path(f).stem, "Hard", rec, peaks / rec.sampling_rate_hz
+    for d in list_oxford_folders(root / "oxford-step-counter"):
         rec = read_oxford_folder(d, sampling_rate_hz=50.0)
         if rec.meta.get("position") != "InHand":
             continue
-        rows.append({"user": rec.meta["user"], "walk": Path(d).name, "surface": rec.meta.get("surface"), **position_statistics(rec)})
-    return tuple(rows)
+        yield rec.meta["user"], Path(d).name, rec.meta.get("surface"), rec, np.asarray(rec.reference["steps_t_s"], dtype=float)
+
+
+@functools.lru_cache(maxsize=2)
+def _real_hand_walks(root: str) -> tuple:
+    return tuple(
+        {"user": user, "walk": walk, "surface": surface, **position_statistics(rec, steps)}
+        for user, walk, surface, rec, steps in real_hand_recordings(root)
+    )
 
 
 def real_hand_walks(shared_data: str | Path) -> pd.DataFrame:
@@ -248,15 +260,20 @@ def train_without_cv(config: str, out: Path, patch):
 
 
 @contextlib.contextmanager
-def _hand_gain_range(gain_range: tuple[float, float]):
+def subject_setting(name: str, value):
+    """Temporarily set the module constant ``name`` of :mod:`gaitml.simulate.subject` (a simulator range a fold patches)."""
     import gaitml.simulate.subject as subject_mod
 
-    saved = subject_mod.HAND_GAIN_RANGE
-    subject_mod.HAND_GAIN_RANGE = tuple(gain_range)
+    saved = getattr(subject_mod, name)
+    setattr(subject_mod, name, value)
     try:
         yield
     finally:
-        subject_mod.HAND_GAIN_RANGE = saved
+        setattr(subject_mod, name, saved)
+
+
+def _hand_gain_range(gain_range: tuple[float, float]):
+    return subject_setting("HAND_GAIN_RANGE", tuple(gain_range))
 
 
 def _train_acc_model(out: Path, gain_range: tuple[float, float]):

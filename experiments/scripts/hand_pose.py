@@ -41,7 +41,6 @@ Run from the repository root (a few seconds; about 15 s with ``--models``)::
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
 import sys
 import time
@@ -51,8 +50,8 @@ import numpy as np
 import pandas as pd
 
 from experiments.scripts.domain_report import emit_tables
-from experiments.scripts.hand_gain import _user_recordings, train_without_cv
-from experiments.scripts.realism import MIN_PEAK_DISTANCE_S, PEAK_ABOVE_G_MS2, REAL_FILES, _markdown, count_peaks
+from experiments.scripts.hand_gain import _user_recordings, real_hand_recordings, subject_setting, train_without_cv
+from experiments.scripts.realism import _markdown
 
 __all__ = [
     "FLAT_MAX_DEG",
@@ -102,13 +101,8 @@ def holding_angles(acc: np.ndarray, fs: float, span: tuple[int, int] | None = No
 
 def real_pitch(shared_data: str | Path) -> pd.DataFrame:
     """One row per real hand-held walk: user, walk, surface, median pitch and roll, pitch 10-90 % quantiles."""
-    from gaitml.io import read_recording
-    from gaitml.io.oxford import list_oxford_folders, read_oxford_folder
-
-    root = Path(shared_data)
     rows = []
-
-    def row(user, walk, surface, rec, steps_t_s):
+    for user, walk, surface, rec, steps_t_s in real_hand_recordings(shared_data):
         fs = rec.sampling_rate_hz
         span = (int(np.floor(steps_t_s[0] * fs)), int(np.ceil(steps_t_s[-1] * fs)) + 1)
         p, r = holding_angles(rec.acc, fs, span)
@@ -123,16 +117,6 @@ def real_pitch(shared_data: str | Path) -> pd.DataFrame:
                 "roll_deg": float(np.median(r)),
             }
         )
-
-    for i, f in enumerate(REAL_FILES, start=1):
-        rec = read_recording(root / f)
-        peaks = count_peaks(rec, height_above_g_ms2=PEAK_ABOVE_G_MS2, min_distance_s=MIN_PEAK_DISTANCE_S)
-        row(f"ifsm-{i}", Path(f).stem, "Hard", rec, np.asarray(peaks) / rec.sampling_rate_hz)
-    for d in list_oxford_folders(root / "oxford-step-counter"):
-        rec = read_oxford_folder(d, sampling_rate_hz=50.0)
-        if rec.meta.get("position") != "InHand":
-            continue
-        row(rec.meta["user"], Path(d).name, rec.meta.get("surface"), rec, np.asarray(rec.reference["steps_t_s"], dtype=float))
     return pd.DataFrame(rows)
 
 
@@ -173,16 +157,8 @@ def leave_one_user_out(walks: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-@contextlib.contextmanager
 def _tilted_range(deg: tuple[float, float]):
-    import gaitml.simulate.subject as subject_mod
-
-    saved = subject_mod.HAND_TILTED_PITCH_DEG
-    subject_mod.HAND_TILTED_PITCH_DEG = (float(deg[0]), float(deg[1]))
-    try:
-        yield
-    finally:
-        subject_mod.HAND_TILTED_PITCH_DEG = saved
+    return subject_setting("HAND_TILTED_PITCH_DEG", (float(deg[0]), float(deg[1])))
 
 
 def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:

@@ -96,7 +96,10 @@ HAND_GAIN_RANGE = (0.25, 1.2)
 HAND_TILTED_PITCH_DEG = (14.0, 50.0)
 
 
-def _tilted_pitch(rng: np.random.Generator) -> float:
+def _pose_pitch(pose: str, rng: np.random.Generator) -> float:
+    """The phone's pitch (rad) drawn for ``pose``: flat 0.05-0.21 rad (3-12 deg), tilted :data:`HAND_TILTED_PITCH_DEG`."""
+    if pose == "flat":
+        return rng.uniform(0.05, 0.21)
     lo, hi = HAND_TILTED_PITCH_DEG
     return float(rng.uniform(np.radians(lo), np.radians(hi)))
 
@@ -207,7 +210,7 @@ class Subject:
         pose_ = pose if pose is not None else ("flat" if u() < 0.7 else "tilted")
         if pose_ not in POSES:
             raise InputError(f"pose must be one of {POSES}, got {pose_!r}.")
-        pitch = u(0.05, 0.21) if pose_ == "flat" else _tilted_pitch(rng)
+        pitch = _pose_pitch(pose_, rng)
         sign = lambda: 1.0 if u() < 0.5 else -1.0  # noqa: E731
         return cls(
             subject=subject,
@@ -270,7 +273,7 @@ class Subject:
         if pose == self.pose:
             return self
         rng = rng if rng is not None else np.random.default_rng(0)
-        pitch = rng.uniform(0.05, 0.21) if pose == "flat" else _tilted_pitch(rng)
+        pitch = _pose_pitch(pose, rng)
         return dataclasses.replace(self, pose=pose, pitch_rad=pitch)
 
     def session_variant(self, rng: np.random.Generator, *, scale: float = 1.0) -> Subject:

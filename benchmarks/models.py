@@ -28,7 +28,7 @@ Measurements (one dict each, COMMON bench contract):
   features and the gravity direction of its samples, one row at a time). Reference: the
   same loop without the check.
 
-The model of the two domain rows is trained in-process by :func:`gaitml.experiments.train_config`
+The model of the two domain rows is trained in-process by :func:`gaitml.pipeline.train_config`
 (simulated data, all52 features, phone frame), so they do not depend on a model under ``models/``.
 
 Run: ``python -m benchmarks.models [--quick]`` from the repository root.
@@ -98,7 +98,7 @@ def _domain_model(quick: bool, folder, feature_set: str = "all52"):
     ``feature_set = "all52+gyro"`` gives a gyroscope model, whose domain record also has the
     orientation-dynamics part (:func:`gaitml.models.domain.orientation_dynamics`).
     """
-    from gaitml.experiments import parse_config, train_config
+    from gaitml.pipeline import parse_config, train_config
 
     sim = {"subjects": 3 if quick else 8, "duration_s": 60.0 if quick else 120.0}
     cfg = parse_config(

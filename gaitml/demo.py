@@ -47,7 +47,7 @@ def _log(msg: str) -> None:
 
 
 def _config(data_dir: Path, out_dir: Path, settings: dict) -> Any:
-    from gaitml.experiments.config import parse_config
+    from gaitml.pipeline.config import parse_config
 
     raw = {
         "name": "demo-cv",
@@ -72,10 +72,10 @@ def _config(data_dir: Path, out_dir: Path, settings: dict) -> Any:
 
 def run_demo(out_dir: str | Path = "demo-out", *, settings: dict | None = None, progress: bool = True) -> dict:
     """Run the demo and return its summary (also written to ``summary.json``)."""
-    from gaitml.experiments.pdr_routes import evaluate_route
-    from gaitml.experiments.runner import evaluate_config, train_config
     from gaitml.models import load_model, predict_recording
     from gaitml.pdr.plot import plot_trajectory
+    from gaitml.pipeline.pdr_routes import evaluate_route
+    from gaitml.pipeline.runner import evaluate_config, train_config
     from gaitml.simulate import simulate_dataset, simulate_route, write_simulation
 
     s = {**DEMO_SETTINGS, **(settings or {})}
@@ -117,7 +117,7 @@ def run_demo(out_dir: str | Path = "demo-out", *, settings: dict | None = None, 
 
     _log("[5/5] multi-state PDR with predicted modes, true modes and forward-only ...")
     t0 = time.perf_counter()
-    from gaitml.experiments.pdr_routes import VARIANTS
+    from gaitml.pipeline.pdr_routes import VARIANTS
 
     wanted = ("multi / model modes / hde", "multi / true modes / hde", "forward-only / hde")
     variants = tuple(v for v in VARIANTS if v[0] in wanted)

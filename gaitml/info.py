@@ -92,7 +92,7 @@ def describe_path(path: str | os.PathLike, **read_kwargs: Any) -> dict[str, Any]
     if fmt == "gaitmap-table":
         return {"kind": "table", "source": str(p), **read_gaitmap_table(p)}
     if _is_phone_manifest_folder(p):  # a folder of app exports with a manifest (data.source = "folder")
-        from gaitml.experiments.folder_source import read_manifest_folder
+        from gaitml.pipeline.folder_source import read_manifest_folder
 
         recs, _ = read_manifest_folder(p, p / "manifest.csv", label="")
     else:

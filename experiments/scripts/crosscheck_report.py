@@ -4,7 +4,7 @@
 (about 10 s: 50 walks, two detectors each; ``--chunk-s 60``: every walk again in 60 s chunks, about 10 s more).
 
 For each of the 50 real walks of the shared data (the two IFSM flat-held walks and the 48
-Oxford optimisation walks, read by :func:`gaitml.experiments.steps_real.load_recordings`)
+Oxford optimisation walks, read by :func:`gaitml.pipeline.steps_real.load_recordings`)
 the true step count, ``single-peak``'s and ``adaptive``'s, and the ratios single-peak/true,
 adaptive/true and single-peak/adaptive. Each walk is labelled by its truth:
 
@@ -254,7 +254,7 @@ def report(df: pd.DataFrame) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from gaitml.experiments.steps_real import load_recordings
+    from gaitml.pipeline.steps_real import load_recordings
 
     ap = argparse.ArgumentParser(description="single-peak / adaptive count cross-check on the real walks")
     ap.add_argument("--data", type=Path, default=Path(__file__).resolve().parents[3] / "shared" / "data", help="the shared data folder")

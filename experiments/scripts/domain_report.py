@@ -69,8 +69,8 @@ OXFORD_POSITIONS = {
 
 def train_variant(out: Path, frame: str):
     """``experiments/demo-acc.toml`` in another feature frame, trained without CV."""
-    from gaitml.experiments.config import load_config
-    from gaitml.experiments.runner import train_config
+    from gaitml.pipeline.config import load_config
+    from gaitml.pipeline.runner import train_config
 
     cfg = load_config(ROOT / "experiments" / "demo-acc.toml").with_values(
         {"features.frame": frame, "train.cross_validate": False, "name": f"demo-acc-{frame}"}
@@ -595,8 +595,8 @@ def positions_pdr_table(model, seeds=(0, 1, 2), routes=("rectangle", "arc"), out
     ``out_of_domain``: a column with the share of the multi-state steps that the model's
     domain check moved forward (``out_of_domain_steps`` of ``gaitml pdr --json``).
     """
-    from gaitml.experiments.pdr_routes import VARIANTS, evaluate_route
     from gaitml.pdr.pipeline import modes_from_labels
+    from gaitml.pipeline.pdr_routes import VARIANTS, evaluate_route
     from gaitml.simulate import POSITIONS, simulate_route
 
     variants = [v for v in VARIANTS if v[0] in ("multi / model modes / hde", "forward-only / hde", "multi / true modes / hde")]

@@ -243,9 +243,9 @@ def _clear_caches(runner) -> None:
 def train_without_cv(config: str, out: Path, patch):
     """``experiments/<config>`` (without its cross-validation) trained inside the context ``patch``
     (a simulator setting patched for the fold), the runner's caches cleared around it."""
-    from gaitml.experiments import runner
-    from gaitml.experiments.config import load_config
     from gaitml.models import load_model
+    from gaitml.pipeline import runner
+    from gaitml.pipeline.config import load_config
 
     root = Path(__file__).resolve().parents[2]
     cfg = load_config(root / "experiments" / config)

@@ -2,7 +2,7 @@
 
 ``python -m experiments.scripts.pdr_report [--model MODEL_DIR] [--seeds 0 1 2] [--detector NAME] [--plot PNG] [--csv FILE]``
 from the repository root. The routes, calibration and variants are described in
-:mod:`gaitml.experiments.pdr_routes`; measured tables: ``experiments/scripts/README.md``.
+:mod:`gaitml.pipeline.pdr_routes`; measured tables: ``experiments/scripts/README.md``.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import time
 
 import pandas as pd
 
-from gaitml.experiments.pdr_routes import evaluate_route, route_table
+from gaitml.pipeline.pdr_routes import evaluate_route, route_table
 
 __all__ = ["main"]
 

@@ -29,8 +29,8 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.evaluation.steps import evaluate_steps
-from gaitml.experiments.config import STEP_TOLERANCE_S
-from gaitml.experiments.steps_real import load_recordings
+from gaitml.pipeline.config import STEP_TOLERANCE_S
+from gaitml.pipeline.steps_real import load_recordings
 from gaitml.steps import get_detector
 
 __all__ = ["edge_table", "sensitivity_table", "main"]

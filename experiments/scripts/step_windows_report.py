@@ -9,7 +9,7 @@
 ``python -m experiments.scripts.step_windows_report pdr CONFIG [--seeds 0 1 2] [--routes rectangle arc] [--models DIR]``
     Trains the config's model twice (time windows and step windows, the same
     simulated training data, ``train.cross_validate`` off), then runs the simulated
-    PDR routes of :mod:`gaitml.experiments.pdr_routes` with each: per-step mode
+    PDR routes of :mod:`gaitml.pipeline.pdr_routes` with each: per-step mode
     accuracy (the majority true label over the detector's step span against the
     step's mode, as ``pdr_report`` scores it) and end-point error (% of distance).
     Per-step accuracy is given twice: as ``pdr_report`` scores it, and against the
@@ -55,7 +55,7 @@ def _point(cfg, by: str):
 
 def classify_table(config: str, data: str | None = None) -> tuple[pd.DataFrame, dict]:
     """Per-mode recall/F1 and headline scores of ``config`` with time and step windows (``data``: a folder config's data folder)."""
-    from gaitml.experiments import evaluate_config, load_config
+    from gaitml.pipeline import evaluate_config, load_config
 
     cfg = load_config(config, check_paths=data is None)
     if data is not None:
@@ -106,8 +106,8 @@ def _classify_markdown(name: str, per: pd.DataFrame, head: dict) -> str:
 
 def pdr_table(config: str, seeds, routes, models_dir: Path) -> pd.DataFrame:
     """One row per route, seed and model variant: per-step mode accuracy and end-point error."""
-    from gaitml.experiments import load_config, train_config
-    from gaitml.experiments.pdr_routes import evaluate_route
+    from gaitml.pipeline import load_config, train_config
+    from gaitml.pipeline.pdr_routes import evaluate_route
 
     cfg = load_config(config)
     models = {}

@@ -8,8 +8,8 @@ from gaitml.commands._util import emit_json, log
 
 
 def run(args) -> int:
-    from gaitml.experiments import evaluate_config, load_config
     from gaitml.parallel import parallel_backend
+    from gaitml.pipeline import evaluate_config, load_config
 
     data = getattr(args, "data", None)
     cfg = load_config(args.config, check_paths=data is None)

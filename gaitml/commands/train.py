@@ -6,7 +6,7 @@ from gaitml.commands._util import log
 
 
 def run(args) -> int:
-    from gaitml.experiments import load_config, train_config
+    from gaitml.pipeline import load_config, train_config
 
     cfg = load_config(args.config)
     model = train_config(cfg, out_dir=args.out)

@@ -3,7 +3,7 @@
 A detector whose settings may be chosen on data declares them in ``param_grid``
 (parameter -> candidate values); :meth:`BaseStepDetector.tune` picks the grid
 point with the best mean count accuracy on the recordings it is given. The
-evaluation (:mod:`gaitml.experiments.steps_real`) calls it on the training users
+evaluation (:mod:`gaitml.pipeline.steps_real`) calls it on the training users
 (or positions) only and scores the choice on the held-out ones. A detector with
 an empty grid (the paper detectors) is scored as it is.
 """

@@ -503,7 +503,7 @@ class AdaptiveStepDetector(BaseStepDetector):
     _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps")
     _non_negative = ("min_rms_ms2", "edge_confidence_ratio", "min_confidence")
     _integer = ("min_bout_steps",)
-    #: settings the evaluation may choose on training users (``gaitml.experiments.steps_real``); the defaults are not fitted
+    #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
 
     def __init__(

@@ -17,11 +17,11 @@ import json
 import numpy as np
 import pytest
 
-from gaitml.experiments.config import parse_config
-from gaitml.experiments.runner import train_config
 from gaitml.models import load_model, predict_recording
 from gaitml.models._predict import _windows_for, model_inputs
 from gaitml.models.domain import _BLOCKED_MIN_ROWS, ACC_MEAN_FEATURES, feature_gravity, orientation_dynamics, running_median, window_gravity
+from gaitml.pipeline.config import parse_config
+from gaitml.pipeline.runner import train_config
 from gaitml.simulate import simulate_dataset
 from tests.reference.domain import (
     dynamics_distances_loop,

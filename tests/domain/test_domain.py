@@ -11,12 +11,12 @@ from scipy.spatial.transform import Rotation
 
 from gaitml.cli import main
 from gaitml.errors import ModelError
-from gaitml.experiments.config import parse_config
-from gaitml.experiments.runner import train_config
 from gaitml.io import write_gaitml_csv
 from gaitml.models import load_model, model_card, predict_recording
 from gaitml.models._persist import ARRAYS_NAME, JSON_NAME, settings_sha256, sha256_file
 from gaitml.models.domain import NO_DOMAIN_WARNING, DomainModel, fit_domain, out_of_domain_fraction, window_gravity
+from gaitml.pipeline.config import parse_config
+from gaitml.pipeline.runner import train_config
 from gaitml.simulate import simulate_dataset
 from tests.conftest import shared
 
@@ -257,7 +257,7 @@ def test_old_model_without_domain_loads_and_says_so_once(phone_model, new_subjec
 
 def test_attach_domain_to_an_old_model_keeps_its_classifier(phone_model, tmp_path):
     from gaitml.errors import ConfigError
-    from gaitml.experiments.runner import attach_training_domain
+    from gaitml.pipeline.runner import attach_training_domain
 
     old = _strip_domain(phone_model, tmp_path / "old")
     cfg = parse_config(json.loads(json.dumps(SMALL)))

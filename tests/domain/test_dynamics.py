@@ -343,9 +343,9 @@ def _features(rec, starts):
 def test_train_domain_dynamics_false_records_features_and_gravity_only(tmp_path):
     """``train.domain_dynamics = false`` (experiments/demo.toml): an all52+gyro model without the
     orientation-dynamics part, like the shipped models/demo."""
-    from gaitml.experiments.config import parse_config
-    from gaitml.experiments.runner import train_config
     from gaitml.models import load_model
+    from gaitml.pipeline.config import parse_config
+    from gaitml.pipeline.runner import train_config
 
     cfg = parse_config(
         {

@@ -9,11 +9,11 @@ import warnings
 import numpy as np
 import pytest
 
-from gaitml.experiments.config import parse_config
-from gaitml.experiments.runner import train_config
 from gaitml.models import load_model
 from gaitml.models._predict import model_inputs
 from gaitml.models.domain import fit_domain, window_gravity
+from gaitml.pipeline.config import parse_config
+from gaitml.pipeline.runner import train_config
 from gaitml.simulate import simulate_dataset
 from tests.reference.domain import reference_check
 

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from gaitml.errors import ConfigError
-from gaitml.experiments import load_config, parse_config, prepare_data, sweep_grid
 from gaitml.models import torch_available
+from gaitml.pipeline import load_config, parse_config, prepare_data, sweep_grid
 from tests.models.synth import write_synth_folder
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -50,9 +50,9 @@ def test_committed_config_builds(path):
 def test_config_names_come_from_the_registries():
     """The names a config accepts are the registries' (no hand-copied list)."""
     from gaitml.evaluation.cv import CV_SCHEMES
-    from gaitml.experiments.config import SCHEMA, STEPS_SCHEMA
     from gaitml.features import FEATURE_SETS
     from gaitml.models import MODEL_KINDS
+    from gaitml.pipeline.config import SCHEMA, STEPS_SCHEMA
     from gaitml.simulate.subject import POSES
     from gaitml.steps import detector_names
 

@@ -7,7 +7,7 @@ import pytest
 
 from experiments.scripts.positions_frames import main, mode_tables, position_of, position_tables, read_points
 from gaitml.errors import InputError
-from gaitml.experiments import evaluate_config, parse_config
+from gaitml.pipeline import evaluate_config, parse_config
 
 
 def test_position_of_names():

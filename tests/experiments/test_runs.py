@@ -10,8 +10,8 @@ import pandas as pd
 import pytest
 
 from gaitml.cli import main
-from gaitml.experiments import evaluate_config, parse_config, train_config
 from gaitml.models import load_model, predict_recording, torch_available
+from gaitml.pipeline import evaluate_config, parse_config, train_config
 from tests.models.synth import write_synth_folder
 
 needs_torch = pytest.mark.skipif(not torch_available(), reason="torch extra not installed")

@@ -8,8 +8,8 @@ import pytest
 
 from gaitml.cli import main
 from gaitml.errors import ConfigError
-from gaitml.experiments import load_config, parse_config
-from gaitml.experiments.steps_real import evaluate_steps_config, run_steps_real
+from gaitml.pipeline import load_config, parse_config
+from gaitml.pipeline.steps_real import evaluate_steps_config, run_steps_real
 from gaitml.steps import detector_names
 from tests.conftest import shared
 
@@ -59,7 +59,7 @@ def test_bad_config(tmp_path, raw, match):
 
 
 def test_train_refuses_a_steps_config(tmp_path):
-    from gaitml.experiments import train_config
+    from gaitml.pipeline import train_config
 
     cfg = parse_config({"name": "s", "task": "steps", "data": {"path": str(tmp_path)}})
     with pytest.raises(ConfigError, match="gaitml train needs a classification config"):

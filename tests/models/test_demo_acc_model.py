@@ -16,9 +16,9 @@ import json
 import numpy as np
 import pytest
 
-from gaitml.experiments.config import load_config
 from gaitml.io import read_recording, write_gaitml_csv
 from gaitml.models import load_model, predict_recording
+from gaitml.pipeline.config import load_config
 from gaitml.recording import Recording
 from tests.conftest import ROOT
 

@@ -82,7 +82,7 @@ def test_convert_keeps_predictions_and_weights(tmp_path):
 
 def test_shipped_demo_was_trained_from_its_config():
     """models/demo is an ordinary `gaitml train experiments/demo.toml` output (since the simulator's hand gain)."""
-    from gaitml.experiments.config import load_config
+    from gaitml.pipeline.config import load_config
 
     model = load_model(DEMO)
     assert model.info["training_config"] == json.loads(json.dumps(load_config(ROOT / "experiments" / "demo.toml").resolved()))

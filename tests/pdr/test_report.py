@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from gaitml.experiments.pdr_routes import VARIANTS, evaluate_route, route_table
+from gaitml.pipeline.pdr_routes import VARIANTS, evaluate_route, route_table
 from gaitml.simulate.subject import sample_subjects
 
 

@@ -268,7 +268,7 @@ def test_cli_simulate_positions(tmp_path, capsys):
 
 
 def test_config_key_is_validated(tmp_path):
-    from gaitml.experiments import parse_config, prepare_data
+    from gaitml.pipeline import parse_config, prepare_data
 
     raw = {
         "name": "pos",

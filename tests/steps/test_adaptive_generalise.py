@@ -13,7 +13,7 @@ import pytest
 
 from gaitml.cli import main
 from gaitml.errors import InputError
-from gaitml.experiments.steps_real import TUNED_SUFFIX, holdout_folds, run_steps_real, tuned_evaluation
+from gaitml.pipeline.steps_real import TUNED_SUFFIX, holdout_folds, run_steps_real, tuned_evaluation
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
 from gaitml.steps import AdaptiveStepDetector, BaseStepDetector, get_detector, make_step_table
@@ -342,7 +342,7 @@ def test_run_writes_side_by_side_tables(monkeypatch, tmp_path):
 
 def test_config_holdout_keys(tmp_path):
     from gaitml.errors import ConfigError
-    from gaitml.experiments import parse_config
+    from gaitml.pipeline import parse_config
 
     base = {"name": "s", "task": "steps", "data": {"path": str(tmp_path)}}
     cfg = parse_config(base)

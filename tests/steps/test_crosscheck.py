@@ -141,7 +141,7 @@ def test_real_walks_warned_only_where_single_peak_undercounts():
 def real_counts():
     """Single-peak, adaptive and true counts of the 50 real walks (experiments/scripts/crosscheck_report.py)."""
     from experiments.scripts.crosscheck_report import walk_counts
-    from gaitml.experiments.steps_real import load_recordings
+    from gaitml.pipeline.steps_real import load_recordings
 
     df = walk_counts(load_recordings(shared()))
     if len(df) != 50:

@@ -88,9 +88,9 @@ def test_adaptive_hard_positions(name):
 @pytest.mark.slow
 def test_adaptive_oxford_sweep_targets():
     """Target of the adaptive detector: mean count accuracy >= 97 % over the hard-floor positions, none below 93 %."""
-    from gaitml.experiments.steps_real import evaluate_recording, summarise_oxford
     from gaitml.io import read_recording
     from gaitml.io.oxford import list_oxford_folders
+    from gaitml.pipeline.steps_real import evaluate_recording, summarise_oxford
 
     folders = [f for f in list_oxford_folders(shared("oxford-step-counter", "optimisation")) if "_Hard_" in f.name]
     import pandas as pd

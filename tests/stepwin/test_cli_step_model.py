@@ -137,7 +137,7 @@ def test_json_export_describes_step_windows(trained, tmp_path):
 def test_raw_input_model_on_step_windows(tmp_path):
     """cnn1d reads each step resampled to a fixed length (32 samples)."""
     pytest.importorskip("torch")
-    from gaitml.experiments import parse_config, train_config
+    from gaitml.pipeline import parse_config, train_config
 
     cfg = parse_config(
         {
@@ -157,8 +157,8 @@ def test_raw_input_model_on_step_windows(tmp_path):
 
 
 def test_stride_window_model_predicts_per_stride_and_pdr_gives_each_step_its_strides_mode(tmp_path, capsys):
-    from gaitml.experiments import parse_config, train_config
     from gaitml.features import make_step_windows
+    from gaitml.pipeline import parse_config, train_config
 
     cfg = parse_config(
         {

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from gaitml.errors import ConfigError
-from gaitml.experiments import parse_config
+from gaitml.pipeline import parse_config
 
 
 def _cfg(**sections):

@@ -11,7 +11,7 @@ import pytest
 
 from experiments.scripts.phone_demo import write_columns_csv, write_intervals, write_phone_folder
 from gaitml.cli import main
-from gaitml.experiments import parse_config, prepare_data
+from gaitml.pipeline import parse_config, prepare_data
 from gaitml.simulate import simulate_dataset
 
 CONFIG = """

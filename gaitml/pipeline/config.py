@@ -4,7 +4,7 @@ Every key is checked against a schema before any work starts: unknown keys,
 wrong types and values outside the allowed set raise :class:`ConfigError`
 naming the key, the bad value and what is allowed. Paths are relative to the
 config file. Checks that need the data (label present, enough groups) are done
-by :func:`gaitml.experiments.runner.prepare_data`, still before any training.
+by :func:`gaitml.pipeline.runner.prepare_data`, still before any training.
 
 Every committed config (``experiments/*.toml``) follows this one schema. The
 names a key may take (features, model kinds, cross-validation schemes, step
@@ -27,7 +27,7 @@ Keys (defaults in brackets) of ``task = "classification"``::
     resample_hz = 50.0               # every recording is resampled to this rate
     where = {}                       # keep recordings whose meta matches, e.g. { surface = "Hard" }
     manifest = ""                    # "folder": the manifest in data.path (default: manifest.csv when present;
-                                     # a name given here must exist). Columns: gaitml.experiments.folder_source
+                                     # a name given here must exist). Columns: gaitml.pipeline.folder_source
     [data.labelling]                 # "folder": recordings with an intervals file are labelled by gaitml.labels
     snap = "steps"                   # "steps" | "strides" | "none": boundaries snap to detected steps / strides
     detector = ""                    # the step (or, for strides, zero-velocity) detector; default single-peak / pseudo-std
@@ -68,7 +68,7 @@ Keys (defaults in brackets) of ``task = "classification"``::
     "windows.length_s" = [0.5, 1.0]  # grid: every combination of the listed values
 
 ``task = "steps"``: every listed step detector on the shared real step
-recordings (:mod:`gaitml.experiments.steps_real`), keys::
+recordings (:mod:`gaitml.pipeline.steps_real`), keys::
 
     name, seed, description, task = "steps"
     [data]
@@ -293,7 +293,7 @@ SCHEMA: dict[str, Any] = {
         "labels": _Leaf((list,), [], item_type=str),
         "resample_hz": _Leaf(_NUM, 50.0, check=_pos),
         "where": _Leaf((dict,), {}),
-        # a folder of phone recordings listed in a manifest (gaitml.experiments.folder_source)
+        # a folder of phone recordings listed in a manifest (gaitml.pipeline.folder_source)
         "manifest": _Leaf((str,), ""),
         "labelling": {
             "snap": _Leaf((str,), "steps", allowed=_snap_modes),

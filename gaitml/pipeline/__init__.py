@@ -4,14 +4,14 @@
   schema for every config; ``task = "classification"`` or ``"steps"``);
 - :func:`evaluate_config`: cross-validate (every ``[sweep]`` point), or for a steps
   config evaluate the step detectors on the real recordings
-  (:mod:`~gaitml.experiments.steps_real`), and write the run folder;
+  (:mod:`~gaitml.pipeline.steps_real`), and write the run folder;
 - :func:`train_config`: fit on all windows and save a model artifact;
-- :mod:`~gaitml.experiments.pdr_routes`: PDR variants on simulated routes (the demo and
+- :mod:`~gaitml.pipeline.pdr_routes`: PDR variants on simulated routes (the demo and
   ``experiments/scripts/pdr_report.py``).
 """
 
-from gaitml.experiments.config import ExperimentConfig, load_config, parse_config, sweep_grid
-from gaitml.experiments.runner import build_dataset, evaluate_config, prepare_data, train_config
+from gaitml.pipeline.config import ExperimentConfig, load_config, parse_config, sweep_grid
+from gaitml.pipeline.runner import build_dataset, evaluate_config, prepare_data, train_config
 
 __all__ = [
     "ExperimentConfig",

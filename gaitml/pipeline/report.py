@@ -123,7 +123,7 @@ def _point_files(folder: Path, cfg, point: dict, title: str) -> dict:
 
 
 def write_run(run_dir: str | Path, cfg, result: dict, points: list[dict], rows: list[dict]) -> Path:
-    """Write the run folder of :func:`gaitml.experiments.runner.evaluate_config` atomically."""
+    """Write the run folder of :func:`gaitml.pipeline.runner.evaluate_config` atomically."""
     from gaitml.io import atomic_dir
     from gaitml.io._atomic import _json_default
 

@@ -27,7 +27,7 @@ recordings are scored but never used for tuning (their foot switches
 under-trigger).
 
 Run: ``gaitml evaluate experiments/steps-real.toml [--out DIR] [--data DIR]`` (the
-config's keys: :mod:`gaitml.experiments.config`).
+config's keys: :mod:`gaitml.pipeline.config`).
 """
 
 from __future__ import annotations
@@ -42,9 +42,9 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.evaluation.steps import evaluate_steps
-from gaitml.experiments.config import STEP_DATA_SETS, STEP_TOLERANCE_S, ExperimentConfig
 from gaitml.io import atomic_dir, read_recording
 from gaitml.io.oxford import list_oxford_folders
+from gaitml.pipeline.config import STEP_DATA_SETS, STEP_TOLERANCE_S, ExperimentConfig
 from gaitml.steps import DETECTORS, detector_names, get_detector
 
 __all__ = [
@@ -460,7 +460,7 @@ def evaluate_steps_config(cfg: ExperimentConfig, *, out_dir: str | Path | None =
     dict
         The summary written to ``summary.json`` plus ``name``, ``task`` and ``run_dir``.
     """
-    from gaitml.experiments.runner import default_run_dir
+    from gaitml.pipeline.runner import default_run_dir
 
     out = Path(out_dir) if out_dir is not None else default_run_dir(cfg)
     if progress is True:

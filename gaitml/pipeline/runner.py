@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from gaitml.errors import ConfigError, InputError
-from gaitml.experiments.config import ExperimentConfig, sweep_grid
+from gaitml.pipeline.config import ExperimentConfig, sweep_grid
 
 __all__ = [
     "PreparedData",
@@ -108,13 +108,13 @@ def _read_folder(cfg: ExperimentConfig):
     """The recordings of a ``data.source = "folder"`` config.
 
     A folder with a manifest (``data.manifest``, or ``manifest.csv`` when present)
-    is read by :func:`gaitml.experiments.folder_source.read_manifest_folder`: any
+    is read by :func:`gaitml.pipeline.folder_source.read_manifest_folder`: any
     recording format, labels from intervals files. Without one, the folder's own
     layout (a gaitml-csv set, an Oxford set, a folder of recordings) is read by
     :func:`gaitml.io.read_dataset`.
     """
-    from gaitml.experiments.folder_source import MANIFEST_NAME, read_manifest_folder
     from gaitml.io import read_dataset
+    from gaitml.pipeline.folder_source import MANIFEST_NAME, read_manifest_folder
 
     d = cfg["data"]
     folder = cfg.data_path
@@ -169,7 +169,7 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
         have = "per-sample 'label', " if all(r.labels is not None for r in recs) else ""
         raise ConfigError(
             f"data.label = {label!r} is not in the data: neither per-sample labels nor a meta/manifest column; available: {have}{', '.join(cols)} "
-            "(label phone recordings with intervals files listed in the folder's manifest.csv: gaitml.experiments.folder_source)."
+            "(label phone recordings with intervals files listed in the folder's manifest.csv: gaitml.pipeline.folder_source)."
         )
     present = sorted({str(x) for r in labelled for x in np.unique(r.labels)})
     for x in d["labels"]:
@@ -352,12 +352,12 @@ def evaluate_config(
         numbers are the headline).
 
     ``n_jobs`` overrides ``cv.n_jobs`` (the Dask backend uses -1). A ``task = "steps"``
-    config runs :func:`gaitml.experiments.steps_real.evaluate_steps_config` instead.
+    config runs :func:`gaitml.pipeline.steps_real.evaluate_steps_config` instead.
     """
-    from gaitml.experiments.report import write_run
+    from gaitml.pipeline.report import write_run
 
     if cfg.task == "steps":
-        from gaitml.experiments.steps_real import evaluate_steps_config
+        from gaitml.pipeline.steps_real import evaluate_steps_config
 
         return evaluate_steps_config(cfg, out_dir=out_dir, progress=progress)
 

@@ -83,6 +83,11 @@ def detect_format(path: str | os.PathLike) -> str:
         return "gaitmap-table"
     if looks_like_gaitml(lines):
         return "gaitml-csv"  # its reader names the missing columns
+    if lines[0].startswith("# qtm_timestamp"):
+        raise InputError(
+            f"{p.name} is a tyrex motion-capture file, not an IMU recording; pass the phone's folder "
+            f"(android/{p.name.split('.')[0]} or ios/...), and read the capture with gaitml.io.read_tyrex_truth."
+        )
     cols = lines[0].strip()[:80]
     raise InputError(f"unknown format for {p.name[:80]} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
 

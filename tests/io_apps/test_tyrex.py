@@ -159,6 +159,13 @@ def test_truth_on_the_phone_clock_case_mismatch_and_lost_markers(tmp_path):
     assert np.isnan(pos_q[1]).all() and np.isfinite(pos_q[0]).all()
 
 
+def test_motion_capture_file_is_not_a_recording(tmp_path):
+    t = np.arange(0, 1, 1 / 60)
+    f = qualisys_csv(tmp_path, "Bob_iPhone5_NoDist_Texting", t, np.zeros((len(t), 3)), np.repeat(np.eye(3)[None], len(t), axis=0))
+    with pytest.raises(InputError, match="motion-capture file, not an IMU recording"):
+        read_recording(f)
+
+
 def test_truth_missing_is_one_line_error(tmp_path):
     d = android_folder(tmp_path)
     with pytest.raises(InputError, match="no motion capture for Alice_Nexus5_NoDist_Texting"):

@@ -122,3 +122,28 @@ def test_walking_foot_keeps_one_interval_per_stance():
     rec = simulate_foot(modes=("walk",), duration_s=40, seed=206)
     r, sp = _recall_and_spurious(rec, get_detector("pseudo-std").detect(rec).per_sample_zupts_)
     assert r == 1.0 and sp <= 0.05
+
+
+def test_cli_interval_rules_through_zupt_and_segment(tmp_path, capsys):
+    import json
+
+    from gaitml.cli import main
+    from gaitml.io.gaitml_csv import write_gaitml_csv
+
+    rec = simulate_foot(modes=("run",), duration_s=20, seed=207)
+    path = write_gaitml_csv(rec, tmp_path / "run.csv")
+    n_true = len(rec.reference["zupt_intervals"])
+    counts = {}
+    for rules in ("stride", "fixed", "none"):
+        assert main(["zupt", str(path), "--interval-rules", rules, "--json"]) == 0
+        obj = json.loads(capsys.readouterr().out)
+        assert obj["interval_rules"] == rules
+        counts[rules] = obj["n_intervals"]
+    assert counts["fixed"] < n_true // 2 < 0.9 * n_true <= counts["stride"] < counts["none"]
+    out = tmp_path / "seg.csv"
+    assert main(["segment", str(path), "--by", "zupt", "--interval-rules", "none", "--out", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["n_segments"] == counts["none"]
+    assert main(["zupt", str(path), "--detector", "shoe", "--interval-rules", "none"]) == 2
+    assert "--interval-rules applies to pseudo-std, magnitude only" in capsys.readouterr().err
+    assert main(["segment", str(path), "--by", "steps", "--interval-rules", "fixed", "--out", str(tmp_path / "s.csv")]) == 2
+    assert not (tmp_path / "s.csv").exists()

@@ -16,7 +16,7 @@ amplitude it uses is a noise floor. Five stages:
    band-passed signal (each lag normalised by the energies of its two
    overlapping segments, so it does not decay with the lag) is searched over
    every lag a human step *or stride* can take: ``1 / max_step_hz`` to
-   ``2 / min_step_hz`` (steps at 1.2-3.5 Hz: walking to running). The
+   ``2 / min_step_hz`` (steps at 0.75-3.5 Hz: very slow walking to running). The
    fundamental period is the shortest autocorrelation peak within
    ``OCTAVE_TOLERANCE`` (90 %) of the strongest one (multiples of a period
    correlate about as well as the period). It may be one step (two legs that
@@ -32,6 +32,12 @@ amplitude it uses is a noise floor. Five stages:
    Oxford recording).
    A period still longer than the longest human step (``1 / min_step_hz``) is
    a stride whose second step is not visible: its half is the step period.
+   So is a period longer than ``1 / slow_step_hz`` (1.2 Hz) in a window with
+   more motion than a slow walker makes (band-passed RMS over
+   ``slow_step_max_rms_ms2``): a slow step, 0.75-1.2 Hz, shows as a deep
+   anti-phase at its half (the half-period rule does not take it for a
+   stride) and a gentle signal; a one-leg stride of normal walking at the
+   same period shows several m/s^2 (issue 30).
    The peak correlation is the window's *periodicity*; the lag is refined to a
    fraction of a sample by a parabola through the peak.
 3. **Left/right fold.** With the local step period ``T`` each sample becomes
@@ -108,9 +114,18 @@ BAND_HZ = (0.5, 4.0)
 #: cadence windows (s)
 WINDOW_S = 5.0
 HOP_S = 1.0
-#: human step frequencies, slow walking to running (Hz)
-MIN_STEP_HZ = 1.2
+#: human step frequencies, very slow walking to running (Hz). 0.75 Hz = 45 steps/min: walking cadence reaches
+#: below 60 steps/min (CADENCE-Adults, Tudor-Locke et al., IJBNPA 17:137, 2020: the 95 % predictive interval
+#: of the cadence at 3 METs reaches down to 54.9 steps/min; treadmill bouts from 0.5 mph, 0.22 m/s)
+MIN_STEP_HZ = 0.75
 MAX_STEP_HZ = 3.5
+#: below this step frequency a period is a slow step only where the motion is gentle (see SLOW_STEP_MAX_RMS_MS2)
+SLOW_STEP_HZ = 1.2
+#: a window whose band-passed |acc| RMS exceeds this (m/s^2) cannot hold steps slower than SLOW_STEP_HZ: the
+#: trunk's vertical acceleration is about (2 pi f)^2 times half its vertical excursion, at most ~0.85 m/s^2
+#: amplitude (0.6 RMS) at 1.2 steps/s with the ~3 cm excursion of slow walking (Orendurff et al., J. Rehabil.
+#: Res. Dev. 41, 2004); the ceiling allows 2.5 times that for the phone's own motion. A period there is a stride.
+SLOW_STEP_MAX_RMS_MS2 = 1.5
 #: an autocorrelation above this at half the fundamental period makes that period a stride
 HALF_LAG_MIN_CORRELATION = 0.0
 #: steps only where the window's periodicity reaches this
@@ -169,6 +184,8 @@ def local_cadence(
     min_step_hz: float = MIN_STEP_HZ,
     max_step_hz: float = MAX_STEP_HZ,
     half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+    slow_step_hz: float = SLOW_STEP_HZ,
+    slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
 ) -> dict[str, np.ndarray]:
     """Step period per sliding window, with the stride-versus-step decision (module docstring, stage 2).
 
@@ -177,7 +194,7 @@ def local_cadence(
     y : float array (n,)
         Band-passed signal (zero mean), e.g. the acceleration magnitude.
     sampling_rate_hz : float
-    window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation
+    window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation, slow_step_hz, slow_step_max_rms_ms2
         As :class:`AdaptiveStepDetector`.
 
     Returns
@@ -188,7 +205,8 @@ def local_cadence(
         ``step_correlation`` (autocorrelation at the step period),
         ``stride`` (bool: the strongest peak was a stride, not a step) and
         ``inferred`` (bool: the stride was inferred from the cadence range
-        alone, without a half-period peak), one entry per window.
+        alone, without a half-period peak) and ``rms`` (band-passed RMS,
+        m/s^2), one entry per window.
 
     Raises
     ------
@@ -255,8 +273,10 @@ def local_cadence(
         near_max = np.isfinite(cand[rows, jh]) & (cand[rows, jh] > half_lag_min_correlation)
         lag = np.where(take, np.where(near_max, refined(jh), half), lag)
         stride |= take
-    # still longer than any human step: a stride whose other step is not visible
-    inferred = lag > fs / min_step_hz
+    # still longer than any human step: a stride whose other step is not visible; slower than slow_step_hz with
+    # more motion than a slow walker makes (window RMS over slow_step_max_rms_ms2): a stride too
+    rms = np.sqrt(np.mean(sliding_windows(y, L, H)[:n_win] ** 2, axis=1))
+    inferred = (lag > fs / min_step_hz) | ((lag > fs / slow_step_hz) & (rms > slow_step_max_rms_ms2))
     lag = np.where(inferred, lag / 2.0, lag)
     return {
         "centre": centres,
@@ -265,6 +285,7 @@ def local_cadence(
         "step_correlation": r_at(lag),
         "stride": stride | inferred,
         "inferred": inferred,
+        "rms": rms,
     }
 
 
@@ -334,6 +355,8 @@ def adaptive_steps(
     min_step_hz: float = MIN_STEP_HZ,
     max_step_hz: float = MAX_STEP_HZ,
     half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+    slow_step_hz: float = SLOW_STEP_HZ,
+    slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
     min_periodicity: float = MIN_PERIODICITY,
     min_rms_ms2: float = MIN_RMS_MS2,
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
@@ -366,6 +389,8 @@ def adaptive_steps(
         min_step_hz=min_step_hz,
         max_step_hz=max_step_hz,
         half_lag_min_correlation=half_lag_min_correlation,
+        slow_step_hz=slow_step_hz,
+        slow_step_max_rms_ms2=slow_step_max_rms_ms2,
     )
     centres = cad["centre"] * q
     cad["centre"] = centres
@@ -431,9 +456,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         Length of the cadence windows (s): several strides at the slowest cadence.
     hop_s : float, default 1.0
         Hop between cadence windows (s).
-    min_step_hz : float, default 1.2
-        Slowest step frequency of human walking (Hz; 72 steps/min). A dominant
-        period longer than ``1 / min_step_hz`` is taken for a stride.
+    min_step_hz : float, default 0.75
+        Slowest step frequency of human walking (Hz; 45 steps/min; walking
+        cadence reaches below 60 steps/min: CADENCE-Adults, Tudor-Locke et al.
+        2020). A dominant period longer than ``1 / min_step_hz`` is taken for a stride.
     max_step_hz : float, default 3.5
         Fastest step frequency (Hz; running, 210 steps/min): the shortest step
         period searched.
@@ -441,6 +467,14 @@ class AdaptiveStepDetector(BaseStepDetector):
         An autocorrelation above this at half the fundamental period makes
         that period a stride and its half the step period (two similar
         events per period: left and right step).
+    slow_step_hz : float, default 1.2
+        A period longer than ``1 / slow_step_hz`` (and without half-period
+        evidence) is a slow step only in a window whose band-passed RMS is at
+        most ``slow_step_max_rms_ms2``; otherwise a stride (issue 30).
+    slow_step_max_rms_ms2 : float, default 1.5
+        The most motion a walker slower than ``slow_step_hz`` makes at the
+        phone (m/s^2 RMS): the trunk's vertical acceleration at 1.2 steps/s and
+        a ~3 cm excursion (Orendurff et al. 2004) is ~0.6 RMS; 2.5 times that.
     min_periodicity : float, default 0.3
         Steps only where the window's strongest autocorrelation peak reaches
         this (periodic motion; dimensionless).
@@ -489,8 +523,9 @@ class AdaptiveStepDetector(BaseStepDetector):
 
     Known limits, by construction:
 
-    - A walker slower than ``min_step_hz`` is taken to show strides and is
-      over-counted; lower ``min_step_hz`` (e.g. 0.9) for very slow gait.
+    - A walker slower than ``min_step_hz`` (45 steps/min) is taken to show
+      strides and is over-counted; one slower than ``slow_step_hz`` who moves
+      the phone more than ``slow_step_max_rms_ms2`` too.
     - Where a stride and a step period are both plausible (stride 0.57-0.83 s:
       running strides or walking steps), only the half-period correlation
       decides. A one-leg signal whose far-leg step leaves no positive
@@ -500,8 +535,8 @@ class AdaptiveStepDetector(BaseStepDetector):
     """
 
     name = "adaptive"
-    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps")
-    _non_negative = ("min_rms_ms2", "edge_confidence_ratio", "min_confidence")
+    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps", "slow_step_hz")
+    _non_negative = ("min_rms_ms2", "edge_confidence_ratio", "min_confidence", "slow_step_max_rms_ms2")
     _integer = ("min_bout_steps",)
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
@@ -515,6 +550,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         min_step_hz: float = MIN_STEP_HZ,
         max_step_hz: float = MAX_STEP_HZ,
         half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+        slow_step_hz: float = SLOW_STEP_HZ,
+        slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
         min_periodicity: float = MIN_PERIODICITY,
         min_rms_ms2: float = MIN_RMS_MS2,
         min_distance_ratio: float = MIN_DISTANCE_RATIO,
@@ -529,6 +566,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.min_step_hz = min_step_hz
         self.max_step_hz = max_step_hz
         self.half_lag_min_correlation = half_lag_min_correlation
+        self.slow_step_hz = slow_step_hz
+        self.slow_step_max_rms_ms2 = slow_step_max_rms_ms2
         self.min_periodicity = min_periodicity
         self.min_rms_ms2 = min_rms_ms2
         self.min_distance_ratio = min_distance_ratio

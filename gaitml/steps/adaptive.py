@@ -16,7 +16,8 @@ amplitude it uses is a noise floor. Five stages:
    band-passed signal (each lag normalised by the energies of its two
    overlapping segments, so it does not decay with the lag) is searched over
    every lag a human step *or stride* can take: ``1 / max_step_hz`` to
-   ``2 / min_step_hz`` (steps at 0.75-3.5 Hz: very slow walking to running). The
+   ``2 / slow_step_hz`` (strides at 1.2-3.5 steps/s; steps down to
+   ``min_step_hz`` = 0.75 Hz lie inside that range). The
    fundamental period is the shortest autocorrelation peak within
    ``OCTAVE_TOLERANCE`` (90 %) of the strongest one (multiples of a period
    correlate about as well as the period). It may be one step (two legs that
@@ -37,7 +38,10 @@ amplitude it uses is a noise floor. Five stages:
    ``slow_step_max_rms_ms2``): a slow step, 0.75-1.2 Hz, shows as a deep
    anti-phase at its half (the half-period rule does not take it for a
    stride) and a gentle signal; a one-leg stride of normal walking at the
-   same period shows several m/s^2 (issue 30).
+   same period shows several m/s^2 (issue 30). A slow-step window whose
+   neighbours (``SLOW_STEP_CONTEXT`` windows either side, mostly not slow) walk
+   at twice its cadence is a stride too: a walker's cadence does not halve for
+   one window.
    The peak correlation is the window's *periodicity*; the lag is refined to a
    fraction of a sample by a parabola through the peak.
 3. **Left/right fold.** With the local step period ``T`` each sample becomes
@@ -126,6 +130,9 @@ SLOW_STEP_HZ = 1.2
 #: amplitude (0.6 RMS) at 1.2 steps/s with the ~3 cm excursion of slow walking (Orendurff et al., J. Rehabil.
 #: Res. Dev. 41, 2004); the ceiling allows 2.5 times that for the phone's own motion. A period there is a stride.
 SLOW_STEP_MAX_RMS_MS2 = 1.5
+#: windows either side that must not contradict a slow-step reading (a slow window among windows of twice
+#: its cadence is a stride of the same walk)
+SLOW_STEP_CONTEXT = 3
 #: an autocorrelation above this at half the fundamental period makes that period a stride
 HALF_LAG_MIN_CORRELATION = 0.0
 #: steps only where the window's periodicity reaches this
@@ -151,6 +158,14 @@ EDGE_CONFIDENCE_RATIO = 0.5
 #: a walking bout counts once it holds this many steps: two strides, the shortest run in which each foot's step
 #: repeats (left, right, left, right), as the continuity rule of wrist step counters (Gu et al. 2017: 4 steps)
 MIN_BOUT_STEPS = 4
+#: a bout of fewer steps than this is short: it counts only if its steps repeat their strength (step-amplitude
+#: coefficient of variation <= MAX_SHORT_BOUT_CV) and its steps' confidence is scaled by (steps / this). Ten steps:
+#: the continuity rule of pedometers that hold back a new bout until about ten regular steps (Bassett et al.,
+#: Med. Sci. Sports Exerc. 28, 1996, on the 10-step delay of spring-levered pedometers; issue 30)
+SHORT_BOUT_STEPS = 10
+#: the largest step-amplitude coefficient of variation of a short bout: walking bouts repeat their steps' strength
+#: (CV 0.13-0.36, 90th percentile per position on the Oxford walks) while a gesture burst waxes and wanes (~0.5)
+MAX_SHORT_BOUT_CV = 0.4
 
 
 def window_autocorrelation(y: np.ndarray, length: int, hop: int, lags: np.ndarray) -> np.ndarray:
@@ -219,11 +234,14 @@ def local_cadence(
     L = min(n, int(round(window_s * fs)))
     H = max(1, int(round(hop_s * fs)))
     lo = max(2, int(np.floor(fs / max_step_hz)))
-    hi = int(np.ceil(2.0 * fs / min_step_hz))
+    # strides are searched up to two steps at slow_step_hz: a longer lag holds three steps of a normal walk
+    # (a 0.75 s step: 2.25 s) that may correlate better than the step itself; slow steps (up to 1 / min_step_hz)
+    # lie inside this range
+    hi = int(np.ceil(2.0 * fs / max(min_step_hz, slow_step_hz)))
     if hi + 2 >= L:
         raise InputError(
             f"the recording is too short for the adaptive cadence estimate: {n} samples ({n / fs:.2f} s); "
-            f"it needs more than {(hi + 2) / fs:.2f} s (two steps at min_step_hz={min_step_hz}); use a longer recording."
+            f"it needs more than {(hi + 2) / fs:.2f} s (two steps at {max(min_step_hz, slow_step_hz)} Hz); use a longer recording."
         )
     n_win = (n - L) // H + 1
     centres = np.arange(n_win) * H + L // 2
@@ -277,6 +295,16 @@ def local_cadence(
     # more motion than a slow walker makes (window RMS over slow_step_max_rms_ms2): a stride too
     rms = np.sqrt(np.mean(sliding_windows(y, L, H)[:n_win] ** 2, axis=1))
     inferred = (lag > fs / min_step_hz) | ((lag > fs / slow_step_hz) & (rms > slow_step_max_rms_ms2))
+    # a slow step must persist: a slow reading among windows of twice that cadence (within SLOW_STEP_CONTEXT
+    # windows either side) is a stride of the same walk (cadence does not halve for a window)
+    slow = (lag > fs / slow_step_hz) & ~inferred & ~stride
+    if slow.any():
+        k = SLOW_STEP_CONTEXT
+        for i in np.flatnonzero(slow):
+            nb = np.r_[max(0, i - k) : i, i + 1 : min(len(lag), i + k + 1)]
+            nb = nb[~slow[nb]]
+            if len(nb) and len(nb) >= (min(len(lag), i + k + 1) - max(0, i - k) - 1) / 2:
+                inferred[i] = abs(np.median(lag[nb]) / (lag[i] / 2.0) - 1.0) < 0.2
     lag = np.where(inferred, lag / 2.0, lag)
     return {
         "centre": centres,
@@ -363,6 +391,8 @@ def adaptive_steps(
     fold: bool = True,
     edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
     min_bout_steps: int = MIN_BOUT_STEPS,
+    short_bout_steps: int = SHORT_BOUT_STEPS,
+    max_short_bout_cv: float = MAX_SHORT_BOUT_CV,
     min_confidence: float = 0.0,
 ) -> dict[str, np.ndarray]:
     """Detect steps in |acc| (m/s^2) with the five stages of the module docstring.
@@ -433,6 +463,18 @@ def adaptive_steps(
         # a bout counts once it is confirmed by min_bout_steps steps (after its weak edges are dropped)
         size = np.bincount(bout[ok], minlength=int(bout[-1]) + 1)
         ok &= size[bout] >= min_bout_steps
+        # a short bout must repeat its steps' strength (gait); a burst that waxes and wanes (a gesture) does not
+        if short_bout_steps > 0 and ok.any():
+            nb = int(bout[-1]) + 1
+            amp = s[pk]
+            cnt = np.bincount(bout[ok], minlength=nb)
+            mean = np.bincount(bout[ok], weights=amp[ok], minlength=nb) / np.maximum(cnt, 1)
+            var = np.bincount(bout[ok], weights=amp[ok] ** 2, minlength=nb) / np.maximum(cnt, 1) - mean**2
+            cv = np.sqrt(np.maximum(var, 0.0)) / np.where(mean > 0, mean, np.inf)
+            short = cnt < short_bout_steps
+            ok &= ~(short & (cv > max_short_bout_cv))[bout]
+            # the fewer steps confirm a bout, the less sure it is gait
+            conf = conf * np.minimum(1.0, np.bincount(bout[ok], minlength=nb)[bout] / short_bout_steps)
         pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
     if min_confidence > 0:
         ok = conf >= min_confidence
@@ -497,6 +539,15 @@ class AdaptiveStepDetector(BaseStepDetector):
         A walking bout counts once this many of its steps remain after the
         bout-edge rule (stage 5): two strides, left/right seen twice. 1 keeps
         every bout, a single step included.
+    short_bout_steps : int, default 10
+        A bout of fewer steps is short (issue 30, no gait): it is dropped when its
+        step amplitudes vary more than ``max_short_bout_cv``, and every kept
+        bout's confidence is scaled by ``min(1, steps / short_bout_steps)``.
+        0 disables both.
+    max_short_bout_cv : float, default 0.4
+        Largest coefficient of variation of the step amplitudes (folded signal
+        at the steps) of a short bout: a walk repeats its steps' strength, a
+        gesture burst waxes and wanes.
     min_confidence : float, default 0.0
         Drop steps whose confidence is below this (0: keep every step and let
         the caller filter on the ``confidence`` column).
@@ -536,8 +587,15 @@ class AdaptiveStepDetector(BaseStepDetector):
 
     name = "adaptive"
     _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps", "slow_step_hz")
-    _non_negative = ("min_rms_ms2", "edge_confidence_ratio", "min_confidence", "slow_step_max_rms_ms2")
-    _integer = ("min_bout_steps",)
+    _non_negative = (
+        "min_rms_ms2",
+        "edge_confidence_ratio",
+        "min_confidence",
+        "slow_step_max_rms_ms2",
+        "short_bout_steps",
+        "max_short_bout_cv",
+    )
+    _integer = ("min_bout_steps", "short_bout_steps")
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
 
@@ -558,6 +616,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         fold: bool = True,
         edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
         min_bout_steps: int = MIN_BOUT_STEPS,
+        short_bout_steps: int = SHORT_BOUT_STEPS,
+        max_short_bout_cv: float = MAX_SHORT_BOUT_CV,
         min_confidence: float = 0.0,
     ):
         self.band_hz = band_hz
@@ -574,6 +634,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.fold = fold
         self.edge_confidence_ratio = edge_confidence_ratio
         self.min_bout_steps = min_bout_steps
+        self.short_bout_steps = short_bout_steps
+        self.max_short_bout_cv = max_short_bout_cv
         self.min_confidence = min_confidence
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:

@@ -154,6 +154,7 @@ def local_stride_period(
     block_s: float = STRIDE_BLOCK_S,
     hop_s: float = STRIDE_HOP_S,
     min_correlation: float = MIN_STRIDE_CORRELATION,
+    at: np.ndarray | None = None,
 ) -> np.ndarray:
     """Per-sample local stride period (s) of a foot-mounted signal, NaN where there is no gait.
 
@@ -167,6 +168,11 @@ def local_stride_period(
     values are interpolated linearly between block centres; samples beyond the first
     or last valid block take its value. All NaN when no block is periodic.
 
+    With ``at`` (sample positions) one block is centred on each position instead
+    (shifted inside the recording at its ends) and its period returned, NaN where not
+    periodic: the value at a position then depends only on the ``block_s`` of signal
+    around it, not on where the recording starts (a chunked run gives the same).
+
     Parameters
     ----------
     x : ndarray, shape (n,)
@@ -177,10 +183,12 @@ def local_stride_period(
         Block length and hop (s).
     min_correlation : float
         Smallest autocorrelation peak of a periodic block.
+    at : int ndarray, optional
+        Positions (samples) at which to estimate the period with a centred block.
 
     Returns
     -------
-    ndarray, shape (n,), stride period in seconds or NaN.
+    ndarray, shape (n,) (or ``at``'s shape), stride period in seconds or NaN.
 
     Notes
     -----
@@ -195,18 +203,21 @@ def local_stride_period(
     if not 0 < lo_s < hi_s:
         raise InputError(f"`range_s` must be (shortest, longest) with 0 < shortest < longest, got {range_s!r}.")
     n = len(v)
-    out = np.full(n, np.nan)
+    out = np.full(n if at is None else len(np.atleast_1d(at)), np.nan)
     blk = int(round(block_s * fs))
     lo, hi = max(2, int(np.floor(lo_s * fs))), int(np.ceil(hi_s * fs))
     if n < 2 or hi + 2 >= blk:
         raise InputError(f"`block_s` ({block_s} s) must exceed the longest stride searched ({hi_s} s); lengthen the block.")
-    if n < hi + 3:
+    if n < hi + 3 or len(out) == 0:
         return out
     blk = min(blk, n)
-    hop = max(1, int(round(hop_s * fs)))
-    starts = np.arange(0, max(1, n - blk + 1), hop)
-    if starts[-1] + blk < n:
-        starts = np.append(starts, n - blk)
+    if at is not None:
+        starts = np.clip(np.asarray(at, dtype=np.int64).ravel() - blk // 2, 0, n - blk)
+    else:
+        hop = max(1, int(round(hop_s * fs)))
+        starts = np.arange(0, max(1, n - blk + 1), hop)
+        if starts[-1] + blk < n:
+            starts = np.append(starts, n - blk)
     idx = starts[:, None] + np.arange(blk)[None, :]
     b = v[idx]
     b = b - b.mean(axis=1, keepdims=True)
@@ -226,6 +237,8 @@ def local_stride_period(
     lag = lags[first].astype(float)
     height = score[np.arange(len(starts)), first]
     valid = np.isfinite(height) & (height >= float(min_correlation))
+    if at is not None:
+        return np.where(valid, lag / fs, np.nan)
     if not valid.any():
         return out
     centres = starts + blk / 2.0
@@ -263,9 +276,9 @@ def stride_scaled_stances(
     ----------
     mask : bool ndarray, shape (n,)
         Per-sample zero-velocity decision.
-    stride_s : ndarray, shape (n,), or a callable returning it
+    stride_s : ndarray, shape (n,), or a callable ``f(positions) -> periods``
         Local stride period (s) or NaN (:func:`local_stride_period`). A callable is
-        called only when a gap or a short run needs the period.
+        called only at the gaps and short runs that need the period (their centres).
     sampling_rate_hz : float
     merge_gap_samples, min_interval_samples : int
         Longest gap filled, shortest run kept unconditionally (samples). Both 0: the
@@ -283,15 +296,15 @@ def stride_scaled_stances(
     m = np.asarray(mask, dtype=bool)
     n = len(m)
     fs = float(sampling_rate_hz)
-    cache: list[np.ndarray] = []
 
-    def period() -> np.ndarray:
-        if not cache:
-            t = np.asarray(stride_s() if callable(stride_s) else stride_s, dtype=float)
-            if t.shape != m.shape:
-                raise InputError(f"`stride_s` must have the mask's shape {m.shape}, got {t.shape}.")
-            cache.append(t)
-        return cache[0]
+    def period_at(pos: np.ndarray) -> np.ndarray:
+        pos = np.clip(np.asarray(pos, dtype=np.int64), 0, max(n - 1, 0))
+        if callable(stride_s):
+            return np.asarray(stride_s(pos), dtype=float)
+        t = np.asarray(stride_s, dtype=float)
+        if t.shape != m.shape:
+            raise InputError(f"`stride_s` must have the mask's shape {m.shape}, got {t.shape}.")
+        return t[pos]
 
     gap_max, shortest = int(merge_gap_samples), int(min_interval_samples)
     if gap_max <= 0 and shortest <= 1:
@@ -302,8 +315,9 @@ def stride_scaled_stances(
     if gap_max > 0 and len(s) > 1:
         gs, ge = e[:-1], s[1:]
         need = ((ge - gs) <= gap_max) & ((ge - gs) > floor_gap)
-        t = period() if need.any() else np.full(n, np.nan)
-        tg = t[np.clip((gs + ge) // 2, 0, n - 1)]
+        tg = np.full(len(gs), np.nan)
+        if need.any():
+            tg[need] = period_at((gs[need] + ge[need]) // 2)
         limit = np.where(np.isfinite(tg), np.minimum(gap_max, np.floor(max_gap_stride_fraction * tg * fs)), gap_max)
         fill = (ge - gs) <= limit
         m = m | intervals_to_mask(gs[fill], ge[fill], n)
@@ -320,7 +334,9 @@ def stride_scaled_stances(
         ev = c[e] - c[s]
     short = (e - s) < shortest
     centre = (s + e) // 2
-    tc = period()[np.clip(centre, 0, n - 1)] if short.any() else np.full(len(s), np.nan)
+    tc = np.full(len(s), np.nan)
+    if short.any():
+        tc[short] = period_at(centre[short])
     keep = ~short
     cand = np.flatnonzero(short & np.isfinite(tc))
     if len(cand):

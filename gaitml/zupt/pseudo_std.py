@@ -151,15 +151,22 @@ def fit_zero_velocity_normal(values: np.ndarray) -> tuple[float, float]:
 
 
 class _LazyPeriod:
-    """:func:`local_stride_period` of ``x``, computed on the first call only (``value``: None before)."""
+    """:func:`local_stride_period` of ``x`` at the positions asked (a block centred on each), recorded in ``value``.
+
+    ``value`` is a per-sample array, NaN except at the positions asked (None when never asked). Centred
+    blocks make the period at a position independent of where the recording starts, so a chunked run
+    (:func:`gaitml.longrun.long_zupts`) decides as a whole-file run does.
+    """
 
     def __init__(self, x: np.ndarray, sampling_rate_hz: float):
         self.x, self.fs, self.value = x, sampling_rate_hz, None
 
-    def __call__(self) -> np.ndarray:
+    def __call__(self, positions: np.ndarray) -> np.ndarray:
+        out = local_stride_period(self.x, self.fs, at=positions)
         if self.value is None:
-            self.value = local_stride_period(self.x, self.fs)
-        return self.value
+            self.value = np.full(len(self.x), np.nan)
+        self.value[positions] = out
+        return out
 
 
 class PseudoStdZuptDetector(BaseZuptDetector):
@@ -204,8 +211,8 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     per_sample_zupts_, zupts_, statistic_ : see :class:`BaseZuptDetector`.
     mu1_rads_, s1_rads_ : fitted normal of the zero-velocity pseudo-std (after ``fit``).
     threshold_rads_ : the threshold used by ``detect``.
-    stride_s_ : per-sample local stride period (s, NaN without gait) with ``interval_rules='stride'``;
-        None when no gap or short run needed it.
+    stride_s_ : local stride period (s) at the gaps and short runs that needed it (NaN elsewhere or
+        without gait) with ``interval_rules='stride'``; None when none needed it.
 
     Notes
     -----

@@ -147,3 +147,14 @@ def test_cli_interval_rules_through_zupt_and_segment(tmp_path, capsys):
     assert "--interval-rules applies to pseudo-std, magnitude only" in capsys.readouterr().err
     assert main(["segment", str(path), "--by", "steps", "--interval-rules", "fixed", "--out", str(tmp_path / "s.csv")]) == 2
     assert not (tmp_path / "s.csv").exists()
+
+
+@pytest.mark.parametrize("name", ["pseudo-std", "magnitude"])
+def test_stride_rules_do_not_depend_on_where_the_recording_starts(name):
+    """The period is estimated in blocks centred on the runs that need it: a slice decides as the whole does."""
+    rec = simulate_foot(modes=("run",), duration_s=40, seed=208)
+    whole = get_detector(name).detect(rec).per_sample_zupts_
+    off = 637  # not a multiple of any block or hop
+    part = get_detector(name).detect(rec.slice(off, rec.n_samples)).per_sample_zupts_
+    inner = slice(off + 500, rec.n_samples - 500)  # 5 s from the slice's start and the end
+    assert np.array_equal(part[inner.start - off : inner.stop - off], whole[inner])

@@ -94,6 +94,33 @@ def run(quick: bool = False) -> list[dict]:
                 ),
             }
         )
+    rows += _interval_rule_rows(rec, quick)
+    return rows
+
+
+def _interval_rule_rows(rec: Recording, quick: bool) -> list[dict]:
+    """The detectors with interval rules (issue 30): default ``'stride'`` against ``'fixed'`` (the rules before), same input."""
+    rows = []
+    n = rec.n_samples
+    for name in ("pseudo-std", "magnitude"):
+        new, old = get_detector(name), get_detector(name, interval_rules="fixed")
+        sec = _best_of(lambda d=new: d.detect(rec), 1 if quick else 3)
+        ref_sec = _best_of(lambda d=old: d.detect(rec), 1 if quick else 3)
+        rows.append(
+            {
+                "area": "zupt",
+                "name": f"{name} stride rules",
+                "n_items": n,
+                "unit": "samples",
+                "seconds": sec,
+                "throughput_per_s": n / sec,
+                "reference_seconds": ref_sec,
+                "ratio": ref_sec / sec,
+                "cpu_seconds": None,
+                "cpu_throughput_per_s": None,
+                "note": f"interval_rules='stride' (default) vs 'fixed' (the fixed-seconds rules before issue 30), same input; load {_load():.1f}",
+            }
+        )
     return rows
 
 

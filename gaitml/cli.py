@@ -201,6 +201,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--detector", **_choices("zupt", "--detector", _zupt_detectors), default="pseudo-std", help="%(choices)s (default %(default)s)"
     )
     p.add_argument("--threshold-rads", type=float, help="detector threshold in rad/s (pseudo-std)")
+    # --- issue 30: interval rules ---
+    p.add_argument(
+        "--interval-rules",
+        choices=("stride", "fixed", "none"),
+        help="pseudo-std, magnitude: stride (default: follow the local stride period), fixed (seconds), none (per-sample rule)",
+    )
+    # --- end issue 30 ---
     p.add_argument("--out", metavar="FILE", help="write the interval table as CSV")
     p.add_argument("--json", action="store_true")
     _input_options(p)
@@ -324,6 +331,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--detector",
         help="step detector for --by steps (default single-peak), zero-velocity detector for strides/zupt (default pseudo-std)",
+    )
+    p.add_argument(
+        "--interval-rules",
+        choices=("stride", "fixed", "none"),
+        help="strides/zupt with pseudo-std or magnitude: stride (default), fixed, none (the per-sample rule)",
     )
     p.add_argument("--out", metavar="FILE", required=True, help="write the segment table as CSV")
     p.add_argument("--json", action="store_true")

@@ -1,4 +1,4 @@
-"""`gaitml segment INPUT --by steps|strides|zupt [--detector NAME] --out FILE [--json]` (issue 13).
+"""`gaitml segment INPUT --by steps|strides|zupt [--detector NAME] [--interval-rules R] --out FILE [--json]` (issues 13, 30).
 
 Writes the segment table of :func:`gaitml.segment.segment` as CSV, atomically (a
 failed run leaves no file). The detector is checked against the registry of the
@@ -23,6 +23,14 @@ def _num(x) -> float | None:
 def run(args) -> int:
     """Segment a recording; write the table; print a summary or the JSON object."""
     det = resolve_detector(args.by, args.detector)  # a bad name fails before any reading
+    rules = getattr(args, "interval_rules", None)
+    if rules is not None:
+        from gaitml.commands.zupt import interval_rule_params
+        from gaitml.errors import InputError
+
+        if args.by == "steps":
+            raise InputError("--interval-rules applies to --by strides and --by zupt (zero-velocity detectors); drop it for --by steps.")
+        det = type(det)(**{**det.get_params(), **interval_rule_params(det.name, rules)})
     rec = load_input(args)
     table = segment(rec, by=args.by, detector=det)
     write_csv(args.out, table)

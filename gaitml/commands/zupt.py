@@ -1,4 +1,4 @@
-"""`gaitml zupt INPUT [--detector NAME] [--threshold-rads X] [--out FILE] [--json]` (DESIGN sec. 5).
+"""`gaitml zupt INPUT [--detector NAME] [--threshold-rads X] [--interval-rules R] [--out FILE] [--json]` (DESIGN sec. 5).
 
 Inputs longer than ``gaitml.io.chunked.LARGE_INPUT_SAMPLES`` are processed in
 overlapping chunks (:func:`gaitml.longrun.long_zupts`, bounded memory, the same
@@ -16,19 +16,33 @@ from gaitml.zupt import get_detector
 
 #: detectors whose threshold ``--threshold-rads`` sets, and the parameter it maps to
 THRESHOLD_PARAM = {"pseudo-std": "threshold_rads"}
+#: detectors with interval rules (``--interval-rules``, issue 30)
+INTERVAL_RULE_DETECTORS = ("pseudo-std", "magnitude")
 
 
-def detector_params(detector: str, threshold_rads: float | None) -> dict:
-    """Constructor parameters from the CLI options (``--threshold-rads``)."""
-    if threshold_rads is None:
+def interval_rule_params(detector: str, interval_rules: str | None) -> dict:
+    """``{'interval_rules': ...}`` from ``--interval-rules`` (empty when not given); InputError for a detector without rules."""
+    if interval_rules is None:
         return {}
+    if detector not in INTERVAL_RULE_DETECTORS:
+        raise InputError(
+            f"--interval-rules applies to {', '.join(INTERVAL_RULE_DETECTORS)} only, not {detector!r}; drop it or choose one of those."
+        )
+    return {"interval_rules": interval_rules}
+
+
+def detector_params(detector: str, threshold_rads: float | None, interval_rules: str | None = None) -> dict:
+    """Constructor parameters from the CLI options (``--threshold-rads``, ``--interval-rules``)."""
+    rules = interval_rule_params(detector, interval_rules)
+    if threshold_rads is None:
+        return rules
     if detector not in THRESHOLD_PARAM:
         raise InputError(
             f"--threshold-rads applies to {', '.join(THRESHOLD_PARAM)} only, not {detector!r}; drop it or use --detector pseudo-std."
         )
     if not np.isfinite(threshold_rads) or threshold_rads <= 0:
         raise InputError(f"--threshold-rads must be a positive number of rad/s, got {threshold_rads!r}.")
-    return {THRESHOLD_PARAM[detector]: float(threshold_rads)}
+    return {THRESHOLD_PARAM[detector]: float(threshold_rads), **rules}
 
 
 def summary(
@@ -51,9 +65,11 @@ def summary(
     return obj
 
 
-def zupt_summary(rec, detector: str = "pseudo-std", threshold_rads: float | None = None) -> tuple[object, dict]:
+def zupt_summary(
+    rec, detector: str = "pseudo-std", threshold_rads: float | None = None, interval_rules: str | None = None
+) -> tuple[object, dict]:
     """Run a detector on a recording and build the JSON object (library entry point)."""
-    det = get_detector(detector, **detector_params(detector, threshold_rads)).detect(rec)
+    det = get_detector(detector, **detector_params(detector, threshold_rads, interval_rules)).detect(rec)
     obj = summary(
         detector,
         det.per_sample_zupts_,
@@ -62,12 +78,15 @@ def zupt_summary(rec, detector: str = "pseudo-std", threshold_rads: float | None
         threshold_rads=getattr(det, "threshold_rads_", None),
         stride_events=rec.reference.get("stride_events"),
     )
+    if hasattr(det, "interval_rules"):
+        obj["interval_rules"] = det.interval_rules
     return det, obj
 
 
 def run(args) -> int:
     """Detect zero-velocity intervals; print a summary or the JSON contract; optionally write the table."""
-    params = detector_params(args.detector, args.threshold_rads)
+    rules = getattr(args, "interval_rules", None)
+    params = detector_params(args.detector, args.threshold_rads, rules)
     if is_large_input(args):
         from gaitml.longrun import long_zupts
 
@@ -83,7 +102,7 @@ def run(args) -> int:
         name, n = args.input, len(mask)
     else:
         rec = load_input(args)
-        det, obj = zupt_summary(rec, args.detector, args.threshold_rads)
+        det, obj = zupt_summary(rec, args.detector, args.threshold_rads, rules)
         table, fs, name, n = det.zupts_, rec.sampling_rate_hz, rec.name, rec.n_samples
     if args.out:
         write_csv(args.out, table)

@@ -16,7 +16,8 @@ amplitude it uses is a noise floor. Five stages:
    band-passed signal (each lag normalised by the energies of its two
    overlapping segments, so it does not decay with the lag) is searched over
    every lag a human step *or stride* can take: ``1 / max_step_hz`` to
-   ``2 / min_step_hz`` (steps at 1.2-3.5 Hz: walking to running). The
+   ``2 / slow_step_hz`` (strides at 1.2-3.5 steps/s; steps down to
+   ``min_step_hz`` = 0.75 Hz lie inside that range). The
    fundamental period is the shortest autocorrelation peak within
    ``OCTAVE_TOLERANCE`` (90 %) of the strongest one (multiples of a period
    correlate about as well as the period). It may be one step (two legs that
@@ -32,6 +33,15 @@ amplitude it uses is a noise floor. Five stages:
    Oxford recording).
    A period still longer than the longest human step (``1 / min_step_hz``) is
    a stride whose second step is not visible: its half is the step period.
+   So is a period longer than ``1 / slow_step_hz`` (1.2 Hz) in a window with
+   more motion than a slow walker makes (band-passed RMS over
+   ``slow_step_max_rms_ms2``): a slow step, 0.75-1.2 Hz, shows as a deep
+   anti-phase at its half (the half-period rule does not take it for a
+   stride) and a gentle signal; a one-leg stride of normal walking at the
+   same period shows several m/s^2 (issue 30). A slow-step window whose
+   neighbours (``SLOW_STEP_CONTEXT`` windows either side, mostly not slow) walk
+   at twice its cadence is a stride too: a walker's cadence does not halve for
+   one window.
    The peak correlation is the window's *periodicity*; the lag is refined to a
    fraction of a sample by a parabola through the peak.
 3. **Left/right fold.** With the local step period ``T`` each sample becomes
@@ -108,9 +118,21 @@ BAND_HZ = (0.5, 4.0)
 #: cadence windows (s)
 WINDOW_S = 5.0
 HOP_S = 1.0
-#: human step frequencies, slow walking to running (Hz)
-MIN_STEP_HZ = 1.2
+#: human step frequencies, very slow walking to running (Hz). 0.75 Hz = 45 steps/min: walking cadence reaches
+#: below 60 steps/min (CADENCE-Adults, Tudor-Locke et al., IJBNPA 17:137, 2020: the 95 % predictive interval
+#: of the cadence at 3 METs reaches down to 54.9 steps/min; treadmill bouts from 0.5 mph, 0.22 m/s)
+MIN_STEP_HZ = 0.75
 MAX_STEP_HZ = 3.5
+#: below this step frequency a period is a slow step only where the motion is gentle (see SLOW_STEP_MAX_RMS_MS2)
+SLOW_STEP_HZ = 1.2
+#: a window whose band-passed |acc| RMS exceeds this (m/s^2) cannot hold steps slower than SLOW_STEP_HZ: the
+#: trunk's vertical acceleration is about (2 pi f)^2 times half its vertical excursion, at most ~0.85 m/s^2
+#: amplitude (0.6 RMS) at 1.2 steps/s with the ~3 cm excursion of slow walking (Orendurff et al., J. Rehabil.
+#: Res. Dev. 41, 2004); the ceiling allows 2.5 times that for the phone's own motion. A period there is a stride.
+SLOW_STEP_MAX_RMS_MS2 = 1.5
+#: windows either side that must not contradict a slow-step reading (a slow window among windows of twice
+#: its cadence is a stride of the same walk)
+SLOW_STEP_CONTEXT = 3
 #: an autocorrelation above this at half the fundamental period makes that period a stride
 HALF_LAG_MIN_CORRELATION = 0.0
 #: steps only where the window's periodicity reaches this
@@ -136,6 +158,14 @@ EDGE_CONFIDENCE_RATIO = 0.5
 #: a walking bout counts once it holds this many steps: two strides, the shortest run in which each foot's step
 #: repeats (left, right, left, right), as the continuity rule of wrist step counters (Gu et al. 2017: 4 steps)
 MIN_BOUT_STEPS = 4
+#: a bout of fewer steps than this is short: it counts only if its steps repeat their strength (step-amplitude
+#: coefficient of variation <= MAX_SHORT_BOUT_CV) and its steps' confidence is scaled by (steps / this). Ten steps:
+#: the continuity rule of pedometers that hold back a new bout until about ten regular steps (Bassett et al.,
+#: Med. Sci. Sports Exerc. 28, 1996, on the 10-step delay of spring-levered pedometers; issue 30)
+SHORT_BOUT_STEPS = 10
+#: the largest step-amplitude coefficient of variation of a short bout: walking bouts repeat their steps' strength
+#: (CV 0.13-0.36, 90th percentile per position on the Oxford walks) while a gesture burst waxes and wanes (~0.5)
+MAX_SHORT_BOUT_CV = 0.4
 
 
 def window_autocorrelation(y: np.ndarray, length: int, hop: int, lags: np.ndarray) -> np.ndarray:
@@ -169,6 +199,8 @@ def local_cadence(
     min_step_hz: float = MIN_STEP_HZ,
     max_step_hz: float = MAX_STEP_HZ,
     half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+    slow_step_hz: float = SLOW_STEP_HZ,
+    slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
 ) -> dict[str, np.ndarray]:
     """Step period per sliding window, with the stride-versus-step decision (module docstring, stage 2).
 
@@ -177,7 +209,7 @@ def local_cadence(
     y : float array (n,)
         Band-passed signal (zero mean), e.g. the acceleration magnitude.
     sampling_rate_hz : float
-    window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation
+    window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation, slow_step_hz, slow_step_max_rms_ms2
         As :class:`AdaptiveStepDetector`.
 
     Returns
@@ -188,7 +220,8 @@ def local_cadence(
         ``step_correlation`` (autocorrelation at the step period),
         ``stride`` (bool: the strongest peak was a stride, not a step) and
         ``inferred`` (bool: the stride was inferred from the cadence range
-        alone, without a half-period peak), one entry per window.
+        alone, without a half-period peak) and ``rms`` (band-passed RMS,
+        m/s^2), one entry per window.
 
     Raises
     ------
@@ -201,11 +234,14 @@ def local_cadence(
     L = min(n, int(round(window_s * fs)))
     H = max(1, int(round(hop_s * fs)))
     lo = max(2, int(np.floor(fs / max_step_hz)))
-    hi = int(np.ceil(2.0 * fs / min_step_hz))
+    # strides are searched up to two steps at slow_step_hz: a longer lag holds three steps of a normal walk
+    # (a 0.75 s step: 2.25 s) that may correlate better than the step itself; slow steps (up to 1 / min_step_hz)
+    # lie inside this range
+    hi = int(np.ceil(2.0 * fs / max(min_step_hz, slow_step_hz)))
     if hi + 2 >= L:
         raise InputError(
             f"the recording is too short for the adaptive cadence estimate: {n} samples ({n / fs:.2f} s); "
-            f"it needs more than {(hi + 2) / fs:.2f} s (two steps at min_step_hz={min_step_hz}); use a longer recording."
+            f"it needs more than {(hi + 2) / fs:.2f} s (two steps at {max(min_step_hz, slow_step_hz)} Hz); use a longer recording."
         )
     n_win = (n - L) // H + 1
     centres = np.arange(n_win) * H + L // 2
@@ -255,8 +291,20 @@ def local_cadence(
         near_max = np.isfinite(cand[rows, jh]) & (cand[rows, jh] > half_lag_min_correlation)
         lag = np.where(take, np.where(near_max, refined(jh), half), lag)
         stride |= take
-    # still longer than any human step: a stride whose other step is not visible
-    inferred = lag > fs / min_step_hz
+    # still longer than any human step: a stride whose other step is not visible; slower than slow_step_hz with
+    # more motion than a slow walker makes (window RMS over slow_step_max_rms_ms2): a stride too
+    rms = np.sqrt(np.mean(sliding_windows(y, L, H)[:n_win] ** 2, axis=1))
+    inferred = (lag > fs / min_step_hz) | ((lag > fs / slow_step_hz) & (rms > slow_step_max_rms_ms2))
+    # a slow step must persist: a slow reading among windows of twice that cadence (within SLOW_STEP_CONTEXT
+    # windows either side) is a stride of the same walk (cadence does not halve for a window)
+    slow = (lag > fs / slow_step_hz) & ~inferred & ~stride
+    if slow.any():
+        k = SLOW_STEP_CONTEXT
+        for i in np.flatnonzero(slow):
+            nb = np.r_[max(0, i - k) : i, i + 1 : min(len(lag), i + k + 1)]
+            nb = nb[~slow[nb]]
+            if len(nb) and len(nb) >= (min(len(lag), i + k + 1) - max(0, i - k) - 1) / 2:
+                inferred[i] = abs(np.median(lag[nb]) / (lag[i] / 2.0) - 1.0) < 0.2
     lag = np.where(inferred, lag / 2.0, lag)
     return {
         "centre": centres,
@@ -265,6 +313,7 @@ def local_cadence(
         "step_correlation": r_at(lag),
         "stride": stride | inferred,
         "inferred": inferred,
+        "rms": rms,
     }
 
 
@@ -334,12 +383,16 @@ def adaptive_steps(
     min_step_hz: float = MIN_STEP_HZ,
     max_step_hz: float = MAX_STEP_HZ,
     half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+    slow_step_hz: float = SLOW_STEP_HZ,
+    slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
     min_periodicity: float = MIN_PERIODICITY,
     min_rms_ms2: float = MIN_RMS_MS2,
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
     fold: bool = True,
     edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
     min_bout_steps: int = MIN_BOUT_STEPS,
+    short_bout_steps: int = SHORT_BOUT_STEPS,
+    max_short_bout_cv: float = MAX_SHORT_BOUT_CV,
     min_confidence: float = 0.0,
 ) -> dict[str, np.ndarray]:
     """Detect steps in |acc| (m/s^2) with the five stages of the module docstring.
@@ -366,6 +419,8 @@ def adaptive_steps(
         min_step_hz=min_step_hz,
         max_step_hz=max_step_hz,
         half_lag_min_correlation=half_lag_min_correlation,
+        slow_step_hz=slow_step_hz,
+        slow_step_max_rms_ms2=slow_step_max_rms_ms2,
     )
     centres = cad["centre"] * q
     cad["centre"] = centres
@@ -408,6 +463,18 @@ def adaptive_steps(
         # a bout counts once it is confirmed by min_bout_steps steps (after its weak edges are dropped)
         size = np.bincount(bout[ok], minlength=int(bout[-1]) + 1)
         ok &= size[bout] >= min_bout_steps
+        # a short bout must repeat its steps' strength (gait); a burst that waxes and wanes (a gesture) does not
+        if short_bout_steps > 0 and ok.any():
+            nb = int(bout[-1]) + 1
+            amp = s[pk]
+            cnt = np.bincount(bout[ok], minlength=nb)
+            mean = np.bincount(bout[ok], weights=amp[ok], minlength=nb) / np.maximum(cnt, 1)
+            var = np.bincount(bout[ok], weights=amp[ok] ** 2, minlength=nb) / np.maximum(cnt, 1) - mean**2
+            cv = np.sqrt(np.maximum(var, 0.0)) / np.where(mean > 0, mean, np.inf)
+            short = cnt < short_bout_steps
+            ok &= ~(short & (cv > max_short_bout_cv))[bout]
+            # the fewer steps confirm a bout, the less sure it is gait
+            conf = conf * np.minimum(1.0, np.bincount(bout[ok], minlength=nb)[bout] / short_bout_steps)
         pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
     if min_confidence > 0:
         ok = conf >= min_confidence
@@ -431,9 +498,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         Length of the cadence windows (s): several strides at the slowest cadence.
     hop_s : float, default 1.0
         Hop between cadence windows (s).
-    min_step_hz : float, default 1.2
-        Slowest step frequency of human walking (Hz; 72 steps/min). A dominant
-        period longer than ``1 / min_step_hz`` is taken for a stride.
+    min_step_hz : float, default 0.75
+        Slowest step frequency of human walking (Hz; 45 steps/min; walking
+        cadence reaches below 60 steps/min: CADENCE-Adults, Tudor-Locke et al.
+        2020). A dominant period longer than ``1 / min_step_hz`` is taken for a stride.
     max_step_hz : float, default 3.5
         Fastest step frequency (Hz; running, 210 steps/min): the shortest step
         period searched.
@@ -441,6 +509,14 @@ class AdaptiveStepDetector(BaseStepDetector):
         An autocorrelation above this at half the fundamental period makes
         that period a stride and its half the step period (two similar
         events per period: left and right step).
+    slow_step_hz : float, default 1.2
+        A period longer than ``1 / slow_step_hz`` (and without half-period
+        evidence) is a slow step only in a window whose band-passed RMS is at
+        most ``slow_step_max_rms_ms2``; otherwise a stride (issue 30).
+    slow_step_max_rms_ms2 : float, default 1.5
+        The most motion a walker slower than ``slow_step_hz`` makes at the
+        phone (m/s^2 RMS): the trunk's vertical acceleration at 1.2 steps/s and
+        a ~3 cm excursion (Orendurff et al. 2004) is ~0.6 RMS; 2.5 times that.
     min_periodicity : float, default 0.3
         Steps only where the window's strongest autocorrelation peak reaches
         this (periodic motion; dimensionless).
@@ -463,6 +539,15 @@ class AdaptiveStepDetector(BaseStepDetector):
         A walking bout counts once this many of its steps remain after the
         bout-edge rule (stage 5): two strides, left/right seen twice. 1 keeps
         every bout, a single step included.
+    short_bout_steps : int, default 10
+        A bout of fewer steps is short (issue 30, no gait): it is dropped when its
+        step amplitudes vary more than ``max_short_bout_cv``, and every kept
+        bout's confidence is scaled by ``min(1, steps / short_bout_steps)``.
+        0 disables both.
+    max_short_bout_cv : float, default 0.4
+        Largest coefficient of variation of the step amplitudes (folded signal
+        at the steps) of a short bout: a walk repeats its steps' strength, a
+        gesture burst waxes and wanes.
     min_confidence : float, default 0.0
         Drop steps whose confidence is below this (0: keep every step and let
         the caller filter on the ``confidence`` column).
@@ -489,8 +574,9 @@ class AdaptiveStepDetector(BaseStepDetector):
 
     Known limits, by construction:
 
-    - A walker slower than ``min_step_hz`` is taken to show strides and is
-      over-counted; lower ``min_step_hz`` (e.g. 0.9) for very slow gait.
+    - A walker slower than ``min_step_hz`` (45 steps/min) is taken to show
+      strides and is over-counted; one slower than ``slow_step_hz`` who moves
+      the phone more than ``slow_step_max_rms_ms2`` too.
     - Where a stride and a step period are both plausible (stride 0.57-0.83 s:
       running strides or walking steps), only the half-period correlation
       decides. A one-leg signal whose far-leg step leaves no positive
@@ -500,9 +586,16 @@ class AdaptiveStepDetector(BaseStepDetector):
     """
 
     name = "adaptive"
-    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps")
-    _non_negative = ("min_rms_ms2", "edge_confidence_ratio", "min_confidence")
-    _integer = ("min_bout_steps",)
+    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps", "slow_step_hz")
+    _non_negative = (
+        "min_rms_ms2",
+        "edge_confidence_ratio",
+        "min_confidence",
+        "slow_step_max_rms_ms2",
+        "short_bout_steps",
+        "max_short_bout_cv",
+    )
+    _integer = ("min_bout_steps", "short_bout_steps")
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
 
@@ -515,12 +608,16 @@ class AdaptiveStepDetector(BaseStepDetector):
         min_step_hz: float = MIN_STEP_HZ,
         max_step_hz: float = MAX_STEP_HZ,
         half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
+        slow_step_hz: float = SLOW_STEP_HZ,
+        slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
         min_periodicity: float = MIN_PERIODICITY,
         min_rms_ms2: float = MIN_RMS_MS2,
         min_distance_ratio: float = MIN_DISTANCE_RATIO,
         fold: bool = True,
         edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
         min_bout_steps: int = MIN_BOUT_STEPS,
+        short_bout_steps: int = SHORT_BOUT_STEPS,
+        max_short_bout_cv: float = MAX_SHORT_BOUT_CV,
         min_confidence: float = 0.0,
     ):
         self.band_hz = band_hz
@@ -529,12 +626,16 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.min_step_hz = min_step_hz
         self.max_step_hz = max_step_hz
         self.half_lag_min_correlation = half_lag_min_correlation
+        self.slow_step_hz = slow_step_hz
+        self.slow_step_max_rms_ms2 = slow_step_max_rms_ms2
         self.min_periodicity = min_periodicity
         self.min_rms_ms2 = min_rms_ms2
         self.min_distance_ratio = min_distance_ratio
         self.fold = fold
         self.edge_confidence_ratio = edge_confidence_ratio
         self.min_bout_steps = min_bout_steps
+        self.short_bout_steps = short_bout_steps
+        self.max_short_bout_cv = max_short_bout_cv
         self.min_confidence = min_confidence
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:

@@ -20,7 +20,15 @@ import warnings
 
 from gaitml.errors import InputError
 from gaitml.zupt._base import BaseZuptDetector, reference_zupt_mask
-from gaitml.zupt._intervals import intervals_table, intervals_to_mask, mask_runs, merge_short_gaps, remove_short_runs
+from gaitml.zupt._intervals import (
+    intervals_table,
+    intervals_to_mask,
+    local_stride_period,
+    mask_runs,
+    merge_short_gaps,
+    remove_short_runs,
+    stride_scaled_stances,
+)
 from gaitml.zupt.gyro_range import GyroRangeZuptDetector, gyro_range_zupts
 from gaitml.zupt.magnitude import MagnitudeZuptDetector, magnitude_zupts
 from gaitml.zupt.magnitude_std import MagnitudeStdZuptDetector, magnitude_std_zupts
@@ -44,6 +52,7 @@ __all__ = [
     "intervals_table",
     "intervals_to_mask",
     "label_strides",
+    "local_stride_period",
     "gyro_range_zupts",
     "magnitude_std_zupts",
     "magnitude_zupts",
@@ -56,6 +65,7 @@ __all__ = [
     "remove_short_runs",
     "segment_strides",
     "shoe_statistic",
+    "stride_scaled_stances",
 ]
 
 #: name -> detector class (the names of DESIGN sec. 5 and ``gaitml zupt --detector``)

@@ -16,15 +16,27 @@ from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
 from gaitml.zupt._base import BaseZuptDetector, labelled_samples
-from gaitml.zupt._intervals import apply_blockwise, centered_sums, half_window_samples, merge_short_gaps, remove_short_runs
+from gaitml.zupt._intervals import (
+    INTERVAL_RULES,
+    apply_blockwise,
+    centered_sums,
+    check_interval_rules,
+    half_window_samples,
+    local_stride_period,
+    merge_short_gaps,
+    remove_short_runs,
+    stride_scaled_stances,
+)
 
 __all__ = [
+    "INTERVAL_RULES",
     "PAPER_EPS",
     "PAPER_MU1_RADS",
     "PAPER_S1_RADS",
     "PAPER_THRESHOLD_RADS",
     "PseudoStdZuptDetector",
     "fit_zero_velocity_normal",
+    "check_interval_rules",
     "clean_stances",
     "np_threshold",
     "pseudo_std",
@@ -138,6 +150,25 @@ def fit_zero_velocity_normal(values: np.ndarray) -> tuple[float, float]:
     return float(v.mean()), float(v.std())
 
 
+class _LazyPeriod:
+    """:func:`local_stride_period` of ``x`` at the positions asked (a block centred on each), recorded in ``value``.
+
+    ``value`` is a per-sample array, NaN except at the positions asked (None when never asked). Centred
+    blocks make the period at a position independent of where the recording starts, so a chunked run
+    (:func:`gaitml.longrun.long_zupts`) decides as a whole-file run does.
+    """
+
+    def __init__(self, x: np.ndarray, sampling_rate_hz: float):
+        self.x, self.fs, self.value = x, sampling_rate_hz, None
+
+    def __call__(self, positions: np.ndarray) -> np.ndarray:
+        out = local_stride_period(self.x, self.fs, at=positions)
+        if self.value is None:
+            self.value = np.full(len(self.x), np.nan)
+        self.value[positions] = out
+        return out
+
+
 class PseudoStdZuptDetector(BaseZuptDetector):
     """Zero velocity where the gyro pseudo-std is below the N-P threshold (paper 001).
 
@@ -157,20 +188,31 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     form : {'exact', 'tangent'}
         'exact' (default): std of the zero-padded window (eqs. 6-7);
         'tangent': the closed form eq. (8) with a central-difference derivative.
+    interval_rules : {'stride', 'fixed', 'none'}
+        What is done with the per-sample decision. 'stride' (default): gaps are filled
+        and short runs judged against the local stride period of the gyro magnitude
+        (:func:`gaitml.zupt.stride_scaled_stances`); 'fixed': gaps filled and short
+        runs dropped by the lengths below alone (:func:`clean_stances`); 'none': the
+        paper's per-sample rule, every run of samples is an interval.
     merge_gap_s : float, optional
-        Gaps between two zero-velocity runs of at most this length (s) are filled
-        (step 1 of :func:`clean_stances`). Default (None): one detector window,
-        ``(2 s + 1) / fs`` (0.10 s at the default half-window). 0 disables it.
+        Gaps between two zero-velocity runs of at most this length (s) are filled.
+        Default (None): one detector window, ``(2 s + 1) / fs`` (0.10 s at the
+        default half-window); under 'stride' also at most a quarter of the local
+        stride period. 0 disables it.
     min_interval_s : float, optional
-        Zero-velocity runs shorter than this (s) are dropped after merging (step 2).
-        Default (None): one detector window, as for ``merge_gap_s``. 0 disables it;
-        ``merge_gap_s=0, min_interval_s=0`` is the paper's per-sample rule alone.
+        Zero-velocity runs of at least this length (s) are kept. Shorter runs are
+        dropped under 'fixed'; under 'stride' a shorter run is kept when it is the
+        strongest run (the most summed margin under the threshold) within half the
+        local stride period. Default (None): one detector window. 0 disables it;
+        ``merge_gap_s=0, min_interval_s=0`` is the per-sample rule, as 'none'.
 
     Attributes
     ----------
     per_sample_zupts_, zupts_, statistic_ : see :class:`BaseZuptDetector`.
     mu1_rads_, s1_rads_ : fitted normal of the zero-velocity pseudo-std (after ``fit``).
     threshold_rads_ : the threshold used by ``detect``.
+    stride_s_ : local stride period (s) at the gaps and short runs that needed it (NaN elsewhere or
+        without gait) with ``interval_rules='stride'``; None when none needed it.
 
     Notes
     -----
@@ -180,7 +222,7 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     were fitted at 100 Hz on heel-mounted MIMU data; the gyro magnitude does not
     depend on the rate, and with s fixed in seconds neither does the statistic.
 
-    Interval rules (not in paper 001, which classifies samples only; issue 13). On
+    Interval rules (not in paper 001, which classifies samples only; issues 13, 30). On
     foot-mounted data the per-sample rule produces two kinds of wrong intervals
     (``experiments/reports/zupt-heldout.md``): short runs in the swing, where the
     gyro magnitude dips through a minimum because the foot's rotation reverses
@@ -193,7 +235,16 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     a wide margin on both sides: the shortest swing of human gait is ~0.3 s (a
     sprint) and a walking foot-flat lasts ~0.3-0.5 s. Paper 004 rejects zero-velocity
     runs shorter than 0.1 s ("pseudo zero velocity") with the same reasoning.
-    Not tuned on data; the gaitmap figures before/after are in the report.
+    A rule in seconds does not scale with the gait: a running stance holds a
+    zero-velocity run of a few tens of ms (ground contact 0.2-0.3 s at 2.5-4 m/s;
+    Novacheck, Gait & Posture 7, 1998; Weyand et al., J. Appl. Physiol. 89, 2000),
+    shorter than one window. The default rule 'stride' uses instead the physics of
+    gait that holds at any speed: each stride of a foot has exactly one stance. Short
+    runs are kept when they are the strongest within half the local stride period
+    (found by :func:`gaitml.zupt.local_stride_period` on the gyro magnitude), so a
+    running stance survives and a swing dip beside a stronger stance does not; the
+    gap rule is capped at a quarter of a stride (the swing is longer). Without
+    periodic gait the 'fixed' rule applies.
 
     References
     ----------
@@ -210,6 +261,7 @@ class PseudoStdZuptDetector(BaseZuptDetector):
         half_window_s: float = DEFAULT_HALF_WINDOW_S,
         eps: float = PAPER_EPS,
         form: str = "exact",
+        interval_rules: str = "stride",
         merge_gap_s: float | None = None,
         min_interval_s: float | None = None,
     ):
@@ -217,6 +269,7 @@ class PseudoStdZuptDetector(BaseZuptDetector):
         self.half_window_s = half_window_s
         self.eps = eps
         self.form = form
+        self.interval_rules = interval_rules
         self.merge_gap_s = merge_gap_s
         self.min_interval_s = min_interval_s
 
@@ -249,14 +302,21 @@ class PseudoStdZuptDetector(BaseZuptDetector):
 
     def _mask(self, recording):
         fs = recording.sampling_rate_hz
-        gap = self._rule_samples(self.merge_gap_s, "merge_gap_s", fs)
-        shortest = self._rule_samples(self.min_interval_s, "min_interval_s", fs)
+        rules = check_interval_rules(self.interval_rules)
+        gap = self._rule_samples(self.merge_gap_s, "merge_gap_s", fs) if rules != "none" else 0
+        shortest = self._rule_samples(self.min_interval_s, "min_interval_s", fs) if rules != "none" else 0
         stat = self._statistic(recording)
         thr = self._threshold()
         self.threshold_rads_ = thr
         self.merge_gap_samples_ = gap
         self.min_interval_samples_ = shortest
-        return clean_stances(stat < thr, merge_gap_samples=gap, min_interval_samples=shortest), stat
+        raw = stat < thr
+        if rules == "stride":
+            period = _LazyPeriod(magnitude(recording.gyr), fs)
+            mask = stride_scaled_stances(raw, period, fs, merge_gap_samples=gap, min_interval_samples=shortest, evidence=thr - stat)
+            self.stride_s_ = period.value
+            return mask, stat
+        return clean_stances(raw, merge_gap_samples=gap, min_interval_samples=shortest), stat
 
     def fit(self, recordings, reference=None) -> PseudoStdZuptDetector:
         """Fit mu1, S1 on labelled zero-velocity samples and set the N-P threshold.

@@ -1,0 +1,62 @@
+"""adaptive at slow cadence and without gait (issue 30)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from gaitml.simulate import Subject, simulate_recording
+from gaitml.simulate.nongait import simulate_nongait
+from gaitml.steps import get_detector
+
+
+def _slow_walk(seed: int, cadence_hz: float):
+    rng = np.random.default_rng([seed, 31])
+    s = Subject.random(rng, subject="SLOW", pose="flat")
+    s = dataclasses.replace(
+        s,
+        walk_cadence_hz=cadence_hz,
+        walk_step_length_m=0.4,
+        walk_vertical_ms2=s.walk_vertical_ms2 * (cadence_hz / s.walk_cadence_hz) ** 2,
+        walk_shoulder=0.5,
+    )
+    return simulate_recording(s, modes=["walk"], duration_s=40, seed=seed)
+
+
+@pytest.mark.parametrize(("seed", "cadence_hz"), [(1, 0.8), (2, 0.95), (3, 1.1), (4, 1.2)])
+def test_slow_walker_steps_are_not_taken_for_strides(seed, cadence_hz):
+    rec = _slow_walk(seed, cadence_hz)
+    n_true = rec.reference["n_steps_true"]
+    n = len(get_detector("adaptive").detect(rec).steps_)
+    assert abs(n - n_true) <= max(2, 0.03 * n_true)
+    # the previous cadence range (from 1.2 steps/s) took each slow step for a stride
+    if cadence_hz < 1.15:
+        old = len(get_detector("adaptive", min_step_hz=1.2).detect(rec).steps_)
+        assert old > 1.3 * n_true
+
+
+def test_a_desk_phone_gives_no_confident_steps():
+    for seed in range(3):
+        st = get_detector("adaptive").detect(simulate_nongait("desk", duration_s=120, seed=seed)).steps_
+        assert int(np.sum(st["confidence"] >= 0.5)) == 0
+
+
+def test_gesture_bursts_lose_steps_and_confidence_to_the_short_bout_rule():
+    rec = simulate_nongait("gestures", duration_s=120, seed=7)
+    with_rule = get_detector("adaptive").detect(rec).steps_
+    without = get_detector("adaptive", short_bout_steps=0).detect(rec).steps_
+    assert len(with_rule) < 0.7 * len(without)
+    walk = get_detector("adaptive").detect(_slow_walk(5, 1.0)).steps_
+    assert with_rule["confidence"].median() < walk["confidence"].median()
+
+
+@pytest.mark.parametrize(
+    "bad", [{"short_bout_steps": -1}, {"max_short_bout_cv": -0.1}, {"slow_step_max_rms_ms2": -1.0}, {"slow_step_hz": 0}]
+)
+def test_new_parameters_are_checked(bad):
+    from gaitml.errors import InputError
+
+    with pytest.raises(InputError, match=next(iter(bad))):
+        get_detector("adaptive", **bad).detect(_slow_walk(1, 1.0))

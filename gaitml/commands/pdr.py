@@ -126,7 +126,7 @@ def run(args) -> int:
         log(f"note: {note}")
     # ---- out-of-domain steps (gaitml.models.domain): one warning line
     if model is not None and modes == "model":
-        from gaitml.models.domain import domain_warning
+        from gaitml.commands._domain import domain_warning
 
         flags = res.steps["in_domain"].to_numpy(dtype=object) if "in_domain" in res.steps else []
         warning = domain_warning(model, flags, what="steps")

@@ -39,7 +39,8 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     warning line, the fraction in the JSON.
     """
     from gaitml.io import write_csv
-    from gaitml.models.domain import domain_warning, out_of_domain_fraction
+    from gaitml.commands._domain import domain_warning
+    from gaitml.models.domain import out_of_domain_fraction
 
     if table.attrs.get("resampled_from_hz"):
         log(

@@ -21,7 +21,7 @@ import numpy as np
 
 from gaitml.errors import ModelError
 from gaitml.models.domain._descriptors import DYNAMICS_NAMES, dynamics_sample_step
-from gaitml.models.domain._distance import _feature_bound, _gravity_bound
+from gaitml.models.domain._distance import _feature_bound, _gravity_bound, _min_mahalanobis
 from gaitml.models.domain._gravity import _nearest_angle
 from gaitml.models.domain._running import running_median
 from gaitml.parallel import one_blas_thread
@@ -34,8 +34,9 @@ ARRAY_PREFIX = "domain__"
 #: The arrays of the record (records written before may also carry ``feature_lo`` / ``feature_hi``, which are not read).
 _ARRAYS = ("center", "scale", "class_means", "class_precisions", "gravity_dirs")
 #: The batch feature distance (:meth:`DomainModel.distances` of at least ``_BLOCKED_MIN_ROWS`` rows) multiplies by the
-#: Cholesky factors in column blocks of about this many columns, skipping the zeros above their diagonal.
-_DISTANCE_BLOCK_COLUMNS = 13  # 8 blocks of 104 features: 56 % of the full product's multiplications (4 blocks: 62 %, 0.3 ms slower)
+#: Cholesky factors in column blocks of about this many columns, skipping the zeros above their diagonal
+#: (the choice is measured in ``benchmarks/README.md``).
+_DISTANCE_BLOCK_COLUMNS = 13
 #: Fewer rows (a stream's one window) take one product with the whole stacked factors: fewer calls.
 _BLOCKED_MIN_ROWS = 64
 #: The arrays of the optional orientation-dynamics part.
@@ -255,51 +256,23 @@ class DomainModel:
             Y *= Y
             return np.sqrt(Y.reshape(len(Z), -1, Z.shape[1]).sum(axis=2).min(axis=1))
 
-    def _factor_blocks(self) -> list[tuple[int, int, np.ndarray]]:
-        """The stacked factors of :meth:`_factors` cut into column blocks without their zero rows, with the standardisation folded in; cached.
+    def _float32_blocks(self) -> tuple[list[tuple[int, int, np.ndarray]], float]:
+        """The stacked factors of :meth:`_factors` in float32 column blocks without their zero rows, and the error scale; cached.
 
         ``L_c`` is lower triangular: its columns ``[j0, j1)`` are zero above row ``j0``. With
         ``F`` (p - j0, c (j1 - j0)) the rows ``j0:`` of those columns of every class and ``o``
-        the matching entries of the offsets ``m_c L_c``, the block's entries of ``z L - m L``
-        for a raw feature row ``x`` (``z = (x - center) / scale``) are ``x A`` with the
-        augmented ``x = [x_j0.., 1]`` and ``A = [F / scale; -(o + (center / scale) F)]``
-        (p - j0 + 1, c (j1 - j0)): the standardisation and the offset are taken inside the one
-        product instead of two more passes over the (windows x features) and (windows x
-        c p) arrays. Per block ``(j0, j1, A^T)``; kept transposed: the products are taken as
-        ``A^T X^T`` (windows last), which measured 15-20 % faster than ``X A`` with two BLAS threads.
-        """
-        cache = self.__dict__.get("_block_cache")
-        if cache is None:
-            stacked, offset = self._factors()
-            p = len(self.feature_names)
-            c = len(offset) // p
-            per_class = stacked.reshape(p, c, p)  # [row, class, column]
-            center, scale = self.arrays["center"], self.arrays["scale"]
-            edges = np.linspace(0, p, max(1, round(p / _DISTANCE_BLOCK_COLUMNS)) + 1).round().astype(int)
-            cache = []
-            for j0, j1 in zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True):
-                F = per_class[j0:, :, j0:j1].reshape(p - j0, c * (j1 - j0))
-                o = offset.reshape(c, p)[:, j0:j1].reshape(-1)
-                A = np.concatenate([F / scale[j0:, None], -(o + (center[j0:] / scale[j0:]) @ F)[None, :]], axis=0)
-                cache.append((j0, j1, np.ascontiguousarray(A.T)))
-            object.__setattr__(self, "_block_cache", cache)
-        return cache
-
-    def _float32_blocks(self) -> tuple[list[tuple[int, int, np.ndarray]], float]:
-        """The column blocks of :meth:`_factor_blocks` in float32 on standardised rows, and the error scale; cached.
-
-        Per block ``(j0, j1, B^T)`` with ``B = [F; -o]`` (p - j0 + 1, c (j1 - j0)) in float32
-        (``F``, ``o`` as in :meth:`_factor_blocks`, not folded with the standardisation: the
-        rows are standardised in float64 first, which keeps the float32 products' error
-        small), and ``max_c ||[L_c; -m_c L_c]||_F``, the largest Frobenius norm of a class's
-        augmented factor, which bounds that error (:meth:`_certified_distances`).
+        the matching entries of the offsets ``m_c L_c``, a block's entries of ``z L - m L``
+        for a standardised row ``z`` are ``[z_j0.., 1] B`` with ``B = [F; -o]``. Per block
+        ``(j0, j1, B^T)`` in float32 (the blocks hold about ``_DISTANCE_BLOCK_COLUMNS``
+        columns), and ``max_c ||[L_c; -m_c L_c]||_F``, the largest Frobenius norm of a
+        class's augmented factor, which bounds the float32 error (:meth:`_certified_distances`).
         """
         cache = self.__dict__.get("_f32_cache")
         if cache is None:
             stacked, offset = self._factors()
             p = len(self.feature_names)
             c = len(offset) // p
-            per_class = stacked.reshape(p, c, p)
+            per_class = stacked.reshape(p, c, p)  # [row, class, column]
             edges = np.linspace(0, p, max(1, round(p / _DISTANCE_BLOCK_COLUMNS)) + 1).round().astype(int)
             blocks = []
             for j0, j1 in zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True):
@@ -314,9 +287,8 @@ class DomainModel:
     def _certified_distances(self, X: np.ndarray) -> np.ndarray | None:
         """Feature distances of raw finite rows ``X`` in float32, recomputed in float64 wherever the flag could differ; or None.
 
-        The column-block products of :meth:`_blocked_distances` taken in float32 on the
-        rows standardised in float64 (about 60 % of the time of the float64 products). A
-        float32 distance ``d~`` differs from the exact one by at most
+        The column-block products of :meth:`_float32_blocks` on the rows standardised in
+        float64. A float32 distance ``d~`` differs from the exact one by at most
         ``eps = 2 (gamma + 2u) (N ||z_aug|| + d~)`` with ``u = 2^-24``, ``gamma = (p + 3) u /
         (1 - (p + 3) u)`` (Higham's bound for a sum of ``p + 1`` products), ``N`` the
         largest Frobenius norm of a class's augmented factor (:meth:`_float32_blocks`) and
@@ -324,12 +296,12 @@ class DomainModel:
         entry at most ``gamma |B|^T |z_aug|``, whose norm Cauchy-Schwarz bounds by
         ``N ||z_aug||``) and of the sum of the squares, with a factor 2 to spare. Every
         window whose ``d~`` lies within its ``eps`` of the distance threshold (or is not
-        finite) is recomputed in float64 (:meth:`_blocked_distances`): the flags
-        ``distance <= threshold`` are those of the float64 distances, by construction. The
-        distances themselves are float32-accurate (about 1e-7 relative, 3e-7 measured:
-        ``tests/domain/test_check_cost.py``), those near the threshold float64 (the bound is
-        about 0.015 for distances of 3-10: none of the 788 windows of the benchmark recording).
-        None when the float64 recomputation overflows (the caller takes the one product).
+        finite) is recomputed in float64 by the plain reference
+        (:func:`~gaitml.models.domain._distance._min_mahalanobis`): the flags
+        ``distance <= threshold`` are those of the float64 distances, by construction; the
+        other distances are float32-accurate (about 1e-7 relative). None when a float64
+        recomputation is not finite (an input so large that a sum overflows): the caller
+        then takes the one product.
         """
         n, p = X.shape
         blocks, norm = self._float32_blocks()
@@ -349,42 +321,12 @@ class DomainModel:
             gamma = (p + 3) * u / (1.0 - (p + 3) * u)
             eps = 2.0 * (gamma + 2.0 * u) * (norm * np.sqrt(np.add.reduce(Z * Z, axis=1) + 1.0) + d)
             exact = ~(np.abs(d - self.distance_threshold) > eps)  # near the threshold, or not finite (NaN compares False)
-        if exact.any():
-            d64 = self._blocked_distances(X[exact])
-            if d64 is None:
-                return None
-            d[exact] = d64
+            if exact.any():
+                d64 = _min_mahalanobis(Z[exact], self.arrays["class_means"], self.arrays["class_precisions"])
+                if not np.isfinite(d64).all():
+                    return None
+                d[exact] = d64
         return d
-
-    def _blocked_distances(self, X: np.ndarray) -> np.ndarray | None:
-        """:meth:`_stacked_distances` of raw finite rows ``X`` without the products with the factors' zeros (batch rows), or None.
-
-        The same quadratic forms, grouped per column block (about
-        :data:`_DISTANCE_BLOCK_COLUMNS` columns): 56 % of the multiplications with the 104
-        features of ``all52+gyro`` (8 blocks), 62 % with 52 (4 blocks), each block one
-        matrix product that also standardises and subtracts the class offsets
-        (:meth:`_factor_blocks`). Equal to the one product up to rounding (the sums in
-        another order, the centre subtracted inside the product: relative differences of
-        about 1e-14; ``tests/domain/test_check_cost.py``). Plain sums of the squares:
-        every multi-threaded BLAS call can wait for a core on a loaded machine, so they
-        are not summed with a matrix-vector product. None when a distance is not finite
-        (an input so large that a sum overflows): the caller then takes the one product,
-        as before.
-        """
-        n, p = X.shape
-        blocks = self._factor_blocks()
-        c = len(blocks[0][2]) // (blocks[0][1] - blocks[0][0])
-        XT = np.empty((p + 1, n))  # features x windows and a row of ones (the offsets): the blocks' rows are slices of it
-        XT[:p] = X.T
-        XT[p] = 1.0
-        sq = np.zeros((c, n))
-        with np.errstate(invalid="ignore", over="ignore"):
-            for j0, j1, AT in blocks:
-                Y = AT @ XT[j0:]  # (c (j1 - j0), n): the block's columns of z L - m L of every class, transposed
-                Y *= Y
-                sq += Y.reshape(c, j1 - j0, n).sum(axis=1)  # over the block's columns of every class (no BLAS call: see above)
-            d = np.sqrt(sq.min(axis=0))
-        return d if np.isfinite(d).all() else None
 
     def gravity_angles(self, gravity) -> np.ndarray:
         """Angle (rad) of each gravity unit vector (rows, phone frame) to the nearest training direction."""
@@ -435,7 +377,7 @@ class DomainModel:
     def _dynamics_factors(self) -> tuple[np.ndarray, int]:
         """The stacked Cholesky factors of the dynamics Gaussians with the standardisation folded in, cached.
 
-        As :meth:`_factor_blocks` for the features: with ``L_g`` the Cholesky factor of
+        With ``L_g`` the Cholesky factor of
         Gaussian g's precision (lower triangular) and ``m_g`` its mean, ``z L_g - m_g L_g``
         for descriptors ``x`` (``z = (x - dyn_center) / dyn_scale``) is ``[x, 1] A_g`` with
         ``A_g = [L_g / dyn_scale; -(m_g + dyn_center / dyn_scale) L_g]``. Returns ``([A_1 .. A_g], g)``

@@ -20,6 +20,7 @@ dependency), which gives signature-based ``get_params(deep)``, ``set_params``,
 from __future__ import annotations
 
 import numbers
+import warnings
 from typing import ClassVar
 
 import numpy as np
@@ -27,7 +28,7 @@ from sklearn.base import BaseEstimator
 
 from gaitml.errors import InputError
 
-__all__ = ["BaseAlgorithm", "check_number"]
+__all__ = ["BaseAlgorithm", "Registry", "check_number"]
 
 
 def check_number(name: str, value, *, positive: bool = False, non_negative: bool = False, integer: bool = False) -> float:
@@ -87,3 +88,47 @@ class BaseAlgorithm(BaseEstimator):
                 for v in value:
                     check_number(name, v)
         return params
+
+
+class Registry(dict):
+    """Algorithm classes by their CLI name (``gaitml.steps.DETECTORS``, ``gaitml.zupt.DETECTORS``), one way for every family.
+
+    A ``dict`` of name -> class that also builds instances: :meth:`create` raises
+    :class:`~gaitml.errors.InputError` naming the valid names for an unknown name and
+    the class's help for unknown parameters. ``deprecated`` maps old names to current
+    ones: accepted by :meth:`create` with a DeprecationWarning, not listed.
+
+    Parameters
+    ----------
+    kind : str
+        What the entries are, for messages ("step detector").
+    entries : dict
+        Name -> class, in the order ``--help`` lists them.
+    module : str
+        The public module the classes are documented in (``gaitml.steps``).
+    deprecated : dict, optional
+        Old name -> registry name.
+    """
+
+    def __init__(self, kind: str, entries: dict, *, module: str, deprecated: dict | None = None):
+        super().__init__(entries)
+        self.kind = kind
+        self.module = module
+        self.deprecated = dict(deprecated or {})
+
+    def names(self) -> tuple[str, ...]:
+        """The registered names, in order."""
+        return tuple(self)
+
+    def create(self, name: str, **params):
+        """An instance of the class registered as ``name`` with ``params``."""
+        if name in self.deprecated:
+            warnings.warn(f"the {self.kind} name {name!r} is deprecated; use {self.deprecated[name]!r}.", DeprecationWarning, stacklevel=3)
+            name = self.deprecated[name]
+        if name not in self:
+            raise InputError(f"unknown {self.kind} {name!r}; valid names: {', '.join(self)}.")
+        cls = self[name]
+        try:
+            return cls(**params)
+        except TypeError as exc:
+            raise InputError(f"bad parameters for {self.kind} {name!r}: {exc}; see help({self.module}.{cls.__name__}).") from None

@@ -109,7 +109,7 @@ def test_strides_on_foot_sensor():
     lab = IntervalLabeller(snap="strides").label(rec, iv)
     from gaitml.zupt import detect_zupts, segment_strides
 
-    strides = segment_strides(detect_zupts(rec, detector="pseudo-std").zupts_, rec.sampling_rate_hz)
+    strides = segment_strides(detect_zupts(rec, detector="pseudo-std"), rec.sampling_rate_hz)
     b = lab.boundaries_.query("status == 'snapped'")
     assert len(b) == 1
     k = int(round(b["snapped_t_s"].iloc[0] * rec.sampling_rate_hz))

@@ -28,8 +28,7 @@ amplitude it uses is a noise floor. Five stages:
    the local maximum near its half (or the half itself where the
    autocorrelation has a plateau there); repeated while the half stays in the
    step range. A period of one step instead gives a deep negative correlation
-   at its half (the signal is in anti-phase there; -0.55 to -0.98 on every
-   Oxford recording).
+   at its half (the signal is in anti-phase there).
    A period still longer than the longest human step (``1 / min_step_hz``) is
    a stride whose second step is not visible: its half is the step period.
    The peak correlation is the window's *periodicity*; the lag is refined to a
@@ -77,9 +76,9 @@ evidence). The per-window cadence is kept in ``cadence_``.
    in which each foot's step repeats. Step counters hold back a new bout until
    a run of regular steps confirms it and then count the confirming steps
    too; here the whole confirmed bout counts, so only its weak fringe and
-   unconfirmed fragments (handling, a bump between walks) are lost. Oxford
-   hard floor, every position: 89 fewer false steps for 14 true ones lost
-   (``experiments/reports/steps-heldout.md``, section "Bout edges").
+   unconfirmed fragments (handling, a bump between walks) are lost (the
+   effect is measured in ``experiments/reports/steps-heldout.md``, section
+   "Bout edges").
 
 Evaluated on the Oxford step counter optimisation recordings (Salvi et al.,
 CC BY 4.0) in sample and leave-one-user-out (``gaitml evaluate

@@ -14,22 +14,18 @@ from gaitml.errors import ModelError
 
 __all__ = ["DYNAMICS_EVERY", "DYNAMICS_SPAN", "dynamics_grid_step", "running_median", "span_medians"]
 
-#: Windows in the running span of the dynamics decision (20 windows of 1.5 s at 50 % overlap: 15 s).
-#: Kept after a choice on held-out seeds: span 30, chosen among 10-60 on the usual simulated seeds,
-#: flags a left-out position on >= 80 % for as few positions as 20 on new seeds
-#: (``experiments/reports/model-domain.md``, "Choosing the span with held-out seeds"; ``fit_domain(dynamics_span=)``).
+#: Windows in the running span of the dynamics decision (20 windows of 1.5 s at 50 % overlap: 15 s);
+#: chosen on held-out simulated seeds (``experiments/reports/model-domain.md``, "Choosing the span with
+#: held-out seeds"; ``fit_domain(dynamics_span=)``).
 DYNAMICS_SPAN = 20
 #: The check computes the orientation dynamics of every ``DYNAMICS_EVERY``-th window only (windows 0, 2, 4, ...
-#: of the recording) and decides on the median of those within each window's span (10 of its last 20 windows).
-#: The decision is a 15 s running median of a property of the stretch of recording (how the phone is
-#: carried), and the windows overlap by half: every second window tiles the recording, so the computed
-#: windows still see every sample once, at half the cost of the descriptors (the largest part of the
-#: check; ``benchmarks/README.md``). Every 4th window (5 per span) sees half the samples and lost
-#: detection in ``experiments/scripts/lopo_domain.py`` (left-out belt 77 %, swinging hand 74 % against
-#: 89 / 85 % on every window; with 2: 87.5 / 85.6 %). ``fit_domain`` fits the threshold on the same grid
-#: (pooled over its phases), and the record says which step it was fitted with (``dynamics["every"]``;
-#: records without it were fitted on every window and are checked on every window). A span not
-#: divisible by it uses its largest divisor below it (:func:`dynamics_grid_step`).
+#: of the recording) and decides on the median of those within each window's span. The windows overlap by
+#: half, so every second window tiles the recording: the computed windows still see every sample once, at
+#: half the cost of the descriptors (the choice against every 4th window is measured in
+#: ``experiments/reports/model-domain.md`` with ``experiments/scripts/lopo_domain.py``). ``fit_domain`` fits
+#: the threshold on the same grid (pooled over its phases), and the record says which step it was fitted
+#: with (``dynamics["every"]``; records without it were fitted on every window and are checked on every
+#: window). A span not divisible by it uses its largest divisor below it (:func:`dynamics_grid_step`).
 DYNAMICS_EVERY = 2
 
 

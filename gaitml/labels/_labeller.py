@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import os
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
 
-from gaitml._base import BaseAlgorithm
+from gaitml._base import NON_NEGATIVE, BaseAlgorithm, Options
 from gaitml.errors import InputError
 from gaitml.labels._intervals import check_intervals, read_intervals
 from gaitml.recording import Recording
@@ -118,7 +118,11 @@ class IntervalLabeller(BaseAlgorithm):
     """
 
     _action_method = "label"
-    _non_negative = ("max_snap_s",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "snap": [Options(SNAP_MODES)],
+        "max_snap_s": [NON_NEGATIVE],
+        "boundary": [Options(BOUNDARY_KINDS)],
+    }
 
     def __init__(
         self,
@@ -138,12 +142,6 @@ class IntervalLabeller(BaseAlgorithm):
     def label(self, recording: Recording, intervals: pd.DataFrame | str | os.PathLike) -> IntervalLabeller:
         """Label ``recording`` from ``intervals`` (a DataFrame or an intervals file); returns ``self``."""
         self._validate_params()
-        if self.snap not in SNAP_MODES:
-            raise InputError(f"snap must be one of {', '.join(SNAP_MODES)}, got {self.snap!r}.")
-        if self.boundary not in BOUNDARY_KINDS:
-            raise InputError(f"boundary must be one of {', '.join(BOUNDARY_KINDS)}, got {self.boundary!r}.")
-        if not (np.isfinite(self.max_snap_s) and self.max_snap_s >= 0):
-            raise InputError(f"max_snap_s must be a non-negative number of seconds, got {self.max_snap_s!r}.")
         if not str(self.unlabelled).strip():
             raise InputError("the unlabelled label must be a non-empty string; pass e.g. 'unlabelled'.")
         rec = recording

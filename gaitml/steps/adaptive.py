@@ -93,6 +93,7 @@ import numpy as np
 import pandas as pd
 import scipy.signal
 
+from gaitml._base import NON_NEGATIVE, POSITIVE, POSITIVE_INTEGER, Interval
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import bandpass, sliding_windows
@@ -499,9 +500,18 @@ class AdaptiveStepDetector(BaseStepDetector):
     """
 
     name = "adaptive"
-    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps")
-    _non_negative = ("min_rms_ms2", "edge_confidence_ratio", "min_confidence")
-    _integer = ("min_bout_steps",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "window_s": [POSITIVE],
+        "hop_s": [POSITIVE],
+        "min_step_hz": [POSITIVE],
+        "max_step_hz": [POSITIVE],
+        "min_distance_ratio": [POSITIVE],
+        "min_bout_steps": [POSITIVE_INTEGER],
+        "min_rms_ms2": [NON_NEGATIVE],
+        "edge_confidence_ratio": [Interval(0, 1, closed="both")],
+        "min_confidence": [NON_NEGATIVE],
+        "fold": ["boolean"],
+    }
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
 
@@ -546,10 +556,6 @@ class AdaptiveStepDetector(BaseStepDetector):
             raise InputError(f"`band_hz` must be (low, high) with 0 < low < high < {fs / 2:g} Hz (half the rate), got {self.band_hz!r}.")
         if self.min_step_hz >= self.max_step_hz:
             raise InputError(f"`min_step_hz` ({self.min_step_hz}) must be below `max_step_hz` ({self.max_step_hz}).")
-        if not 0 <= self.edge_confidence_ratio <= 1:
-            raise InputError(f"`edge_confidence_ratio` must be in [0, 1] (0 keeps every bout edge), got {self.edge_confidence_ratio!r}.")
-        if not isinstance(self.fold, bool | np.bool_):
-            raise InputError(f"`fold` must be true or false, got {self.fold!r}.")
         r = adaptive_steps(acc_magnitude(rec), fs, **params)
         p = r["peak"]
         per = r["period_s"]

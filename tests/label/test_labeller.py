@@ -95,7 +95,7 @@ def test_bad_parameters(sim):
     iv = pd.DataFrame([(0.0, 5.0, "walk")], columns=["start_s", "end_s", "label"])
     with pytest.raises(InputError, match="unknown step detector 'pseudo-std'"):
         label_recording(sim, iv, detector="pseudo-std")
-    with pytest.raises(InputError, match="snap must be one of"):
+    with pytest.raises(InputError, match="`snap` must be one of"):
         label_recording(sim, iv, snap="frames")
     with pytest.raises(InputError, match="bad labelling parameters"):
         label_recording(sim, iv, snap_s=1)

@@ -8,10 +8,12 @@ gravity set fitted on the other folds and the distances measured on the held-out
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 import pandas as pd
 
-from gaitml._base import BaseAlgorithm
+from gaitml._base import BaseAlgorithm, Interval
 from gaitml.errors import ModelError
 from gaitml.models.domain._descriptors import DYNAMICS_NAMES
 from gaitml.models.domain._distance import _class_gaussians, _min_mahalanobis, _standardiser
@@ -55,7 +57,9 @@ class DomainCheck(BaseAlgorithm):
     """
 
     _action_method = "fit"
-    _integer = ("random_state",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "random_state": [Interval(integer=True)],
+    }
 
     def __init__(
         self,

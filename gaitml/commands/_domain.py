@@ -36,5 +36,5 @@ def domain_warning(model, in_domain, what: str = "windows") -> str | None:
     return (
         f"{100 * frac:.1f} % of the {what} ({k} of {n}) lie outside the model's training domain (positions {positions}, "
         f"{dom.frame} frame); their modes are unreliable: use a model trained on recordings like this one "
-        "(README: 'Is my recording in the model's domain?')"
+        "(docs/models.md: 'Is my recording in the model's domain?')"
     )

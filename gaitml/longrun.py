@@ -268,13 +268,7 @@ def long_predict(
     # dynamics of every `every`-th window (which keep every step-th sample): more context before each core,
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
     dom = getattr(model, "domain", None)
-    extra, phase, grid = 0, 1, 1
-    if getattr(dom, "dynamics", None) is not None:
-        from gaitml.models.domain import dynamics_sample_step
-
-        extra = int(dom.dynamics.get("span", 1)) - 1
-        phase = dynamics_sample_step(float(read_kwargs["sampling_rate_hz"]))
-        grid = dom.dynamics_every
+    extra, phase, grid = (0, 1, 1) if dom is None else dom.chunk_context(float(read_kwargs["sampling_rate_hz"]))
     chunks = _window_chunks(
         path,
         model.length_s,

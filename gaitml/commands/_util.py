@@ -6,12 +6,11 @@ import json
 import sys
 from typing import Any
 
-from gaitml.io import read_recording
-from gaitml.io._atomic import _json_default
-
 
 def load_input(args) -> Any:
     """Read ``args.input`` with the common input options; print the reader's warnings (one stderr line each)."""
+    from gaitml.io import read_recording
+
     rec = read_recording(args.input, **read_kwargs(args))
     for warning in rec.meta.get("warnings", []):
         log(f"gaitml: warning: {warning}")
@@ -20,6 +19,8 @@ def load_input(args) -> Any:
 
 def emit_json(obj: Any) -> None:
     """Print exactly one JSON object on stdout."""
+    from gaitml.io._atomic import _json_default
+
     sys.stdout.write(json.dumps(obj, default=_json_default, allow_nan=False) + "\n")
     sys.stdout.flush()
 

@@ -8,14 +8,57 @@ renamed only at the end, so a failure leaves neither.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import os
 from pathlib import Path
 
+from gaitml.commands._args import add_input_options, choices, heading_sources, mode_assignments, mode_sources, step_detectors
 from gaitml.commands._util import emit_json, load_input, log
 from gaitml.errors import InputError
-from gaitml.evaluation.trajectory import end_point_error
-from gaitml.io import atomic_path
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "pedestrian dead reckoning trajectory"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml pdr`` on its parser ``p``."""
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--model", metavar="MODEL_DIR")
+    p.add_argument("--out", metavar="FILE")
+    p.add_argument("--plot", metavar="PNG")
+    p.add_argument("--json", action="store_true")
+    p.add_argument(
+        "--heading", **choices("pdr", "--heading", heading_sources), default="hde", help="heading source: %(choices)s (default hde)"
+    )
+    p.add_argument(
+        "--modes",
+        **choices("pdr", "--modes", mode_sources),
+        help="motion modes per step: %(choices)s (default: model with --model, else the labels, else forward)",
+    )
+    p.add_argument(
+        "--mode-boundaries",
+        **choices("pdr", "--mode-boundaries", mode_assignments),
+        default="auto",
+        help="with --model: re-place each mode change at the most likely step (refine) or keep the nearest window's mode (nearest), "
+        "or take the window nearest the middle of each step (middle); auto (default) refines when steps are timed by their peaks",
+    )
+    p.add_argument(
+        "--detector",
+        **choices("pdr", "--detector", step_detectors),
+        default=None,
+        help="step detector: %(choices)s (default single-peak, or a step-window model's own detector)",
+    )
+    p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
+    p.add_argument(
+        "--initial-heading-rad",
+        type=float,
+        default=None,
+        help="compass heading at the start (default: the reference trajectory's when the input has one, else 0 = north)",
+    )
+    add_input_options(p)
+
+    # --- gaitml model convert|export|card (gaitml/commands/model.py) ---
 
 
 def check_output_path(path: str, flag: str) -> Path:
@@ -59,6 +102,8 @@ def _detector(args, model, notes: list[str]) -> str:
 
 def run(args) -> int:
     """Dead-reckon INPUT; print a summary or the JSON contract; optionally write the table and a plot."""
+    from gaitml.evaluation.trajectory import end_point_error
+    from gaitml.io import atomic_path
     from gaitml.pdr import run_pdr
     from gaitml.pdr.step_length import StepLengthModel
 
@@ -126,7 +171,7 @@ def run(args) -> int:
         log(f"note: {note}")
     # ---- out-of-domain steps (gaitml.models.domain): one warning line
     if model is not None and modes == "model":
-        from gaitml.models.domain import domain_warning
+        from gaitml.commands._domain import domain_warning
 
         flags = res.steps["in_domain"].to_numpy(dtype=object) if "in_domain" in res.steps else []
         warning = domain_warning(model, flags, what="steps")

@@ -6,7 +6,23 @@ detected step (stride) instead; both are reported by :func:`_report`.
 
 from __future__ import annotations
 
+import argparse
+
+from gaitml.commands._args import add_input_options
 from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "predict motion modes with a saved model"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml predict`` on its parser ``p``."""
+    p.add_argument("model_dir", metavar="MODEL_DIR")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--out", metavar="FILE")
+    p.add_argument("--no-correction", action="store_true", help="skip the adjacent-window correction")
+    p.add_argument("--json", action="store_true")
+    add_input_options(p)
 
 
 def run(args) -> int:
@@ -38,8 +54,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     ``window_by`` and detector). Out-of-domain check (:mod:`gaitml.models.domain`): one
     warning line, the fraction in the JSON.
     """
+    from gaitml.commands._domain import domain_warning
     from gaitml.io import write_csv
-    from gaitml.models.domain import domain_warning, out_of_domain_fraction
+    from gaitml.models.domain import out_of_domain_fraction
 
     if table.attrs.get("resampled_from_hz"):
         log(

@@ -7,10 +7,12 @@ pseudo-standard deviation and N-P criterion", J. Chinese Inertial Technology
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 from scipy.stats import norm
 
-from gaitml._base import check_number
+from gaitml._base import POSITIVE, Options, check_number
 from gaitml.consts import DEG2RAD
 from gaitml.errors import InputError
 from gaitml.recording import Recording
@@ -252,7 +254,11 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     """
 
     name = "pseudo-std"
-    _positive = ("half_window_s", "eps")
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "half_window_s": [POSITIVE],
+        "eps": [POSITIVE],
+        "interval_rules": [Options(INTERVAL_RULES)],
+    }
 
     def __init__(
         self,

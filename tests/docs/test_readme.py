@@ -1,4 +1,4 @@
-"""Every `gaitml ...` command in the README works as written (exit 0).
+"""Every `gaitml ...` command in the README and the docs/ pages works as written (exit 0).
 
 The commands run in a scratch folder laid out like a checkout: `data`, `models` and
 `experiments` link to the repository's, and `../shared` to the shared real data, so
@@ -17,12 +17,20 @@ from gaitml.cli import main
 from tests.conftest import ROOT, SHARED_DATA
 
 README = ROOT / "README.md"
+#: The README and the task pages it links to (docs/*.md): their commands are checked alike.
+DOCS = [README, *sorted((ROOT / "docs").glob("*.md"))]
+
+
+def docs_text() -> str:
+    return "\n".join(p.read_text() for p in DOCS)
+
+
 #: README commands that run a long experiment: exercised by the slow test below.
 SLOW = ("evaluate experiments/paper-svm.toml", "evaluate experiments/window-sweep.toml", "train experiments/demo.toml", "bench")
 
 
 def readme_commands() -> list[str]:
-    text = README.read_text()
+    text = docs_text()
     cmds = []
     for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
         for line in block.splitlines():
@@ -54,6 +62,12 @@ def _run(cmd: str, sandbox: Path, monkeypatch, capsys):
     assert code == 0, f"gaitml {cmd}: exit {code}: {err.strip()[-300:]}"
 
 
+def test_the_readme_is_short_and_links_every_docs_page():
+    text = README.read_text()
+    assert len(text.splitlines()) <= 120
+    assert len(DOCS) >= 8 and all(f"docs/{p.name}" in text for p in DOCS[1:])
+
+
 def test_readme_has_commands():
     cmds = readme_commands()
     assert len(cmds) >= 15
@@ -74,7 +88,7 @@ def test_readme_slow_command(cmd, sandbox, monkeypatch, capsys):
 
 def readme_python_modules() -> list[str]:
     """Every `python -m MODULE` the README documents."""
-    return sorted(set(re.findall(r"python -m ([\w.]+)", README.read_text())))
+    return sorted(set(re.findall(r"python -m ([\w.]+)", docs_text())))
 
 
 def test_readme_documents_the_lab_scripts():

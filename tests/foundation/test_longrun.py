@@ -33,7 +33,7 @@ def test_long_steps_match_whole(long_file):
 def test_long_zupts_match_whole(long_file):
     from gaitml.zupt import detect_zupts
 
-    whole = detect_zupts(read_recording(long_file), detector="magnitude").per_sample_zupts_
+    whole = detect_zupts(read_recording(long_file), detector="magnitude", return_detector=True).per_sample_zupts_
     mask, table, fs = long_zupts(long_file, "magnitude", chunk_s=20.0, margin_s=3.0, progress=False)
     np.testing.assert_array_equal(mask, whole)
     assert fs == 50.0

@@ -103,8 +103,10 @@ def test_retraining_demo_acc_gives_the_shipped_model(tmp_path):
     assert main(["train", str(CONFIG), "--out", str(tmp_path / "demo-acc")]) == 0
     shipped = np.load(DEMO_ACC / "arrays.npz", allow_pickle=False)
     again = np.load(tmp_path / "demo-acc" / "arrays.npz", allow_pickle=False)
-    assert sorted(shipped.files) == sorted(again.files)
-    for name in shipped.files:
+    # the shipped model still carries the domain's feature quantiles, no longer written nor read (issue 26)
+    retired = {"domain__feature_lo", "domain__feature_hi"}
+    assert sorted(set(shipped.files) - retired) == sorted(again.files)
+    for name in again.files:
         a, b = shipped[name], again[name]
         assert a.shape == b.shape and a.dtype == b.dtype, name
         if name == "n_iter_":  # the solver's iteration counts are what rounding may change

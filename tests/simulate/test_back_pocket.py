@@ -7,11 +7,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from experiments.scripts.back_pocket import back_pocket_ranges, back_pocket_statistics
+from experiments.scripts.back_pocket import BACK_POCKET_FIT, STANCE_GATE_FIT, back_pocket_ranges, back_pocket_statistics
 from gaitml.errors import InputError
 from gaitml.simulate import Placement, sample_subjects, simulate_recording
 from gaitml.simulate.positions import (
-    BACK_POCKET_FIT,
     BACK_POCKET_PELVIS_DEG,
     BACK_POCKET_RANGE,
     CARRIED_POSITIONS,
@@ -158,10 +157,18 @@ def test_the_recorded_fit_is_the_fit_on_every_real_oxford_user(shared_data):
     (gate 0, the vigour before the gate; not shipped: BACK_POCKET_RANGE ships the share fitted with the
     one-sided step, STANCE_GATE_FIT, and no extra roll)."""
     from experiments.scripts.back_pocket import fit_back_pocket, real_pocket_walks, share_curves
-    from gaitml.simulate.positions import STANCE_GATE_FIT
 
     walks = real_pocket_walks(shared_data)
     back = walks[walks["position"] == "back-pocket"]
     assert sorted(back["user"].unique()) == ["Carmelo", "Dario", "Jamie"]
     assert fit_back_pocket(back, share_curves()) == BACK_POCKET_FIT
     assert BACK_POCKET_RANGE == {"pelvis_share": STANCE_GATE_FIT["pelvis_share"], "pocket_roll_deg": (0.0, 0.0)}
+
+
+def test_the_shipped_gate_is_the_recorded_fit():
+    """Moved from tests/simulate/test_stance_gate.py (issue 26): the recorded fit now lives in the lab."""
+    from gaitml.simulate.positions import STANCE_GATE_RANGE, VIGOUR_RANGE
+
+    assert STANCE_GATE_RANGE == STANCE_GATE_FIT["stance_gate"]
+    assert BACK_POCKET_RANGE["pelvis_share"] == STANCE_GATE_FIT["pelvis_share"]
+    assert VIGOUR_RANGE["back-pocket"] == STANCE_GATE_FIT["vigour"]

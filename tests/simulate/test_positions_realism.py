@@ -45,8 +45,7 @@ def test_pocket_power_at_the_step_frequency_per_pocket(oxford_pockets):
     0.8-5.4 dB; the gate takes part of the step bounce away): a known, narrower gap. The pelvis-and-roll
     fit without the gate (BACK_POCKET_FIT, not shipped because its steps are more alike, r_step 0.3-0.5
     against 0.04-0.15 real) reaches it."""
-    from experiments.scripts.back_pocket import VIGOUR_BEFORE, back_pocket_ranges, back_pocket_statistics
-    from gaitml.simulate.positions import BACK_POCKET_FIT
+    from experiments.scripts.back_pocket import BACK_POCKET_FIT, VIGOUR_BEFORE, back_pocket_ranges, back_pocket_statistics
 
     real = {}
     for r in oxford_pockets:

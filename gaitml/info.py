@@ -30,6 +30,11 @@ _META_KEYS = (
     "acc_source",
     "frame",
     "clock_merge",
+    "getsensordata",
+    "other_sensors",
+    "other_sensors_note",
+    "landmarks",
+    "sample_and_hold",
     "warnings",
 )
 

@@ -10,6 +10,7 @@ from gaitml.io._common import head_bytes, head_lines, require_file
 from gaitml.io.columns_csv import read_columns_csv
 from gaitml.io.gaitmap import GAITMAP_TABLES, is_gaitmap_header, read_gaitmap_csv
 from gaitml.io.gaitml_csv import list_gaitml_files, looks_like_gaitml, read_gaitml_csv, read_gaitml_folder, sniff_dialect
+from gaitml.io.getsensordata import is_getsensordata, read_getsensordata
 from gaitml.io.ifsm import is_xlsx, read_ifsm_xlsx
 from gaitml.io.oxford import is_oxford_folder, list_oxford_folders, read_oxford_folder
 from gaitml.io.phyphox import is_phyphox, read_phyphox
@@ -19,12 +20,12 @@ from gaitml.recording import Recording
 __all__ = ["FORMATS", "detect_format", "read_recording", "read_segments", "read_dataset", "list_dataset"]
 
 #: Names accepted by ``--format``.
-FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap", "phyphox", "sensor-logger", "columns-csv")
+FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap", "phyphox", "sensor-logger", "columns-csv", "getsensordata")
 
 _EXPECTED = (
     "expected a gaitml-csv (t, acc_x, acc_y, acc_z[, gyr_*][, label]), an IFSM xlsx, "
     "an Oxford recording folder (accelerometer.csv + stepcounter.csv), a gaitmap IMU CSV, "
-    "a phyphox or Sensor Logger export (folder, zip or CSV), or any CSV with --columns t=...,acc_x=...,acc_y=...,acc_z=..."
+    "a phyphox or Sensor Logger export (folder, zip or CSV), a GetSensorData log, or any CSV with --columns t=...,acc_x=...,acc_y=...,acc_z=..."
 )
 
 
@@ -61,6 +62,8 @@ def detect_format(path: str | os.PathLike) -> str:
         if is_phyphox(p):
             return "phyphox"
         raise InputError(f"{p.name} is a zip archive but not an Excel workbook; {_EXPECTED}.")
+    if is_getsensordata(p):
+        return "getsensordata"
     lines = head_lines(p, 2)
     if not lines:
         raise InputError(f"the file is empty: {p}; record or export the data again.")
@@ -135,6 +138,8 @@ def read_recording(
         return read_phyphox(p, sampling_rate_hz=sampling_rate_hz)
     if fmt == "sensor-logger":
         return read_sensor_logger(p, sampling_rate_hz=sampling_rate_hz)
+    if fmt == "getsensordata":
+        return read_getsensordata(p, sampling_rate_hz=sampling_rate_hz)
     if fmt == "gaitml-csv":
         if p.is_dir():
             raise InputError(f"{p} is a folder; pass one .csv recording of it.")

@@ -274,6 +274,25 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="compass heading at the start (default: the reference trajectory's when the input has one, else 0 = north)",
     )
+    # --- scoring against ground truth (issue 31; gaitml/commands/pdr.py, gaitml/evaluation/positioning.py) ---
+    p.add_argument(
+        "--truth",
+        metavar="FILE",
+        help="score against landmarks or a reference path: a GetSensorData log (its POSI lines), a CSV t,x_m,y_m[,floor] / "
+        "t,x_mm,y_mm / t,lat,lon[,floor] on the input's clock, or 'self' for the input's own landmarks or reference trajectory",
+    )
+    p.add_argument(
+        "--truth-align",
+        choices=("start-heading", "start", "none"),
+        default="start-heading",
+        help="align the trajectory on the truth's start position and initial heading (default), the start position only, or not at all",
+    )
+    p.add_argument(
+        "--truth-heading-m",
+        type=float,
+        default=5.0,
+        help="with --truth-align start-heading: the heading is taken to the first truth point this far along the truth (default 5 m)",
+    )
     _input_options(p)
 
     # --- gaitml model convert|export|card (gaitml/commands/model.py) ---

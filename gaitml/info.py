@@ -35,6 +35,7 @@ _META_KEYS = (
     "other_sensors_note",
     "landmarks",
     "sample_and_hold",
+    "dialect",
     "warnings",
 )
 

@@ -66,6 +66,7 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
+from gaitml.io._hold import dehold, note_hold
 from gaitml.io._merge import merge_clocks
 from gaitml.recording import Recording
 
@@ -428,12 +429,15 @@ def read_getsensordata(
     gsd: dict = {"ACCE": ia}
     m: dict = {"source": str(p), "format": "getsensordata", "id": p.stem, "subject": p.stem, "session": p.stem}
     warnings = list(scan.warnings)
+    m["warnings"] = warnings
     gyr = None
+    s_acc, acc = note_hold(m, "acc", *dehold(s_acc, acc, "accelerometer (ACCE)"))
     t_acc = s_acc + ia["offset_s"]
     t = t_acc
     if scan.gyro is not None:
         _, s_gyr, gyr_raw, ig = _ordered(scan.gyro, "GYRO", where, max_reorder_s)
         gsd["GYRO"] = ig
+        s_gyr, gyr_raw = note_hold(m, "gyr", *dehold(s_gyr, gyr_raw, "gyroscope (GYRO)"))
         if abs(ig["offset_s"] - ia["offset_s"]) <= same_clock_s:
             gsd["clock_rule"] = "ACCE and GYRO share one sensor clock; both moved onto the app clock by the ACCE offset"
             t_gyr = s_gyr + ia["offset_s"]
@@ -469,8 +473,8 @@ def read_getsensordata(
         lm["t_s"] = lm["t_s"] - float(t[0])
         ref["landmarks"] = lm
         m["landmarks"] = int(len(lm))
-    if warnings:
-        m["warnings"] = warnings
+    if not warnings:
+        del m["warnings"]
     m.update(meta or {})
     return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, reference=ref)
 

@@ -45,6 +45,7 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table, sniff_csv
+from gaitml.io._hold import dehold, note_hold
 from gaitml.io._merge import check_times, merge_clocks
 from gaitml.recording import Recording
 
@@ -202,6 +203,7 @@ def read_phyphox(
         t_acc, acc = _take(df_a, grp_a, where_a)
         acc_unit = _unit("acc", grp_a["unit"], where_a)
         m: dict = {"source": str(p), "format": "phyphox", "id": name, "subject": name, "session": name, "tables": [key_a]}
+        t_acc, acc = note_hold(m, "acc", *dehold(t_acc, acc, "accelerometer"))
         gyr = None
         gyr_unit = "rad/s"
         t = t_acc
@@ -210,6 +212,7 @@ def read_phyphox(
             where_g = f"{key_g} of {p.name}" if key_g != p.name else p.name
             t_gyr, gyr_raw = _take(df_g, grp_g, where_g)
             gyr_unit = _unit("gyr", grp_g["unit"], where_g)
+            t_gyr, gyr_raw = note_hold(m, "gyr", *dehold(t_gyr, gyr_raw, "gyroscope"))
             t, acc, gyr, info = merge_clocks(t_acc, acc, t_gyr, gyr_raw, what=p.name)
             m["clock_merge"] = info
             if key_g not in m["tables"]:

@@ -44,6 +44,7 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table
+from gaitml.io._hold import dehold, note_hold
 from gaitml.io._merge import check_times, merge_clocks
 from gaitml.recording import Recording
 
@@ -221,9 +222,11 @@ def read_sensor_logger(
         elif not platform:
             m["frame"] = "platform unknown (no Metadata.csv): Android convention assumed"
         gyr = None
+        t_acc, acc = note_hold(m, "acc", *dehold(t_acc, acc, "accelerometer"))
         t0 = t_acc[0]
         if "gyroscope.csv" in top:
             t_gyr, gyr_raw, tcol_g = _table(box, "gyroscope.csv", name)
+            t_gyr, gyr_raw = note_hold(m, "gyr", *dehold(t_gyr, gyr_raw, "gyroscope"))
             if tcol_g != tcol:
                 raise InputError(
                     f"the accelerometer and Gyroscope.csv of {name} have different time columns; export both from the same recording."

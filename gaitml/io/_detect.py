@@ -61,7 +61,7 @@ def detect_format(path: str | os.PathLike) -> str:
             return "sensor-logger"
         if is_phyphox(p):
             return "phyphox"
-        raise InputError(f"{p.name} is a zip archive but not an Excel workbook; {_EXPECTED}.")
+        raise InputError(f"{p.name} is a zip archive gaitml does not recognise ({_zip_summary(p)}); {_EXPECTED}.")
     if is_getsensordata(p):
         return "getsensordata"
     lines = head_lines(p, 2)
@@ -81,6 +81,23 @@ def detect_format(path: str | os.PathLike) -> str:
         return "gaitml-csv"  # its reader names the missing columns
     cols = lines[0].strip()[:80]
     raise InputError(f"unknown format for {p.name[:80]} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
+
+
+def _zip_summary(p: Path) -> str:
+    """What a zip holds, for the refusal: its first member names, or why it cannot be opened."""
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(p) as z:
+            names = [n for n in z.namelist() if not n.startswith("__MACOSX/") and not n.endswith("/")]
+    except (zipfile.BadZipFile, OSError) as exc:
+        return f"cannot be opened: {exc}"
+    if not names:
+        return "empty"
+    shown = ", ".join(names[:6]) + (f", ... ({len(names)} files)" if len(names) > 6 else "")
+    csvs = [n for n in names if n.lower().endswith(".csv")]
+    why = "no CSV tables" if not csvs else "no phyphox or Sensor Logger accelerometer table among its CSVs"
+    return f"{why}; it holds {shown}"
 
 
 def list_gaitml_files_safe(p: Path) -> list[Path]:

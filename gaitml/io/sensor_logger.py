@@ -2,7 +2,8 @@
 
 The export is a zip archive (or the folder it unpacks to) with one CSV per
 sensor, each with the columns ``time`` (ns since the UNIX epoch, one clock for
-all sensors), ``seconds_elapsed`` (s since the recording started) and ``z, y, x``
+all sensors), ``seconds_elapsed`` (s since the recording started; absent from
+older exports, whose tables are ``time, z, y, x``) and ``z, y, x``
 (the app's column order), plus ``Metadata.csv`` (``platform`` iOS or Android,
 ``device name``, ...). Documented units and frames (awesome-sensor-logger
 UNITS.md, CROSSPLATFORM.md):
@@ -64,7 +65,10 @@ _XYZ = ("x", "y", "z")
 def is_sensor_logger_header(line: str) -> bool:
     """Whether a CSV header line is a Sensor Logger motion table (time, seconds_elapsed, z, y, x)."""
     cols = [c.strip().strip('"') for c in line.split(",")]
-    return "seconds_elapsed" in cols and all(a in cols for a in _XYZ)
+    if "seconds_elapsed" in cols and all(a in cols for a in _XYZ):
+        return True
+    # older exports (before seconds_elapsed was added): exactly time, z, y, x
+    return sorted(cols) == ["time", "x", "y", "z"]
 
 
 def is_sensor_logger(path: str | os.PathLike) -> bool:

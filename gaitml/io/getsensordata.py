@@ -204,8 +204,7 @@ def _parse_motion(lines: list[str], linenos: list[int], kind: str, where: str, s
             io.StringIO(text),
             sep=";",
             header=None,
-            names=range(8),
-            usecols=range(1, 6),
+            usecols=[1, 2, 3, 4, 5],
             dtype=float,
             engine="c",
         )
@@ -225,13 +224,15 @@ def _parse_motion(lines: list[str], linenos: list[int], kind: str, where: str, s
                 vals[i] = [float(x) for x in parts[1:6]]
             except ValueError:
                 raise _bad(where, n, line, "a value is not a number") from None
-            if not np.isfinite(vals[i]).all():
-                raise _bad(where, n, line, "a value is not finite")
             if len(parts) == 7 and parts[6].strip():
                 try:
                     float(parts[6])
                 except ValueError:
                     raise _bad(where, n, line, "the accuracy is not a number") from None
+        bad = ~np.isfinite(vals).all(axis=1)
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise _bad(where, linenos[i], lines[i], "a value is not finite")
     stream.app.append(vals[:, 0].copy())
     stream.sensor.append(vals[:, 1].copy())
     stream.xyz.append(vals[:, 2:5].copy())

@@ -20,8 +20,8 @@ the same way for sparse landmarks and for a dense truth:
    position at that time (linear in time between step positions; the start
    position before the first step and the last position after the last step)
    against the truth; its distance is the error. The first point (the
-   alignment anchor) is not scored; points outside the recording are counted
-   and not scored.
+   alignment anchor) is not scored; points more than :data:`END_TOLERANCE_S`
+   outside the recording are counted and not scored.
 3. **Summary**: mean, median, 75th percentile (numpy's linear interpolation
    between order statistics), max and RMS error; the distance walked along
    the truth up to each point (through the landmarks for sparse truth, so a
@@ -44,10 +44,13 @@ import pandas as pd
 
 from gaitml.errors import InputError
 
-__all__ = ["ALIGNMENTS", "HEADING_DISTANCE_M", "apply_alignment", "score_positions", "trajectory_at"]
+__all__ = ["ALIGNMENTS", "END_TOLERANCE_S", "HEADING_DISTANCE_M", "apply_alignment", "score_positions", "trajectory_at"]
 
 #: Alignments of the trajectory on the truth.
 ALIGNMENTS = ("start-heading", "start", "none")
+#: Truth points up to this long before the start or after the end of the recording are still scored (s),
+#: with the trajectory held at its first / last position (a landmark clicked as the recording stops).
+END_TOLERANCE_S = 1.0
 #: Distance along the truth from the start to the point that fixes the initial heading (m).
 HEADING_DISTANCE_M = 5.0
 
@@ -143,7 +146,7 @@ def score_positions(
     txy = truth[["x_m", "y_m"]].to_numpy(float)
     t_lo = 0.0 if t_est[0] >= 0 else float(t_est[0])
     t_hi = float(t_est[-1]) if t_end_s is None else float(t_end_s)
-    inside = (tt >= t_lo) & (tt <= t_hi)
+    inside = (tt >= t_lo - END_TOLERANCE_S) & (tt <= t_hi + END_TOLERANCE_S)
     if inside.sum() < 2:
         raise InputError(
             f"only {int(inside.sum())} truth point(s) lie inside the recording ({t_lo:.1f} to {t_hi:.1f} s; truth {tt.min():.1f} to "

@@ -49,7 +49,7 @@ from gaitml.io._common import require_file
 from gaitml.io._export import sniff_csv
 from gaitml.io.getsensordata import is_getsensordata, read_getsensordata_landmarks
 
-__all__ = ["DENSE_INTERVAL_S", "Truth", "project_latlon", "read_truth", "truth_from_table", "truth_of_recording"]
+__all__ = ["DENSE_INTERVAL_S", "Truth", "project_latlon", "read_truth", "truth_from_table", "truth_of_recording", "unproject_xy"]
 
 #: A truth sampled at least this often (median interval, s) is a dense reference path.
 DENSE_INTERVAL_S = 1.0
@@ -94,6 +94,17 @@ def project_latlon(lat_deg, lon_deg, *, lat0_deg: float | None = None, lon0_deg:
     m_radius = WGS84_A_M * (1 - e2) / (1 - e2 * s2) ** 1.5
     dlon = (lon - lon0 + np.pi) % (2 * np.pi) - np.pi
     return np.column_stack([n_radius * np.cos(lat0) * dlon, m_radius * (lat - lat0)])
+
+
+def unproject_xy(xy, lat0_deg: float, lon0_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """Latitude and longitude (deg) of local east/north metres: the inverse of :func:`project_latlon` about (lat0, lon0)."""
+    a = np.asarray(xy, dtype=float)
+    lat0 = np.radians(lat0_deg)
+    e2 = WGS84_F * (2 - WGS84_F)
+    s2 = np.sin(lat0) ** 2
+    n_radius = WGS84_A_M / np.sqrt(1 - e2 * s2)
+    m_radius = WGS84_A_M * (1 - e2) / (1 - e2 * s2) ** 1.5
+    return lat0_deg + np.degrees(a[:, 1] / m_radius), lon0_deg + np.degrees(a[:, 0] / (n_radius * np.cos(lat0)))
 
 
 def _segments(floor: np.ndarray) -> np.ndarray:

@@ -1,10 +1,19 @@
-"""Trajectory metrics for PDR: end-point error, closure error, checkpoint errors, ATE.
+"""Trajectory metrics for PDR: end-point error, closure error, checkpoint errors, ATE, and walk scores.
 
 Paper 003 sec. 4.3 defines the positioning error as the distance between the start point
 and the end of the estimated trajectory of a closed route, in percent of the total
 distance travelled (``%D``). The general form used here is the distance between the
 estimated and the true end points over the true distance; for a closed route the true
 end is the start, which is the paper's definition.
+
+On walks that loop in a small room (the tyrex motion-capture recordings: a 5 m room)
+the end-point and mean errors as a % of the path are blind (a trajectory that never
+moves scores a few %). :func:`walk_scores` scores such walks so that a wrong answer
+fails: the walked-distance ratio against the truth low-passed to follow the body
+(:func:`body_track`), the error of the displacement over every ``window_s`` of walking
+as a % of the distance walked in it (:func:`displacement_errors`, the trajectory
+aligned once on its first seconds, so that heading drift counts), and the drift of
+the walking direction (:func:`walking_direction_drift`, deg/min).
 
 References
 ----------
@@ -20,7 +29,14 @@ import pandas as pd
 from gaitml.errors import InputError
 
 __all__ = [
+    "BODY_CUTOFF_HZ",
     "absolute_trajectory_error",
+    "align_once",
+    "body_track",
+    "displacement_errors",
+    "walk_scores",
+    "walked_distance_ratio",
+    "walking_direction_drift",
     "checkpoint_errors",
     "closure_error",
     "end_point_error",
@@ -147,3 +163,294 @@ def absolute_trajectory_error(est_t_s, est_xy, true_t_s, true_xy, *, align: str 
         raise InputError(f"`align` must be 'none' or 'rigid', got {align!r}.")
     e = np.linalg.norm(a - truth, axis=1)
     return {"rmse_m": float(np.sqrt(np.mean(e**2))), "mean_m": float(e.mean()), "max_m": float(e.max()), "n": int(len(e))}
+
+
+# --------------------------------------------------------------------------- walks in a small room
+
+#: Low-pass cutoff that turns the phone's motion-capture path into the walker's body path:
+#: a stride lasts about 1 s, so 0.5 Hz removes the phone's own swing at the stride and step
+#: rates (1-2 Hz) and keeps the turns of a 5 m room (a lap of ~15 m at 1 m/s: 0.07 Hz).
+BODY_CUTOFF_HZ = 0.5
+#: The body moves (walks) where its low-passed speed is above this (m/s): standing sway
+#: and the phone's handling stay below it, the slowest tyrex walking (0.7 m/s) well above.
+MOVING_SPEED_MS = 0.3
+
+
+def _uniform_track(t_s, xy, what: str) -> tuple[np.ndarray, np.ndarray, float]:
+    """Times, positions with short NaN runs (lost markers) filled linearly, and the rate."""
+    t = np.asarray(t_s, dtype=float).reshape(-1)
+    a = np.asarray(xy, dtype=float)
+    if a.ndim != 2 or a.shape[1] != 2 or len(a) != len(t) or len(t) < 10:
+        raise InputError(f"`{what}` must be (n, 2) positions with one time each and n >= 10, got {a.shape} and {t.shape}.")
+    dt = np.diff(t)
+    if not np.isfinite(t).all() or (dt <= 0).any():
+        raise InputError(f"the times of `{what}` must be finite and increasing.")
+    if np.max(np.abs(dt - np.median(dt))) > 0.1 * np.median(dt):
+        raise InputError(f"`{what}` must be sampled at a uniform rate (a motion-capture track); resample it first.")
+    ok = np.isfinite(a).all(axis=1)
+    if ok.sum() < 10:
+        raise InputError(f"`{what}` has fewer than 10 finite positions.")
+    if not ok.all():
+        a = np.column_stack([np.interp(t, t[ok], a[ok, j]) for j in range(2)])
+    return t, a, 1.0 / float(np.median(dt))
+
+
+def body_track(t_s, xy, *, cutoff_hz: float = BODY_CUTOFF_HZ) -> np.ndarray:
+    """The walker's path: a phone's true positions low-passed (zero-phase Butterworth, order 2).
+
+    Positions lost by the motion capture (NaN) are filled by linear interpolation
+    first. In the swinging hand the phone's own path is 10-75 % longer than the
+    body's (tyrex README); the low-passed path follows the walker.
+
+    Returns
+    -------
+    ndarray, shape (n, 2)
+    """
+    from scipy.signal import butter, filtfilt
+
+    t, a, fs = _uniform_track(t_s, xy, "true_xy")
+    if not 0 < cutoff_hz < 0.5 * fs:
+        raise InputError(f"`cutoff_hz` must be between 0 and half the track's rate ({0.5 * fs:g} Hz), got {cutoff_hz!r}.")
+    b, c = butter(2, cutoff_hz / (0.5 * fs))
+    pad = min(len(t) - 1, 3 * int(fs / cutoff_hz))
+    return filtfilt(b, c, a, axis=0, padlen=pad)
+
+
+def _span(est_t_s, true_t) -> tuple[float, float]:
+    t0 = max(float(true_t[0]), float(np.min(est_t_s)))
+    t1 = min(float(true_t[-1]), float(np.max(est_t_s)))
+    if t1 - t0 <= 0:
+        raise InputError("the estimated trajectory and the truth do not overlap in time; put both on one clock.")
+    return t0, t1
+
+
+def _est_at(est_t_s, est_xy, t_query) -> np.ndarray:
+    """Estimated positions at times: linear between steps, held before the first and after the last."""
+    t = np.asarray(est_t_s, dtype=float).reshape(-1)
+    a = _xy("est_xy", est_xy)
+    if len(t) != len(a):
+        raise InputError(f"`est_t_s` must have one time per position ({len(a)}), got {len(t)}.")
+    if len(t) > 1 and (np.diff(t) < 0).any():
+        raise InputError("trajectory times must be non-decreasing; sort the trajectory by time.")
+    return np.column_stack([np.interp(t_query, t, a[:, j]) for j in range(2)])
+
+
+def walked_distance_ratio(est_t_s, est_xy, true_t_s, true_xy, *, cutoff_hz: float = BODY_CUTOFF_HZ) -> dict:
+    """Estimated over true walked distance in the time both cover.
+
+    The true distance is the length of the body path (:func:`body_track`); the
+    estimated one the length of the estimated polyline between the same times
+    (positions linear between steps).
+
+    Returns
+    -------
+    dict ``ratio``, ``est_m``, ``true_m``, ``t0_s``, ``t1_s``.
+    """
+    t, body, _ = _true_body(true_t_s, true_xy, cutoff_hz)
+    t0, t1 = _span(est_t_s, t)
+    inside = (t >= t0) & (t <= t1)
+    true_m = path_length(body[inside])
+    et = np.asarray(est_t_s, dtype=float).reshape(-1)
+    knots = np.concatenate([[t0], et[(et > t0) & (et < t1)], [t1]])
+    est_m = path_length(_est_at(est_t_s, est_xy, knots))
+    return {"ratio": est_m / true_m if true_m > 0 else float("nan"), "est_m": est_m, "true_m": true_m, "t0_s": t0, "t1_s": t1}
+
+
+def _true_body(true_t_s, true_xy, cutoff_hz):
+    t, _, fs = _uniform_track(true_t_s, true_xy, "true_xy")
+    return t, body_track(true_t_s, true_xy, cutoff_hz=cutoff_hz), fs
+
+
+def _moving(t: np.ndarray, body: np.ndarray, min_speed_ms: float) -> np.ndarray:
+    v = np.gradient(body, t, axis=0)
+    return np.linalg.norm(v, axis=1) > min_speed_ms
+
+
+def align_once(
+    est_t_s, est_xy, true_t_s, true_xy, *, align_s: float = 10.0, cutoff_hz: float = BODY_CUTOFF_HZ, min_speed_ms: float = MOVING_SPEED_MS
+) -> dict:
+    """One rotation and translation that put the estimate on the truth over its first seconds of walking.
+
+    The start of walking is the first time the body moves faster than
+    ``min_speed_ms``; over the ``align_s`` seconds from there (sampled at the
+    truth's rate) the estimate is anchored at that start and rotated about it by the
+    angle that best maps its displacements onto the true ones (least squares,
+    ``atan2(sum cross, sum dot)``). Scale is not fitted: a wrong distance counts.
+    A heading without a compass is unknown up to this angle; everything after the
+    alignment window (drift, jumps) counts.
+
+    Returns
+    -------
+    dict ``angle_rad`` (counter-clockwise, applied to the estimate), ``anchor_t_s``,
+    ``align_end_t_s``, ``est_anchor_xy``, ``true_anchor_xy``.
+    """
+    t, body, _ = _true_body(true_t_s, true_xy, cutoff_hz)
+    t0, t1 = _span(est_t_s, t)
+    inside = (t >= t0) & (t <= t1)
+    moving = _moving(t, body, min_speed_ms) & inside
+    start = float(t[np.argmax(moving)]) if moving.any() else t0
+    end = min(start + align_s, t1)
+    sel = (t >= start) & (t <= end)
+    p = body[sel] - body[sel][0]
+    e = _est_at(est_t_s, est_xy, t[sel])
+    e = e - e[0]
+    cross = float(np.sum(e[:, 0] * p[:, 1] - e[:, 1] * p[:, 0]))
+    dot = float(np.sum(e * p))
+    angle = float(np.arctan2(cross, dot)) if (abs(cross) + abs(dot)) > 1e-12 else 0.0
+    return {
+        "angle_rad": angle,
+        "anchor_t_s": start,
+        "align_end_t_s": end,
+        "est_anchor_xy": _est_at(est_t_s, est_xy, [start])[0],
+        "true_anchor_xy": body[sel][0],
+    }
+
+
+def _rot2(a: float) -> np.ndarray:
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+
+
+def displacement_errors(
+    est_t_s,
+    est_xy,
+    true_t_s,
+    true_xy,
+    *,
+    window_s: float = 10.0,
+    hop_s: float = 1.0,
+    align_s: float = 10.0,
+    cutoff_hz: float = BODY_CUTOFF_HZ,
+    min_walked_m: float = 2.0,
+) -> pd.DataFrame:
+    """Error of the displacement over each ``window_s`` of walking, after one alignment.
+
+    The estimate is aligned once (:func:`align_once`); then for windows
+    ``[t, t + window_s]`` starting every ``hop_s`` inside the time both cover, the
+    true displacement of the body (:func:`body_track`) and the estimated one are
+    compared. Windows in which the body walked less than ``min_walked_m`` (standing)
+    are left out.
+
+    Returns
+    -------
+    DataFrame
+        One row per window: ``t_start_s``, ``walked_m`` (body path length in the
+        window), ``true_dx_m``, ``true_dy_m``, ``est_dx_m``, ``est_dy_m``, ``error_m``
+        and ``error_pct`` (``100 error_m / walked_m``). ``attrs['alignment']`` holds
+        the alignment.
+    """
+    if not (window_s > 0 and hop_s > 0):
+        raise InputError(f"`window_s` and `hop_s` must be > 0, got {window_s!r}, {hop_s!r}.")
+    t, body, _ = _true_body(true_t_s, true_xy, cutoff_hz)
+    t0, t1 = _span(est_t_s, t)
+    al = align_once(est_t_s, est_xy, true_t_s, true_xy, align_s=align_s, cutoff_hz=cutoff_hz)
+    r = _rot2(al["angle_rad"])
+    starts = np.arange(t0, t1 - window_s + 1e-9, hop_s)
+    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(body, axis=0), axis=1))])
+    rows = []
+    for a in starts:
+        b = a + window_s
+        walked = float(np.interp(b, t, cum) - np.interp(a, t, cum))
+        if walked < min_walked_m:
+            continue
+        pa = np.array([np.interp(a, t, body[:, j]) for j in range(2)])
+        pb = np.array([np.interp(b, t, body[:, j]) for j in range(2)])
+        e = _est_at(est_t_s, est_xy, [a, b])
+        de = r @ (e[1] - e[0])
+        dp = pb - pa
+        err = float(np.linalg.norm(de - dp))
+        rows.append(
+            {
+                "t_start_s": float(a),
+                "walked_m": walked,
+                "true_dx_m": float(dp[0]),
+                "true_dy_m": float(dp[1]),
+                "est_dx_m": float(de[0]),
+                "est_dy_m": float(de[1]),
+                "error_m": err,
+                "error_pct": 100.0 * err / walked,
+            }
+        )
+    out = pd.DataFrame(rows, columns=["t_start_s", "walked_m", "true_dx_m", "true_dy_m", "est_dx_m", "est_dy_m", "error_m", "error_pct"])
+    out.attrs["alignment"] = al
+    return out
+
+
+def walking_direction_drift(
+    est_t_s,
+    est_xy,
+    true_t_s,
+    true_xy,
+    *,
+    segment_s: float = 2.0,
+    cutoff_hz: float = BODY_CUTOFF_HZ,
+    min_speed_ms: float = MOVING_SPEED_MS,
+) -> dict:
+    """Drift of the estimated walking direction against the true one, deg/min.
+
+    Over consecutive ``segment_s`` segments in which both the body and the
+    estimate move faster than ``min_speed_ms``, the direction of each displacement is
+    taken; the difference (estimate - truth, unwrapped) is fitted by a straight line
+    against time (least squares): its slope is the drift. A constant offset (the
+    unknown start heading, a phone carried sideways) does not count; a steady
+    gyroscope bias does; jumps count by how much they tilt the line, and
+    ``max_jump_deg`` reports the largest change between consecutive segments
+    beyond the truth's.
+
+    Returns
+    -------
+    dict ``drift_deg_per_min`` (signed; NaN with fewer than 3 segments),
+    ``n_segments``, ``max_jump_deg``, ``rms_deg`` (of the difference about its line).
+    """
+    t, body, _ = _true_body(true_t_s, true_xy, cutoff_hz)
+    t0, t1 = _span(est_t_s, t)
+    edges = np.arange(t0, t1 + 1e-9, segment_s)
+    nan = {"drift_deg_per_min": float("nan"), "n_segments": 0, "max_jump_deg": float("nan"), "rms_deg": float("nan")}
+    if len(edges) < 4:
+        return nan
+    pb = np.column_stack([np.interp(edges, t, body[:, j]) for j in range(2)])
+    pe = _est_at(est_t_s, est_xy, edges)
+    db, de = np.diff(pb, axis=0), np.diff(pe, axis=0)
+    min_d = min_speed_ms * segment_s
+    ok = (np.linalg.norm(db, axis=1) > min_d) & (np.linalg.norm(de, axis=1) > min_d)
+    if ok.sum() < 3:
+        return {**nan, "n_segments": int(ok.sum())}
+    diff = np.arctan2(de[:, 1], de[:, 0]) - np.arctan2(db[:, 1], db[:, 0])
+    d = np.unwrap(diff[ok])
+    tm = 0.5 * (edges[:-1] + edges[1:])[ok]
+    slope, icpt = np.polyfit(tm, d, 1)
+    jumps = np.abs(np.diff(d))
+    return {
+        "drift_deg_per_min": float(np.degrees(slope) * 60.0),
+        "n_segments": int(ok.sum()),
+        "max_jump_deg": float(np.degrees(jumps.max())) if len(jumps) else float("nan"),
+        "rms_deg": float(np.degrees(np.sqrt(np.mean((d - (slope * tm + icpt)) ** 2)))),
+    }
+
+
+def walk_scores(est_t_s, est_xy, true_t_s, true_xy, *, window_s: float = 10.0, cutoff_hz: float = BODY_CUTOFF_HZ) -> dict:
+    """The three walk scores of one estimated trajectory against a motion-capture track.
+
+    Returns
+    -------
+    dict
+        ``distance_ratio`` (:func:`walked_distance_ratio`), ``error_10s_pct`` (median
+        over the windows of :func:`displacement_errors`: the typical error of the
+        displacement over ``window_s`` of walking, % of the distance walked in it),
+        ``error_10s_pooled_pct`` (sum of errors over sum of distances, the same
+        windows), ``n_windows``, ``drift_deg_per_min`` and ``max_jump_deg``
+        (:func:`walking_direction_drift`), ``true_m`` and ``est_m``.
+    """
+    dist = walked_distance_ratio(est_t_s, est_xy, true_t_s, true_xy, cutoff_hz=cutoff_hz)
+    win = displacement_errors(est_t_s, est_xy, true_t_s, true_xy, window_s=window_s, cutoff_hz=cutoff_hz)
+    drift = walking_direction_drift(est_t_s, est_xy, true_t_s, true_xy, cutoff_hz=cutoff_hz)
+    n = len(win)
+    return {
+        "distance_ratio": dist["ratio"],
+        "est_m": dist["est_m"],
+        "true_m": dist["true_m"],
+        "error_10s_pct": float(win["error_pct"].median()) if n else float("nan"),
+        "error_10s_pooled_pct": float(100 * win["error_m"].sum() / win["walked_m"].sum()) if n else float("nan"),
+        "n_windows": int(n),
+        "drift_deg_per_min": drift["drift_deg_per_min"],
+        "max_jump_deg": drift["max_jump_deg"],
+    }

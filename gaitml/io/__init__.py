@@ -9,14 +9,17 @@ from gaitml.io.ifsm import read_ifsm_xlsx
 from gaitml.io.oxford import OXFORD_RATE_HZ, read_oxford_folder
 from gaitml.io.phyphox import read_phyphox
 from gaitml.io.sensor_logger import read_sensor_logger
+from gaitml.io.tyrex import TyrexTruth, list_tyrex_folders, read_tyrex, read_tyrex_truth
 
 __all__ = [
     "FORMATS",
     "OXFORD_RATE_HZ",
+    "TyrexTruth",
     "atomic_dir",
     "atomic_path",
     "detect_format",
     "list_dataset",
+    "list_tyrex_folders",
     "read_columns_csv",
     "read_dataset",
     "read_gaitmap_csv",
@@ -29,6 +32,8 @@ __all__ = [
     "read_recording",
     "read_segments",
     "read_sensor_logger",
+    "read_tyrex",
+    "read_tyrex_truth",
     "write_csv",
     "write_gaitml_csv",
     "write_json",

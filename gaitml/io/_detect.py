@@ -15,17 +15,19 @@ from gaitml.io.ifsm import is_xlsx, read_ifsm_xlsx
 from gaitml.io.oxford import is_oxford_folder, list_oxford_folders, read_oxford_folder
 from gaitml.io.phyphox import is_phyphox, read_phyphox
 from gaitml.io.sensor_logger import is_sensor_logger, read_sensor_logger
+from gaitml.io.tyrex import is_tyrex_folder, list_tyrex_folders, read_tyrex
 from gaitml.recording import Recording
 
 __all__ = ["FORMATS", "detect_format", "read_recording", "read_segments", "read_dataset", "list_dataset"]
 
 #: Names accepted by ``--format``.
-FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap", "phyphox", "sensor-logger", "columns-csv", "getsensordata")
+FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap", "phyphox", "sensor-logger", "columns-csv", "tyrex", "getsensordata")
 
 _EXPECTED = (
     "expected a gaitml-csv (t, acc_x, acc_y, acc_z[, gyr_*][, label]), an IFSM xlsx, "
     "an Oxford recording folder (accelerometer.csv + stepcounter.csv), a gaitmap IMU CSV, "
-    "a phyphox or Sensor Logger export (folder, zip or CSV), a GetSensorData log, or any CSV with --columns t=...,acc_x=...,acc_y=...,acc_z=..."
+    "a phyphox or Sensor Logger export (folder, zip or CSV), a tyrex recording folder (accelerometer.txt + gyroscope log), "
+    "a GetSensorData log, or any CSV with --columns t=...,acc_x=...,acc_y=...,acc_z=..."
 )
 
 
@@ -33,13 +35,15 @@ def detect_format(path: str | os.PathLike) -> str:
     """Name the format of a recording file or folder from its content.
 
     Returns one of :data:`FORMATS`, ``'gaitml-folder'``/``'oxford-set'``/
-    ``'mixed-folder'`` for data set folders, or ``'gaitmap-table'`` for gaitmap
+    ``'tyrex-set'``/``'mixed-folder'`` for data set folders, or ``'gaitmap-table'`` for gaitmap
     annotation tables.
     """
     p = require_file(path)
     if p.is_dir():
         if is_oxford_folder(p):
             return "oxford"
+        if is_tyrex_folder(p):
+            return "tyrex"
         if is_sensor_logger(p):
             return "sensor-logger"
         if is_phyphox(p):
@@ -48,11 +52,15 @@ def detect_format(path: str | os.PathLike) -> str:
             return "gaitml-folder"
         if list_oxford_folders(p):
             return "oxford-set"
+        if list_tyrex_folders(p):
+            return "tyrex-set"
         if any(True for _ in _recording_entries(p)):
             return "mixed-folder"
         raise InputError(f"{p} holds no recordings gaitml can read; {_EXPECTED}.")
     if p.name.startswith("accelerometer.csv") and (p.parent / "stepcounter.csv").exists():
         return "oxford"
+    if p.name.startswith(("accelerometer.txt", "gyroscope")) and is_tyrex_folder(p.parent):
+        return "tyrex"
     head = head_bytes(p, 8)
     if head[:2] == b"PK":
         if is_xlsx(p):
@@ -168,6 +176,8 @@ def read_recording(
         return read_oxford_folder(folder) if sampling_rate_hz is None else read_oxford_folder(folder, sampling_rate_hz=sampling_rate_hz)
     if fmt == "gaitmap":
         return read_gaitmap_csv(p, sensor=sensor, sampling_rate_hz=sampling_rate_hz)
+    if fmt == "tyrex":
+        return read_tyrex(p if p.is_dir() else p.parent, sampling_rate_hz=sampling_rate_hz)
     if fmt == "gaitmap-table":
         raise InputError(
             f"{p.name} is a gaitmap reference table (annotations or motion capture), not an IMU recording; pass the imu_sample*.csv.gz file beside it."
@@ -209,6 +219,8 @@ def read_segments(
         folder = p if p.is_dir() else p.parent
         kw = {} if sampling_rate_hz is None else {"sampling_rate_hz": sampling_rate_hz}
         return read_oxford_folder(folder, segments=True, **kw)
+    if fmt == "tyrex":
+        return read_tyrex(p if p.is_dir() else p.parent, sampling_rate_hz=sampling_rate_hz, segments=True)
     return [
         read_recording(
             p,
@@ -230,6 +242,8 @@ def _recording_entries(folder: Path):
         if f.is_dir():
             if is_oxford_folder(f):
                 yield f, "oxford"
+            elif is_tyrex_folder(f):
+                yield f, "tyrex"
             elif is_sensor_logger(f):
                 yield f, "sensor-logger"
             elif is_phyphox(f):
@@ -253,6 +267,8 @@ def list_dataset(path: str | os.PathLike) -> list[tuple[Path, str]]:
         return [(p, fmt)]
     if fmt == "oxford-set":
         return [(d, "oxford") for d in list_oxford_folders(p)]
+    if fmt == "tyrex-set":
+        return [(d, "tyrex") for d in list_tyrex_folders(p)]
     if fmt == "mixed-folder":
         return list(_recording_entries(p))
     raise InputError(f"{p} is not a recording or data set; {_EXPECTED}.")
@@ -262,8 +278,11 @@ def read_dataset(path: str | os.PathLike, **kwargs) -> list[Recording]:
     """Read every recording of a file or data set folder.
 
     gaitml-csv folders (with or without ``manifest.csv``), Oxford data set roots
-    (``optimisation/``, its ``data/`` or any folder of recording folders), and
-    folders mixing supported files are all accepted.
+    (``optimisation/``, its ``data/`` or any folder of recording folders), tyrex
+    roots (``tyrex-attitude/`` with ``android/`` and ``ios/``, or either of them), and
+    folders mixing supported files are all accepted. A tyrex recording with a gap
+    too long to bridge (a sensor that stopped logging) is read as its stretches
+    between the gaps (``meta['segment']``, ``id`` suffixed ``#k``), never bridged.
     """
     p = require_file(path)
     out: list[Recording] = []
@@ -271,6 +290,8 @@ def read_dataset(path: str | os.PathLike, **kwargs) -> list[Recording]:
         if fmt == "gaitml-folder":
             keep = {k: v for k, v in kwargs.items() if k in ("sampling_rate_hz", "acc_unit", "gyr_unit")}
             out.extend(read_gaitml_folder(f, **keep))
+        elif fmt == "tyrex":
+            out.extend(read_tyrex(f, sampling_rate_hz=kwargs.get("sampling_rate_hz"), segments=True))
         else:
             out.append(read_recording(f, format=fmt, **kwargs))
     return out

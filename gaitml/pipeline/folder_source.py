@@ -46,6 +46,20 @@ any other column (e.g. ``position``)
 
 Errors name the manifest line: a missing column, a file or intervals file that
 does not exist, a recording without labels.
+
+Data set folders without a manifest
+-----------------------------------
+A folder in a layout the readers know is a source as it is (``data.path`` and no
+manifest; :func:`gaitml.io.read_dataset`): a gaitml-csv set, an Oxford step
+counter root, and the tyrex attitude benchmark (``tyrex-attitude/`` with
+``android/``, ``ios/`` and ``qualisys/``, or either phone folder).
+:func:`tyrex_manifest` lists the tyrex recordings with the columns every one of
+them carries in its meta: ``subject`` (the person), ``phone``, ``platform``,
+``motion``, ``position``, ``mode`` (``walk`` | ``run``), ``disturbance`` and
+``truth`` (its motion-capture file), so that a config may use, e.g.,
+``label = "mode"``, ``label = "position"``, ``group = "subject"`` or
+``where = { motion = "Texting" }``. A tyrex recording with a sensor gap too long
+to bridge is read as its stretches between the gaps (``meta['segment']``).
 """
 
 from __future__ import annotations
@@ -58,7 +72,7 @@ import pandas as pd
 
 from gaitml.errors import ConfigError, InputError
 
-__all__ = ["MANIFEST_NAME", "MANIFEST_COLUMNS", "read_manifest_folder"]
+__all__ = ["MANIFEST_NAME", "MANIFEST_COLUMNS", "read_manifest_folder", "tyrex_manifest"]
 
 #: The manifest's file name inside the data folder (unless ``data.manifest`` names another).
 MANIFEST_NAME = "manifest.csv"
@@ -192,3 +206,60 @@ def unlabelled_share(recs) -> float:
     n = sum(r.n_samples for r in recs if r.labels is not None)
     k = sum(int(np.sum(np.asarray(r.labels).astype(str) == UNLABELLED)) for r in recs if r.labels is not None)
     return k / n if n else 0.0
+
+
+#: Columns of :func:`tyrex_manifest`.
+TYREX_MANIFEST_COLUMNS = ("file", "subject", "phone", "platform", "motion", "position", "mode", "disturbance", "take", "truth")
+
+
+def tyrex_manifest(folder: str | Path) -> pd.DataFrame:
+    """Every recording of a tyrex attitude folder, one row each, without reading the sensor logs.
+
+    Parameters
+    ----------
+    folder : the data set root (``tyrex-attitude/``), ``android/`` or ``ios/``, or one recording folder.
+
+    Returns
+    -------
+    DataFrame
+        Columns :data:`TYREX_MANIFEST_COLUMNS`: ``file`` (the recording folder,
+        relative to ``folder``), ``subject`` (the person), ``phone``, ``platform``
+        (android | ios), ``motion`` (as spelt in the source, e.g. ``FrontPocket``),
+        ``position`` (:data:`gaitml.io.tyrex.TYREX_POSITIONS`), ``mode`` (walk | run),
+        ``disturbance`` (Dist | NoDist), ``take`` (``old`` for the extra take
+        without motion capture, else empty) and ``truth`` (the motion-capture
+        file relative to ``folder``, empty when there is none).
+
+    Raises
+    ------
+    InputError
+        ``folder`` holds no tyrex recording.
+    """
+    from gaitml.io.tyrex import _platform, list_tyrex_folders, parse_tyrex_name, tyrex_truth_path
+
+    root = Path(folder)
+    dirs = list_tyrex_folders(root)
+    if not dirs:
+        raise InputError(
+            f"{root} holds no tyrex recording folders (<Person>_<Phone>_<Dist|NoDist>_<Motion>/ with accelerometer.txt.gz); "
+            "pass the tyrex-attitude folder or its android/ or ios/ folder."
+        )
+    rows = []
+    for d in dirs:
+        info = parse_tyrex_name(d.name) or {}
+        truth = tyrex_truth_path(d)
+        rows.append(
+            {
+                "file": str(d.relative_to(root)) if d != root else ".",
+                "subject": info.get("person", d.name),
+                "phone": info.get("phone", ""),
+                "platform": _platform(d),
+                "motion": info.get("motion", ""),
+                "position": info.get("position", ""),
+                "mode": info.get("mode", ""),
+                "disturbance": info.get("disturbance", ""),
+                "take": info.get("take", ""),
+                "truth": "" if truth is None else str(truth.relative_to(root) if truth.is_relative_to(root) else truth),
+            }
+        )
+    return pd.DataFrame(rows, columns=list(TYREX_MANIFEST_COLUMNS))

@@ -199,6 +199,43 @@ def scoring(out: Path, routes: list[str], seeds: list[int], align: str) -> pd.Da
     return pd.DataFrame(rows)
 
 
+def tyrex(data: Path, detector: str) -> pd.DataFrame:
+    """Every tyrex recording with motion capture scored by `gaitml pdr --truth self` (the walker's low-passed path),
+    beside a still trajectory (the start point held) scored the same way."""
+    from gaitml.evaluation.positioning import score_positions
+    from gaitml.io import read_recording
+    from gaitml.io.truth import tyrex_truth
+
+    rows = []
+    folders = sorted(p for plat in ("android", "ios") for p in (data / plat).iterdir() if p.is_dir() and not p.name.startswith("calib"))
+    for f in folders:
+        if f.name.endswith("_old"):
+            continue
+        code, o, err = _cli(["pdr", str(f), "--truth", "self", "--detector", detector, "--json"])
+        person, phone, dist, motion = f.name.split("_")[:4]
+        row = {"recording": f.name, "person": person, "phone": phone, "motion": motion.replace("Backpocket", "BackPocket")}
+        if code:
+            rows.append({**row, "error": err.strip().splitlines()[-1][:160]})
+            continue
+        tr = json.loads(o)["truth"]
+        rec = read_recording(f)
+        truth = tyrex_truth(rec).table
+        _, still = score_positions([0.0, rec.duration_s], [[0.0, 0.0], [0.0, 0.0]], truth, align="start", t_end_s=rec.duration_s)
+        rows.append(
+            {
+                **row,
+                "mean_m": tr["mean_error_m"],
+                "p75_m": tr["p75_error_m"],
+                "end_%D": tr.get("end_error_pct_distance"),
+                "walked_m": tr["distance_m"],
+                "still_mean_m": still["mean_error_m"],
+                "still_p75_m": still["p75_error_m"],
+            }
+        )
+        print(f"  {f.name}: mean {tr['mean_error_m']:.2f} m (still {still['mean_error_m']:.2f} m)", file=sys.stderr)
+    return pd.DataFrame(rows)
+
+
 def _md(df: pd.DataFrame, floats: str = "{:.3f}") -> str:
     def cell(v):
         return floats.format(v) if isinstance(v, float) else str(v)
@@ -214,7 +251,38 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--routes", nargs="+", default=["rectangle", "arc"])
     p.add_argument("--align", default="start-heading", choices=("start-heading", "start"))
     p.add_argument("--out", default="runs/gsd-landmarks", help="folder for the written logs and walks")
+    p.add_argument("--tyrex", metavar="DATA", help="score every tyrex recording instead (DATA: ../shared/data/tyrex-attitude)")
+    p.add_argument("--detector", default="adaptive", help="step detector for --tyrex (default adaptive)")
+    p.add_argument("--csv", metavar="FILE", help="with --tyrex: write the per-recording table")
     args = p.parse_args(argv)
+    if args.tyrex:
+        df = tyrex(Path(args.tyrex), args.detector)
+        if args.csv:
+            df.to_csv(args.csv, index=False)
+        ok = df.dropna(subset=["mean_m"])
+        print(f"## tyrex: gaitml pdr --truth self --detector {args.detector} (median over recordings; per-person medians in brackets)\n")
+        rows = []
+        for motion, g in ok.groupby("motion"):
+            per = g.groupby("person")[["mean_m", "p75_m", "still_mean_m"]].median()
+            rows.append(
+                {
+                    "motion": motion,
+                    "n": len(g),
+                    "mean_m": f"{g['mean_m'].median():.2f} ({', '.join(f'{v:.2f}' for v in per['mean_m'])})",
+                    "p75_m": f"{g['p75_m'].median():.2f} ({', '.join(f'{v:.2f}' for v in per['p75_m'])})",
+                    "still mean_m": f"{g['still_mean_m'].median():.2f} ({', '.join(f'{v:.2f}' for v in per['still_mean_m'])})",
+                    "PDR better than still": f"{int((g['mean_m'] < g['still_mean_m']).sum())}/{len(g)}",
+                    "end_%D": f"{g['end_%D'].median():.1f}",
+                    "walked_m": f"{g['walked_m'].median():.0f}",
+                }
+            )
+        print(_md(pd.DataFrame(rows)))
+        if len(ok) < len(df):
+            print(
+                f"\n{len(df) - len(ok)} recordings refused: "
+                + "; ".join(f"{r.recording}: {r.error}" for r in df[df["mean_m"].isna()].itertuples())
+            )
+        return 0
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()

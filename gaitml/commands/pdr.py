@@ -203,14 +203,27 @@ def _load_truth(args, rec):
     spec = getattr(args, "truth", None)
     if not spec:
         return None
-    from gaitml.io.truth import read_truth, truth_of_recording
+    from gaitml.io.truth import read_truth, truth_of_recording, tyrex_truth
 
+    if rec.meta.get("format") == "tyrex" and (spec == "self" or _is_qualisys(spec)):
+        return tyrex_truth(rec, None if spec == "self" else spec)
     if spec == "self":
         return truth_of_recording(rec)
     same = rec.meta.get("source") is not None and Path(spec).resolve() == Path(str(rec.meta["source"])).resolve()
     if same and rec.reference.get("landmarks") is not None:
         return truth_of_recording(rec)
     return read_truth(spec, t0_original_s=float(rec.meta.get("t0_original_s", 0.0)))
+
+
+def _is_qualisys(spec: str) -> bool:
+    """Whether a truth file is a tyrex motion-capture CSV (its header has the rotation columns)."""
+    from gaitml.io._common import head_lines
+
+    try:
+        lines = [ln for ln in head_lines(Path(spec), 3) if not ln.startswith("#")]
+    except Exception:  # noqa: BLE001 - the reader reports unreadable files itself
+        return False
+    return bool(lines) and "rot0" in lines[0]
 
 
 def _score(args, rec, res, truth) -> dict:

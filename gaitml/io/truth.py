@@ -49,7 +49,16 @@ from gaitml.io._common import require_file
 from gaitml.io._export import sniff_csv
 from gaitml.io.getsensordata import is_getsensordata, read_getsensordata_landmarks
 
-__all__ = ["DENSE_INTERVAL_S", "Truth", "project_latlon", "read_truth", "truth_from_table", "truth_of_recording", "unproject_xy"]
+__all__ = [
+    "DENSE_INTERVAL_S",
+    "Truth",
+    "project_latlon",
+    "read_truth",
+    "truth_from_table",
+    "truth_of_recording",
+    "tyrex_truth",
+    "unproject_xy",
+]
 
 #: A truth sampled at least this often (median interval, s) is a dense reference path.
 DENSE_INTERVAL_S = 1.0
@@ -251,3 +260,35 @@ def truth_of_recording(rec) -> Truth:
         t = traj[tcol].to_numpy(float) - float(rec.meta.get("t0_original_s", 0.0))
         return truth_from_table(t, traj[["x_m", "y_m"]].to_numpy(float), source="reference trajectory")
     raise InputError(f"--truth self: {rec.name} carries no landmarks (POSI lines) and no reference trajectory; pass --truth FILE.")
+
+
+def tyrex_truth(rec, truth_path=None, *, body: bool = True) -> Truth:
+    """The motion capture of a tyrex recording (:func:`gaitml.io.tyrex.read_tyrex_truth`) as a dense truth.
+
+    The phone's positions (room frame, x and y horizontal) on the recording's time
+    base; frames where the markers were lost are left out. With ``body`` (default)
+    the path is low-passed at :data:`gaitml.evaluation.trajectory.BODY_CUTOFF_HZ`
+    (:func:`gaitml.evaluation.trajectory.body_track`) to follow the walker rather
+    than the phone's arm swing, as the tyrex README advises; the note says so.
+    """
+    from gaitml.io.tyrex import read_tyrex_truth
+
+    folder = Path(str(rec.meta.get("source", "")))
+    folder = folder if folder.is_dir() else folder.parent
+    tt = read_tyrex_truth(folder, truth_path=truth_path)
+    ok = np.isfinite(tt.pos_m).all(axis=1)
+    t = tt.t_s - float(rec.meta.get("t0_original_s", 0.0))
+    xy = tt.pos_m[:, :2]
+    notes = [f"tyrex motion capture of {folder.name} on the phone clock (timeAlignment dt {tt.dt_s:+.3f} s)"]
+    if body:
+        from gaitml.evaluation.trajectory import BODY_CUTOFF_HZ, body_track
+
+        xy = body_track(t, xy)
+        notes.append(
+            f"the phone's path low-passed at {BODY_CUTOFF_HZ:g} Hz to follow the walker (arm swing removed); "
+            f"{int((~ok).sum())} lost frames filled linearly first"
+        )
+    else:
+        t, xy = t[ok], xy[ok]
+        notes.append(f"{int((~ok).sum())} lost frames left out")
+    return truth_from_table(t, xy, source=f"tyrex:{folder.name}", notes=notes)

@@ -134,3 +134,35 @@ def test_cli_pdr_truth_on_simulated_route(tmp_path):
     assert res["landmarks"]["distance_m"] == pytest.approx(res["dense"]["distance_m"], rel=0.05)
     # a PDR on a 262 m rectangle: the mean error stays well below the distance walked (a floor, not a pin)
     assert res["dense"]["mean_error_m"] < 0.1 * res["dense"]["distance_m"]
+
+
+def _run(argv):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(argv)
+    return code, out.getvalue(), err.getvalue()
+
+
+def test_getsensordata_posi_without_coordinates_refused(tmp_path):
+    from gaitml.io.getsensordata import write_getsensordata
+    from tests.io_apps._make import acc_true, gyr_true, jittered_times
+
+    t = jittered_times(0, 30, 100, 1)
+    lm = pd.DataFrame({"t_s": [1.0, 15.0, 29.0], "lat_deg": [0.0] * 3, "lon_deg": [0.0] * 3, "floor": [0] * 3})
+    p = write_getsensordata(tmp_path / "walk.txt", t, acc_true(t), t_gyr_s=t, gyr=gyr_true(t), landmarks=lm)
+    code, out, err = _run(["pdr", str(p), "--truth", "self", "--json"])
+    assert code == 2 and out == "" and "no coordinates" in err and len(err.strip().splitlines()) == 1
+
+
+def test_tyrex_motion_capture_as_truth(shared_data):
+    folder = shared_data / "tyrex-attitude" / "android" / "Guillaume_Nexus5_NoDist_Texting"
+    if not folder.is_dir():
+        pytest.skip("tyrex-attitude not in the shared data")
+    code, out, err = _run(["pdr", str(folder), "--truth", "self", "--detector", "adaptive", "--json"])
+    assert code == 0, err
+    tr = json.loads(out)["truth"]
+    assert tr["kind"] == "dense" and tr["source"].startswith("tyrex:")
+    # 120 s of motion capture at 60 Hz; a walk of tens of metres in a 5 m room
+    assert tr["n_points"] > 60 * 100 and 10 < tr["distance_m"] < 200
+    # the errors are bounded by the room (the walker never leaves it), whatever the PDR does
+    assert 0 < tr["mean_error_m"] < 50

@@ -261,6 +261,7 @@ def _truth_json(truth, scored) -> dict:
         "notes": list(truth.notes),
         **scored["summary"],
         "points": records if truth.kind == "landmarks" else records[:: max(1, len(records) // 2000)],
+        "points_every": 1 if truth.kind == "landmarks" else max(1, len(records) // 2000),
     }
 
 

@@ -87,6 +87,11 @@ def detect_format(path: str | os.PathLike) -> str:
         return "gaitmap-table"
     if looks_like_gaitml(lines):
         return "gaitml-csv"  # its reader names the missing columns
+    if lines[0].strip().lower().startswith("sep=") and len(lines) > 1:  # AndroSensor / Excel separator hint
+        raise InputError(
+            f"{p.name[:80]} starts with a separator hint {lines[0].strip()!r} (AndroSensor or a spreadsheet export; header "
+            f"{lines[1].strip()[:80]!r}); read it with --columns t=...,acc_x=...,acc_y=...,acc_z=... naming its columns."
+        )
     cols = lines[0].strip()[:80]
     raise InputError(f"unknown format for {p.name[:80]} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
 

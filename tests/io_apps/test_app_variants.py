@@ -158,3 +158,9 @@ def test_dehold_leaves_a_real_stream_alone():
     x[500:520] = x[500]  # a short flat stretch (clipping, rest) is not sample-and-hold
     t2, x2, info = dehold(t, x, "accelerometer")
     assert info is None and len(t2) == 1000
+
+
+def test_androsensor_without_columns_names_the_fix(tmp_path):
+    p = _androsensor(tmp_path / "Sensor_record.csv", 20)
+    with pytest.raises(InputError, match=r"separator hint 'sep=;'.*--columns"):
+        detect_format(p)

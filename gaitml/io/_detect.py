@@ -69,6 +69,8 @@ def detect_format(path: str | os.PathLike) -> str:
             return "sensor-logger"
         if is_phyphox(p):
             return "phyphox"
+        if p.suffix.lower() in (".xlsx", ".xlsm", ".xls"):  # named as a workbook: say it is not one
+            raise InputError(f"{p.name} is a zip archive but not an Excel workbook ({_zip_summary(p)}); {_EXPECTED}.")
         raise InputError(f"{p.name} is a zip archive gaitml does not recognise ({_zip_summary(p)}); {_EXPECTED}.")
     if is_getsensordata(p):
         return "getsensordata"

@@ -203,6 +203,7 @@ def tyrex(data: Path, detector: str) -> pd.DataFrame:
     """Every tyrex recording with motion capture scored by `gaitml pdr --truth self` (the walker's low-passed path),
     beside a still trajectory (the start point held) scored the same way."""
     from gaitml.evaluation.positioning import score_positions
+    from gaitml.evaluation.trajectory import body_track
     from gaitml.io import read_recording
     from gaitml.io.truth import tyrex_truth
 
@@ -219,7 +220,7 @@ def tyrex(data: Path, detector: str) -> pd.DataFrame:
             continue
         tr = json.loads(o)["truth"]
         rec = read_recording(f)
-        truth = tyrex_truth(rec).table
+        truth = tyrex_truth(rec, smooth=body_track).table
         _, still = score_positions([0.0, rec.duration_s], [[0.0, 0.0], [0.0, 0.0]], truth, align="start", t_end_s=rec.duration_s)
         rows.append(
             {

@@ -206,7 +206,10 @@ def _load_truth(args, rec):
     from gaitml.io.truth import read_truth, truth_of_recording, tyrex_truth
 
     if rec.meta.get("format") == "tyrex" and (spec == "self" or _is_qualisys(spec)):
-        return tyrex_truth(rec, None if spec == "self" else spec)
+        from gaitml.evaluation.trajectory import BODY_CUTOFF_HZ, body_track
+
+        note = f"the phone's path low-passed at {BODY_CUTOFF_HZ:g} Hz to follow the walker (arm swing removed)"
+        return tyrex_truth(rec, None if spec == "self" else spec, smooth=body_track, smooth_note=note)
     if spec == "self":
         return truth_of_recording(rec)
     same = rec.meta.get("source") is not None and Path(spec).resolve() == Path(str(rec.meta["source"])).resolve()

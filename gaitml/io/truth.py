@@ -262,14 +262,15 @@ def truth_of_recording(rec) -> Truth:
     raise InputError(f"--truth self: {rec.name} carries no landmarks (POSI lines) and no reference trajectory; pass --truth FILE.")
 
 
-def tyrex_truth(rec, truth_path=None, *, body: bool = True) -> Truth:
+def tyrex_truth(rec, truth_path=None, *, smooth=None, smooth_note: str = "") -> Truth:
     """The motion capture of a tyrex recording (:func:`gaitml.io.tyrex.read_tyrex_truth`) as a dense truth.
 
     The phone's positions (room frame, x and y horizontal) on the recording's time
-    base; frames where the markers were lost are left out. With ``body`` (default)
-    the path is low-passed at :data:`gaitml.evaluation.trajectory.BODY_CUTOFF_HZ`
-    (:func:`gaitml.evaluation.trajectory.body_track`) to follow the walker rather
-    than the phone's arm swing, as the tyrex README advises; the note says so.
+    base. ``smooth`` (a function ``(t_s, xy) -> xy`` that fills lost frames, e.g.
+    :func:`gaitml.evaluation.trajectory.body_track`, which ``gaitml pdr --truth self``
+    passes to follow the walker rather than the phone's arm swing) is applied to the
+    whole track, with ``smooth_note`` added to the notes; without it the frames where
+    the markers were lost are left out.
     """
     from gaitml.io.tyrex import read_tyrex_truth
 
@@ -280,13 +281,12 @@ def tyrex_truth(rec, truth_path=None, *, body: bool = True) -> Truth:
     t = tt.t_s - float(rec.meta.get("t0_original_s", 0.0))
     xy = tt.pos_m[:, :2]
     notes = [f"tyrex motion capture of {folder.name} on the phone clock (timeAlignment dt {tt.dt_s:+.3f} s)"]
-    if body:
-        from gaitml.evaluation.trajectory import BODY_CUTOFF_HZ, body_track
-
-        xy = body_track(t, xy)
+    if smooth is not None:
+        xy = smooth(t, xy)
         notes.append(
-            f"the phone's path low-passed at {BODY_CUTOFF_HZ:g} Hz to follow the walker (arm swing removed); "
-            f"{int((~ok).sum())} lost frames filled linearly first"
+            f"{smooth_note}; {int((~ok).sum())} lost frames filled linearly first"
+            if smooth_note
+            else f"{int((~ok).sum())} lost frames filled"
         )
     else:
         t, xy = t[ok], xy[ok]

@@ -10,8 +10,11 @@ row times turns each sensor's samples into staircases: a silent wrong answer.
 Rule (:func:`dehold`): a row whose three axes all equal the previous row's
 exactly is a *repeat*. A real sensor sampled at its own rate repeats all three
 axes only rarely (quantisation at rest); when at least :data:`HOLD_FRACTION` of
-the rows are repeats, the stream is a sample-and-hold stream and is read at its
-update times: the first row of each run of equal values, timed by that row (the
+the rows are repeats, at least half of the repeats are in short holds (at most
+:data:`SHORT_RUN_ROWS` rows), there are at least :data:`MIN_UPDATES` updates and they
+span at least half the stream (a constant signal, or one still for a long stretch, is
+not a hold pattern), the stream is a sample-and-hold stream
+and is read at its update times: the first row of each run of equal values, timed by that row (the
 moment the new value appeared). The row rate, the update rate and the number of
 repeats go into ``meta['sample_and_hold']`` and a warning line; a too-low update
 rate is then refused by the rate check with the rate named.
@@ -25,6 +28,10 @@ __all__ = ["HOLD_FRACTION", "dehold", "note_hold"]
 
 #: Fraction of rows repeating the previous row exactly above which a stream is sample-and-hold.
 HOLD_FRACTION = 0.3
+#: Fewer updates than this is a constant signal, not a sample-and-hold stream.
+MIN_UPDATES = 10
+#: A hold of at most this many rows is a short hold (a sensor updating at >= 1/20 of the row rate).
+SHORT_RUN_ROWS = 20
 
 
 def dehold(t: np.ndarray, x: np.ndarray, what: str, *, hold_fraction: float = HOLD_FRACTION) -> tuple[np.ndarray, np.ndarray, dict | None]:
@@ -57,6 +64,14 @@ def dehold(t: np.ndarray, x: np.ndarray, what: str, *, hold_fraction: float = HO
         return t, x, None
     keep = ~same
     dur = float(t[-1] - t[0])
+    up = np.flatnonzero(keep)
+    runs = np.diff(np.r_[up, n])  # rows each update is held for
+    # a hold pattern repeats nearly every update, all through the stream; a constant or mostly still
+    # signal (one long run, or single repeats) is not one
+    short = runs[runs <= SHORT_RUN_ROWS]
+    spread = (short - 1).sum() / max(1, int(same.sum()))  # share of the repeats in short holds
+    if len(up) < MIN_UPDATES or spread < 0.5 or (t[up[-1]] - t[up[0]]) < 0.5 * dur:
+        return t, x, None
     row_rate = (n - 1) / dur if dur > 0 else float("nan")
     n_up = int(keep.sum())
     up_rate = (n_up - 1) / float(t[keep][-1] - t[keep][0]) if n_up > 1 and t[keep][-1] > t[keep][0] else float("nan")

@@ -224,7 +224,7 @@ def read_columns_csv(
             raise InputError(
                 f"{p.name}: a missing or non-numeric gyroscope value at line {int(np.flatnonzero(bad)[0]) + 2}; fix the row, or give t_gyr= if the gyroscope has its own clock."
             )
-    t, acc, gyr, labels = _dehold_rows(t, acc, gyr, labels, m, p.name)
+    t, acc, gyr, labels = dehold_rows(t, acc, gyr, labels, m, p.name)
     _check_row_rate(t, time_unit, p.name)
     m.update(meta or {})
     return Recording.from_timestamps(
@@ -271,7 +271,7 @@ def _dialect(lines: list[str]) -> tuple[str, str, int]:
     return sep, dec, skip
 
 
-def _dehold_rows(t, acc, gyr, labels, m: dict, name: str):
+def dehold_rows(t, acc, gyr, labels, m: dict, name: str):
     """Read sample-and-hold columns at their own update times (gaitml.io._hold), merging the two clocks if needed."""
     t_a, acc_a, info_a = dehold(t, acc, "accelerometer")
     hold: dict = {}

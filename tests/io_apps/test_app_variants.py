@@ -164,3 +164,23 @@ def test_androsensor_without_columns_names_the_fix(tmp_path):
     p = _androsensor(tmp_path / "Sensor_record.csv", 20)
     with pytest.raises(InputError, match=r"separator hint 'sep=;'.*--columns"):
         detect_format(p)
+
+
+def test_sample_and_hold_gaitml_csv_read_at_update_rate(tmp_path):
+    t = np.arange(0, 20, 0.005)  # rows at 200 Hz
+    tu = np.arange(0, 20, 0.04)  # the sensor updates at 25 Hz
+    held = acc_true(tu)[np.searchsorted(tu, t, side="right") - 1]
+    p = tmp_path / "held.csv"
+    np.savetxt(p, np.column_stack([t, held]), delimiter=",", header="t,acc_x,acc_y,acc_z", comments="", fmt="%.6f")
+    rec = read_recording(p)
+    assert rec.sampling_rate_hz == pytest.approx(25.0) and rec.meta["sample_and_hold"]["acc"]["row_rate_hz"] == pytest.approx(200.0)
+    _close_to_truth(rec, tol=0.05)
+
+
+def test_dehold_leaves_constant_and_long_still_stretches_alone():
+    t = np.arange(2000) / 100.0
+    const = np.tile([0.0, 0.0, 9.81], (2000, 1))
+    assert dehold(t, const, "accelerometer")[2] is None
+    still_half = acc_true(t) + np.random.default_rng(2).normal(0, 0.01, (2000, 3))
+    still_half[:1000] = still_half[0]  # 10 s lying still with a sensor that reports the same value
+    assert dehold(t, still_half, "accelerometer")[2] is None

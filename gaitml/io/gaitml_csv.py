@@ -160,10 +160,16 @@ def read_gaitml_csv(
     m.update(meta or {})
     reference = _read_sidecars(p)
     build = Recording.segments_from_timestamps if segments else Recording.from_timestamps
+    t, acc = df[TIME_COL].to_numpy(dtype=float), df[list(ACC_COLS)].to_numpy(dtype=float)
+    gyr = df[list(GYR_COLS)].to_numpy(dtype=float) if has_gyr else None
+    if len(t) > 1 and (np.diff(t) > 0).all():  # sample-and-hold columns (gaitml.io._hold); bad times are refused below
+        from gaitml.io.columns_csv import dehold_rows
+
+        t, acc, gyr, labels = dehold_rows(t, acc, gyr, labels, m, p.name)
     return build(
-        df[TIME_COL].to_numpy(dtype=float),
-        df[list(ACC_COLS)].to_numpy(dtype=float),
-        gyr=df[list(GYR_COLS)].to_numpy(dtype=float) if has_gyr else None,
+        t,
+        acc,
+        gyr=gyr,
         labels=labels,
         sampling_rate_hz=sampling_rate_hz,
         meta=m,

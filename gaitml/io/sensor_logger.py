@@ -2,7 +2,8 @@
 
 The export is a zip archive (or the folder it unpacks to) with one CSV per
 sensor, each with the columns ``time`` (ns since the UNIX epoch, one clock for
-all sensors), ``seconds_elapsed`` (s since the recording started) and ``z, y, x``
+all sensors), ``seconds_elapsed`` (s since the recording started; absent from
+older exports, whose tables are ``time, z, y, x``) and ``z, y, x``
 (the app's column order), plus ``Metadata.csv`` (``platform`` iOS or Android,
 ``device name``, ...). Documented units and frames (awesome-sensor-logger
 UNITS.md, CROSSPLATFORM.md):
@@ -44,6 +45,7 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table
+from gaitml.io._hold import dehold, note_hold
 from gaitml.io._merge import check_times, merge_clocks
 from gaitml.recording import Recording
 
@@ -63,7 +65,10 @@ _XYZ = ("x", "y", "z")
 def is_sensor_logger_header(line: str) -> bool:
     """Whether a CSV header line is a Sensor Logger motion table (time, seconds_elapsed, z, y, x)."""
     cols = [c.strip().strip('"') for c in line.split(",")]
-    return "seconds_elapsed" in cols and all(a in cols for a in _XYZ)
+    if "seconds_elapsed" in cols and all(a in cols for a in _XYZ):
+        return True
+    # older exports (before seconds_elapsed was added): exactly time, z, y, x
+    return sorted(cols) == ["time", "x", "y", "z"]
 
 
 def is_sensor_logger(path: str | os.PathLike) -> bool:
@@ -221,9 +226,11 @@ def read_sensor_logger(
         elif not platform:
             m["frame"] = "platform unknown (no Metadata.csv): Android convention assumed"
         gyr = None
+        t_acc, acc = note_hold(m, "acc", *dehold(t_acc, acc, "accelerometer"))
         t0 = t_acc[0]
         if "gyroscope.csv" in top:
             t_gyr, gyr_raw, tcol_g = _table(box, "gyroscope.csv", name)
+            t_gyr, gyr_raw = note_hold(m, "gyr", *dehold(t_gyr, gyr_raw, "gyroscope"))
             if tcol_g != tcol:
                 raise InputError(
                     f"the accelerometer and Gyroscope.csv of {name} have different time columns; export both from the same recording."

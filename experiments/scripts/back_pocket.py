@@ -74,7 +74,7 @@ import scipy.signal
 
 from experiments.scripts.carry_vigour import score_oxford_models
 from experiments.scripts.domain_report import emit_tables
-from experiments.scripts.hand_gain import _covered, fit_range
+from experiments.scripts.hand_gain import covered, fit_range
 from experiments.scripts.realism import _markdown, oxford_walks, position_statistics
 
 __all__ = [
@@ -341,7 +341,7 @@ def leave_one_user_out(walks: pd.DataFrame, curves_share: np.ndarray) -> pd.Data
         else:
             fit = fit_back_pocket(bp if user is None else bp[bp["user"] != user], curves_share, cache)
         sim = check_population(fit["pelvis_share"], fit["pocket_roll_deg"])
-        cov = _covered(test, sim, CHECK_STATS)
+        cov = covered(test, sim, CHECK_STATS)
         rows.append(
             {
                 "held_out": {None: "all (in sample)"}.get(user, user),
@@ -451,14 +451,14 @@ def fit_vigour(
     """The back pocket's vigour range refitted (as ``python -m experiments.scripts.carry_vigour``: the walking
     ``|acc|`` standard deviation of ``walks``) on the simulator with these share and gate ranges: the gate
     takes part of the trunk's acceleration away, so the intensity's range moves with it."""
-    from experiments.scripts.carry_vigour import _END_GRID, VIGOUR_GRID, vigour_curves
+    from experiments.scripts.carry_vigour import END_GRID, VIGOUR_GRID, vigour_curves
 
     cache = {} if cache is None else cache
     key = (tuple(share), tuple(gate))
     if key not in cache:
         with back_pocket_ranges(share=share, gate=gate):
             cache[key] = vigour_curves(POSITION)
-    return fit_range(walks["mag_std_ms2"].to_numpy(), cache[key], grid=VIGOUR_GRID, lo_grid=_END_GRID, hi_grid=_END_GRID)
+    return fit_range(walks["mag_std_ms2"].to_numpy(), cache[key], grid=VIGOUR_GRID, lo_grid=END_GRID, hi_grid=END_GRID)
 
 
 def joint_ranges(fit: dict[str, tuple[float, float]]):
@@ -484,7 +484,7 @@ def leave_one_user_out_joint(walks: pd.DataFrame, curves: dict[str, np.ndarray])
             fit["vigour"] = fit_vigour(tune, fit["pelvis_share"], fit["stance_gate"], cache)
         with joint_ranges(fit):
             sim = _simulate_shape(N_CHECK, CHECK_SEED)
-        cov = _covered(test, sim, JOINT_CHECK_STATS)
+        cov = covered(test, sim, JOINT_CHECK_STATS)
         rows.append(
             {
                 "held_out": {None: "all (in sample)"}.get(user, user),

@@ -1,4 +1,4 @@
-"""The model's training domain (issue 12): record, save/load data-only, predict/pdr flags and warnings."""
+"""The model's training domain (gaitml.models.domain): record, save/load data-only, predict/pdr flags and warnings."""
 
 from __future__ import annotations
 

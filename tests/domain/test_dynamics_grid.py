@@ -1,4 +1,4 @@
-"""The dynamics part on a grid of windows (issue 12 cost): the check computes every ``every``-th window's descriptors.
+"""The dynamics part on a grid of windows: the check computes every ``every``-th window's descriptors.
 
 Each piece is checked against a plain loop: the running median (bit for bit against
 ``np.nanmedian``), the span median of the computed windows, the check on the grid

@@ -20,10 +20,10 @@ from experiments.scripts.shortwin import (
     walking_part,
     window_dispersion,
 )
+from experiments.tests.conftest import shared
 from gaitml.consts import GRAVITY_MS2
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from tests.conftest import shared
 
 FS = 50.0
 

@@ -1,4 +1,4 @@
-"""Data-only model folders (issue 15): no unpickling, conversion, JSON/ONNX export, model card.
+"""Data-only model folders (gaitml.models._persist, _export, _card): no unpickling, conversion, JSON/ONNX export, model card.
 
 The JSON test re-implements prediction from the exported JSON alone in plain numpy
 (only the feature extraction, which the JSON specifies, comes from gaitml.features).

@@ -5,10 +5,10 @@ from __future__ import annotations
 import pytest
 
 from experiments.scripts.step_bouts import RULES_OFF, edge_table, main
+from experiments.tests.conftest import shared
 from gaitml.errors import InputError
 from gaitml.io import read_recording
 from gaitml.steps import get_detector
-from tests.conftest import shared
 
 
 def test_edge_table_on_two_neck_pouch_walks():

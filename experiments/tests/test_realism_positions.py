@@ -1,4 +1,5 @@
-"""Carrying positions against real walking (the Oxford pocket walks, ../shared/data)."""
+"""The realism study of the carrying positions (experiments/scripts/realism.py, back_pocket.py): simulated pockets against the
+real Oxford pocket walks (../shared/data)."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ import numpy as np
 import pytest
 
 from experiments.scripts.realism import position_statistics, simulated_position_walks
-from tests.conftest import shared
+from experiments.tests.conftest import shared
 
 pytestmark = pytest.mark.realdata
 
@@ -38,13 +39,10 @@ def test_real_and_simulated_pocket_phones_repeat_per_stride(oxford_pockets):
 
 
 def test_pocket_power_at_the_step_frequency_per_pocket(oxford_pockets):
-    """The acceleration's power at the step over the stride frequency (summed over the axes): the real
-    back pocket 7-10.5 dB, the real front pocket 0.8-4.8 dB. The simulated front pocket (thigh) lies
-    within 2 dB of its real range. The shipped back pocket (pelvis share 0.8-1.0 with the one-sided
-    step: STANCE_GATE_FIT) still lies below the real back pocket's (the thigh-driven one before it
-    0.8-5.4 dB; the gate takes part of the step bounce away): a known, narrower gap. The pelvis-and-roll
-    fit without the gate (BACK_POCKET_FIT, not shipped because its steps are more alike, r_step 0.3-0.5
-    against 0.04-0.15 real) reaches it."""
+    """The acceleration's power at the step over the stride frequency (summed over the axes): the real back
+    pocket's lies above the real front pocket's; each simulated pocket lies within 2 dB of its own real range
+    (experiments/reports/simulator-positions.md gives the ranges), and so does the pelvis-and-roll fit without the
+    stance gate (BACK_POCKET_FIT)."""
     from experiments.scripts.back_pocket import BACK_POCKET_FIT, VIGOUR_BEFORE, back_pocket_ranges, back_pocket_statistics
 
     real = {}
@@ -58,7 +56,7 @@ def test_pocket_power_at_the_step_frequency_per_pocket(oxford_pockets):
 
     front, back = sim("front-pocket"), sim("back-pocket")
     assert all(min(real["FrontPocket"]) - 2.0 < d < max(real["FrontPocket"]) + 2.0 for d in front), [round(d, 1) for d in front]
-    assert all(d < min(real["BackPocket"]) for d in back), [round(d, 1) for d in back]
+    assert all(min(real["BackPocket"]) - 2.0 < d < max(real["BackPocket"]) + 2.0 for d in back), [round(d, 1) for d in back]
     with back_pocket_ranges(
         share=BACK_POCKET_FIT["pelvis_share"], roll=BACK_POCKET_FIT["pocket_roll_deg"], gate=(0.0, 0.0), vigour=VIGOUR_BEFORE
     ):

@@ -190,6 +190,8 @@ def read_columns_csv(
         if labels is not None:
             labels = labels[np.isin(t_acc, t)]
         m["clock_merge"] = info
+        if info["warning"]:
+            m.setdefault("warnings", []).append(info["warning"])
     elif has_gyr:
         gyr = df.loc[acc_rows, gyr_cols].apply(pd.to_numeric, errors="coerce").to_numpy(dtype=float)
         bad = ~np.isfinite(gyr).all(axis=1)

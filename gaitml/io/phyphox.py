@@ -212,6 +212,8 @@ def read_phyphox(
             gyr_unit = _unit("gyr", grp_g["unit"], where_g)
             t, acc, gyr, info = merge_clocks(t_acc, acc, t_gyr, gyr_raw, what=p.name)
             m["clock_merge"] = info
+            if info["warning"]:
+                m.setdefault("warnings", []).append(info["warning"])
             if key_g not in m["tables"]:
                 m["tables"].append(key_g)
     m.update(meta or {})

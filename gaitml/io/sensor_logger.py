@@ -192,7 +192,12 @@ def read_sensor_logger(
                 )
             t0 = min(t_acc[0], t_grav[0])
             ta, tg = _seconds(t_acc, t0, tcol), _seconds(t_grav, t0, tcol)
-            ta_kept, user_kept, grav_on, _ = merge_clocks(ta, user, tg, grav, what=f"{name} (Accelerometer.csv + Gravity.csv)")
+            ta_kept, user_kept, grav_on, grav_merge = merge_clocks(
+                ta, user, tg, grav, what=f"{name} (Accelerometer.csv + Gravity.csv)", names=("accelerometer", "gravity sensor")
+            )
+            m["gravity_merge"] = grav_merge
+            if grav_merge["warning"]:
+                m.setdefault("warnings", []).append(grav_merge["warning"])
             acc = user_kept + grav_on
             t_acc = ta_kept if tcol == "seconds_elapsed" else (np.round(ta_kept * 1e9).astype(np.int64) + t0)
             m["acc_source"] = "Accelerometer.csv + Gravity.csv (gravity interpolated onto the accelerometer times)"
@@ -231,6 +236,8 @@ def read_sensor_logger(
             t0 = min(t_acc[0], t_gyr[0])
             t, acc, gyr, merge = merge_clocks(_seconds(t_acc, t0, tcol), acc, _seconds(t_gyr, t0, tcol), gyr_raw, what=name)
             m["clock_merge"] = merge
+            if merge["warning"]:
+                m.setdefault("warnings", []).append(merge["warning"])
         else:
             t = _seconds(t_acc, t0, tcol)
             check_times(t, f"the accelerometer table of {name}")

@@ -65,8 +65,8 @@ def run(args) -> int:
 
 def _run_long(args) -> int:
     """A long input: features chunk by chunk, appended to the output file (bounded memory)."""
+    from gaitml.chunked_run import long_features
     from gaitml.io import atomic_path
-    from gaitml.longrun import long_features
 
     key = resolve_subset(args.subset)
     if not args.out:

@@ -20,7 +20,7 @@ def run(args) -> int:
         unit = "strides" if model.window_by == "strides" else "steps"
         return _report(args, model, table, unit, {"window_by": model.window_by, "detector": model.window_detector})
     if is_large_input(args):
-        from gaitml.longrun import long_predict
+        from gaitml.chunked_run import long_predict
 
         log("gaitml predict: long input, processing in chunks of 10 min (bounded memory)")
         table = long_predict(model, args.input, correction=not args.no_correction, **read_kwargs(args))

@@ -108,8 +108,8 @@ def run(args) -> int:
 
 
 def _run_long(args) -> int:
-    """A long input: chunks of 10 min with 30 s margins (bounded memory, see gaitml.longrun)."""
-    from gaitml.longrun import long_steps
+    """A long input: chunks of 10 min with 30 s margins (bounded memory, see gaitml.chunked_run)."""
+    from gaitml.chunked_run import long_steps
 
     # the count cross-check (gaitml.steps.crosscheck) on the whole input: adaptive counted on the same chunks
     also = CROSSCHECK_DETECTOR if args.detector in FIXED_THRESHOLD_DETECTORS else None

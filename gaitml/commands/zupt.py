@@ -1,7 +1,7 @@
 """`gaitml zupt INPUT [--detector NAME] [--threshold-rads X] [--out FILE] [--json]` (DESIGN sec. 5).
 
 Inputs longer than ``gaitml.io.chunked.LARGE_INPUT_SAMPLES`` are processed in
-overlapping chunks (:func:`gaitml.longrun.long_zupts`, bounded memory, the same
+overlapping chunks (:func:`gaitml.chunked_run.long_zupts`, bounded memory, the same
 per-sample decisions as a whole-file run); the others are read whole.
 """
 
@@ -69,7 +69,7 @@ def run(args) -> int:
     """Detect zero-velocity intervals; print a summary or the JSON contract; optionally write the table."""
     params = detector_params(args.detector, args.threshold_rads)
     if is_large_input(args):
-        from gaitml.longrun import long_zupts
+        from gaitml.chunked_run import long_zupts
 
         mask, table, fs = long_zupts(
             args.input,

@@ -35,7 +35,7 @@ from gaitml.consts import ACC_COLS, GYR_COLS, LABEL_COL, TIME_COL
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._detect import detect_format, read_recording
-from gaitml.recording import Recording, _check_ranges, _convert_units, check_acc_unit, max_bridge_s
+from gaitml.recording import Recording, check_acc_unit, check_ranges, convert_units, max_bridge_s
 
 __all__ = ["Chunk", "iter_chunks", "estimate_samples", "LARGE_INPUT_SAMPLES"]
 
@@ -134,10 +134,10 @@ def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str
         acc = vals[:, 1:4]
         gyr = vals[:, 4:7] if has_gyr else None
         lab = df[LABEL_COL].astype(str).to_numpy() if has_lab else None
-        acc, gyr = _convert_units(acc, gyr, acc_unit, gyr_unit)
+        acc, gyr = convert_units(acc, gyr, acc_unit, gyr_unit)
         conv = [c for c, on in (("acc from g", acc_unit == "g"), ("gyr from deg/s", gyr_unit == "deg/s")) if on]
         try:
-            _check_ranges(acc, gyr, {"converted": conv})  # before interpolating: a 1e308 would overflow
+            check_ranges(acc, gyr, {"converted": conv})  # before interpolating: a 1e308 would overflow
         except InputError as exc:
             first = line
             msg = re.sub(r"at sample (\d+)", lambda m, first=first: f"at line {first + int(m.group(1))}", str(exc), count=1)

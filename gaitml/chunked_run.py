@@ -1,4 +1,4 @@
-"""Bounded-memory processing of long recordings (hours to days).
+"""Chunked execution: bounded-memory processing of long recordings (hours to days).
 
 Each function reads the input in overlapping chunks (:func:`gaitml.io.chunked.iter_chunks`),
 runs the ordinary whole-recording algorithm on each chunk, keeps the results

@@ -27,8 +27,8 @@ import numpy as np
 
 from gaitml.errors import InputError
 from gaitml.recording.ranges import as_2d3, check_finite, check_ranges
-from gaitml.recording.resampling import resample_uniform
-from gaitml.recording.timestamps import GAP_FACTOR, MIN_RATE_HZ, check_rate, check_timed_samples, max_bridge_s, split_points
+from gaitml.recording.resampling import decimation_factor, resample_uniform
+from gaitml.recording.timestamps import check_rate, check_timed_samples, judge_timestamps, split_points
 from gaitml.recording.units import check_units, convert_units, note_conversions
 
 __all__ = ["Recording"]
@@ -216,6 +216,7 @@ class Recording:
         gyr_unit: str = "rad/s",
         uniform_tolerance: float = 1e-3,
         max_gap_s: float | None = None,
+        anti_alias: bool = True,
     ) -> Recording:
         """Build a uniform recording from samples at (possibly irregular) times.
 
@@ -238,8 +239,12 @@ class Recording:
         :meth:`segments_from_timestamps` (``gaitml.io.read_segments``).
 
         Timestamps faster than :data:`MAX_RATE_HZ` are accepted only when a
-        ``sampling_rate_hz`` to resample to is given (linear interpolation at the
-        new grid points, no anti-alias filter: stated in ``meta``).
+        ``sampling_rate_hz`` to resample to is given. The rate is judged over
+        the whole file (:func:`~gaitml.recording.timestamps.judge_timestamps`:
+        quantised timestamps, rate changes with their position, reported in
+        ``meta`` and ``meta['warnings']``); down-sampling filters before it
+        decimates (:mod:`gaitml.recording.resampling`) unless ``anti_alias=False``
+        (for data already low-passed by the caller).
 
         ``meta`` gains ``original_rate_hz`` (1 / median interval), ``jitter_s``
         (standard deviation of the intervals), ``max_interval_s``, ``gaps``
@@ -260,50 +265,20 @@ class Recording:
         acc, gyr_arr = convert_units(acc, gyr_arr, acc_unit, gyr_unit)
         meta = dict(meta or {})
         note_conversions(meta, acc_unit, gyr is not None and gyr_unit == "deg/s")
-        dt = np.diff(t)
-        med = float(np.median(dt))
-        original_rate = 1.0 / med
-        if sampling_rate_hz is not None:
-            check_rate(float(sampling_rate_hz), what="the requested sampling rate")
-            if original_rate < MIN_RATE_HZ * (1 - 1e-6):
-                check_rate(original_rate, what="the rate of the timestamps")
-        else:
-            check_rate(original_rate, what="the rate of the timestamps")
-        limit = max_bridge_s(med) if max_gap_s is None else float(max_gap_s)
-        long_gaps = np.flatnonzero(dt > limit)
-        if long_gaps.size:
-            i = int(long_gaps[0])
-            raise InputError(
-                f"a {dt[i]:.6g} s gap in the timestamps after sample {i} (t = {t[i] - t[0]:.6g} s from the start; "
-                f"{long_gaps.size} gaps longer than {limit:.3g} s in all) is too long to bridge by interpolation; "
-                "cut the file at its gaps with `gaitml split FILE --out DIR` (in Python: gaitml.io.read_segments)."
-            )
+        plan = judge_timestamps(t, sampling_rate_hz=sampling_rate_hz, max_gap_s=max_gap_s, uniform_tolerance=uniform_tolerance)
         # unit and range checks before resampling: interpolating a 1e308 would overflow
         if len(acc):
             check_units(acc, gyr_arr, meta)
             check_ranges(acc, gyr_arr, meta)
-        gaps = [[round(float(t[i] - t[0]), 6), round(float(dt[i]), 6)] for i in np.flatnonzero(dt > GAP_FACTOR * med)]
-        uniform = bool(np.all(np.abs(dt - med) <= uniform_tolerance * med))
-        meta.update(
-            original_rate_hz=round(original_rate, 6),
-            jitter_s=float(np.std(dt)),
-            max_interval_s=float(dt.max()),
-            gaps=gaps,
-            n_original_samples=int(len(t)),
-            t0_original_s=float(t[0]),
-        )
-        if uniform and sampling_rate_hz is None:
-            fs = (len(t) - 1) / (t[-1] - t[0])
-            fs = float(np.round(fs, 6))
-            meta["resampled"] = False
+        meta.update(plan["meta"])
+        fs = plan["fs"]
+        finish_resampling_meta(meta, plan, anti_alias=anti_alias)
+        if not plan["resampled"]:
             new_acc, new_gyr, new_labels = acc, gyr_arr, labels
         else:
-            fs = float(sampling_rate_hz if sampling_rate_hz is not None else np.round(original_rate, 6))
-            new_acc, new_gyr, new_labels = resample_uniform(t, acc, fs, gyr=gyr_arr, labels=labels)
-            meta["resampled"] = True
-            meta["resample_method"] = "linear interpolation"
-            if original_rate > 2 * fs:
-                meta["resample_method"] = "linear interpolation (down-sampling without an anti-alias filter)"
+            new_acc, new_gyr, new_labels = resample_uniform(
+                t, acc, fs, gyr=gyr_arr, labels=labels, max_rate_hz=plan["max_rate_hz"] if anti_alias else None
+            )
         ref: dict[str, Any] = {}
         for key, val in dict(reference or {}).items():
             if key.endswith("_t_s"):
@@ -388,3 +363,16 @@ class Recording:
                 rec.reference["n_steps_true"] = int(len(rec.reference["steps_t_s"]))
             out.append(rec)
         return out
+
+
+def finish_resampling_meta(meta: dict, plan: Mapping[str, Any], *, anti_alias: bool = True) -> None:
+    """``meta['resampled']``, ``resample_method`` and the plan's warnings, as a file read whole or in blocks reports them."""
+    meta["resampled"] = bool(plan["resampled"])
+    if plan["resampled"]:
+        k = decimation_factor(plan["max_rate_hz"], plan["fs"]) if anti_alias else 1
+        meta["resample_method"] = "linear interpolation"
+        if k > 1:
+            meta["resample_method"] = f"linear interpolation at {k} x the rate, anti-alias FIR low-pass, every {k}-th sample kept"
+    for w in plan["warnings"]:
+        if w not in meta.get("warnings", []):
+            meta["warnings"] = [*meta.get("warnings", []), w]

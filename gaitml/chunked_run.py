@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterator
 import numpy as np
 import pandas as pd
 
-from gaitml.io.chunked import Chunk, iter_chunks
+from gaitml.io.chunked import Chunk, iter_chunks, scan_input
 
 __all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "progress_chunks"]
 
@@ -172,8 +172,13 @@ def _window_chunks(
     # the hop depends on the rate, known after the first block: peek at it
     fs_probe = read_kwargs.get("sampling_rate_hz")
     if fs_probe is None:
-        first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
-        fs_probe = first.recording.sampling_rate_hz
+        if read_kwargs.get("scan") is None:
+            read_kwargs["scan"] = scan_input(path, **read_kwargs)
+        if read_kwargs["scan"] is not None:
+            fs_probe = read_kwargs["scan"].sampling_rate_hz
+        else:
+            first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
+            fs_probe = first.recording.sampling_rate_hz
     length, hop = window_params(length_s, overlap, fs_probe)
     align = math.lcm(hop * max(1, int(window_grid)), max(1, int(phase_step)))
     margin_samples = math.ceil((math.ceil(length / hop) + max(0, int(extra_windows))) * hop / align) * align

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from gaitml.commands._util import is_large_input, load_input, log, read_kwargs
+from gaitml.commands._util import is_large_input, load_input, log, long_read_kwargs
 from gaitml.features import CATALOGUE, GYRO_CATALOGUE, extract_features, make_windows, resolve_subset
 from gaitml.io import write_csv
 
@@ -69,6 +69,7 @@ def _run_long(args) -> int:
     from gaitml.io import atomic_path
 
     key = resolve_subset(args.subset)
+    kw = long_read_kwargs(args)
     if not args.out:
         n = [0]
         long_features(
@@ -78,7 +79,7 @@ def _run_long(args) -> int:
             subset=key,
             frame=getattr(args, "frame", "phone"),
             on_block=lambda b: n.__setitem__(0, n[0] + len(b)),
-            **read_kwargs(args),
+            **kw,
         )
         print(f"{args.input}: {n[0]} windows of {args.window_s:g} s ({key}); the input is long: pass --out FILE to write the table")
         return 0
@@ -97,7 +98,7 @@ def _run_long(args) -> int:
                 subset=key,
                 frame=getattr(args, "frame", "phone"),
                 on_block=write_block,
-                **read_kwargs(args),
+                **kw,
             )
     log(f"wrote {count[0]} windows ({key}, processed in chunks) to {args.out}")
     return 0

@@ -6,7 +6,7 @@ detected step (stride) instead; both are reported by :func:`_report`.
 
 from __future__ import annotations
 
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 
 
 def run(args) -> int:
@@ -23,7 +23,9 @@ def run(args) -> int:
         from gaitml.chunked_run import long_predict
 
         log("gaitml predict: long input, processing in chunks of 10 min (bounded memory)")
-        table = long_predict(model, args.input, correction=not args.no_correction, **read_kwargs(args))
+        if args.sampling_rate_hz is None:
+            args.sampling_rate_hz = model.sampling_rate_hz  # read at the model's rate, as predict_recording resamples to it
+        table = long_predict(model, args.input, correction=not args.no_correction, **long_read_kwargs(args))
     else:
         from gaitml.models import predict_recording
 

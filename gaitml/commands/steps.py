@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 from gaitml.evaluation.steps import evaluate_steps, step_times
 from gaitml.io import write_csv
 from gaitml.steps import get_detector
@@ -113,7 +113,8 @@ def _run_long(args) -> int:
 
     # the count cross-check (gaitml.steps.crosscheck) on the whole input: adaptive counted on the same chunks
     also = CROSSCHECK_DETECTOR if args.detector in FIXED_THRESHOLD_DETECTORS else None
-    steps = long_steps(args.input, args.detector, progress=True, count_also=also, **read_kwargs(args))
+    kw = long_read_kwargs(args)
+    steps = long_steps(args.input, args.detector, progress=True, count_also=also, **kw)
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
         write_csv(args.out, steps)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 from gaitml.errors import InputError
 from gaitml.io import write_csv
 from gaitml.zupt import get_detector
@@ -71,12 +71,13 @@ def run(args) -> int:
     if is_large_input(args):
         from gaitml.chunked_run import long_zupts
 
+        kw = long_read_kwargs(args)
         mask, table, fs = long_zupts(
             args.input,
             args.detector,
             detector_params=params,
             progress=True,
-            **read_kwargs(args),
+            **kw,
         )
         thr = getattr(get_detector(args.detector, **params), "_threshold", lambda: None)()
         obj = summary(args.detector, mask, table, fs, threshold_rads=thr)

@@ -124,7 +124,9 @@ class UniformResampler:
 
     def flush(self) -> tuple[np.ndarray, np.ndarray | None]:
         """The grid samples still held back by the filter (the end of the recording)."""
-        return self._filter(np.zeros((0, self._width)), None if self._prev is None or self._prev[2] is None else np.zeros(0, dtype=str), final=True)
+        return self._filter(
+            np.zeros((0, self._width)), None if self._prev is None or self._prev[2] is None else np.zeros(0, dtype=str), final=True
+        )
 
     def _empty(self, x: np.ndarray, lab) -> tuple[np.ndarray, np.ndarray | None]:
         return np.zeros((0, x.shape[1] if x.ndim == 2 else 0)), (None if lab is None else np.asarray(lab)[:0])

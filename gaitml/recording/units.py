@@ -19,7 +19,20 @@ import numpy as np
 from gaitml.consts import ACC_LIMIT_MS2, DEG2RAD, GRAVITY_MS2, GYR_FULL_SCALE_MAX_RADS, GYR_LIMIT_RADS
 from gaitml.errors import InputError
 
-__all__ = ["check_acc_unit", "check_gyr_unit", "check_units", "convert_units", "note_conversions", "ACC_UNITS", "GYR_UNITS"]
+__all__ = [
+    "check_acc_unit",
+    "check_gyr_unit",
+    "check_units",
+    "check_unit_magnitudes",
+    "acc_magnitude",
+    "gyr_magnitude",
+    "judge_acc_magnitude",
+    "judge_gyr_magnitude",
+    "convert_units",
+    "note_conversions",
+    "ACC_UNITS",
+    "GYR_UNITS",
+]
 
 #: The accepted unit names of the two channels.
 ACC_UNITS = ("m/s^2", "g")
@@ -55,8 +68,25 @@ def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
     """
     if len(acc) == 0:
         return
-    # clipped at the sensor limit so that a corrupt 1e308 cannot overflow the norm (check_range names it)
-    med = float(np.median(np.sqrt(np.sum(np.square(np.clip(acc, -ACC_LIMIT_MS2, ACC_LIMIT_MS2)), axis=1))))
+    judge_acc_magnitude(acc_magnitude(acc), what=what)
+
+
+def acc_magnitude(acc: np.ndarray) -> np.ndarray:
+    """Per-sample |acc|, clipped at the sensor limit so that a corrupt 1e308 cannot overflow (check_range names it)."""
+    return np.sqrt(np.sum(np.square(np.clip(acc, -ACC_LIMIT_MS2, ACC_LIMIT_MS2)), axis=1))
+
+
+def gyr_magnitude(gyr: np.ndarray) -> np.ndarray:
+    """Per-sample |gyr|, clipped at the sensor limit (as :func:`acc_magnitude`)."""
+    return np.sqrt(np.sum(np.square(np.clip(gyr, -GYR_LIMIT_RADS, GYR_LIMIT_RADS)), axis=1))
+
+
+def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc") -> None:
+    """The test of :func:`check_acc_unit` on the per-sample magnitudes of the whole recording
+    (a file read in blocks collects them block by block and is judged by this same code)."""
+    if len(mag) == 0:
+        return
+    med = float(np.median(mag))
     if med < _MIN_MEDIAN_ACC_MS2:
         raise InputError(
             f"{what} has no gravity (median |acc| = {med:.3g} m/s^2): gaitml needs the raw accelerometer with gravity "
@@ -97,7 +127,13 @@ def check_gyr_unit(gyr: np.ndarray) -> str | None:
     """
     if len(gyr) == 0:
         return None
-    mag = np.sqrt(np.sum(np.square(np.clip(gyr, -GYR_LIMIT_RADS, GYR_LIMIT_RADS)), axis=1))
+    return judge_gyr_magnitude(gyr_magnitude(gyr))
+
+
+def judge_gyr_magnitude(mag: np.ndarray) -> str | None:
+    """The judgement of :func:`check_gyr_unit` on the per-sample magnitudes of the whole recording."""
+    if len(mag) == 0:
+        return None
     p5, med, p99 = (float(v) for v in np.percentile(mag, [5, 50, 99]))
     fix = "pass gyr_unit='deg/s' (CLI: --gyr-unit deg/s) or convert to rad/s"
     if med > _GYR_MEDIAN_DEG_S_RADS or p99 > GYR_FULL_SCALE_MAX_RADS:
@@ -115,16 +151,22 @@ def check_gyr_unit(gyr: np.ndarray) -> str | None:
 
 def check_units(acc: np.ndarray, gyr: np.ndarray | None, meta: Mapping[str, Any]) -> str | None:
     """The unit checks of acc (refuse) and gyr (refuse or a warning text, see :func:`check_gyr_unit`)."""
+    return check_unit_magnitudes(acc_magnitude(acc), None if gyr is None else gyr_magnitude(gyr), meta)
+
+
+def check_unit_magnitudes(acc_mag: np.ndarray, gyr_mag: np.ndarray | None, meta: Mapping[str, Any]) -> str | None:
+    """:func:`check_units` on the per-sample magnitudes (:func:`acc_magnitude`, :func:`gyr_magnitude`)."""
     try:
-        check_acc_unit(acc)
+        judge_acc_magnitude(acc_mag)
     except InputError as exc:
         if "acc from g" in meta.get("converted", []):
             raise InputError(f"{exc} (the data was converted from g as asked: drop --acc-unit g / acc_unit='g' if it is in m/s^2)") from exc
         raise
-    return None if gyr is None else check_gyr_unit(gyr)
+    return None if gyr_mag is None else judge_gyr_magnitude(gyr_mag)
 
 
 def convert_units(acc, gyr, acc_unit: str, gyr_unit: str):
+    """``acc`` in m/s^2 and ``gyr`` in rad/s from the named units (InputError for a unit not in ACC_UNITS / GYR_UNITS)."""
     if acc_unit == "g":
         acc = acc * GRAVITY_MS2
     elif acc_unit != "m/s^2":

@@ -37,7 +37,7 @@ DEFAULT_MARGIN_S = 30.0
 
 
 def progress_chunks(chunks: Iterator[Chunk], desc: str, *, enabled: bool = True) -> Iterator[Chunk]:
-    """Wrap a chunk iterator in a tqdm progress bar (samples) on stderr."""
+    """Wrap a chunk iterator in a tqdm progress bar (samples) on stderr, when stderr is a terminal."""
     if not enabled:
         yield from chunks
         return
@@ -47,7 +47,11 @@ def progress_chunks(chunks: Iterator[Chunk], desc: str, *, enabled: bool = True)
     try:
         for ch in chunks:
             if bar is None:
-                bar = tqdm(total=ch.total_hint or None, unit="samples", unit_scale=True, desc=desc, file=sys.stderr, leave=False)
+                # disable=None: no bar when stderr is not a terminal (a log file, a pipe), so that
+                # a refusal stays one line there
+                bar = tqdm(
+                    total=ch.total_hint or None, unit="samples", unit_scale=True, desc=desc, file=sys.stderr, leave=False, disable=None
+                )
             bar.update(ch.core_end - ch.core_start)
             yield ch
     finally:
@@ -219,7 +223,7 @@ def long_features(
     parts = []
     for ch, _length, _hop in _window_chunks(path, length_s, overlap, chunk_s, progress, f"features ({subset})", **read_kwargs):
         rec = ch.recording
-        if rec.n_samples < _length:
+        if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
         wins = make_windows(rec, length_s, overlap, min_label_fraction=0.0)
         gstart = wins["start"].to_numpy() + ch.offset
@@ -268,7 +272,11 @@ def long_predict(
 
     parts = []
     if read_kwargs.get("sampling_rate_hz") is None:
+        # read at the model's rate, as predict_recording resamples a whole recording to it
         read_kwargs["sampling_rate_hz"] = model.sampling_rate_hz
+        scan = read_kwargs.pop("scan", None)
+        if scan is not None and abs(scan.sampling_rate_hz - model.sampling_rate_hz) <= 1e-9 * model.sampling_rate_hz:
+            read_kwargs["scan"] = scan
     # a domain record with an orientation-dynamics part decides on the median over the last windows of the
     # dynamics of every `every`-th window (which keep every step-th sample): more context before each core,
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
@@ -294,7 +302,7 @@ def long_predict(
     )
     for ch, _length, _hop in chunks:
         rec = ch.recording
-        if rec.n_samples < _length:
+        if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
         table = predict_recording(model, rec, correction=False)
         gstart = table["start"].to_numpy() + ch.offset

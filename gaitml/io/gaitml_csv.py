@@ -278,12 +278,15 @@ def _read_table(p: Path, *, chunksize: int | None = None):
 
 
 def _blocks(p: Path, reader):
-    it = iter(reader)
-    while True:
-        df = _guard_reading(p, lambda: next(it, None))
-        if df is None:
-            return
-        yield _clean_columns(p, df)
+    try:
+        it = iter(reader)
+        while True:
+            df = _guard_reading(p, lambda: next(it, None))
+            if df is None:
+                return
+            yield _clean_columns(p, df)
+    finally:
+        reader.close()
 
 
 def _guard_reading(p: Path, read):

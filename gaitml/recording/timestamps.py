@@ -206,7 +206,7 @@ def judge_rate(t: np.ndarray) -> dict[str, Any]:
                 i += 1
                 continue
             j = i
-            while j + 1 < len(off) and off[j + 1] and abs(rates[j + 1] - rates[i]) <= RATE_CHANGE_TOLERANCE * rates[i]:
+            while j + 1 < len(off) and off[j + 1]:
                 j += 1
             if ends[j] - starts[i] >= RATE_CHANGE_MIN_S:
                 r = float(np.median(rates[i : j + 1]))

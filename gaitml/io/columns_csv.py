@@ -108,8 +108,21 @@ def _times(series: pd.Series, unit: str, where: str) -> np.ndarray:
         raise InputError(
             f"{where}: time {series.iloc[bad]!r} at line {bad + 2} is neither a number nor a date-time; fix the column or --columns t=."
         ) from exc
-    ns = dt.astype("int64").to_numpy()
-    return (ns - ns[0]).astype(float) * 1e-9
+    return datetime_seconds(dt)
+
+
+def datetime_seconds(dt: pd.Series) -> np.ndarray:
+    """Seconds from the first date-time, whatever resolution pandas parsed it at.
+
+    pandas 2 parses to nanoseconds, pandas 3 to the resolution the text needs
+    (microseconds, milliseconds...): the unit is read from the dtype
+    (``numpy.datetime_data``), never assumed.
+    """
+    values = dt.dt.tz_localize(None).to_numpy() if getattr(dt.dt, "tz", None) is not None else dt.to_numpy()
+    unit, count = np.datetime_data(values.dtype)
+    ticks = values.view("int64")
+    per_s = {"s": 1, "ms": 1e3, "us": 1e6, "ns": 1e9}[unit] / count
+    return (ticks - ticks[0]).astype(float) / per_s
 
 
 def read_columns_csv(

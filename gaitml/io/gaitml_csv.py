@@ -120,6 +120,7 @@ def read_gaitml_csv(
         m["ignored_columns"] = cols.ignored
     m.update(meta or {})
     reference = _read_sidecars(p)
+    check_sidecar_times(p, reference, block.t)
     build = Recording.segments_from_timestamps if segments else Recording.from_timestamps
     return build(
         block.t,
@@ -345,6 +346,37 @@ def _read_sidecars(p: Path) -> dict:
     if traj.exists():
         ref["trajectory"] = pd.read_csv(traj)
     return ref
+
+
+#: Sidecar event times may lie this far (s) outside the recording's timestamps (an event at its very edge).
+SIDECAR_SLACK_S = 1.0
+
+
+def check_sidecar_times(p: Path, reference: dict, t: np.ndarray) -> None:
+    """Refuse sidecar event times (``<stem>.steps.csv``'s ``t_s``) outside the recording's time span.
+
+    They are on the recording's clock in seconds; times beyond the recording
+    are another unit or another clock, and scoring against them would give
+    F1 = 0 without a word. When the times divided by 1000 fall inside, the
+    message names milliseconds.
+    """
+    v = np.asarray(reference.get("steps_t_s", []), dtype=float)
+    if not len(v) or not len(t):
+        return
+    lo, hi = float(t[0]) - SIDECAR_SLACK_S, float(t[-1]) + SIDECAR_SLACK_S
+    if np.isfinite(v).all() and v.min() >= lo and v.max() <= hi:
+        return
+    name = f"{_stem(p)}.steps.csv"
+    span = f"the recording runs from t = {t[0]:.6g} to {t[-1]:.6g} s"
+    if np.isfinite(v).all() and (v / 1000).min() >= lo and (v / 1000).max() <= hi:
+        raise InputError(
+            f"{name}: t_s runs from {v.min():.6g} to {v.max():.6g} but {span}: the step times look like milliseconds; "
+            "write t_s in seconds (divide by 1000)."
+        )
+    raise InputError(
+        f"{name}: t_s runs from {np.nanmin(v):.6g} to {np.nanmax(v):.6g} but {span}; write the true step times in seconds "
+        "on the recording's clock (the same t as the recording), or remove the sidecar."
+    )
 
 
 def write_gaitml_csv(recording: Recording, path: str | os.PathLike) -> Path:

@@ -310,8 +310,9 @@ def long_predict(
         parts.append(_globalise_windows(table[keep].reset_index(drop=True), ch.offset, rec.sampling_rate_hz))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     if correction and len(out):
+        from gaitml.models._predict import STILL
         from gaitml.postprocess import adjacent_window_correction
 
-        out["mode_raw"] = out["mode"]
-        out["mode"] = adjacent_window_correction(out["mode"].to_numpy())
+        corrected = np.asarray(adjacent_window_correction(out["mode_raw"].to_numpy())).astype(str)
+        out["mode"] = np.where(out["still"].to_numpy(dtype=bool), STILL, corrected)
     return out

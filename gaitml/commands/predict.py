@@ -32,6 +32,16 @@ def run(args) -> int:
     return _report(args, model, table, "windows", {"window_s": model.length_s, "overlap": model.overlap})
 
 
+def still_warning(n_still: int, n: int, unit: str) -> str:
+    """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows)."""
+    from gaitml.models._predict import STILL_RANGE_MS2
+
+    return (
+        f"{n_still} of {n} {unit} hold no step (|acc| swings by less than {STILL_RANGE_MS2:g} m/s^2: lying still or standing); "
+        "they are reported as 'still', not as one of the model's motion modes (mode_raw keeps the model's answer)."
+    )
+
+
 def _report(args, model, table, unit: str, settings: dict) -> int:
     """Write / print the prediction table of windows (time-window model) or steps / strides (step-window model).
 
@@ -55,6 +65,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     warning = domain_warning(model, in_domain, unit)
     if warning:
         log(f"gaitml: warning: {warning}")
+    n_still = int(table["still"].sum()) if "still" in table else 0
+    if n_still:
+        log(f"gaitml: warning: {still_warning(n_still, len(table), unit)}")
     by_steps = unit != "windows"
     if args.json:
         emit_json(
@@ -75,6 +88,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 ],
                 "counts": counts,
                 "out_of_domain_fraction": ood_fraction,
+                "still_fraction": n_still / len(table) if len(table) else None,
             }
         )
     elif not args.out:

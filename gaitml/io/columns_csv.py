@@ -185,10 +185,13 @@ def read_columns_csv(
         m["time_unit"] = time_unit
     labels = None
     if "label" in col:
-        lab = df.loc[acc_rows, col["label"]]
-        if lab.isna().any():
+        # labels as written: "01" stays "01", "NA" and "None" are labels (only an empty field is missing)
+        text = pd.read_csv(io.BytesIO(raw), sep=sep, decimal=dec, encoding="utf-8-sig", skipinitialspace=True, dtype=str, keep_default_na=False)
+        lab = text.iloc[:, list(df.columns).index(col["label"])][acc_rows.to_numpy() if hasattr(acc_rows, "to_numpy") else acc_rows]
+        empty = lab.str.strip().eq("").to_numpy()
+        if empty.any():
             raise InputError(
-                f"{p.name}: empty label at line {int(np.flatnonzero(lab.isna().to_numpy())[0]) + 2}; label every sample or drop label= from --columns."
+                f"{p.name}: empty label at line {int(np.flatnonzero(empty)[0]) + 2}; label every sample or drop label= from --columns."
             )
         labels = lab.astype(str).to_numpy()
     gyr = None

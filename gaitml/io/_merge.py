@@ -37,7 +37,7 @@ import numpy as np
 
 from gaitml.errors import InputError
 
-__all__ = ["merge_clocks", "MIN_OVERLAP_FRACTION", "WARN_SAMPLES", "FILL_RULE", "check_times"]
+__all__ = ["override_units", "merge_clocks", "MIN_OVERLAP_FRACTION", "WARN_SAMPLES", "FILL_RULE", "check_times"]
 
 #: Refuse two streams whose overlap is shorter than this fraction of the shorter stream.
 MIN_OVERLAP_FRACTION = 0.5
@@ -159,3 +159,22 @@ def merge_clocks(
         "warning": warning,
     }
     return t_acc, acc, gyr_on_acc, info
+
+
+def override_units(meta: dict, acc_unit: str, gyr_unit: str, acc_given: str | None, gyr_given: str | None) -> tuple[str, str]:
+    """The units to convert from: the export's own (``acc_unit``, ``gyr_unit``) unless the user named others.
+
+    A phone app's header can state m/s^2 over values in g (an app setting, a re-export);
+    ``--acc-unit`` / ``--gyr-unit`` then say what the values are, and ``meta['unit_override']``
+    records both.
+    """
+    notes = []
+    if acc_given is not None and acc_given != acc_unit:
+        notes.append(f"acc in {acc_given} as given (the export says {acc_unit})")
+        acc_unit = acc_given
+    if gyr_given is not None and gyr_given != gyr_unit:
+        notes.append(f"gyr in {gyr_given} as given (the export says {gyr_unit})")
+        gyr_unit = gyr_given
+    if notes:
+        meta["unit_override"] = notes
+    return acc_unit, gyr_unit

@@ -186,7 +186,9 @@ def read_columns_csv(
     labels = None
     if "label" in col:
         # labels as written: "01" stays "01", "NA" and "None" are labels (only an empty field is missing)
-        text = pd.read_csv(io.BytesIO(raw), sep=sep, decimal=dec, encoding="utf-8-sig", skipinitialspace=True, dtype=str, keep_default_na=False)
+        text = pd.read_csv(
+            io.BytesIO(raw), sep=sep, decimal=dec, encoding="utf-8-sig", skipinitialspace=True, dtype=str, keep_default_na=False
+        )
         lab = text.iloc[:, list(df.columns).index(col["label"])][acc_rows.to_numpy() if hasattr(acc_rows, "to_numpy") else acc_rows]
         empty = lab.str.strip().eq("").to_numpy()
         if empty.any():

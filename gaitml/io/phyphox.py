@@ -45,7 +45,7 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table, sniff_csv
-from gaitml.io._merge import check_times, merge_clocks
+from gaitml.io._merge import check_times, merge_clocks, override_units
 from gaitml.recording import Recording
 
 __all__ = ["read_phyphox", "is_phyphox", "is_phyphox_header"]
@@ -159,6 +159,8 @@ def read_phyphox(
     *,
     sampling_rate_hz: float | None = None,
     meta: dict | None = None,
+    acc_unit: str | None = None,
+    gyr_unit: str | None = None,
 ) -> Recording:
     """Read a phyphox export (one CSV table, the exported folder, or its zip).
 
@@ -184,6 +186,7 @@ def read_phyphox(
         gyroscope), empty tables, clocks that do not overlap, bad units.
     """
     p = require_file(path)
+    acc_override, gyr_override = acc_unit, gyr_unit
     name = p.stem if p.suffix.lower() in (".zip", ".csv") else p.name
     with open_export(p) as box:
         acc_src, gyr_src, lin_src = _find_tables(box)
@@ -217,6 +220,7 @@ def read_phyphox(
             if key_g not in m["tables"]:
                 m["tables"].append(key_g)
     m.update(meta or {})
+    acc_unit, gyr_unit = override_units(m, acc_unit, gyr_unit, acc_override, gyr_override)
     return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit, gyr_unit=gyr_unit)
 
 

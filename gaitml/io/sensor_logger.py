@@ -44,7 +44,7 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table
-from gaitml.io._merge import check_times, merge_clocks
+from gaitml.io._merge import check_times, merge_clocks, override_units
 from gaitml.recording import Recording
 
 __all__ = ["read_sensor_logger", "is_sensor_logger", "is_sensor_logger_header", "SENSOR_LOGGER_TABLES"]
@@ -136,6 +136,8 @@ def read_sensor_logger(
     *,
     sampling_rate_hz: float | None = None,
     meta: dict | None = None,
+    acc_unit: str | None = None,
+    gyr_unit: str | None = None,
 ) -> Recording:
     """Read a Sensor Logger export (zip, its folder, or one motion table of the folder).
 
@@ -178,6 +180,7 @@ def read_sensor_logger(
             m["platform"] = info["platform"]
         if info.get("device"):
             m["device"] = info["device"]
+        acc_override, gyr_override = acc_unit, gyr_unit
         acc_unit = "m/s^2"
         if "totalacceleration.csv" in top:
             t_acc, acc, tcol = _table(box, "totalacceleration.csv", name)
@@ -244,7 +247,8 @@ def read_sensor_logger(
         if tcol == "time":
             m["t0_epoch_ns"] = int(t0)
     m.update(meta or {})
-    return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit)
+    acc_unit, gyr_unit = override_units(m, acc_unit, "rad/s", acc_override, gyr_override)
+    return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit, gyr_unit=gyr_unit)
 
 
 def _seconds(t: np.ndarray, t0, tcol: str) -> np.ndarray:

@@ -275,8 +275,9 @@ def long_predict(
         # read at the model's rate, as predict_recording resamples a whole recording to it
         read_kwargs["sampling_rate_hz"] = model.sampling_rate_hz
         scan = read_kwargs.pop("scan", None)
-        if scan is not None and abs(scan.sampling_rate_hz - model.sampling_rate_hz) <= 1e-9 * model.sampling_rate_hz:
-            read_kwargs["scan"] = scan
+        if scan is not None:
+            same = abs(scan.sampling_rate_hz - model.sampling_rate_hz) <= 1e-9 * model.sampling_rate_hz
+            read_kwargs["scan"] = scan if same else scan.at_rate(model.sampling_rate_hz)
     # a domain record with an orientation-dynamics part decides on the median over the last windows of the
     # dynamics of every `every`-th window (which keep every step-th sample): more context before each core,
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)

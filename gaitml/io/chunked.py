@@ -28,6 +28,7 @@ Other formats are read whole, then sliced.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -110,6 +111,27 @@ class Scan:
     def warnings(self) -> list[str]:
         return list(self.meta.get("warnings", []))
 
+    def at_rate(self, sampling_rate_hz: float) -> Scan:
+        """The same file read at ``sampling_rate_hz`` (resampled), without reading it again.
+
+        What a requested rate changes in :func:`~gaitml.recording.timestamps.judge_timestamps`:
+        the grid, ``resampled`` and the resampling method (the file's own rate was judged
+        already, and passed :func:`~gaitml.recording.timestamps.check_rate`).
+        """
+        from gaitml.recording.timestamps import check_rate, rate_change_warning
+
+        fs = float(sampling_rate_hz)
+        check_rate(fs, what="the requested sampling rate")
+        meta = {k: v for k, v in self.meta.items() if k not in ("resampled", "resample_method", "warnings")}
+        plan = {"fs": fs, "resampled": True, "max_rate_hz": self.max_rate_hz, "warnings": []}
+        old = [w for w in self.meta.get("warnings", []) if not w.startswith("the sampling rate changes mid-file")]
+        if self.meta.get("rate_changes"):
+            plan["warnings"] = [rate_change_warning(self.meta["rate_changes"], self.meta["original_rate_hz"], fs)]
+        if old:
+            meta["warnings"] = old
+        finish_resampling_meta(meta, plan)
+        return dataclasses.replace(self, sampling_rate_hz=fs, resampled=True, meta=meta)
+
 
 def estimate_samples(path: str | os.PathLike) -> int:
     """A cheap estimate of the number of samples of a file (from its size)."""
@@ -144,6 +166,25 @@ def _parsed_blocks(p: Path, rows: int) -> Iterator[tuple[Block, int, Columns]]:
         raise InputError(f"the file is empty: {p}; record or export the data again.")
 
 
+class _Growing:
+    """A 1-D array filled block by block (capacity grows by half when full): no list of blocks to concatenate."""
+
+    def __init__(self, capacity: int, dtype):
+        self.buf = np.empty(capacity, dtype=dtype)
+        self.n = 0
+
+    def append(self, x: np.ndarray) -> None:
+        if self.n + len(x) > len(self.buf):
+            grown = np.empty(max(self.n + len(x), int(len(self.buf) * 1.5)), dtype=self.buf.dtype)
+            grown[: self.n] = self.buf[: self.n]
+            self.buf = grown
+        self.buf[self.n : self.n + len(x)] = x
+        self.n += len(x)
+
+    def values(self) -> np.ndarray:
+        return self.buf[: self.n]
+
+
 def scan_gaitml_csv(
     path: str | os.PathLike,
     *,
@@ -167,7 +208,8 @@ def scan_gaitml_csv(
     conv_meta: dict = {}
     note_conversions(conv_meta, acc_unit, gyr_unit == "deg/s")
     tally = RangeTally(conv_meta)
-    ts, amag, gmag = [], [], []
+    cap = max(1024, int(estimate_samples(p) * 1.05))
+    ts, amag, gmag = _Growing(cap, np.float64), _Growing(cap, np.float32), _Growing(cap, np.float32)
     nan = Block(np.zeros(0), np.zeros((0, 3)), None, None)
     has_gyr = has_labels = False
     cols_ignored: list[str] = []
@@ -187,8 +229,7 @@ def scan_gaitml_csv(
     if n == 0:
         raise InputError(f"{p.name} has a header but no samples; record or export the data again.")
     nan.raise_nan(p)
-    t = np.concatenate(ts)
-    del ts
+    t = ts.values()
     if len(t) < 2:
         raise InputError(f"need at least 2 timestamped samples to find the sampling rate, got {len(t)}; use a longer recording.")
     check_increasing(t)
@@ -197,7 +238,7 @@ def scan_gaitml_csv(
         meta["ignored_columns"] = cols_ignored
     note_conversions(meta, acc_unit, has_gyr and gyr_unit == "deg/s")
     plan = judge_timestamps(t, sampling_rate_hz=sampling_rate_hz)
-    warning = check_unit_magnitudes(np.concatenate(amag), np.concatenate(gmag) if gmag else None, meta)
+    warning = check_unit_magnitudes(amag.values(), gmag.values() if has_gyr else None, meta)
     del amag, gmag
     tally.raise_first()
     meta.update(plan["meta"])

@@ -52,6 +52,8 @@ RATE_STRETCH_INTERVALS = 1000
 #: Timestamps whose intervals take at most this many distinct values (to 1 ns) are quantised
 #: (a clock with a coarse resolution, e.g. whole milliseconds) ...
 QUANTISED_LEVELS = 8
+#: ... counted among this many intervals spread over the file.
+QUANTISED_SAMPLE = 100_000
 #: ... and when the median interval's rate and the stretch rate then disagree by more than
 #: this fraction, the stretch rate is the rate (:func:`judge_rate`).
 QUANTISED_TOLERANCE = 0.05
@@ -146,22 +148,28 @@ def local_rates(t: np.ndarray, *, stretch: int | None = None) -> tuple[np.ndarra
     to :data:`RATE_STRETCH_INTERVALS`.
     """
     t = np.asarray(t, dtype=float)
-    dt = np.diff(t)
+    return _local_rates(t, np.diff(t), None, stretch)
+
+
+def _local_rates(t: np.ndarray, dt: np.ndarray, med: float | None, stretch: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`local_rates` from the intervals ``dt`` (and their median) already computed; no copy of ``dt``."""
     w = int(stretch or RATE_STRETCH_INTERVALS)
     if len(dt) == 0:
         return np.zeros(0), np.zeros(0)
-    med = float(np.median(dt))
-    ok = dt <= GAP_FACTOR * med
+    med = float(np.median(dt)) if med is None else med
     n = len(dt) // w if len(dt) >= w else 1
     w_eff = len(dt) // n
-    d = np.where(ok, dt, 0.0)[: n * w_eff].reshape(n, w_eff).sum(axis=1)
-    c = ok[: n * w_eff].reshape(n, w_eff).sum(axis=1)
+    d = dt[: n * w_eff].reshape(n, w_eff).sum(axis=1)
+    c = np.full(n, float(w_eff))
+    gaps = np.flatnonzero(dt[: n * w_eff] > GAP_FACTOR * med)
+    np.subtract.at(d, gaps // w_eff, dt[gaps])
+    np.subtract.at(c, gaps // w_eff, 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         rates = np.where(d > 0, c / d, np.nan)
     return t[: n * w_eff : w_eff], rates
 
 
-def judge_rate(t: np.ndarray) -> dict[str, Any]:
+def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = None) -> dict[str, Any]:
     """The rate of a recording's timestamps, judged over the whole file (see :func:`judge_timestamps`).
 
     The rate is ``1 / median interval``, unless the timestamps are quantised (at
@@ -180,15 +188,17 @@ def judge_rate(t: np.ndarray) -> dict[str, Any]:
         s from the first timestamp).
     """
     t = np.asarray(t, dtype=float)
-    dt = np.diff(t)
-    med = float(np.median(dt))
+    dt = np.diff(t) if dt is None else dt
+    med = float(np.median(dt)) if med is None else med
     rate = 1.0 / med
-    starts, rates = local_rates(t)
+    starts, rates = _local_rates(t, dt, med)
     good = np.isfinite(rates)
     rule = "1 / median interval"
     if good.any():
         r_med = float(np.median(rates[good]))
-        levels = np.unique(np.round(dt[dt <= GAP_FACTOR * med], 9))
+        # distinct intervals among at most QUANTISED_SAMPLE of them, spread over the file
+        sample = dt[:: max(1, len(dt) // QUANTISED_SAMPLE)]
+        levels = np.unique(np.round(sample[sample <= GAP_FACTOR * med], 9))
         if len(levels) <= QUANTISED_LEVELS and abs(r_med - rate) > QUANTISED_TOLERANCE * r_med:
             res = float(np.min(np.diff(levels))) if len(levels) > 1 else float(levels[0])
             rule = (
@@ -251,7 +261,7 @@ def judge_timestamps(
     """
     t = np.asarray(t, dtype=float)
     dt = np.diff(t)
-    judged = judge_rate(t)
+    judged = judge_rate(t, dt, float(np.median(dt)))
     med = judged["median_interval_s"]
     original_rate = judged["rate_hz"]
     if sampling_rate_hz is not None:

@@ -72,13 +72,14 @@ def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
 
 
 def acc_magnitude(acc: np.ndarray) -> np.ndarray:
-    """Per-sample |acc|, clipped at the sensor limit so that a corrupt 1e308 cannot overflow (check_range names it)."""
-    return np.sqrt(np.sum(np.square(np.clip(acc, -ACC_LIMIT_MS2, ACC_LIMIT_MS2)), axis=1))
+    """Per-sample |acc| (float32: the unit tests are thresholds, not sums), clipped at the sensor limit so that
+    a corrupt 1e308 cannot overflow (check_range names it)."""
+    return np.sqrt(np.sum(np.square(np.clip(acc, -ACC_LIMIT_MS2, ACC_LIMIT_MS2)), axis=1)).astype(np.float32)
 
 
 def gyr_magnitude(gyr: np.ndarray) -> np.ndarray:
-    """Per-sample |gyr|, clipped at the sensor limit (as :func:`acc_magnitude`)."""
-    return np.sqrt(np.sum(np.square(np.clip(gyr, -GYR_LIMIT_RADS, GYR_LIMIT_RADS)), axis=1))
+    """Per-sample |gyr|, clipped at the sensor limit (float32, as :func:`acc_magnitude`)."""
+    return np.sqrt(np.sum(np.square(np.clip(gyr, -GYR_LIMIT_RADS, GYR_LIMIT_RADS)), axis=1)).astype(np.float32)
 
 
 def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc") -> None:

@@ -10,9 +10,11 @@ no traceback), 1 internal error.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import select
+import signal
 import sys
 import traceback
 
@@ -63,8 +65,12 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             print("gaitml: error: no command given; see 'gaitml --help' for the commands.", file=sys.stderr)
             return 2
+        from gaitml.commands._paths import check_outputs
+
+        check_outputs(args)
         module = importlib.import_module(f"gaitml.commands.{args.command}")
-        return int(module.run(args) or 0)
+        with _terminate_as_interrupt():
+            return int(module.run(args) or 0)
     except UsageError as exc:
         print(f"gaitml: error: {exc}", file=sys.stderr)
         return 2
@@ -72,6 +78,9 @@ def main(argv: list[str] | None = None) -> int:
         msg = " ".join(str(exc).split())
         print(f"gaitml: error: {msg}", file=sys.stderr)
         return 2
+    except _Terminated as exc:
+        print(f"gaitml: terminated by {signal.Signals(exc.signum).name}", file=sys.stderr)
+        return 128 + exc.signum
     except KeyboardInterrupt:
         print("gaitml: interrupted", file=sys.stderr)
         return 130
@@ -85,6 +94,39 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except Exception as exc:  # an internal error: a bug to report
         return _internal_error(exc)
+
+
+class _Terminated(BaseException):
+    """SIGTERM or SIGHUP during a command: unwinds like KeyboardInterrupt so that every
+    atomic write (gaitml.io._atomic) removes its temporary file on the way out."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+#: Signals that end a run cleanly, as SIGINT does (exit status 128 + the signal's number).
+TERMINATING_SIGNALS = tuple(getattr(signal, n) for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n))
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt():
+    """While a command runs, turn SIGTERM and SIGHUP into :class:`_Terminated` (main thread only)."""
+
+    def handler(signum, _frame):
+        raise _Terminated(signum)
+
+    previous = {}
+    try:
+        for sig in TERMINATING_SIGNALS:
+            previous[sig] = signal.signal(sig, handler)
+    except ValueError:  # not the main thread: leave the signals alone
+        pass
+    try:
+        yield
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
 
 
 def _stdout_closed() -> bool:

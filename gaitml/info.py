@@ -92,8 +92,7 @@ def _is_phone_manifest_folder(p: Path) -> bool:
 def describe_path(path: str | os.PathLike, **read_kwargs: Any) -> dict[str, Any]:
     """Summarise a recording, a data set folder or a gaitmap annotation table."""
     p = Path(path)
-    if read_kwargs.get("columns") is not None or read_kwargs.get("format"):
-        # any CSV read by its column map, or a file read with the --format given: one recording
+    if read_kwargs.get("columns") is not None or read_kwargs.get("format") not in (None, "gaitml-csv"):  # one recording, read as told
         return {"kind": "recording", **describe_recording(read_recording(p, **read_kwargs))}
     fmt = detect_format(p)
     if fmt == "gaitmap-table":

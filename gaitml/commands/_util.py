@@ -41,6 +41,20 @@ def is_large_input(args) -> bool:
         return False
 
 
+def long_read_kwargs(args) -> dict:
+    """:func:`read_kwargs` for the chunked path, with the first pass over the file made here so that
+    its warnings (the same as a file read whole) are printed once, one stderr line each."""
+    from gaitml.io.chunked import scan_input
+
+    kw = read_kwargs(args)
+    scan = scan_input(args.input, **kw)
+    if scan is not None:
+        for warning in scan.warnings:
+            log(f"gaitml: warning: {warning}")
+        kw["scan"] = scan
+    return kw
+
+
 def read_kwargs(args) -> dict:
     """The common input options as keyword arguments of the readers."""
     return {

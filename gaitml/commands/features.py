@@ -13,7 +13,7 @@ import argparse
 import pandas as pd
 
 from gaitml.commands._args import add_input_options, choices, feature_frames, feature_sets
-from gaitml.commands._util import is_large_input, load_input, log, read_kwargs
+from gaitml.commands._util import is_large_input, load_input, log, long_read_kwargs
 
 #: The command's one-line description in ``gaitml --help``.
 HELP = "extract windowed features"
@@ -91,9 +91,9 @@ def run(args) -> int:
 
 def _run_long(args) -> int:
     """A long input: features chunk by chunk, appended to the output file (bounded memory)."""
+    from gaitml.chunked_run import long_features
     from gaitml.features import resolve_subset
     from gaitml.io import atomic_path
-    from gaitml.longrun import long_features
 
     key = resolve_subset(args.subset)
     if not args.out:
@@ -105,7 +105,7 @@ def _run_long(args) -> int:
             subset=key,
             frame=getattr(args, "frame", "phone"),
             on_block=lambda b: n.__setitem__(0, n[0] + len(b)),
-            **read_kwargs(args),
+            **long_read_kwargs(args),
         )
         print(f"{args.input}: {n[0]} windows of {args.window_s:g} s ({key}); the input is long: pass --out FILE to write the table")
         return 0
@@ -124,7 +124,7 @@ def _run_long(args) -> int:
                 subset=key,
                 frame=getattr(args, "frame", "phone"),
                 on_block=write_block,
-                **read_kwargs(args),
+                **long_read_kwargs(args),
             )
     log(f"wrote {count[0]} windows ({key}, processed in chunks) to {args.out}")
     return 0

@@ -7,7 +7,7 @@ import argparse
 import numpy as np
 
 from gaitml.commands._args import add_input_options, choices, step_detectors
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 
 #: The command's one-line description in ``gaitml --help``.
 HELP = "detect steps"
@@ -128,15 +128,15 @@ def run(args) -> int:
 
 
 def _run_long(args) -> int:
-    """A long input: chunks of 10 min with 30 s margins (bounded memory, see gaitml.longrun)."""
+    """A long input: chunks of 10 min with 30 s margins (bounded memory, see gaitml.chunked_run)."""
+    from gaitml.chunked_run import long_steps
     from gaitml.evaluation.steps import step_times
     from gaitml.io import write_csv
-    from gaitml.longrun import long_steps
     from gaitml.steps.crosscheck import CROSSCHECK_DETECTOR, FIXED_THRESHOLD_DETECTORS, compare_counts
 
     # the count cross-check (gaitml.steps.crosscheck) on the whole input: adaptive counted on the same chunks
     also = CROSSCHECK_DETECTOR if args.detector in FIXED_THRESHOLD_DETECTORS else None
-    steps = long_steps(args.input, args.detector, progress=True, count_also=also, **read_kwargs(args))
+    steps = long_steps(args.input, args.detector, progress=True, count_also=also, **long_read_kwargs(args))
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
         write_csv(args.out, steps)

@@ -1,7 +1,7 @@
 """`gaitml zupt INPUT [--detector NAME] [--threshold-rads X] [--interval-rules R] [--out FILE] [--json]` (DESIGN sec. 5).
 
 Inputs longer than ``gaitml.io.chunked.LARGE_INPUT_SAMPLES`` are processed in
-overlapping chunks (:func:`gaitml.longrun.long_zupts`, bounded memory, the same
+overlapping chunks (:func:`gaitml.chunked_run.long_zupts`, bounded memory, the same
 per-sample decisions as a whole-file run); the others are read whole.
 """
 
@@ -12,7 +12,7 @@ import argparse
 import numpy as np
 
 from gaitml.commands._args import add_input_options, choices, zupt_detectors
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 from gaitml.errors import InputError
 
 #: The command's one-line description in ``gaitml --help``.
@@ -115,14 +115,14 @@ def run(args) -> int:
     rules = getattr(args, "interval_rules", None)
     params = detector_params(args.detector, args.threshold_rads, rules)
     if is_large_input(args):
-        from gaitml.longrun import long_zupts
+        from gaitml.chunked_run import long_zupts
 
         mask, table, fs = long_zupts(
             args.input,
             args.detector,
             detector_params=params,
             progress=True,
-            **read_kwargs(args),
+            **long_read_kwargs(args),
         )
         thr = getattr(get_detector(args.detector, **params), "_threshold", lambda: None)()
         obj = summary(args.detector, mask, table, fs, threshold_rads=thr)

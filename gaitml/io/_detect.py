@@ -171,10 +171,16 @@ def read_recording(
         if columns is None:
             raise InputError("--format columns-csv needs --columns t=...,acc_x=...,acc_y=...,acc_z=... naming the CSV's columns.")
         return read_columns_csv(p, columns, time_unit=time_unit, acc_unit=acc_unit, gyr_unit=gyr_unit, sampling_rate_hz=sampling_rate_hz)
+    given = {"acc_unit": None if acc_unit == "m/s^2" else acc_unit, "gyr_unit": None if gyr_unit == "rad/s" else gyr_unit}
     if fmt == "phyphox":
-        return read_phyphox(p, sampling_rate_hz=sampling_rate_hz)
+        return read_phyphox(p, sampling_rate_hz=sampling_rate_hz, **given)
     if fmt == "sensor-logger":
-        return read_sensor_logger(p, sampling_rate_hz=sampling_rate_hz)
+        return read_sensor_logger(p, sampling_rate_hz=sampling_rate_hz, **given)
+    if any(given.values()) and fmt in ("ifsm-xlsx", "oxford", "gaitmap", "getsensordata", "tyrex", "tyrex-set"):
+        flag = "--acc-unit" if given["acc_unit"] else "--gyr-unit"
+        raise InputError(
+            f"{flag} applies to gaitml-csv, columns-csv, phyphox and Sensor Logger files; a {fmt} recording has its documented units: drop {flag}."
+        )
     if fmt == "getsensordata":
         return read_getsensordata(p, sampling_rate_hz=sampling_rate_hz)
     if fmt == "gaitml-csv":

@@ -115,8 +115,21 @@ def _times(series: pd.Series, unit: str, where: str) -> np.ndarray:
         raise InputError(
             f"{where}: time {series.iloc[bad]!r} at line {bad + 2} is neither a number nor a date-time; fix the column or --columns t=."
         ) from exc
-    ns = dt.astype("int64").to_numpy()
-    return (ns - ns[0]).astype(float) * 1e-9
+    return datetime_seconds(dt)
+
+
+def datetime_seconds(dt: pd.Series) -> np.ndarray:
+    """Seconds from the first date-time, whatever resolution pandas parsed it at.
+
+    pandas 2 parses to nanoseconds, pandas 3 to the resolution the text needs
+    (microseconds, milliseconds...): the unit is read from the dtype
+    (``numpy.datetime_data``), never assumed.
+    """
+    values = dt.dt.tz_localize(None).to_numpy() if getattr(dt.dt, "tz", None) is not None else dt.to_numpy()
+    unit, count = np.datetime_data(values.dtype)
+    ticks = values.view("int64")
+    per_s = {"s": 1, "ms": 1e3, "us": 1e6, "ns": 1e9}[unit] / count
+    return (ticks - ticks[0]).astype(float) / per_s
 
 
 #: Clock times without a date: ``HH:MM:SS.fff``, ``MM:SS.fff`` or ``HH:MM:SS:fff`` (Physics Toolbox).
@@ -199,10 +212,15 @@ def read_columns_csv(
         m["time_unit"] = time_unit
     labels = None
     if "label" in col:
-        lab = df.loc[acc_rows, col["label"]]
-        if lab.isna().any():
+        # labels as written: "01" stays "01", "NA" and "None" are labels (only an empty field is missing)
+        text = pd.read_csv(
+            io.BytesIO(raw), sep=sep, decimal=dec, encoding="utf-8-sig", skipinitialspace=True, dtype=str, keep_default_na=False
+        )
+        lab = text.iloc[:, list(df.columns).index(col["label"])][acc_rows.to_numpy() if hasattr(acc_rows, "to_numpy") else acc_rows]
+        empty = lab.str.strip().eq("").to_numpy()
+        if empty.any():
             raise InputError(
-                f"{p.name}: empty label at line {int(np.flatnonzero(lab.isna().to_numpy())[0]) + 2}; label every sample or drop label= from --columns."
+                f"{p.name}: empty label at line {int(np.flatnonzero(empty)[0]) + 2}; label every sample or drop label= from --columns."
             )
         labels = lab.astype(str).to_numpy()
     gyr = None
@@ -217,6 +235,8 @@ def read_columns_csv(
         if labels is not None:
             labels = labels[np.isin(t_acc, t)]
         m["clock_merge"] = info
+        if info["warning"]:
+            m.setdefault("warnings", []).append(info["warning"])
     elif has_gyr:
         gyr = df.loc[acc_rows, gyr_cols].apply(pd.to_numeric, errors="coerce").to_numpy(dtype=float)
         bad = ~np.isfinite(gyr).all(axis=1)

@@ -46,7 +46,7 @@ from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table, sniff_csv
 from gaitml.io._hold import dehold, note_hold
-from gaitml.io._merge import check_times, merge_clocks
+from gaitml.io._merge import check_times, merge_clocks, override_units
 from gaitml.recording import Recording
 
 __all__ = ["read_phyphox", "is_phyphox", "is_phyphox_header"]
@@ -206,6 +206,8 @@ def read_phyphox(
     *,
     sampling_rate_hz: float | None = None,
     meta: dict | None = None,
+    acc_unit: str | None = None,
+    gyr_unit: str | None = None,
 ) -> Recording:
     """Read a phyphox export (one CSV table, the exported folder, or its zip).
 
@@ -231,6 +233,7 @@ def read_phyphox(
         gyroscope), empty tables, clocks that do not overlap, bad units.
     """
     p = require_file(path)
+    acc_override, gyr_override = acc_unit, gyr_unit
     name = p.stem if p.suffix.lower() in (".zip", ".csv") else p.name
     with open_export(p) as box:
         acc_src, gyr_src, lin_src = _find_tables(box)
@@ -265,9 +268,12 @@ def read_phyphox(
             t_gyr, gyr_raw = note_hold(m, "gyr", *dehold(t_gyr, gyr_raw, "gyroscope"))
             t, acc, gyr, info = merge_clocks(t_acc, acc, t_gyr, gyr_raw, what=p.name)
             m["clock_merge"] = info
+            if info["warning"]:
+                m.setdefault("warnings", []).append(info["warning"])
             if key_g not in m["tables"]:
                 m["tables"].append(key_g)
     m.update(meta or {})
+    acc_unit, gyr_unit = override_units(m, acc_unit, gyr_unit, acc_override, gyr_override)
     return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit, gyr_unit=gyr_unit)
 
 

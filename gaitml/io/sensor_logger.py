@@ -46,7 +46,7 @@ from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table
 from gaitml.io._hold import dehold, note_hold
-from gaitml.io._merge import check_times, merge_clocks
+from gaitml.io._merge import check_times, merge_clocks, override_units
 from gaitml.recording import Recording
 
 __all__ = ["read_sensor_logger", "is_sensor_logger", "is_sensor_logger_header", "SENSOR_LOGGER_TABLES"]
@@ -141,6 +141,8 @@ def read_sensor_logger(
     *,
     sampling_rate_hz: float | None = None,
     meta: dict | None = None,
+    acc_unit: str | None = None,
+    gyr_unit: str | None = None,
 ) -> Recording:
     """Read a Sensor Logger export (zip, its folder, or one motion table of the folder).
 
@@ -183,6 +185,7 @@ def read_sensor_logger(
             m["platform"] = info["platform"]
         if info.get("device"):
             m["device"] = info["device"]
+        acc_override, gyr_override = acc_unit, gyr_unit
         acc_unit = "m/s^2"
         if "totalacceleration.csv" in top:
             t_acc, acc, tcol = _table(box, "totalacceleration.csv", name)
@@ -197,7 +200,12 @@ def read_sensor_logger(
                 )
             t0 = min(t_acc[0], t_grav[0])
             ta, tg = _seconds(t_acc, t0, tcol), _seconds(t_grav, t0, tcol)
-            ta_kept, user_kept, grav_on, _ = merge_clocks(ta, user, tg, grav, what=f"{name} (Accelerometer.csv + Gravity.csv)")
+            ta_kept, user_kept, grav_on, grav_merge = merge_clocks(
+                ta, user, tg, grav, what=f"{name} (Accelerometer.csv + Gravity.csv)", names=("accelerometer", "gravity sensor")
+            )
+            m["gravity_merge"] = grav_merge
+            if grav_merge["warning"]:
+                m.setdefault("warnings", []).append(grav_merge["warning"])
             acc = user_kept + grav_on
             t_acc = ta_kept if tcol == "seconds_elapsed" else (np.round(ta_kept * 1e9).astype(np.int64) + t0)
             m["acc_source"] = "Accelerometer.csv + Gravity.csv (gravity interpolated onto the accelerometer times)"
@@ -238,13 +246,16 @@ def read_sensor_logger(
             t0 = min(t_acc[0], t_gyr[0])
             t, acc, gyr, merge = merge_clocks(_seconds(t_acc, t0, tcol), acc, _seconds(t_gyr, t0, tcol), gyr_raw, what=name)
             m["clock_merge"] = merge
+            if merge["warning"]:
+                m.setdefault("warnings", []).append(merge["warning"])
         else:
             t = _seconds(t_acc, t0, tcol)
             check_times(t, f"the accelerometer table of {name}")
         if tcol == "time":
             m["t0_epoch_ns"] = int(t0)
     m.update(meta or {})
-    return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit)
+    acc_unit, gyr_unit = override_units(m, acc_unit, "rad/s", acc_override, gyr_override)
+    return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit, gyr_unit=gyr_unit)
 
 
 def _seconds(t: np.ndarray, t0, tcol: str) -> np.ndarray:

@@ -157,7 +157,7 @@ class _LazyPeriod:
 
     ``value`` is a per-sample array, NaN except at the positions asked (None when never asked). Centred
     blocks make the period at a position independent of where the recording starts, so a chunked run
-    (:func:`gaitml.longrun.long_zupts`) decides as a whole-file run does.
+    (:func:`gaitml.chunked_run.long_zupts`) decides as a whole-file run does.
     """
 
     def __init__(self, x: np.ndarray, sampling_rate_hz: float):

@@ -244,8 +244,8 @@ def test_a_trained_gyroscope_model_records_the_dynamics_and_predict_uses_them(tm
     assert ref1["dynamics_distance"][0] == dom.dynamics_distances(q1)[0]
     # a long file read chunk by chunk gives the flags of the whole-file run (context for the running median,
     # chunk offsets on the descriptors' sample grid)
+    from gaitml.chunked_run import long_predict
     from gaitml.io.gaitml_csv import write_gaitml_csv
-    from gaitml.longrun import long_predict
 
     write_gaitml_csv(rec, tmp_path / "rec.csv")
     chunked = long_predict(model, tmp_path / "rec.csv", chunk_s=7.0, progress=False)
@@ -256,7 +256,7 @@ def test_a_trained_gyroscope_model_records_the_dynamics_and_predict_uses_them(tm
     # computing every fourth window (4 divides the span) is what tells an aligned grid from a shifted one
     import dataclasses
 
-    import gaitml.longrun as longrun
+    import gaitml.chunked_run as longrun
 
     m4 = dataclasses.replace(model, domain=dataclasses.replace(dom, dynamics={**dom.dynamics, "every": 4}))
     whole4 = predict_recording(m4, rec)

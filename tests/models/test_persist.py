@@ -180,6 +180,10 @@ def _numpy_predict_from_json(spec: dict, acc: np.ndarray, gyr: np.ndarray | None
             out[k] = w2
         elif w2 == w4 and w2 != w3:
             out[k] = w2
+    still = spec["postprocess"]["still"]  # the still gate as the JSON states it (issue 28)
+    mag = np.linalg.norm(acc, axis=1)
+    swing = np.array([np.ptp(mag[s : s + length]) for s in starts])
+    out = [still["mode"] if sw < still["range_ms2"] else m for m, sw in zip(out, swing, strict=True)]
     return np.array(raw), np.array(out)
 
 

@@ -73,7 +73,7 @@ def test_steps_and_pdr_cli_print_one_warning_line_and_json_warnings(capsys):
     assert "warnings" not in json.loads(out)
 
 
-# -- chunked (long) inputs: gaitml steps via gaitml.longrun ---------------------------------------------------------
+# -- chunked (long) inputs: gaitml steps via gaitml.chunked_run ---------------------------------------------------------
 
 
 @pytest.fixture(scope="module")
@@ -88,8 +88,8 @@ def calm_long_csv(tmp_path_factory):
 
 def test_long_steps_counts_the_crosscheck_detector_per_chunk_core(calm_long_csv):
     """count_also: adaptive's steps anchored in each chunk's core, summed, equal its whole-file count here."""
+    from gaitml.chunked_run import long_steps
     from gaitml.io import read_recording
-    from gaitml.longrun import long_steps
 
     whole = len(get_detector("adaptive").detect(read_recording(calm_long_csv)).steps_)
     chunked = long_steps(calm_long_csv, "single-peak", chunk_s=30.0, margin_s=5.0, progress=False, count_also="adaptive")
@@ -142,8 +142,8 @@ def test_real_walks_warned_only_where_single_peak_undercounts():
 def test_steps_cli_warns_on_a_real_overcount_whole_and_chunked(monkeypatch, capsys, tmp_path):
     """Dario's front-pocket walk (306 true steps): single-peak counts far more, adaptive about right, and the steps command
     warns once with the two counts, on the file as a whole and in 60 s chunks (which count the same steps)."""
+    from gaitml.chunked_run import long_steps
     from gaitml.io import read_recording, write_gaitml_csv
-    from gaitml.longrun import long_steps
 
     folder = shared(*DARIO_FRONT_POCKET)
     rec = read_recording(folder)

@@ -7,9 +7,9 @@ import json
 import numpy as np
 import pytest
 
+from gaitml.chunked_run import long_features, long_steps, long_zupts
 from gaitml.cli import main
 from gaitml.io import read_recording, write_gaitml_csv
-from gaitml.longrun import long_features, long_steps, long_zupts
 from gaitml.simulate import simulate_dataset
 
 
@@ -78,7 +78,7 @@ def test_features_cli_long_equals_short(long_file, monkeypatch, tmp_path):
 
 
 def test_long_predict_matches_whole(long_file):
-    from gaitml.longrun import long_predict
+    from gaitml.chunked_run import long_predict
     from gaitml.models import load_model, predict_recording
     from tests.conftest import ROOT
 

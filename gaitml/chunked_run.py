@@ -1,4 +1,4 @@
-"""Bounded-memory processing of long recordings (hours to days).
+"""Chunked execution: bounded-memory processing of long recordings (hours to days).
 
 Each function reads the input in overlapping chunks (:func:`gaitml.io.chunked.iter_chunks`),
 runs the ordinary whole-recording algorithm on each chunk, keeps the results
@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterator
 import numpy as np
 import pandas as pd
 
-from gaitml.io.chunked import Chunk, iter_chunks
+from gaitml.io.chunked import Chunk, iter_chunks, scan_input
 
 __all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "progress_chunks"]
 
@@ -37,7 +37,7 @@ DEFAULT_MARGIN_S = 30.0
 
 
 def progress_chunks(chunks: Iterator[Chunk], desc: str, *, enabled: bool = True) -> Iterator[Chunk]:
-    """Wrap a chunk iterator in a tqdm progress bar (samples) on stderr."""
+    """Wrap a chunk iterator in a tqdm progress bar (samples) on stderr, when stderr is a terminal."""
     if not enabled:
         yield from chunks
         return
@@ -47,7 +47,11 @@ def progress_chunks(chunks: Iterator[Chunk], desc: str, *, enabled: bool = True)
     try:
         for ch in chunks:
             if bar is None:
-                bar = tqdm(total=ch.total_hint or None, unit="samples", unit_scale=True, desc=desc, file=sys.stderr, leave=False)
+                # disable=None: no bar when stderr is not a terminal (a log file, a pipe), so that
+                # a refusal stays one line there
+                bar = tqdm(
+                    total=ch.total_hint or None, unit="samples", unit_scale=True, desc=desc, file=sys.stderr, leave=False, disable=None
+                )
             bar.update(ch.core_end - ch.core_start)
             yield ch
     finally:
@@ -172,8 +176,13 @@ def _window_chunks(
     # the hop depends on the rate, known after the first block: peek at it
     fs_probe = read_kwargs.get("sampling_rate_hz")
     if fs_probe is None:
-        first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
-        fs_probe = first.recording.sampling_rate_hz
+        if read_kwargs.get("scan") is None:
+            read_kwargs["scan"] = scan_input(path, **read_kwargs)
+        if read_kwargs["scan"] is not None:
+            fs_probe = read_kwargs["scan"].sampling_rate_hz
+        else:
+            first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
+            fs_probe = first.recording.sampling_rate_hz
     length, hop = window_params(length_s, overlap, fs_probe)
     align = math.lcm(hop * max(1, int(window_grid)), max(1, int(phase_step)))
     margin_samples = math.ceil((math.ceil(length / hop) + max(0, int(extra_windows))) * hop / align) * align
@@ -214,7 +223,7 @@ def long_features(
     parts = []
     for ch, _length, _hop in _window_chunks(path, length_s, overlap, chunk_s, progress, f"features ({subset})", **read_kwargs):
         rec = ch.recording
-        if rec.n_samples < _length:
+        if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
         wins = make_windows(rec, length_s, overlap, min_label_fraction=0.0)
         gstart = wins["start"].to_numpy() + ch.offset
@@ -263,7 +272,12 @@ def long_predict(
 
     parts = []
     if read_kwargs.get("sampling_rate_hz") is None:
+        # read at the model's rate, as predict_recording resamples a whole recording to it
         read_kwargs["sampling_rate_hz"] = model.sampling_rate_hz
+        scan = read_kwargs.pop("scan", None)
+        if scan is not None:
+            same = abs(scan.sampling_rate_hz - model.sampling_rate_hz) <= 1e-9 * model.sampling_rate_hz
+            read_kwargs["scan"] = scan if same else scan.at_rate(model.sampling_rate_hz)
     # a domain record with an orientation-dynamics part decides on the median over the last windows of the
     # dynamics of every `every`-th window (which keep every step-th sample): more context before each core,
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
@@ -283,7 +297,7 @@ def long_predict(
     )
     for ch, _length, _hop in chunks:
         rec = ch.recording
-        if rec.n_samples < _length:
+        if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
         table = predict_recording(model, rec, correction=False)
         gstart = table["start"].to_numpy() + ch.offset
@@ -291,8 +305,9 @@ def long_predict(
         parts.append(_globalise_windows(table[keep].reset_index(drop=True), ch.offset, rec.sampling_rate_hz))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     if correction and len(out):
+        from gaitml.models._predict import STILL
         from gaitml.postprocess import adjacent_window_correction
 
-        out["mode_raw"] = out["mode"]
-        out["mode"] = adjacent_window_correction(out["mode"].to_numpy())
+        corrected = np.asarray(adjacent_window_correction(out["mode_raw"].to_numpy())).astype(str)
+        out["mode"] = np.where(out["still"].to_numpy(dtype=bool), STILL, corrected)
     return out

@@ -54,6 +54,7 @@ def test_overcount_ratio_is_the_in_sample_choice_and_holds_out_per_user(real_cou
 
     assert choose_overcount_ratio(real_counts) == OVERCOUNT_RATIO
     lou = louo_table(real_counts).set_index("user")
-    assert lou.loc["Dario", "held-out ratio"] == 1.11 and lou.loc["Carmelo", "held-out ratio"] == 1.10
+    # each user's held-out ratio stays near the in-sample one (the report's 1.10-1.11): the choice does not hinge on one person
+    assert (abs(lou["held-out ratio"].astype(float) - OVERCOUNT_RATIO) <= 0.05).all(), lou
     held = [score(real_counts[real_counts["user"] == u], float(r), "over") for u, r in lou["held-out ratio"].items()]
     assert [sum(s[k] for s in held) for k in ("correct", "false", "missed")] == [2, 0, 0]

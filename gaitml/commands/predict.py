@@ -38,8 +38,9 @@ def run(args) -> int:
     if is_large_input(args):
         from gaitml.chunked_run import long_predict
 
-        log("gaitml predict: long input, processing in chunks of 10 min (bounded memory)")
-        table = long_predict(model, args.input, correction=not args.no_correction, **long_read_kwargs(args))
+        kw = long_read_kwargs(args)  # judged at the file's own rate, as a file read whole
+        table = long_predict(model, args.input, correction=not args.no_correction, **kw)
+        log("gaitml predict: long input, processed in chunks of 10 min (bounded memory)")
     else:
         from gaitml.models import predict_recording
 

@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from gaitml.consts import GRAVITY_MS2 as G_MS2
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table, sniff_csv
@@ -236,7 +237,7 @@ def read_phyphox(
     acc_override, gyr_override = acc_unit, gyr_unit
     name = p.stem if p.suffix.lower() in (".zip", ".csv") else p.name
     with open_export(p) as box:
-        acc_src, gyr_src, lin_src = _find_tables(box)
+        acc_src, gyr_src, lin_src = _find_tables(box, acc_in_g=acc_override == "g")
         if acc_src is None:
             if lin_src is not None:
                 raise InputError(
@@ -277,7 +278,7 @@ def read_phyphox(
     return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit, gyr_unit=gyr_unit)
 
 
-def _find_tables(box: ExportContainer):
+def _find_tables(box: ExportContainer, *, acc_in_g: bool = False):
     """The tables holding acceleration with g, the gyroscope and linear acceleration, as (key, df, group)."""
     acc = gyr = lin = None
     tables = box.top_level()
@@ -293,7 +294,7 @@ def _find_tables(box: ExportContainer):
         if not lines or not is_phyphox_header(lines[0]):
             continue
         df = read_table(box, key)
-        groups = _recheck_gravity(_groups(list(df.columns), key), df, key)
+        groups = _recheck_gravity(_groups(list(df.columns), key), df, key, acc_in_g=acc_in_g)
         if acc is None and "acc" in groups:
             acc = (key, df, groups["acc"])
         if gyr is None and "gyr" in groups:
@@ -305,9 +306,11 @@ def _find_tables(box: ExportContainer):
 
 #: Median |acc| (m/s^2) between these bounds means gravity is included, below the lower one that it is not.
 GRAVITY_BAND_MS2 = (6.5, 13.0)
+#: Median |a| (in the file's unit) that may be gravity in g rather than linear acceleration in m/s^2.
+G_LIKE_MEDIAN = (0.8, 1.25)
 
 
-def _recheck_gravity(groups: dict, df: pd.DataFrame, key: str) -> dict:
+def _recheck_gravity(groups: dict, df: pd.DataFrame, key: str, *, acc_in_g: bool = False) -> dict:
     """Decide "with g" or "linear" from the data, not only from the column and table names.
 
     Custom experiments name their columns freely (a table of acceleration *with*
@@ -315,7 +318,9 @@ def _recheck_gravity(groups: dict, df: pd.DataFrame, key: str) -> dict:
     bare ``X (m/s^2)`` columns do not say it at all. The median magnitude
     decides: inside :data:`GRAVITY_BAND_MS2` the table includes gravity; below
     its lower bound it is linear acceleration; the name is kept otherwise. A
-    relabelled group carries a ``note``.
+    relabelled group carries a ``note``. With ``acc_in_g`` (``--acc-unit g``) the
+    values are taken in g and judged in m/s^2; a median near 1 without it is
+    named as possibly g in the note.
     """
     out = dict(groups)
     for kind in ("acc", "lin"):
@@ -326,7 +331,7 @@ def _recheck_gravity(groups: dict, df: pd.DataFrame, key: str) -> dict:
         vals = vals[np.isfinite(vals).all(axis=1)]
         if not len(vals):
             continue
-        med = float(np.median(np.linalg.norm(vals, axis=1)))
+        med = float(np.median(np.linalg.norm(vals, axis=1))) * (G_MS2 if acc_in_g else 1.0)
         lo, hi = GRAVITY_BAND_MS2
         if kind == "lin" and lo <= med <= hi and "acc" not in out:
             del out["lin"]
@@ -336,5 +341,6 @@ def _recheck_gravity(groups: dict, df: pd.DataFrame, key: str) -> dict:
             }
         elif kind == "acc" and med < lo and "lin" not in out:
             del out["acc"]
-            out["lin"] = {**grp, "note": f"{key}: median |a| is {med:.2f} m/s^2: no gravity (linear acceleration)"}
+            in_g = " or values in g: if so, pass --acc-unit g" if G_LIKE_MEDIAN[0] <= med <= G_LIKE_MEDIAN[1] else ""
+            out["lin"] = {**grp, "note": f"{key}: median |a| is {med:.2f} m/s^2: no gravity (linear acceleration{in_g})"}
     return out

@@ -318,6 +318,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="step boundaries at the step events (default) or the detector's step start/end",
     )
     p.add_argument("--max-snap-s", type=float, default=0.5, help="largest move of a boundary in s (default 0.5)")
+    p.add_argument(
+        "--boundary-noise-s",
+        type=float,
+        help="the most a written boundary is off (s): snap only to the one step boundary within it, never guess (default: nearest)",
+    )
     p.add_argument("--unlabelled", default="unlabelled", help="label of samples outside every interval (default unlabelled)")
     p.add_argument("--out", metavar="OUT.csv", required=True, help="labelled gaitml-csv; OUT.step-labels.csv is written beside it")
     p.add_argument("--report", metavar="PNG", help="plot the signal, intervals, steps and snapped boundaries")

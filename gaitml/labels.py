@@ -274,6 +274,12 @@ def _stride_candidates(rec: Recording, detector: str) -> tuple[np.ndarray, pd.Da
     return np.unique(np.concatenate([s, e])), strides, s, e
 
 
+#: the step detector's own timing error (s) added to the stated noise when looking for candidate boundaries
+STEP_TIMING_TOLERANCE_S = 0.1
+#: a step interval over this many times its neighbour hides a missed step (a missed step doubles the interval)
+MISSED_STEP_RATIO = 1.8
+
+
 # ------------------------------------------------------------------ labeller
 @dataclasses.dataclass
 class IntervalLabeller:
@@ -294,6 +300,17 @@ class IntervalLabeller:
     boundary : {'peak', 'edges'}
         Step boundaries at the step events (default) or at the detector's step
         start/end samples.
+    noise_s : float, optional
+        The most a written boundary is off (s). Given, a boundary is snapped
+        only when exactly one candidate lies within ``noise_s`` plus
+        ``STEP_TIMING_TOLERANCE_S`` (0.1 s) of it and the step intervals on
+        either side of that candidate are regular (neither over
+        ``MISSED_STEP_RATIO`` = 1.8 times the other: a missed step may be the
+        true boundary); otherwise it stays where it was written (status
+        ``ambiguous``). The true boundary is a step boundary within the
+        noise, so a unique candidate is that boundary: snapping then cannot
+        make the boundary worse unless the detector misses or misplaces the
+        step there. Default: the nearest candidate within ``max_snap_s``.
 
     Attributes
     ----------
@@ -306,7 +323,7 @@ class IntervalLabeller:
     boundaries_ : DataFrame
         One row per distinct boundary: ``t_s`` (as written), ``snapped_t_s``,
         ``shift_s``, ``status`` (``snapped``, ``too far``, ``recording edge``,
-        ``no candidates``, ``collapsed``, ``not snapped`` for snap none).
+        ``no candidates``, ``collapsed``, ``ambiguous`` (``noise_s``), ``not snapped`` for snap none).
     steps_ : DataFrame
         One row per detected step (or stride): ``t_s`` (the step event / stride
         start), ``span_start_s``, ``span_end_s`` (the samples the step covers,
@@ -325,6 +342,7 @@ class IntervalLabeller:
     max_snap_s: float = 0.5
     unlabelled: str = UNLABELLED
     boundary: str = "peak"
+    noise_s: float | None = None
 
     def label(self, recording: Recording, intervals: pd.DataFrame | str | os.PathLike) -> IntervalLabeller:
         """Label ``recording`` from ``intervals`` (a DataFrame or an intervals file); returns ``self``."""
@@ -334,6 +352,10 @@ class IntervalLabeller:
             raise InputError(f"boundary must be one of {', '.join(BOUNDARY_KINDS)}, got {self.boundary!r}.")
         if not (np.isfinite(self.max_snap_s) and self.max_snap_s >= 0):
             raise InputError(f"max_snap_s must be a non-negative number of seconds, got {self.max_snap_s!r}.")
+        if self.noise_s is not None and not (np.isfinite(self.noise_s) and self.noise_s > 0):
+            raise InputError(
+                f"noise_s (--boundary-noise-s) must be a positive number of seconds (the most a written boundary is off), got {self.noise_s!r}."
+            )
         if not str(self.unlabelled).strip():
             raise InputError("the unlabelled label must be a non-empty string; pass e.g. 'unlabelled'.")
         rec = recording
@@ -366,6 +388,22 @@ class IntervalLabeller:
                 j = int(np.searchsorted(cand, k))
                 opts = [c for c in (cand[j - 1] if j > 0 else None, cand[j] if j < len(cand) else None) if c is not None]
                 best = min(opts, key=lambda c: (abs(c - k), c))
+                if self.noise_s is not None:
+                    # the true boundary is a step boundary within noise_s (plus the detector's timing error) of the
+                    # written one: snap only when exactly one candidate lies there (two or more: the written time
+                    # cannot tell which) and the steps around it are regular (an interval over MISSED_STEP_RATIO
+                    # times its neighbour hides a missed step, which may be the true boundary): otherwise it stays
+                    band = (self.noise_s + STEP_TIMING_TOLERANCE_S) * fs + 1e-6
+                    inside = cand[(cand >= k - band) & (cand <= k + band)]
+                    if len(inside) != 1 or abs(best - k) > max_k:
+                        status[i] = "ambiguous" if len(inside) > 1 else "too far"
+                        continue
+                    c = int(np.searchsorted(cand, best))
+                    if 0 < c < len(cand) - 1:
+                        left, right = cand[c] - cand[c - 1], cand[c + 1] - cand[c]
+                        if max(left, right) > MISSED_STEP_RATIO * min(left, right):
+                            status[i] = "ambiguous"
+                            continue
                 if abs(best - k) <= max_k:
                     new_k[i] = best
                     status[i] = "snapped"
@@ -413,6 +451,7 @@ class IntervalLabeller:
             "detector": det,
             "boundary": self.boundary if self.snap != "strides" else "stride start",
             "max_snap_s": float(self.max_snap_s),
+            "noise_s": None if self.noise_s is None else float(self.noise_s),
             "n_intervals": int(len(iv)),
             "n_boundaries": int(real.sum()),
             "n_snapped": int(snapped.sum()),
@@ -511,6 +550,7 @@ def evaluate_snapping(
     detectors=SNAP_DETECTORS,
     boundary: str = "peak",
     max_snap_s: float = 0.5,
+    snap_noise_s: float | None = None,
 ) -> pd.DataFrame:
     """Per-sample agreement of noisy hand-written intervals with the truth, unsnapped and snapped, on simulated walks.
 
@@ -540,7 +580,9 @@ def evaluate_snapping(
         base = rec.replace(labels=None)
         for method in ("none", *detectors):
             snap = "none" if method == "none" else "steps"
-            lab = IntervalLabeller(snap=snap, detector=None if method == "none" else method, boundary=boundary, max_snap_s=max_snap_s)
+            lab = IntervalLabeller(
+                snap=snap, detector=None if method == "none" else method, boundary=boundary, max_snap_s=max_snap_s, noise_s=snap_noise_s
+            )
             lab.label(base, iv)
             r = lab.report_
             rows.append(

@@ -42,6 +42,7 @@ def run(args) -> int:
         max_snap_s=args.max_snap_s,
         unlabelled=args.unlabelled,
         boundary=args.boundary,
+        noise_s=args.boundary_noise_s,
     )
     side = step_labels_path(out)
     # the per-step table is moved into place only after the recording was written (atomically)
@@ -76,6 +77,8 @@ def run(args) -> int:
     print("\n".join(lines))
     if r["not_snapped"] and args.snap != "none":
         log(
-            f"note: {len(r['not_snapped'])} boundaries had no {unit[:-1]} boundary within {r['max_snap_s']:g} s and stay where they were written."
+            f"note: {len(r['not_snapped'])} boundaries had no {unit[:-1]} boundary within {r['max_snap_s']:g} s"
+            + (" or more than one within the stated noise" if r["noise_s"] is not None else "")
+            + " and stay where they were written."
         )
     return 0

@@ -30,6 +30,12 @@ _META_KEYS = (
     "acc_source",
     "frame",
     "clock_merge",
+    "getsensordata",
+    "other_sensors",
+    "other_sensors_note",
+    "landmarks",
+    "sample_and_hold",
+    "dialect",
     "warnings",
 )
 
@@ -86,7 +92,7 @@ def _is_phone_manifest_folder(p: Path) -> bool:
 def describe_path(path: str | os.PathLike, **read_kwargs: Any) -> dict[str, Any]:
     """Summarise a recording, a data set folder or a gaitmap annotation table."""
     p = Path(path)
-    if read_kwargs.get("columns") is not None:  # any CSV read by its column map: one recording
+    if read_kwargs.get("columns") is not None or read_kwargs.get("format") not in (None, "gaitml-csv"):  # one recording, read as told
         return {"kind": "recording", **describe_recording(read_recording(p, **read_kwargs))}
     fmt = detect_format(p)
     if fmt == "gaitmap-table":

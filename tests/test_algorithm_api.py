@@ -23,6 +23,7 @@ from sklearn.base import clone
 
 from gaitml._base import BaseAlgorithm
 from gaitml.errors import InputError
+from gaitml.labels import IntervalLabeller
 from gaitml.pdr import HEADING_SOURCES, AttitudeEstimator, StepLengthModel, step_length_features
 from gaitml.postprocess import AdjacentWindowCorrector
 from gaitml.steps import DETECTORS as STEP_DETECTORS
@@ -34,7 +35,7 @@ ALGORITHMS = (
     [pytest.param(c, id=f"steps:{n}") for n, c in STEP_DETECTORS.items()]
     + [pytest.param(c, id=f"zupt:{n}") for n, c in ZUPT_DETECTORS.items()]
     + [pytest.param(c, id=f"heading:{n}") for n, c in HEADING_SOURCES.items()]
-    + [pytest.param(c, id=c.__name__) for c in (StepLengthModel, AttitudeEstimator, AdjacentWindowCorrector)]
+    + [pytest.param(c, id=c.__name__) for c in (StepLengthModel, AttitudeEstimator, AdjacentWindowCorrector, IntervalLabeller)]
 )
 
 
@@ -60,6 +61,9 @@ def _args(cls, inputs) -> tuple:
         return (inputs["feats"], inputs["lengths"], inputs["modes"])
     if cls is AdjacentWindowCorrector:
         return (inputs["labels"],)
+    if cls is IntervalLabeller:
+        d = inputs["rec"].duration_s
+        return (inputs["rec"], pd.DataFrame({"start_s": [0.0, d / 2], "end_s": [d / 2, d], "label": ["walk", "backward"]}))
     raise AssertionError(f"no test input for {cls.__name__}; add one to _args")
 
 

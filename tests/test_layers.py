@@ -12,7 +12,7 @@ L5    features, postprocess, labels (snapping interval labels to detected steps)
 L6    models
 L7    pdr
 L8    evaluation
-L9    pipeline (config runner), demo, longrun, info
+L9    pipeline (config runner), demo, chunked_run, info
 L10   commands, cli
 ====  =========================================================
 
@@ -43,7 +43,7 @@ LAYERS: dict[str, int] = {
     "models": 6,
     "pdr": 7,
     "evaluation": 8,
-    **dict.fromkeys(("pipeline", "demo", "longrun", "info"), 9),
+    **dict.fromkeys(("pipeline", "demo", "chunked_run", "info"), 9),
     **dict.fromkeys(("commands", "cli"), 10),
 }
 #: Top-level folders of the repository that the package must not import.

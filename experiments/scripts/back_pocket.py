@@ -42,8 +42,8 @@ This script fits both ranges to real signals only (never to a classifier's score
   fits and checks on all three users; the row ``before`` checks every user against the
   simulator without either field (share 0, no extra roll).
 
-The in-sample fit is recorded as :data:`gaitml.simulate.positions.BACK_POCKET_FIT` (share 1, roll
-+-13 deg) and is **not shipped**: it matches the two statistics it was fitted on but lowers the
+The in-sample fit (share 1, roll
++-13 deg) is **not shipped**: it matches the two statistics it was fitted on but lowers the
 back pocket's realism verdict on the others (partial -> no match: steps too alike, bounce too
 dominant), so the shipped :data:`~gaitml.simulate.positions.BACK_POCKET_RANGE` stays the
 thigh-driven model (share 0, no extra roll). :func:`back_pocket_ranges` patches the fit in.
@@ -74,10 +74,12 @@ import scipy.signal
 
 from experiments.scripts.carry_vigour import score_oxford_models
 from experiments.scripts.domain_report import emit_tables
-from experiments.scripts.hand_gain import _covered, fit_range
+from experiments.scripts.hand_gain import covered, fit_range
 from experiments.scripts.realism import _markdown, oxford_walks, position_statistics
 
 __all__ = [
+    "BACK_POCKET_FIT",
+    "STANCE_GATE_FIT",
     "SHARE_GRID",
     "ROLL_GRID",
     "N_SIM",
@@ -98,6 +100,14 @@ __all__ = [
 ]
 
 POSITION = "back-pocket"
+#: The pelvis-share and in-pocket roll fit on every Oxford back-pocket user (``--pelvis-roll``; not
+#: shipped: ``experiments/reports/simulator-positions.md``, "Back pocket: pelvis and roll"). Moved here
+#: from gaitml.simulate.positions (issue 26): the library ships ranges, the lab records its fits.
+BACK_POCKET_FIT = {"pelvis_share": (1.0, 1.0), "pocket_roll_deg": (-13.0, 13.0)}
+#: The joint fit of the one-sided step on every Oxford back-pocket user (shipped as
+#: gaitml.simulate.positions STANCE_GATE_RANGE, the share of BACK_POCKET_RANGE and the back pocket's
+#: VIGOUR_RANGE; report section "Back pocket: the one-sided step").
+STANCE_GATE_FIT = {"pelvis_share": (0.8, 1.0), "stance_gate": (1.0, 1.0), "vigour": (1.2, 1.75)}
 #: Pelvis shares and extra roll half-widths (deg) at which every subject of the fitting population is simulated.
 SHARE_GRID = np.round(np.linspace(0.0, 1.0, 11), 4)
 ROLL_GRID = np.arange(0.0, 31.0, 5.0)
@@ -331,7 +341,7 @@ def leave_one_user_out(walks: pd.DataFrame, curves_share: np.ndarray) -> pd.Data
         else:
             fit = fit_back_pocket(bp if user is None else bp[bp["user"] != user], curves_share, cache)
         sim = check_population(fit["pelvis_share"], fit["pocket_roll_deg"])
-        cov = _covered(test, sim, CHECK_STATS)
+        cov = covered(test, sim, CHECK_STATS)
         rows.append(
             {
                 "held_out": {None: "all (in sample)"}.get(user, user),
@@ -441,14 +451,14 @@ def fit_vigour(
     """The back pocket's vigour range refitted (as ``python -m experiments.scripts.carry_vigour``: the walking
     ``|acc|`` standard deviation of ``walks``) on the simulator with these share and gate ranges: the gate
     takes part of the trunk's acceleration away, so the intensity's range moves with it."""
-    from experiments.scripts.carry_vigour import _END_GRID, VIGOUR_GRID, vigour_curves
+    from experiments.scripts.carry_vigour import END_GRID, VIGOUR_GRID, vigour_curves
 
     cache = {} if cache is None else cache
     key = (tuple(share), tuple(gate))
     if key not in cache:
         with back_pocket_ranges(share=share, gate=gate):
             cache[key] = vigour_curves(POSITION)
-    return fit_range(walks["mag_std_ms2"].to_numpy(), cache[key], grid=VIGOUR_GRID, lo_grid=_END_GRID, hi_grid=_END_GRID)
+    return fit_range(walks["mag_std_ms2"].to_numpy(), cache[key], grid=VIGOUR_GRID, lo_grid=END_GRID, hi_grid=END_GRID)
 
 
 def joint_ranges(fit: dict[str, tuple[float, float]]):
@@ -474,7 +484,7 @@ def leave_one_user_out_joint(walks: pd.DataFrame, curves: dict[str, np.ndarray])
             fit["vigour"] = fit_vigour(tune, fit["pelvis_share"], fit["stance_gate"], cache)
         with joint_ranges(fit):
             sim = _simulate_shape(N_CHECK, CHECK_SEED)
-        cov = _covered(test, sim, JOINT_CHECK_STATS)
+        cov = covered(test, sim, JOINT_CHECK_STATS)
         rows.append(
             {
                 "held_out": {None: "all (in sample)"}.get(user, user),
@@ -561,7 +571,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--pelvis-roll",
         action="store_true",
-        help="the earlier fit instead: pelvis share and in-pocket roll without the gate (BACK_POCKET_FIT; --models scores it)",
+        help="the earlier fit instead: pelvis share and in-pocket roll without the gate (back_pocket.BACK_POCKET_FIT; --models scores it)",
     )
     args = ap.parse_args(argv)
     t0 = time.perf_counter()

@@ -58,7 +58,7 @@ import numpy as np
 import pandas as pd
 
 from experiments.scripts.domain_report import emit_tables
-from experiments.scripts.hand_gain import _covered, fit_range, train_without_cv
+from experiments.scripts.hand_gain import covered, fit_range, train_without_cv
 from experiments.scripts.realism import OXFORD_POSITIONS, _markdown, oxford_walks, position_statistics
 
 __all__ = [
@@ -89,7 +89,7 @@ N_CHECK, CHECK_SEED = 16, 12
 #: Walking time per simulated subject (s).
 SIM_DURATION_S = 60.0
 #: Candidate range ends (inside the grid, where the interpolated curves are not flat).
-_END_GRID = np.geomspace(VIGOUR_GRID[0], VIGOUR_GRID[-1], 81)
+END_GRID = np.geomspace(VIGOUR_GRID[0], VIGOUR_GRID[-1], 81)
 
 
 @contextlib.contextmanager
@@ -166,9 +166,9 @@ def leave_one_user_out(walks: pd.DataFrame, curves: dict[str, np.ndarray]) -> pd
                 lo = hi = 1.0
             else:
                 tune = pw if user is None else pw[pw["user"] != user]
-                lo, hi = fit_range(tune["mag_std_ms2"].to_numpy(), curves[position], grid=VIGOUR_GRID, lo_grid=_END_GRID, hi_grid=_END_GRID)
+                lo, hi = fit_range(tune["mag_std_ms2"].to_numpy(), curves[position], grid=VIGOUR_GRID, lo_grid=END_GRID, hi_grid=END_GRID)
             sim = check_population(position, lo, hi)
-            cov = _covered(test, sim)
+            cov = covered(test, sim)
             label = {None: "all (in sample)", "none": "none (vigour 1)"}.get(user, user)
             rows.append(
                 {
@@ -203,7 +203,7 @@ def score_oxford_models(shared_data: str | Path, scored: tuple[str, ...], patch)
     """
     import tempfile
 
-    from experiments.scripts.domain_report import _add, score
+    from experiments.scripts.domain_report import add_scores, score
     from gaitml.io import read_dataset
 
     recs: dict[tuple[str, str], list] = {}
@@ -228,7 +228,7 @@ def score_oxford_models(shared_data: str | Path, scored: tuple[str, ...], patch)
                 for name in ("before", "held out", "in sample"):
                     tot: dict = {}
                     for rec in recs.get((position, user), []):
-                        tot = _add(tot, score(models[name], rec))
+                        tot = add_scores(tot, score(models[name], rec))
                     if tot:
                         rows.append({"oxford": position, "user": user, "model": name, **tot})
     out = pd.DataFrame(rows)

@@ -102,15 +102,15 @@ def walk_counts(recordings) -> pd.DataFrame:
 
 
 def chunked_counts(recordings, chunk_s: float, margin_s: float = 30.0) -> pd.DataFrame:
-    """Per walk: single-peak's and adaptive's counts when the walk is processed in chunks (:func:`gaitml.longrun.long_steps`).
+    """Per walk: single-peak's and adaptive's counts when the walk is processed in chunks (:func:`gaitml.chunked_run.long_steps`).
 
     Each walk is written to a temporary gaitml CSV and read back chunk by chunk, as ``gaitml steps``
     does for a long input; ``adaptive`` is counted on the same chunks (``count_also``).
     """
     import tempfile
 
+    from gaitml.chunked_run import long_steps
     from gaitml.io import write_gaitml_csv
-    from gaitml.longrun import long_steps
 
     rows = []
     with tempfile.TemporaryDirectory() as tmp:

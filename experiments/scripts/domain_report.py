@@ -110,7 +110,8 @@ def _row(label: str, model: str, s: dict) -> dict:
     }
 
 
-def _add(a: dict, b: dict) -> dict:
+def add_scores(a: dict, b: dict) -> dict:
+    """The counts of :func:`score` summed over recordings: ``a`` plus ``b``, key by key (the keys of ``b``)."""
     return {k: a.get(k, 0) + b[k] for k in b}
 
 
@@ -129,7 +130,7 @@ def real_table(data: Path, models: dict) -> pd.DataFrame:
             for name in ("demo-acc", "acc-gravity"):
                 tot: dict = {}
                 for r in by_pos.get(pos, []):
-                    tot = _add(tot, score(models[name], r))
+                    tot = add_scores(tot, score(models[name], r))
                 if tot:
                     rows.append(_row(f"Oxford {pos} ({len(by_pos[pos])} walks)", name, tot))
     ifsm = data / "ifsm-flat-phone"
@@ -138,14 +139,14 @@ def real_table(data: Path, models: dict) -> pd.DataFrame:
         for name in ("demo-acc", "acc-gravity"):
             tot = {}
             for f in files:
-                tot = _add(tot, score(models[name], read_recording(f)))
+                tot = add_scores(tot, score(models[name], read_recording(f)))
             rows.append(_row(f"IFSM flat-held phone ({len(files)} walks)", name, tot))
     gm = data / "gaitmap-example" / "imu_sample.csv.gz"
     if gm.exists():
         for name in ("demo", "demo-acc", "acc-gravity"):
             tot = {}
             for sensor in ("left", "right"):
-                tot = _add(tot, score(models[name], read_recording(gm, sensor=sensor)))
+                tot = add_scores(tot, score(models[name], read_recording(gm, sensor=sensor)))
             rows.append(_row("gaitmap foot-mounted IMU (both feet)", name, tot))
     return pd.DataFrame(rows)
 
@@ -177,7 +178,7 @@ def simulated_table(models: dict, seed: int = 2024, subjects: int = 8) -> pd.Dat
                 t = predict_recording(model, rr)
                 ind = t["in_domain"].to_numpy(dtype=object)
                 ok = np.array([bool(v) for v in ind])
-                tot = _add(tot, {"windows": len(t), "ood": int((~ok).sum())})
+                tot = add_scores(tot, {"windows": len(t), "ood": int((~ok).sum())})
                 lab = t["label"].to_numpy() if "label" in t else None
                 if lab is not None:
                     sel = t["label_fraction"].to_numpy() >= 0.5
@@ -247,7 +248,7 @@ def _timed(fn) -> float:
 _SHORT = {"walk": "w", "backward": "B", "side_left": "L", "side_right": "R", "run": "U"}
 
 
-def _silent_windows(model, rec) -> pd.DataFrame:
+def silent_windows(model, rec) -> pd.DataFrame:
     """Every window of one Oxford walk with its mode, domain columns, foot-switch context and intensity.
 
     Columns besides :func:`gaitml.models.predict_recording`'s: ``silent`` (in domain
@@ -317,7 +318,7 @@ def silent_tables(data: Path, model) -> dict[str, pd.DataFrame]:
     from gaitml.io import read_dataset
     from gaitml.simulate import simulate_dataset
 
-    ALL = pd.concat([_silent_windows(model, r) for r in read_dataset(data / "oxford-step-counter" / "optimisation")], ignore_index=True)
+    ALL = pd.concat([silent_windows(model, r) for r in read_dataset(data / "oxford-step-counter" / "optimisation")], ignore_index=True)
     span_rows = []
     for pos, d in ALL.groupby("position", sort=True):
         inside = d[~d["outside_span"]]
@@ -501,7 +502,7 @@ def positions_real_table(data: Path, models: dict) -> pd.DataFrame:
         for pos, trained in OXFORD_TRAINED.items():
             tot: dict = {}
             for r in by_pos.get(pos, []):
-                tot = _add(tot, score(models["positions-acc"], r))
+                tot = add_scores(tot, score(models["positions-acc"], r))
             if tot:
                 row = _row(f"Oxford {pos} ({len(by_pos[pos])} walks)", "positions-acc", tot)
                 rows.append({"trained as": trained or "not trained", **row})
@@ -510,14 +511,14 @@ def positions_real_table(data: Path, models: dict) -> pd.DataFrame:
         files = sorted(ifsm.glob("*.xlsx"))
         tot = {}
         for f in files:
-            tot = _add(tot, score(models["positions-acc"], read_recording(f)))
+            tot = add_scores(tot, score(models["positions-acc"], read_recording(f)))
         rows.append({"trained as": "hand-flat", **_row(f"IFSM flat-held phone ({len(files)} walks)", "positions-acc", tot)})
     gm = data / "gaitmap-example" / "imu_sample.csv.gz"
     if gm.exists():
         for name in ("positions", "positions-acc"):
             tot = {}
             for sensor in ("left", "right"):
-                tot = _add(tot, score(models[name], read_recording(gm, sensor=sensor)))
+                tot = add_scores(tot, score(models[name], read_recording(gm, sensor=sensor)))
             rows.append({"trained as": "not trained (foot)", **_row("gaitmap foot-mounted IMU (both feet)", name, tot)})
     df = pd.DataFrame(rows)
     if df.empty:

@@ -185,7 +185,7 @@ def check_population(lo: float, hi: float, *, n: int = N_CHECK, seed: int = CHEC
     return pd.DataFrame(_simulate(subs))
 
 
-def _covered(walks: pd.DataFrame, sim: pd.DataFrame, stats: dict[str, float] | None = None) -> dict[str, float]:
+def covered(walks: pd.DataFrame, sim: pd.DataFrame, stats: dict[str, float] | None = None) -> dict[str, float]:
     """Per statistic of ``stats`` (default :data:`CHECK_STATS`, with its tolerance): the fraction of
     ``walks`` inside the simulated 5-95 % range widened by the tolerance."""
     out = {}
@@ -206,7 +206,7 @@ def leave_one_user_out(walks: pd.DataFrame, curves: np.ndarray) -> pd.DataFrame:
         test = walks if user is None else walks[walks["user"] == user]
         lo, hi = fit_range(tune["mag_std_ms2"].to_numpy(), curves)
         sim = check_population(lo, hi)
-        cov = _covered(test, sim)
+        cov = covered(test, sim)
         rows.append(
             {
                 "held_out": "all (in sample)" if user is None else user,
@@ -292,7 +292,7 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
     """
     import tempfile
 
-    from experiments.scripts.domain_report import _add, score
+    from experiments.scripts.domain_report import add_scores, score
 
     recordings = _user_recordings(Path(shared_data))
     all_row = loo[loo["held_out"] == "all (in sample)"].iloc[0]
@@ -309,10 +309,10 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
             for name in ("before", "held out", "in sample"):
                 tot: dict = {}
                 for rec in recordings[user]:
-                    tot = _add(tot, score(models[name], rec))
+                    tot = add_scores(tot, score(models[name], rec))
                 rows.append({"user": user, "model": name, "gain range": "{:.2f}-{:.2f}".format(*ranges[name]), **tot})
                 if not user.startswith("ifsm-"):
-                    pooled[name] = _add(pooled.get(name, {}), tot)
+                    pooled[name] = add_scores(pooled.get(name, {}), tot)
     for name, tot in pooled.items():
         rows.append(
             {

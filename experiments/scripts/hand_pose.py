@@ -157,7 +157,8 @@ def leave_one_user_out(walks: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _tilted_range(deg: tuple[float, float]):
+def tilted_range(deg: tuple[float, float]):
+    """A context in which the simulator draws tilted hand-held pitches from ``deg`` (min, max) instead of its default."""
     return subject_setting("HAND_TILTED_PITCH_DEG", (float(deg[0]), float(deg[1])))
 
 
@@ -165,7 +166,7 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
     """Each Oxford user's ``InHand`` walks read by demo-acc trained before, held out and in sample (module docstring)."""
     import tempfile
 
-    from experiments.scripts.domain_report import _add, score
+    from experiments.scripts.domain_report import add_scores, score
 
     recordings = _user_recordings(Path(shared_data))
     all_row = loo[loo["held_out"] == "all (in sample)"].iloc[0]
@@ -173,7 +174,7 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
     rows: list[dict] = []
     pooled: dict[str, dict] = {}
     with tempfile.TemporaryDirectory() as tmp:
-        models = {k: train_without_cv("demo-acc.toml", Path(tmp) / f"m{i}", _tilted_range(v)) for i, (k, v) in enumerate(fixed.items())}
+        models = {k: train_without_cv("demo-acc.toml", Path(tmp) / f"m{i}", tilted_range(v)) for i, (k, v) in enumerate(fixed.items())}
         fold_models: dict[tuple[float, float], object] = {}
         for _, r in loo[loo["held_out"] != "all (in sample)"].iterrows():
             user = r["held_out"]
@@ -182,15 +183,15 @@ def heldout_models(shared_data: str | Path, loo: pd.DataFrame) -> pd.DataFrame:
             rng = (r["tilted_lo_deg"], r["tilted_hi_deg"])
             if rng not in fold_models:  # folds that fit the same range share one model
                 print(f"held out {user} ...", file=sys.stderr, flush=True)
-                fold_models[rng] = train_without_cv("demo-acc.toml", Path(tmp) / f"fold{len(fold_models)}", _tilted_range(rng))
+                fold_models[rng] = train_without_cv("demo-acc.toml", Path(tmp) / f"fold{len(fold_models)}", tilted_range(rng))
             ranges = {**fixed, "held out": rng}
             for name in (*fixed, "held out"):
                 model = fold_models[rng] if name == "held out" else models[name]
                 tot: dict = {}
                 for rec in recordings[user]:
-                    tot = _add(tot, score(model, rec))
+                    tot = add_scores(tot, score(model, rec))
                 rows.append({"user": user, "model": name, "tilted range (deg)": "{:.0f}-{:.0f}".format(*ranges[name]), **tot})
-                pooled[name] = _add(pooled.get(name, {}), tot)
+                pooled[name] = add_scores(pooled.get(name, {}), tot)
     for name, tot in pooled.items():
         rng = "per fold" if name == "held out" else "{:.0f}-{:.0f}".format(*fixed[name])
         rows.append({"user": "Oxford InHand (pooled)", "model": name, "tilted range (deg)": rng, **tot})

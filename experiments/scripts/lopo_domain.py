@@ -100,7 +100,7 @@ DURATION_S = 120.0
 WINDOW = {"length_s": 1.5, "overlap": 0.5, "feature_set": "all52+gyro"}
 #: The code the cached windows are computed by (below gaitml/): the simulator and what turns its
 #: recordings into windows, features and descriptors. A change to any of them changes the cache key.
-CACHE_SOURCES = ("simulate", "features", "signal", "models/_dataset.py", "models/domain.py")
+CACHE_SOURCES = ("simulate", "features", "signal", "models/_dataset.py", "models/domain")
 CACHE_FILE = "lopo.npz"
 
 

@@ -6,12 +6,11 @@ import json
 import sys
 from typing import Any
 
-from gaitml.io import read_recording
-from gaitml.io._atomic import _json_default
-
 
 def load_input(args) -> Any:
     """Read ``args.input`` with the common input options; print the reader's warnings (one stderr line each)."""
+    from gaitml.io import read_recording
+
     rec = read_recording(args.input, **read_kwargs(args))
     for warning in rec.meta.get("warnings", []):
         log(f"gaitml: warning: {warning}")
@@ -20,6 +19,8 @@ def load_input(args) -> Any:
 
 def emit_json(obj: Any) -> None:
     """Print exactly one JSON object on stdout."""
+    from gaitml.io._atomic import _json_default
+
     sys.stdout.write(json.dumps(obj, default=_json_default, allow_nan=False) + "\n")
     sys.stdout.flush()
 
@@ -38,6 +39,20 @@ def is_large_input(args) -> bool:
         return estimate_samples(args.input) > LARGE_INPUT_SAMPLES
     except (GaitmlError, OSError):
         return False
+
+
+def long_read_kwargs(args) -> dict:
+    """:func:`read_kwargs` for the chunked path, with the first pass over the file made here so that
+    its warnings (the same as a file read whole) are printed once, one stderr line each."""
+    from gaitml.io.chunked import scan_input
+
+    kw = read_kwargs(args)
+    scan = scan_input(args.input, **kw)
+    if scan is not None:
+        for warning in scan.warnings:
+            log(f"gaitml: warning: {warning}")
+        kw["scan"] = scan
+    return kw
 
 
 def read_kwargs(args) -> dict:

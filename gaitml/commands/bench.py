@@ -2,11 +2,21 @@
 
 from __future__ import annotations
 
+import argparse
 import importlib
 import sys
 from pathlib import Path
 
 from gaitml.errors import NotAvailableError
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "throughput benchmarks against reference implementations"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml bench`` on its parser ``p``."""
+    p.add_argument("--out", metavar="DIR", default="bench-out")
+    p.add_argument("--quick", action="store_true", help="smaller inputs (a smoke run)")
 
 
 def load_benchmarks(root: str | Path | None = None):

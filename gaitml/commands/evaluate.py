@@ -2,9 +2,23 @@
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 from gaitml.commands._util import emit_json, log
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "run an experiment config (cross-validation, or the step-detector evaluation)"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml evaluate`` on its parser ``p``."""
+    p.add_argument("config", metavar="CONFIG")
+    p.add_argument("--out", metavar="RUN_DIR")
+    p.add_argument("--data", metavar="DIR", help="read the data from DIR instead of the config's data.path")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--backend", default="joblib", help="joblib | dask")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (with --backend dask)")
 
 
 def run(args) -> int:

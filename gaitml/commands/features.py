@@ -8,17 +8,38 @@ Every window is kept (``min_label_fraction = 0``).
 
 from __future__ import annotations
 
+import argparse
+
 import pandas as pd
 
-from gaitml.commands._util import is_large_input, load_input, log, read_kwargs
-from gaitml.features import CATALOGUE, GYRO_CATALOGUE, extract_features, make_windows, resolve_subset
-from gaitml.io import write_csv
+from gaitml.commands._args import add_input_options, choices, feature_frames, feature_sets
+from gaitml.commands._util import is_large_input, load_input, log, long_read_kwargs
 
-_CODES = {s.name: s.code for s in CATALOGUE + GYRO_CATALOGUE}
+#: The command's one-line description in ``gaitml --help``.
+HELP = "extract windowed features"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml features`` on its parser ``p``."""
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--window-s", type=float, default=1.5)
+    p.add_argument("--overlap", type=float, default=0.5)
+    p.add_argument("--subset", **choices("features", "--subset", feature_sets), default="all52", help="%(choices)s (default %(default)s)")
+    p.add_argument(
+        "--frame",
+        **choices("features", "--frame", feature_frames),
+        default="phone",
+        help="axes of the x/y/z features: phone (the phone's own, paper 003) or gravity (per-window up/forward/right, "
+        "independent of the phone's orientation) (default %(default)s)",
+    )
+    p.add_argument("--out", metavar="FILE", help="write the feature table as CSV")
+    add_input_options(p)
 
 
 def feature_table(recording, *, window_s: float = 1.5, overlap: float = 0.5, subset: str = "all52", frame: str = "phone") -> pd.DataFrame:
     """Window columns followed by the feature columns (what ``--out`` writes); ``frame``: see :func:`gaitml.features.extract_features`."""
+    from gaitml.features import extract_features, make_windows, resolve_subset
+
     key = resolve_subset(subset)
     if key == "all52+gyro":
         recording.require_gyr("feature subset 'all52+gyro'")
@@ -31,6 +52,9 @@ def feature_table(recording, *, window_s: float = 1.5, overlap: float = 0.5, sub
 
 def summary_text(table: pd.DataFrame, recording) -> str:
     """A readable summary: windows, labels and per-feature mean / std / min / max."""
+    from gaitml.features import CATALOGUE, GYRO_CATALOGUE
+
+    codes = {s.name: s.code for s in CATALOGUE + GYRO_CATALOGUE}
     a = table.attrs
     lines = [
         f"recording: {recording.name} ({recording.n_samples} samples, {recording.sampling_rate_hz:g} Hz, {recording.duration_s:.2f} s)",
@@ -44,11 +68,13 @@ def summary_text(table: pd.DataFrame, recording) -> str:
     lines.append(f"{'F':>4}  {'feature':<20} {'mean':>12} {'std':>12} {'min':>12} {'max':>12}")
     for c in feat_cols:
         col = table[c]
-        lines.append(f"{_CODES[c]:>4}  {c:<20} {col.mean():12.5g} {col.std(ddof=0):12.5g} {col.min():12.5g} {col.max():12.5g}")
+        lines.append(f"{codes[c]:>4}  {c:<20} {col.mean():12.5g} {col.std(ddof=0):12.5g} {col.min():12.5g} {col.max():12.5g}")
     return "\n".join(lines)
 
 
 def run(args) -> int:
+    from gaitml.io import write_csv
+
     if is_large_input(args):
         return _run_long(args)
     recording = load_input(args)
@@ -65,8 +91,9 @@ def run(args) -> int:
 
 def _run_long(args) -> int:
     """A long input: features chunk by chunk, appended to the output file (bounded memory)."""
+    from gaitml.chunked_run import long_features
+    from gaitml.features import resolve_subset
     from gaitml.io import atomic_path
-    from gaitml.longrun import long_features
 
     key = resolve_subset(args.subset)
     if not args.out:
@@ -78,7 +105,7 @@ def _run_long(args) -> int:
             subset=key,
             frame=getattr(args, "frame", "phone"),
             on_block=lambda b: n.__setitem__(0, n[0] + len(b)),
-            **read_kwargs(args),
+            **long_read_kwargs(args),
         )
         print(f"{args.input}: {n[0]} windows of {args.window_s:g} s ({key}); the input is long: pass --out FILE to write the table")
         return 0
@@ -97,7 +124,7 @@ def _run_long(args) -> int:
                 subset=key,
                 frame=getattr(args, "frame", "phone"),
                 on_block=write_block,
-                **read_kwargs(args),
+                **long_read_kwargs(args),
             )
     log(f"wrote {count[0]} windows ({key}, processed in chunks) to {args.out}")
     return 0

@@ -7,13 +7,47 @@ both atomically: after a failure neither file is left half-written.
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
+from gaitml.commands._args import add_input_options
 from gaitml.commands._util import emit_json, load_input, log
 from gaitml.errors import InputError
-from gaitml.io._atomic import atomic_path
-from gaitml.io.gaitml_csv import write_gaitml_csv
-from gaitml.labels import label_recording, plot_label_report, read_intervals
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "label a recording from time intervals, snapped to detected steps or strides"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml label`` on its parser ``p``."""
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument(
+        "--intervals", metavar="FILE", required=True, help="CSV start_s,end_s,label or an Audacity label track (start<TAB>end<TAB>label)"
+    )
+    p.add_argument(
+        "--snap", choices=("steps", "strides", "none"), default="steps", help="move boundaries to step or stride boundaries (default steps)"
+    )
+    p.add_argument(
+        "--detector", help="step detector (steps/none; default single-peak) or zero-velocity detector (strides; default pseudo-std)"
+    )
+    p.add_argument(
+        "--boundary",
+        choices=("peak", "edges"),
+        default="peak",
+        help="step boundaries at the step events (default) or the detector's step start/end",
+    )
+    p.add_argument("--max-snap-s", type=float, default=0.5, help="largest move of a boundary in s (default 0.5)")
+    p.add_argument(
+        "--boundary-noise-s",
+        type=float,
+        help="the most a written boundary is off (s): snap only to the one step boundary within it, never guess (default: nearest)",
+    )
+    p.add_argument("--unlabelled", default="unlabelled", help="label of samples outside every interval (default unlabelled)")
+    p.add_argument("--out", metavar="OUT.csv", required=True, help="labelled gaitml-csv; OUT.step-labels.csv is written beside it")
+    p.add_argument("--report", metavar="PNG", help="plot the signal, intervals, steps and snapped boundaries")
+    p.add_argument("--json", action="store_true")
+    add_input_options(p)
+
 
 #: Suffix of the per-step label table written beside OUT.csv.
 STEP_LABELS_SUFFIX = ".step-labels.csv"
@@ -27,6 +61,10 @@ def step_labels_path(out: str | Path) -> Path:
 
 
 def run(args) -> int:
+    from gaitml.io._atomic import atomic_path
+    from gaitml.io.gaitml_csv import write_gaitml_csv
+    from gaitml.labels import label_recording, plot_label_report, read_intervals
+
     out = Path(args.out)
     if not out.name.endswith(".csv"):
         raise InputError(f"--out {out} must be a .csv file (the labelled gaitml-csv); e.g. --out walk.labelled.csv.")

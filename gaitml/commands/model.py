@@ -12,7 +12,30 @@
 
 from __future__ import annotations
 
+import argparse
+
+from gaitml.commands._args import Parser
 from gaitml.commands._util import log
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "convert, export or describe a saved model"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml model`` on its parser ``p``."""
+    msub = p.add_subparsers(dest="model_command", metavar="SUBCOMMAND", parser_class=Parser, required=True)
+    q = msub.add_parser(
+        "convert", help="convert an old pickle model (model.joblib) to the data-only format; UNPICKLES it: trusted models only"
+    )
+    q.add_argument("old_dir", metavar="OLD_DIR")
+    q.add_argument("new_dir", metavar="NEW_DIR")
+    q = msub.add_parser("export", help="portable export: self-describing JSON (linear OVO SVM) or ONNX (extra gaitml[onnx])")
+    q.add_argument("model_dir", metavar="MODEL_DIR")
+    q.add_argument("--format", choices=("json", "onnx"), required=True)
+    q.add_argument("--out", metavar="FILE", required=True)
+    q = msub.add_parser("card", help="the model card (markdown) to stdout or --out")
+    q.add_argument("model_dir", metavar="MODEL_DIR")
+    q.add_argument("--out", metavar="FILE")
 
 
 def _convert(args) -> int:

@@ -8,14 +8,75 @@ renamed only at the end, so a failure leaves neither.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import os
 from pathlib import Path
 
+import numpy as np
+
+from gaitml.commands._args import add_input_options, choices, heading_sources, mode_assignments, mode_sources, step_detectors
 from gaitml.commands._util import emit_json, load_input, log
 from gaitml.errors import InputError
-from gaitml.evaluation.trajectory import end_point_error
-from gaitml.io import atomic_path
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "pedestrian dead reckoning trajectory"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml pdr`` on its parser ``p``."""
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--model", metavar="MODEL_DIR")
+    p.add_argument("--out", metavar="FILE")
+    p.add_argument("--plot", metavar="PNG")
+    p.add_argument("--json", action="store_true")
+    p.add_argument(
+        "--heading", **choices("pdr", "--heading", heading_sources), default="hde", help="heading source: %(choices)s (default hde)"
+    )
+    p.add_argument(
+        "--modes",
+        **choices("pdr", "--modes", mode_sources),
+        help="motion modes per step: %(choices)s (default: model with --model, else the labels, else forward)",
+    )
+    p.add_argument(
+        "--mode-boundaries",
+        **choices("pdr", "--mode-boundaries", mode_assignments),
+        default="auto",
+        help="with --model: re-place each mode change at the most likely step (refine) or keep the nearest window's mode (nearest), "
+        "or take the window nearest the middle of each step (middle); auto (default) refines when steps are timed by their peaks",
+    )
+    p.add_argument(
+        "--detector",
+        **choices("pdr", "--detector", step_detectors),
+        default=None,
+        help="step detector: %(choices)s (default single-peak, or a step-window model's own detector)",
+    )
+    p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
+    p.add_argument(
+        "--initial-heading-rad",
+        type=float,
+        default=None,
+        help="compass heading at the start (default: the reference trajectory's when the input has one, else 0 = north)",
+    )
+    p.add_argument(
+        "--truth",
+        metavar="FILE",
+        help="score against landmarks or a reference path: a GetSensorData log (its POSI lines), a CSV t,x_m,y_m[,floor] / "
+        "t,x_mm,y_mm / t,lat,lon[,floor] on the input's clock, or 'self' for the input's own landmarks or reference trajectory",
+    )
+    p.add_argument(
+        "--truth-align",
+        choices=("start-heading", "start", "none"),
+        default="start-heading",
+        help="align the trajectory on the truth's start position and initial heading (default), the start position only, or not at all",
+    )
+    p.add_argument(
+        "--truth-heading-m",
+        type=float,
+        default=5.0,
+        help="with --truth-align start-heading: the heading is taken to the first truth point this far along the truth (default 5 m)",
+    )
+    add_input_options(p)
 
 
 def check_output_path(path: str, flag: str) -> Path:
@@ -38,6 +99,12 @@ def _validate(args) -> None:
     plot = check_output_path(args.plot, "--plot") if args.plot else None
     if out is not None and plot is not None and out.resolve() == plot.resolve():
         raise InputError(f"--out and --plot are the same file {args.out}; give them different paths.")
+    if getattr(args, "truth", None) and args.truth != "self":
+        from gaitml.io._common import require_file
+
+        require_file(args.truth)
+    if getattr(args, "truth_heading_m", 5.0) is not None and not getattr(args, "truth_heading_m", 5.0) > 0:
+        raise InputError(f"--truth-heading-m must be > 0 m, got {args.truth_heading_m}.")
     if getattr(args, "modes", None) == "model" and not args.model:
         raise InputError("--modes model needs a model; pass --model MODEL_DIR, or use --modes true (labels) or --modes forward.")
 
@@ -59,6 +126,8 @@ def _detector(args, model, notes: list[str]) -> str:
 
 def run(args) -> int:
     """Dead-reckon INPUT; print a summary or the JSON contract; optionally write the table and a plot."""
+    from gaitml.evaluation.trajectory import end_point_error
+    from gaitml.io import atomic_path
     from gaitml.pdr import run_pdr
     from gaitml.pdr.step_length import StepLengthModel
 
@@ -96,6 +165,7 @@ def run(args) -> int:
             )
         else:
             h0 = 0.0
+    truth_obj = _load_truth(args, rec)
     detector = _detector(args, model, notes)
     res = run_pdr(
         rec,
@@ -108,10 +178,23 @@ def run(args) -> int:
         initial_heading_rad=h0,
     )
     notes += list(res.info["notes"])
+    scored = _score(args, rec, res, truth_obj) if truth_obj is not None else None
     # Both outputs are rendered to temporary files beside their targets; they are renamed
     # only when both are complete (a failure removes both temporaries).
     with contextlib.ExitStack() as stack:
-        if args.plot:
+        if args.plot and scored is not None:
+            from gaitml.pdr.plot_truth import plot_truth_score
+
+            tmp_plot = stack.enter_context(atomic_path(args.plot, suffix=".png"))
+            sm = scored["summary"]
+            title = (
+                f"{rec.name} vs {truth_obj.source} ({truth_obj.kind}, align {sm['align']})\nmean {sm['mean_error_m']:.2f} m, "
+                f"p75 {sm['p75_error_m']:.2f} m, end {sm['end_error_m']:.2f} m = {sm.get('end_error_pct_distance', float('nan')):.2f} % of {sm['distance_m']:.0f} m"
+            )
+            plot_truth_score(
+                tmp_plot, scored["aligned_xy"], scored["points"], truth_obj.table, dense=truth_obj.kind == "dense", title=title
+            )
+        elif args.plot:
             from gaitml.pdr.plot import plot_trajectory
 
             tmp_plot = stack.enter_context(atomic_path(args.plot, suffix=".png"))
@@ -126,7 +209,7 @@ def run(args) -> int:
         log(f"note: {note}")
     # ---- out-of-domain steps (gaitml.models.domain): one warning line
     if model is not None and modes == "model":
-        from gaitml.models.domain import domain_warning
+        from gaitml.commands._domain import domain_warning
 
         flags = res.steps["in_domain"].to_numpy(dtype=object) if "in_domain" in res.steps else []
         warning = domain_warning(model, flags, what="steps")
@@ -144,6 +227,8 @@ def run(args) -> int:
         obj = res.to_json_dict()
         if count_msg:
             obj["warnings"] = [count_msg]
+        if scored is not None:
+            obj["truth"] = _truth_json(truth_obj, scored)
         emit_json(obj)
         return 0
     x, y = res.end_xy_m
@@ -163,9 +248,103 @@ def run(args) -> int:
         if d_true > 0:
             err, pct = end_point_error(res.trajectory[["x_m", "y_m"]].to_numpy(), xy[-1], d_true)
             lines.append(f"  truth: distance {d_true:.1f} m; end-point error {err:.2f} m = {pct:.2f} % of distance")
+    if scored is not None:
+        lines.extend(_truth_lines(truth_obj, scored))
     if args.out:
         lines.append(f"  trajectory written to {args.out}")
     if args.plot:
         lines.append(f"  plot written to {args.plot}")
     print("\n".join(lines))
     return 0
+
+
+# ---- scoring against ground truth (issue 31): --truth, --truth-align, --truth-heading-m
+def _load_truth(args, rec):
+    """The truth of ``--truth`` on the recording's time base, or None; its notes go to stderr."""
+    spec = getattr(args, "truth", None)
+    if not spec:
+        return None
+    from gaitml.io.truth import read_truth, truth_of_recording, tyrex_truth
+
+    if rec.meta.get("format") == "tyrex" and (spec == "self" or _is_qualisys(spec)):
+        from gaitml.evaluation.trajectory import BODY_CUTOFF_HZ, body_track
+
+        note = f"the phone's path low-passed at {BODY_CUTOFF_HZ:g} Hz to follow the walker (arm swing removed)"
+        return tyrex_truth(rec, None if spec == "self" else spec, smooth=body_track, smooth_note=note)
+    if spec == "self":
+        return truth_of_recording(rec)
+    same = rec.meta.get("source") is not None and Path(spec).resolve() == Path(str(rec.meta["source"])).resolve()
+    if same and rec.reference.get("landmarks") is not None:
+        return truth_of_recording(rec)
+    return read_truth(spec, t0_original_s=float(rec.meta.get("t0_original_s", 0.0)))
+
+
+def _is_qualisys(spec: str) -> bool:
+    """Whether a truth file is a tyrex motion-capture CSV (its header has the rotation columns)."""
+    from gaitml.io._common import head_lines
+
+    try:
+        lines = [ln for ln in head_lines(Path(spec), 3) if not ln.startswith("#")]
+    except Exception:  # noqa: BLE001 - the reader reports unreadable files itself
+        return False
+    return bool(lines) and "rot0" in lines[0]
+
+
+def _score(args, rec, res, truth) -> dict:
+    from gaitml.evaluation.positioning import apply_alignment, score_positions
+
+    traj = res.trajectory
+    xy = traj[["x_m", "y_m"]].to_numpy(float)
+    points, summary = score_positions(
+        traj["t_s"].to_numpy(float),
+        xy,
+        truth.table,
+        align=getattr(args, "truth_align", "start-heading"),
+        heading_distance_m=getattr(args, "truth_heading_m", 5.0),
+        t_end_s=rec.duration_s,
+    )
+    if summary["n_outside"]:
+        truth.notes.append(
+            f"{summary['n_outside']} truth point(s) lie outside the recording (0 to {rec.duration_s:.1f} s) and were not scored"
+        )
+    for note in truth.notes:
+        log(f"note: truth: {note}")
+    aligned = apply_alignment(xy, summary) if summary["align"] != "none" else xy
+    return {"points": points, "summary": summary, "aligned_xy": aligned}
+
+
+def _truth_json(truth, scored) -> dict:
+    pts = scored["points"]
+    records = []
+    for r in pts.itertuples(index=False):
+        d = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in r._asdict().items()}
+        records.append(d)
+    return {
+        "source": truth.source,
+        "kind": truth.kind,
+        "notes": list(truth.notes),
+        **scored["summary"],
+        "points": records if truth.kind == "landmarks" else records[:: max(1, len(records) // 2000)],
+        "points_every": 1 if truth.kind == "landmarks" else max(1, len(records) // 2000),
+    }
+
+
+def _truth_lines(truth, scored) -> list[str]:
+    sm = scored["summary"]
+    lines = [
+        f"  truth {truth.source} ({truth.kind}, {len(truth.table)} points, align {sm['align']}, rotation {np.degrees(sm['rotation_rad']):.1f} deg): "
+        f"{sm['n_points']} scored, mean {sm['mean_error_m']:.2f} m, p75 {sm['p75_error_m']:.2f} m, max {sm['max_error_m']:.2f} m, "
+        f"end {sm['end_error_m']:.2f} m = {sm.get('end_error_pct_distance', float('nan')):.2f} % of {sm['distance_m']:.1f} m walked"
+    ]
+    for g in sm.get("segments", []):
+        if g["n_points"]:
+            lines.append(
+                f"    segment {g['segment']} (floor {g['floor']:g}): {g['n_points']} points, mean {g['mean_error_m']:.2f} m, p75 {g['p75_error_m']:.2f} m"
+            )
+    if truth.kind == "landmarks":
+        lines.append(f"    {'#':>3s} {'t_s':>8s} {'error_m':>8s} {'dist_m':>8s} {'err_%':>7s} {'floor':>5s}  role")
+        for k, r in enumerate(scored["points"].itertuples(index=False)):
+            pct = f"{r.error_pct_distance:7.2f}" if np.isfinite(r.error_pct_distance) else f"{'-':>7s}"
+            fl = f"{r.floor:5g}" if np.isfinite(r.floor) else f"{'-':>5s}"
+            lines.append(f"    {k:3d} {r.t_s:8.2f} {r.error_m:8.2f} {r.distance_m:8.1f} {pct} {fl}  {r.role}")
+    return lines

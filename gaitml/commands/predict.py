@@ -6,7 +6,23 @@ detected step (stride) instead; both are reported by :func:`_report`.
 
 from __future__ import annotations
 
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+import argparse
+
+from gaitml.commands._args import add_input_options
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "predict motion modes with a saved model"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml predict`` on its parser ``p``."""
+    p.add_argument("model_dir", metavar="MODEL_DIR")
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--out", metavar="FILE")
+    p.add_argument("--no-correction", action="store_true", help="skip the adjacent-window correction")
+    p.add_argument("--json", action="store_true")
+    add_input_options(p)
 
 
 def run(args) -> int:
@@ -20,15 +36,25 @@ def run(args) -> int:
         unit = "strides" if model.window_by == "strides" else "steps"
         return _report(args, model, table, unit, {"window_by": model.window_by, "detector": model.window_detector})
     if is_large_input(args):
-        from gaitml.longrun import long_predict
+        from gaitml.chunked_run import long_predict
 
         log("gaitml predict: long input, processing in chunks of 10 min (bounded memory)")
-        table = long_predict(model, args.input, correction=not args.no_correction, **read_kwargs(args))
+        table = long_predict(model, args.input, correction=not args.no_correction, **long_read_kwargs(args))
     else:
         from gaitml.models import predict_recording
 
         table = predict_recording(model, load_input(args), correction=not args.no_correction)
     return _report(args, model, table, "windows", {"window_s": model.length_s, "overlap": model.overlap})
+
+
+def still_warning(n_still: int, n: int, unit: str) -> str:
+    """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows)."""
+    from gaitml.models._predict import STILL_RANGE_MS2
+
+    return (
+        f"{n_still} of {n} {unit} hold no step (|acc| swings by less than {STILL_RANGE_MS2:g} m/s^2: lying still or standing); "
+        "they are reported as 'still', not as one of the model's motion modes (mode_raw keeps the model's answer)."
+    )
 
 
 def _report(args, model, table, unit: str, settings: dict) -> int:
@@ -38,8 +64,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     ``window_by`` and detector). Out-of-domain check (:mod:`gaitml.models.domain`): one
     warning line, the fraction in the JSON.
     """
+    from gaitml.commands._domain import domain_warning
     from gaitml.io import write_csv
-    from gaitml.models.domain import domain_warning, out_of_domain_fraction
+    from gaitml.models.domain import out_of_domain_fraction
 
     if table.attrs.get("resampled_from_hz"):
         log(
@@ -54,6 +81,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     warning = domain_warning(model, in_domain, unit)
     if warning:
         log(f"gaitml: warning: {warning}")
+    n_still = int(table["still"].sum()) if "still" in table else 0
+    if n_still:
+        log(f"gaitml: warning: {still_warning(n_still, len(table), unit)}")
     by_steps = unit != "windows"
     if args.json:
         emit_json(
@@ -74,6 +104,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 ],
                 "counts": counts,
                 "out_of_domain_fraction": ood_fraction,
+                "still_fraction": n_still / len(table) if len(table) else None,
             }
         )
     elif not args.out:

@@ -8,11 +8,32 @@ chosen ``--by`` (step detectors for ``steps``; zero-velocity detectors for
 
 from __future__ import annotations
 
+import argparse
 import math
 
+from gaitml.commands._args import add_input_options
 from gaitml.commands._util import emit_json, load_input, log
-from gaitml.io import write_csv
-from gaitml.segment import resolve_detector, segment
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "cut a recording into steps, strides or zero-velocity intervals (a table of segments)"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml segment`` on its parser ``p``."""
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--by", choices=("steps", "strides", "zupt"), default="steps", help="%(choices)s (default %(default)s)")
+    p.add_argument(
+        "--detector",
+        help="step detector for --by steps (default single-peak), zero-velocity detector for strides/zupt (default pseudo-std)",
+    )
+    p.add_argument(
+        "--interval-rules",
+        choices=("stride", "fixed", "none"),
+        help="strides/zupt with pseudo-std or magnitude: stride (default), fixed, none (the per-sample rule)",
+    )
+    p.add_argument("--out", metavar="FILE", required=True, help="write the segment table as CSV")
+    p.add_argument("--json", action="store_true")
+    add_input_options(p)
 
 
 def _num(x) -> float | None:
@@ -22,6 +43,9 @@ def _num(x) -> float | None:
 
 def run(args) -> int:
     """Segment a recording; write the table; print a summary or the JSON object."""
+    from gaitml.io import write_csv
+    from gaitml.segment import resolve_detector, segment
+
     det = resolve_detector(args.by, args.detector)  # a bad name fails before any reading
     rules = getattr(args, "interval_rules", None)
     if rules is not None:

@@ -2,13 +2,34 @@
 
 from __future__ import annotations
 
+import argparse
 import math
 
 from gaitml.commands._util import log
 from gaitml.errors import InputError
-from gaitml.simulate import ROUTES, check_modes, check_positions, sample_subjects, simulate_dataset, simulate_route, write_simulation
-from gaitml.simulate.dataset import MAX_DURATION_S, SAMPLING_RATE_RANGE_HZ
-from gaitml.simulate.subject import MAX_SUBJECTS
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "simulate recordings with full ground truth"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml simulate`` on its parser ``p``."""
+    p.add_argument("out_dir", metavar="OUT_DIR")
+    p.add_argument("--subjects", type=int, default=4)
+    p.add_argument("--duration-s", type=float, default=None, help="seconds per recording (default 120; straight/random routes only)")
+    p.add_argument("--modes", default="walk,run,side_left,side_right,backward", help="comma-separated motion modes")
+    p.add_argument("--route", default="straight", help="straight | rectangle | arc | random")
+    p.add_argument("--sampling-rate-hz", type=float, default=None)
+    p.add_argument("--seed", type=int, default=0)
+    # issue 12: carrying positions (comma list, checked against gaitml.simulate.POSITIONS)
+    p.add_argument(
+        "--positions",
+        metavar="LIST",
+        default=None,
+        help="comma-separated carrying positions, e.g. front-pocket,belt (a wrong name lists them all; default: the hand-held "
+        "flat phone, one recording per subject; with a list, one recording per subject and position)",
+    )
+
 
 #: Seconds per recording when ``--duration-s`` is not given (straight / random routes).
 DEFAULT_DURATION_S = 120.0
@@ -16,6 +37,10 @@ DEFAULT_DURATION_S = 120.0
 
 def _validate(args) -> tuple[list[str], float, float | None]:
     """Check every argument before any work; return (modes, sampling rate, duration)."""
+    from gaitml.simulate import ROUTES, check_modes, check_positions
+    from gaitml.simulate.dataset import MAX_DURATION_S, SAMPLING_RATE_RANGE_HZ
+    from gaitml.simulate.subject import MAX_SUBJECTS
+
     modes = check_modes(args.modes)
     if getattr(args, "positions", None) is not None:
         check_positions(args.positions)  # issue 12: one line naming the valid positions
@@ -44,6 +69,8 @@ def run(args) -> int:
     ``--positions LIST`` simulates every subject once per carrying position
     (:data:`gaitml.simulate.POSITIONS`; ``manifest.csv`` has the ``position`` column).
     """
+    from gaitml.simulate import check_positions, sample_subjects, simulate_dataset, simulate_route, write_simulation
+
     modes, fs, duration = _validate(args)
     positions = None if getattr(args, "positions", None) is None else check_positions(args.positions)
     notes = []

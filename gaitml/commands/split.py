@@ -12,15 +12,29 @@ command and ``data.source = "folder"`` configs read.
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
+from gaitml.commands._args import add_input_options
 from gaitml.commands._util import emit_json, log, read_kwargs
-from gaitml.io import read_segments, write_gaitml_csv, write_manifest
-from gaitml.io._atomic import atomic_dir
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "cut a recording at its long timestamp gaps into separate files (with a manifest)"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml split`` on its parser ``p``."""
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument("--out", metavar="DIR", required=True, help="folder for one gaitml-csv per segment and manifest.csv")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_input_options(p)
 
 
 def run(args) -> int:
     """Read INPUT as segments between long gaps and write one gaitml-csv per segment to ``--out``."""
+    from gaitml.io import read_segments, write_gaitml_csv, write_manifest
+    from gaitml.io._atomic import atomic_dir
+
     kw = read_kwargs(args)
     segments = read_segments(args.input, **kw)
     for warning in segments[0].meta.get("warnings", []):

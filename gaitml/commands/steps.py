@@ -2,16 +2,31 @@
 
 from __future__ import annotations
 
+import argparse
+
 import numpy as np
 
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
-from gaitml.evaluation.steps import evaluate_steps, step_times
-from gaitml.io import write_csv
-from gaitml.steps import get_detector
-from gaitml.steps.crosscheck import CROSSCHECK_DETECTOR, FIXED_THRESHOLD_DETECTORS, compare_counts, count_warning
+from gaitml.commands._args import add_input_options, choices, step_detectors
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "detect steps"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml steps`` on its parser ``p``."""
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument(
+        "--detector", **choices("steps", "--detector", step_detectors), default="single-peak", help="%(choices)s (default %(default)s)"
+    )
+    p.add_argument("--out", metavar="FILE", help="write the step table as CSV")
+    p.add_argument("--json", action="store_true")
+    add_input_options(p)
 
 
 def _evaluation(rec, steps) -> dict | None:
+    from gaitml.evaluation.steps import evaluate_steps
+
     ref = rec.reference
     true_s = ref.get("steps_t_s")
     n_true = ref.get("n_steps_true")
@@ -46,6 +61,11 @@ def _json_cadence(det) -> list[dict] | None:
 
 def run(args) -> int:
     """Detect steps, print a summary or the JSON contract, optionally write the table."""
+    from gaitml.evaluation.steps import step_times
+    from gaitml.io import write_csv
+    from gaitml.steps import get_detector
+    from gaitml.steps.crosscheck import count_warning
+
     if is_large_input(args):
         return _run_long(args)
     rec = load_input(args)
@@ -108,12 +128,15 @@ def run(args) -> int:
 
 
 def _run_long(args) -> int:
-    """A long input: chunks of 10 min with 30 s margins (bounded memory, see gaitml.longrun)."""
-    from gaitml.longrun import long_steps
+    """A long input: chunks of 10 min with 30 s margins (bounded memory, see gaitml.chunked_run)."""
+    from gaitml.chunked_run import long_steps
+    from gaitml.evaluation.steps import step_times
+    from gaitml.io import write_csv
+    from gaitml.steps.crosscheck import CROSSCHECK_DETECTOR, FIXED_THRESHOLD_DETECTORS, compare_counts
 
     # the count cross-check (gaitml.steps.crosscheck) on the whole input: adaptive counted on the same chunks
     also = CROSSCHECK_DETECTOR if args.detector in FIXED_THRESHOLD_DETECTORS else None
-    steps = long_steps(args.input, args.detector, progress=True, count_also=also, **read_kwargs(args))
+    steps = long_steps(args.input, args.detector, progress=True, count_also=also, **long_read_kwargs(args))
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
         write_csv(args.out, steps)

@@ -2,7 +2,18 @@
 
 from __future__ import annotations
 
+import argparse
+
 from gaitml.commands._util import log
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "train a model from an experiment config"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml train`` on its parser ``p``."""
+    p.add_argument("config", metavar="CONFIG")
+    p.add_argument("--out", metavar="MODEL_DIR")
 
 
 def run(args) -> int:

@@ -1,18 +1,40 @@
 """`gaitml zupt INPUT [--detector NAME] [--threshold-rads X] [--interval-rules R] [--out FILE] [--json]` (DESIGN sec. 5).
 
 Inputs longer than ``gaitml.io.chunked.LARGE_INPUT_SAMPLES`` are processed in
-overlapping chunks (:func:`gaitml.longrun.long_zupts`, bounded memory, the same
+overlapping chunks (:func:`gaitml.chunked_run.long_zupts`, bounded memory, the same
 per-sample decisions as a whole-file run); the others are read whole.
 """
 
 from __future__ import annotations
 
+import argparse
+
 import numpy as np
 
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, read_kwargs
+from gaitml.commands._args import add_input_options, choices, zupt_detectors
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 from gaitml.errors import InputError
-from gaitml.io import write_csv
-from gaitml.zupt import get_detector
+
+#: The command's one-line description in ``gaitml --help``.
+HELP = "detect zero-velocity intervals"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Declare the arguments of ``gaitml zupt`` on its parser ``p``."""
+    p.add_argument("input", metavar="INPUT")
+    p.add_argument(
+        "--detector", **choices("zupt", "--detector", zupt_detectors), default="pseudo-std", help="%(choices)s (default %(default)s)"
+    )
+    p.add_argument("--threshold-rads", type=float, help="detector threshold in rad/s (pseudo-std)")
+    p.add_argument(
+        "--interval-rules",
+        choices=("stride", "fixed", "none"),
+        help="pseudo-std, magnitude: stride (default: follow the local stride period), fixed (seconds), none (per-sample rule)",
+    )
+    p.add_argument("--out", metavar="FILE", help="write the interval table as CSV")
+    p.add_argument("--json", action="store_true")
+    add_input_options(p)
+
 
 #: detectors whose threshold ``--threshold-rads`` sets, and the parameter it maps to
 THRESHOLD_PARAM = {"pseudo-std": "threshold_rads"}
@@ -69,6 +91,8 @@ def zupt_summary(
     rec, detector: str = "pseudo-std", threshold_rads: float | None = None, interval_rules: str | None = None
 ) -> tuple[object, dict]:
     """Run a detector on a recording and build the JSON object (library entry point)."""
+    from gaitml.zupt import get_detector
+
     det = get_detector(detector, **detector_params(detector, threshold_rads, interval_rules)).detect(rec)
     obj = summary(
         detector,
@@ -85,17 +109,20 @@ def zupt_summary(
 
 def run(args) -> int:
     """Detect zero-velocity intervals; print a summary or the JSON contract; optionally write the table."""
+    from gaitml.io import write_csv
+    from gaitml.zupt import get_detector
+
     rules = getattr(args, "interval_rules", None)
     params = detector_params(args.detector, args.threshold_rads, rules)
     if is_large_input(args):
-        from gaitml.longrun import long_zupts
+        from gaitml.chunked_run import long_zupts
 
         mask, table, fs = long_zupts(
             args.input,
             args.detector,
             detector_params=params,
             progress=True,
-            **read_kwargs(args),
+            **long_read_kwargs(args),
         )
         thr = getattr(get_detector(args.detector, **params), "_threshold", lambda: None)()
         obj = summary(args.detector, mask, table, fs, threshold_rads=thr)

@@ -10,6 +10,7 @@ from gaitml.io._common import head_bytes, head_lines, require_file
 from gaitml.io.columns_csv import read_columns_csv
 from gaitml.io.gaitmap import GAITMAP_TABLES, is_gaitmap_header, read_gaitmap_csv
 from gaitml.io.gaitml_csv import list_gaitml_files, looks_like_gaitml, read_gaitml_csv, read_gaitml_folder, sniff_dialect
+from gaitml.io.getsensordata import is_getsensordata, read_getsensordata
 from gaitml.io.ifsm import is_xlsx, read_ifsm_xlsx
 from gaitml.io.oxford import is_oxford_folder, list_oxford_folders, read_oxford_folder
 from gaitml.io.phyphox import is_phyphox, read_phyphox
@@ -20,12 +21,13 @@ from gaitml.recording import Recording
 __all__ = ["FORMATS", "detect_format", "read_recording", "read_segments", "read_dataset", "list_dataset"]
 
 #: Names accepted by ``--format``.
-FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap", "phyphox", "sensor-logger", "columns-csv", "tyrex")
+FORMATS = ("gaitml-csv", "ifsm-xlsx", "oxford", "gaitmap", "phyphox", "sensor-logger", "columns-csv", "tyrex", "getsensordata")
 
 _EXPECTED = (
     "expected a gaitml-csv (t, acc_x, acc_y, acc_z[, gyr_*][, label]), an IFSM xlsx, "
     "an Oxford recording folder (accelerometer.csv + stepcounter.csv), a gaitmap IMU CSV, "
-    "a phyphox or Sensor Logger export (folder, zip or CSV), a tyrex recording folder (accelerometer.txt + gyroscope log), or any CSV with --columns t=...,acc_x=...,acc_y=...,acc_z=..."
+    "a phyphox or Sensor Logger export (folder, zip or CSV), a tyrex recording folder (accelerometer.txt + gyroscope log), "
+    "a GetSensorData log, or any CSV with --columns t=...,acc_x=...,acc_y=...,acc_z=..."
 )
 
 
@@ -67,7 +69,11 @@ def detect_format(path: str | os.PathLike) -> str:
             return "sensor-logger"
         if is_phyphox(p):
             return "phyphox"
-        raise InputError(f"{p.name} is a zip archive but not an Excel workbook; {_EXPECTED}.")
+        if p.suffix.lower() in (".xlsx", ".xlsm", ".xls"):  # named as a workbook: say it is not one
+            raise InputError(f"{p.name} is a zip archive but not an Excel workbook ({_zip_summary(p)}); {_EXPECTED}.")
+        raise InputError(f"{p.name} is a zip archive gaitml does not recognise ({_zip_summary(p)}); {_EXPECTED}.")
+    if is_getsensordata(p):
+        return "getsensordata"
     lines = head_lines(p, 2)
     if not lines:
         raise InputError(f"the file is empty: {p}; record or export the data again.")
@@ -88,8 +94,30 @@ def detect_format(path: str | os.PathLike) -> str:
             f"{p.name} is a tyrex motion-capture file, not an IMU recording; pass the phone's folder "
             f"(android/{p.name.split('.')[0]} or ios/...), and read the capture with gaitml.io.read_tyrex_truth."
         )
+    if lines[0].strip().lower().startswith("sep=") and len(lines) > 1:  # AndroSensor / Excel separator hint
+        raise InputError(
+            f"{p.name[:80]} starts with a separator hint {lines[0].strip()!r} (AndroSensor or a spreadsheet export; header "
+            f"{lines[1].strip()[:80]!r}); read it with --columns t=...,acc_x=...,acc_y=...,acc_z=... naming its columns."
+        )
     cols = lines[0].strip()[:80]
     raise InputError(f"unknown format for {p.name[:80]} (first line: {cols!r}); {_EXPECTED}; or pass --format.")
+
+
+def _zip_summary(p: Path) -> str:
+    """What a zip holds, for the refusal: its first member names, or why it cannot be opened."""
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(p) as z:
+            names = [n for n in z.namelist() if not n.startswith("__MACOSX/") and not n.endswith("/")]
+    except (zipfile.BadZipFile, OSError) as exc:
+        return f"cannot be opened: {exc}"
+    if not names:
+        return "empty"
+    shown = ", ".join(names[:6]) + (f", ... ({len(names)} files)" if len(names) > 6 else "")
+    csvs = [n for n in names if n.lower().endswith(".csv")]
+    why = "no CSV tables" if not csvs else "no phyphox or Sensor Logger accelerometer table among its CSVs"
+    return f"{why}; it holds {shown}"
 
 
 def list_gaitml_files_safe(p: Path) -> list[Path]:
@@ -143,10 +171,18 @@ def read_recording(
         if columns is None:
             raise InputError("--format columns-csv needs --columns t=...,acc_x=...,acc_y=...,acc_z=... naming the CSV's columns.")
         return read_columns_csv(p, columns, time_unit=time_unit, acc_unit=acc_unit, gyr_unit=gyr_unit, sampling_rate_hz=sampling_rate_hz)
+    given = {"acc_unit": None if acc_unit == "m/s^2" else acc_unit, "gyr_unit": None if gyr_unit == "rad/s" else gyr_unit}
     if fmt == "phyphox":
-        return read_phyphox(p, sampling_rate_hz=sampling_rate_hz)
+        return read_phyphox(p, sampling_rate_hz=sampling_rate_hz, **given)
     if fmt == "sensor-logger":
-        return read_sensor_logger(p, sampling_rate_hz=sampling_rate_hz)
+        return read_sensor_logger(p, sampling_rate_hz=sampling_rate_hz, **given)
+    if any(given.values()) and fmt in ("ifsm-xlsx", "oxford", "gaitmap", "getsensordata", "tyrex", "tyrex-set"):
+        flag = "--acc-unit" if given["acc_unit"] else "--gyr-unit"
+        raise InputError(
+            f"{flag} applies to gaitml-csv, columns-csv, phyphox and Sensor Logger files; a {fmt} recording has its documented units: drop {flag}."
+        )
+    if fmt == "getsensordata":
+        return read_getsensordata(p, sampling_rate_hz=sampling_rate_hz)
     if fmt == "gaitml-csv":
         if p.is_dir():
             raise InputError(f"{p} is a folder; pass one .csv recording of it.")

@@ -3,14 +3,21 @@
 Phone apps log each sensor "as fast as possible" with its own timestamps
 (phyphox tables, Sensor Logger files); the two streams start and stop at
 slightly different times and their sample times never coincide. gaitml merges
-them in one documented way:
+them in one documented way that keeps every accelerometer sample:
 
-1. keep only the *overlap* of the two streams (the later start to the earlier
-   end), never extrapolate;
-2. keep the accelerometer's own timestamps inside the overlap (the
-   accelerometer is what every step detector uses) and linearly interpolate each
-   gyroscope axis onto them;
-3. report what was done in ``meta['clock_merge']`` (shown by ``gaitml info``).
+1. the merged recording spans the accelerometer (every step detector, and the
+   time base a person labels against, is the accelerometer's); t = 0 stays at
+   its first sample;
+2. each gyroscope axis is linearly interpolated onto the accelerometer's times
+   where the gyroscope runs; where it does not (it started late or stopped
+   early), it is filled by holding its first or last sample (the stated rule,
+   :data:`FILL_RULE`), and those spans are reported in
+   ``meta['clock_merge']['gyr_filled_s']``;
+3. gyroscope samples outside the accelerometer's span have no accelerometer to
+   go with and are counted in ``dropped_gyr_samples``;
+4. when more than :data:`WARN_SAMPLES` samples are filled or dropped, the merge
+   returns one warning line (``info['warning']``), which the readers put in
+   ``meta['warnings']`` and every command prints.
 
 :meth:`gaitml.recording.Recording.from_timestamps` then makes the result
 uniform (and reports that resampling separately). Linear interpolation of a
@@ -30,10 +37,15 @@ import numpy as np
 
 from gaitml.errors import InputError
 
-__all__ = ["merge_clocks", "MIN_OVERLAP_FRACTION", "check_times"]
+__all__ = ["override_units", "merge_clocks", "MIN_OVERLAP_FRACTION", "WARN_SAMPLES", "FILL_RULE", "check_times"]
 
 #: Refuse two streams whose overlap is shorter than this fraction of the shorter stream.
 MIN_OVERLAP_FRACTION = 0.5
+#: A merge that fills or drops more than this many samples of either stream is warned about
+#: (sensors switched on a few milliseconds apart are ordinary and stay silent).
+WARN_SAMPLES = 5
+#: How the second stream is filled where it did not run (see the module docstring).
+FILL_RULE = "hold the nearest sample"
 
 
 def check_times(t: np.ndarray, what: str) -> None:
@@ -59,8 +71,9 @@ def merge_clocks(
     gyr: np.ndarray,
     *,
     what: str = "the recording",
+    names: tuple[str, str] = ("accelerometer", "gyroscope"),
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
-    """Interpolate the gyroscope onto the accelerometer's times over their overlap.
+    """Interpolate the gyroscope onto every accelerometer time (see the module docstring).
 
     Parameters
     ----------
@@ -70,16 +83,21 @@ def merge_clocks(
         Accelerometer (any unit) and gyroscope (any unit) samples.
     what : str
         Names the export in error messages.
+    names : (str, str)
+        What the two streams are, for the messages (e.g. the gravity sensor).
 
     Returns
     -------
     t, acc, gyr : ndarrays
-        The accelerometer times inside the overlap, its samples there, and the
-        gyroscope linearly interpolated at those times.
+        The accelerometer's times and samples (all of them), and the gyroscope
+        interpolated at those times (held at its edge sample outside its span).
     info : dict
         For ``meta['clock_merge']``: ``method``, ``overlap_s`` (start, end on the
         input clock), ``acc_rate_hz``, ``gyr_rate_hz`` (median rates),
-        ``dropped_acc_samples`` and ``dropped_gyr_samples`` (outside the overlap).
+        ``dropped_acc_samples`` (always 0), ``dropped_gyr_samples`` (outside the
+        accelerometer's span), ``filled_gyr_samples`` and ``gyr_filled_s``
+        (``[[start, end], ...]`` in s from the first accelerometer sample) and
+        ``warning`` (one line, or None).
 
     Raises
     ------
@@ -88,38 +106,75 @@ def merge_clocks(
         the shorter stream (unsynchronised clocks); too few samples; times not
         increasing.
     """
+    first, second = names
     t_acc = np.asarray(t_acc, dtype=float)
     t_gyr = np.asarray(t_gyr, dtype=float)
     acc = np.asarray(acc, dtype=float)
     gyr = np.asarray(gyr, dtype=float)
-    check_times(t_acc, f"the accelerometer table of {what}")
-    check_times(t_gyr, f"the gyroscope table of {what}")
+    check_times(t_acc, f"the {first} table of {what}")
+    check_times(t_gyr, f"the {second} table of {what}")
     a0, a1, g0, g1 = float(t_acc[0]), float(t_acc[-1]), float(t_gyr[0]), float(t_gyr[-1])
     lo, hi = max(a0, g0), min(a1, g1)
     if hi <= lo:
         raise InputError(
-            f"the accelerometer ({a0:.3f} to {a1:.3f} s) and gyroscope ({g0:.3f} to {g1:.3f} s) clocks of {what} do not overlap; "
-            "export both sensors from the same recording, or remove the gyroscope table to read the accelerometer alone."
+            f"the {first} ({a0:.3f} to {a1:.3f} s) and {second} ({g0:.3f} to {g1:.3f} s) clocks of {what} do not overlap; "
+            f"export both sensors from the same recording, or remove the {second} table to read the {first} alone."
         )
     shorter = min(a1 - a0, g1 - g0)
     if hi - lo < MIN_OVERLAP_FRACTION * shorter:
         raise InputError(
-            f"the accelerometer ({a0:.3f} to {a1:.3f} s) and gyroscope ({g0:.3f} to {g1:.3f} s) of {what} overlap for only "
+            f"the {first} ({a0:.3f} to {a1:.3f} s) and {second} ({g0:.3f} to {g1:.3f} s) of {what} overlap for only "
             f"{hi - lo:.3f} s of {shorter:.3f} s: unsynchronised clocks (other time units or another recording?); "
             "export both sensors from the same recording with the same time unit."
         )
-    keep = (t_acc >= lo) & (t_acc <= hi)
-    if keep.sum() < 2:
-        raise InputError(f"the accelerometer of {what} has fewer than 2 samples where the gyroscope runs; record for longer.")
-    t = t_acc[keep]
-    gyr_on_acc = np.column_stack([np.interp(t, t_gyr, gyr[:, j]) for j in range(gyr.shape[1])])
-    n_gyr_used = int(((t_gyr >= lo) & (t_gyr <= hi)).sum())
+    # np.interp holds the edge samples outside [g0, g1]: the stated fill rule
+    gyr_on_acc = np.column_stack([np.interp(t_acc, t_gyr, gyr[:, j]) for j in range(gyr.shape[1])])
+    before, after = t_acc < g0, t_acc > g1
+    filled = [[round(float(t_acc[m][0] - a0), 6), round(float(t_acc[m][-1] - a0), 6)] for m in (before, after) if m.any()]
+    n_filled = int(before.sum() + after.sum())
+    n_dropped = int(((t_gyr < a0) | (t_gyr > a1)).sum())
+    warning = None
+    if n_filled > WARN_SAMPLES or n_dropped > WARN_SAMPLES:
+        parts = []
+        if n_filled > WARN_SAMPLES:
+            spans = " and ".join(f"{a:.3g}-{b:.3g} s" for a, b in filled)
+            parts.append(
+                f"the {second} did not run for {n_filled} of the {first}'s {len(t_acc)} samples ({spans}), "
+                f"filled there by the rule '{FILL_RULE}' (not measured)"
+            )
+        if n_dropped > WARN_SAMPLES:
+            parts.append(f"{n_dropped} {second} samples outside the {first}'s span ({a0:.3f} to {a1:.3f} s) were dropped")
+        warning = f"{what}: {'; '.join(parts)}; every {first} sample is kept (t = 0 at its first sample)" + (
+            f"; trim the recording to {lo - a0:.3f}-{hi - a0:.3f} s if the {second} matters there." if n_filled > WARN_SAMPLES else "."
+        )
     info = {
-        "method": "gyroscope linearly interpolated onto the accelerometer times, overlap only",
+        "method": f"{second} linearly interpolated onto every {first} time; outside its span: {FILL_RULE}",
         "overlap_s": [round(lo, 6), round(hi, 6)],
         "acc_rate_hz": round(1.0 / float(np.median(np.diff(t_acc))), 3),
         "gyr_rate_hz": round(1.0 / float(np.median(np.diff(t_gyr))), 3),
-        "dropped_acc_samples": int(len(t_acc) - keep.sum()),
-        "dropped_gyr_samples": int(len(t_gyr) - n_gyr_used),
+        "dropped_acc_samples": 0,
+        "dropped_gyr_samples": n_dropped,
+        "filled_gyr_samples": n_filled,
+        "gyr_filled_s": filled,
+        "warning": warning,
     }
-    return t, acc[keep], gyr_on_acc, info
+    return t_acc, acc, gyr_on_acc, info
+
+
+def override_units(meta: dict, acc_unit: str, gyr_unit: str, acc_given: str | None, gyr_given: str | None) -> tuple[str, str]:
+    """The units to convert from: the export's own (``acc_unit``, ``gyr_unit``) unless the user named others.
+
+    A phone app's header can state m/s^2 over values in g (an app setting, a re-export);
+    ``--acc-unit`` / ``--gyr-unit`` then say what the values are, and ``meta['unit_override']``
+    records both.
+    """
+    notes = []
+    if acc_given is not None and acc_given != acc_unit:
+        notes.append(f"acc in {acc_given} as given (the export says {acc_unit})")
+        acc_unit = acc_given
+    if gyr_given is not None and gyr_given != gyr_unit:
+        notes.append(f"gyr in {gyr_given} as given (the export says {gyr_unit})")
+        gyr_unit = gyr_given
+    if notes:
+        meta["unit_override"] = notes
+    return acc_unit, gyr_unit

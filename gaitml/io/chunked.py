@@ -13,31 +13,41 @@ event is reported once, and filters and detectors see enough context at the
 edges. Core boundaries are multiples of ``align_samples`` so that sliding
 windows keep the same global grid as a whole-file run.
 
-Irregular timestamps are resampled onto the global grid ``t0 + k / fs`` by
-linear interpolation, carrying the last sample of the previous block across the
-block boundary, so the result equals the whole-file resampling. Without
-``sampling_rate_hz`` the rate is the median rate of the first block (stated in
-the chunk's ``meta``). Other formats are small and are read whole, then sliced.
+Chunking is only how the ordinary reading walks a long file, never a second
+reader. :func:`scan_gaitml_csv` is a first streaming pass over the whole file
+with the small-file code (:func:`gaitml.io.gaitml_csv.parse_block` for the
+columns, numbers, NaN rows and labels; :class:`gaitml.recording.ranges.RangeTally`
+for the sensor ranges; the unit judgement on the whole file's magnitudes;
+:func:`gaitml.recording.timestamps.judge_timestamps` on the whole file's
+timestamps for the rate, quantised clocks, rate changes and gaps). The second
+pass resamples the blocks with :class:`gaitml.recording.resampling.UniformResampler`,
+the resampler of a file read whole, carrying its state across blocks. So a long
+file is refused, warned about and resampled exactly as it would be if read whole.
+Other formats are read whole, then sliced.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import os
-import re
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
-from gaitml.consts import ACC_COLS, GYR_COLS, LABEL_COL, TIME_COL
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._detect import detect_format, read_recording
-from gaitml.recording import Recording, _check_ranges, _convert_units, check_acc_unit, max_bridge_s
+from gaitml.io.gaitml_csv import Block, Columns, _read_table, check_columns, parse_block
+from gaitml.recording import Recording
+from gaitml.recording.container import finish_resampling_meta
+from gaitml.recording.ranges import RangeTally
+from gaitml.recording.resampling import UniformResampler
+from gaitml.recording.timestamps import check_increasing, judge_timestamps
+from gaitml.recording.units import acc_magnitude, check_unit_magnitudes, convert_units, gyr_magnitude, note_conversions
 
-__all__ = ["Chunk", "iter_chunks", "estimate_samples", "LARGE_INPUT_SAMPLES"]
+__all__ = ["Chunk", "Scan", "iter_chunks", "scan_gaitml_csv", "scan_input", "estimate_samples", "LARGE_INPUT_SAMPLES"]
 
 #: Inputs with more samples than this are processed in chunks by the CLI.
 LARGE_INPUT_SAMPLES = 2_000_000
@@ -68,6 +78,61 @@ class Chunk:
     total_hint: int | None = None
 
 
+@dataclass(frozen=True)
+class Scan:
+    """What the first pass over a long gaitml-csv found: the grid, the channels and the reading's ``meta``.
+
+    ``meta`` is what a file read whole would carry (``original_rate_hz``,
+    ``rate_changes``, ``resampled``, ``resample_method``, ``converted``,
+    ``warnings``...).
+    """
+
+    path: Path
+    sampling_rate_hz: float
+    resampled: bool
+    max_rate_hz: float
+    t0: float
+    t_end: float
+    n_rows: int
+    has_gyr: bool
+    has_labels: bool
+    meta: dict
+    acc_unit: str = "m/s^2"
+    gyr_unit: str = "rad/s"
+
+    @property
+    def n_samples(self) -> int:
+        """Samples of the uniform recording."""
+        if not self.resampled:
+            return self.n_rows
+        return int(np.floor((self.t_end - self.t0) * self.sampling_rate_hz + 1e-9)) + 1
+
+    @property
+    def warnings(self) -> list[str]:
+        return list(self.meta.get("warnings", []))
+
+    def at_rate(self, sampling_rate_hz: float) -> Scan:
+        """The same file read at ``sampling_rate_hz`` (resampled), without reading it again.
+
+        What a requested rate changes in :func:`~gaitml.recording.timestamps.judge_timestamps`:
+        the grid, ``resampled`` and the resampling method (the file's own rate was judged
+        already, and passed :func:`~gaitml.recording.timestamps.check_rate`).
+        """
+        from gaitml.recording.timestamps import check_rate, rate_change_warning
+
+        fs = float(sampling_rate_hz)
+        check_rate(fs, what="the requested sampling rate")
+        meta = {k: v for k, v in self.meta.items() if k not in ("resampled", "resample_method", "warnings")}
+        plan = {"fs": fs, "resampled": True, "max_rate_hz": self.max_rate_hz, "warnings": []}
+        old = [w for w in self.meta.get("warnings", []) if not w.startswith("the sampling rate changes mid-file")]
+        if self.meta.get("rate_changes"):
+            plan["warnings"] = [rate_change_warning(self.meta["rate_changes"], self.meta["original_rate_hz"], fs)]
+        if old:
+            meta["warnings"] = old
+        finish_resampling_meta(meta, plan)
+        return dataclasses.replace(self, sampling_rate_hz=fs, resampled=True, meta=meta)
+
+
 def estimate_samples(path: str | os.PathLike) -> int:
     """A cheap estimate of the number of samples of a file (from its size)."""
     p = require_file(path)
@@ -86,119 +151,142 @@ def estimate_samples(path: str | os.PathLike) -> int:
     return int(size / (len(head) / lines))
 
 
-def _guarded(reader, path: Path):
-    """Iterate a pandas chunk reader, turning a truncated or corrupt file into an InputError."""
-    import gzip
-    import zlib
+def _parsed_blocks(p: Path, rows: int) -> Iterator[tuple[Block, int, Columns]]:
+    """``(block, offset, columns)`` for consecutive blocks of ``rows`` rows, parsed by the small-file code."""
+    cols = None
+    offset = 0
+    for df in _read_table(p, chunksize=rows):
+        if cols is None:
+            cols = check_columns(p, list(df.columns))
+        if not len(df):
+            continue
+        yield parse_block(p, df, cols, first_line=offset + 2), offset, cols
+        offset += len(df)
+    if cols is None:
+        raise InputError(f"the file is empty: {p}; record or export the data again.")
 
-    it = iter(reader)
-    while True:
-        try:
-            df = next(it)
-        except StopIteration:
-            return
-        except (EOFError, zlib.error, gzip.BadGzipFile, pd.errors.ParserError) as exc:
-            raise InputError(f"cannot read {path.name}: {exc}; the file is truncated or corrupt.") from exc
-        yield df
+
+class _Growing:
+    """A 1-D array filled block by block (capacity grows by half when full): no list of blocks to concatenate."""
+
+    def __init__(self, capacity: int, dtype):
+        self.buf = np.empty(capacity, dtype=dtype)
+        self.n = 0
+
+    def append(self, x: np.ndarray) -> None:
+        if self.n + len(x) > len(self.buf):
+            grown = np.empty(max(self.n + len(x), int(len(self.buf) * 1.5)), dtype=self.buf.dtype)
+            grown[: self.n] = self.buf[: self.n]
+            self.buf = grown
+        self.buf[self.n : self.n + len(x)] = x
+        self.n += len(x)
+
+    def values(self) -> np.ndarray:
+        return self.buf[: self.n]
 
 
-def _blocks_gaitml_csv(path: Path, sampling_rate_hz: float | None, acc_unit: str, gyr_unit: str):
-    """Yield (acc, gyr, labels, meta) blocks on the uniform global grid."""
-    reader = pd.read_csv(path, chunksize=_ROWS_PER_READ, skipinitialspace=True)
-    fs = sampling_rate_hz
-    t0 = None
-    prev = None  # last raw row of the previous block: (t, acc, gyr, label)
-    k_next = 0
-    has_gyr = None
-    has_lab = None
-    line = 2
-    resampled = None
-    gap_limit = np.inf
-    for df in _guarded(reader, path):
-        df.columns = [str(c).strip() for c in df.columns]
-        missing = [c for c in (TIME_COL, *ACC_COLS) if c not in df.columns]
-        if missing:
-            raise InputError(f"{path.name} is not a gaitml-csv: missing columns {missing}; expected t, acc_x, acc_y, acc_z.")
-        if has_gyr is None:
-            has_gyr = all(c in df.columns for c in GYR_COLS)
-            has_lab = LABEL_COL in df.columns
-        cols = [TIME_COL, *ACC_COLS, *(GYR_COLS if has_gyr else ())]
-        vals = df[cols].apply(pd.to_numeric, errors="coerce").to_numpy(dtype=float)
-        bad = ~np.isfinite(vals).all(axis=1)
-        if bad.any():
-            raise InputError(
-                f"{path.name}: NaN/inf or non-numeric value at line {line + int(np.flatnonzero(bad)[0])}; "
-                "remove or interpolate those rows before loading."
-            )
-        t = vals[:, 0]
-        acc = vals[:, 1:4]
-        gyr = vals[:, 4:7] if has_gyr else None
-        lab = df[LABEL_COL].astype(str).to_numpy() if has_lab else None
-        acc, gyr = _convert_units(acc, gyr, acc_unit, gyr_unit)
-        conv = [c for c, on in (("acc from g", acc_unit == "g"), ("gyr from deg/s", gyr_unit == "deg/s")) if on]
-        try:
-            _check_ranges(acc, gyr, {"converted": conv})  # before interpolating: a 1e308 would overflow
-        except InputError as exc:
-            first = line
-            msg = re.sub(r"at sample (\d+)", lambda m, first=first: f"at line {first + int(m.group(1))}", str(exc), count=1)
-            raise InputError(f"{path.name}: {msg}") from exc
-        if prev is not None:
-            t = np.concatenate([[prev[0]], t])
-            acc = np.vstack([prev[1], acc])
-            gyr = None if gyr is None else np.vstack([prev[2], gyr])
-            lab = None if lab is None else np.concatenate([[prev[3]], lab])
-        dt = np.diff(t)
-        if (dt <= 0).any():
-            i = int(np.flatnonzero(dt <= 0)[0])
-            what = "duplicate" if dt[i] == 0 else "decreasing"
-            raise InputError(
-                f"{path.name}: {what} timestamp at line {line + i - (1 if prev is not None else 0) + 1}; "
-                "sort the rows by time and remove duplicates."
-            )
-        if t0 is None:
-            t0 = float(t[0])
-            check_acc_unit(acc)
-            med = float(np.median(dt))
-            gap_limit = max_bridge_s(med)
-            uniform = bool(np.all(np.abs(dt - med) <= 1e-3 * med))
-            if fs is None:
-                fs = float(np.round((len(t) - 1) / (t[-1] - t[0]), 6)) if uniform else float(np.round(1.0 / med, 6))
-                resampled = not uniform
-            else:
-                resampled = True
-        if (dt > gap_limit).any():
-            i = int(np.flatnonzero(dt > gap_limit)[0])
-            raise InputError(
-                f"{path.name}: a {dt[i]:.6g} s gap in the timestamps before line {line + i - (1 if prev is not None else 0) + 1} "
-                f"(t = {t[i] - t0:.6g} s from the start) is too long to bridge by interpolation (> {gap_limit:.3g} s); "
-                "cut the file at its gaps with `gaitml split FILE --out DIR` (in Python: gaitml.io.read_segments)."
-            )
-        start = len(t) - len(df)  # rows of this block (after the carried row)
-        if resampled:
-            # grid points covered by this block: t0 + k / fs <= t[-1]
-            k_last = int(np.floor((t[-1] - t0) * fs + 1e-9))
-            ks = np.arange(k_next, k_last + 1)
-            if ks.size:
-                grid = t0 + ks / fs
-                a = np.column_stack([np.interp(grid, t, acc[:, j]) for j in range(3)])
-                g = None if gyr is None else np.column_stack([np.interp(grid, t, gyr[:, j]) for j in range(3)])
-                li = None if lab is None else lab[np.clip(np.searchsorted(t, grid, side="right") - 1, 0, len(t) - 1)]
-                yield a, g, li, {"sampling_rate_hz": fs, "resampled": True}
-                k_next = k_last + 1
+def scan_gaitml_csv(
+    path: str | os.PathLike,
+    *,
+    sampling_rate_hz: float | None = None,
+    acc_unit: str = "m/s^2",
+    gyr_unit: str = "rad/s",
+    rows_per_read: int | None = None,
+) -> Scan:
+    """The first, streaming pass over a long gaitml-csv: every check of a file read whole (see the module docstring).
+
+    Memory: the timestamps and the per-sample |acc| and |gyr| of the whole file
+    (24 bytes per sample: 0.2 GB for a day at 100 Hz), never the samples.
+
+    Raises
+    ------
+    InputError
+        What :func:`gaitml.io.read_recording` raises on the same file.
+    """
+    p = require_file(path)
+    rows = int(rows_per_read or _ROWS_PER_READ)
+    conv_meta: dict = {}
+    note_conversions(conv_meta, acc_unit, gyr_unit == "deg/s")
+    tally = RangeTally(conv_meta)
+    cap = max(1024, int(estimate_samples(p) * 1.05))
+    ts, amag, gmag = _Growing(cap, np.float64), _Growing(cap, np.float32), _Growing(cap, np.float32)
+    nan = Block(np.zeros(0), np.zeros((0, 3)), None, None)
+    has_gyr = has_labels = False
+    cols_ignored: list[str] = []
+    n = 0
+    for block, offset, cols in _parsed_blocks(p, rows):
+        has_gyr, has_labels, cols_ignored = cols.has_gyr, cols.has_labels, cols.ignored
+        if block.nan_count:
+            nan.nan_count += block.nan_count
+            nan.nan_first_line = nan.nan_first_line or block.nan_first_line
+        acc, gyr = convert_units(block.acc, block.gyr, acc_unit, gyr_unit)
+        ts.append(block.t)
+        amag.append(acc_magnitude(acc))
+        if gyr is not None:
+            gmag.append(gyr_magnitude(gyr))
+        tally.add(acc, gyr, offset)
+        n = offset + len(block.t)
+    if n == 0:
+        raise InputError(f"{p.name} has a header but no samples; record or export the data again.")
+    nan.raise_nan(p)
+    t = ts.values()
+    if len(t) < 2:
+        raise InputError(f"need at least 2 timestamped samples to find the sampling rate, got {len(t)}; use a longer recording.")
+    check_increasing(t)
+    meta = {"source": str(p), "format": "gaitml-csv", "id": p.stem, "subject": p.stem, "session": p.stem, "chunked": True}
+    if cols_ignored:
+        meta["ignored_columns"] = cols_ignored
+    note_conversions(meta, acc_unit, has_gyr and gyr_unit == "deg/s")
+    plan = judge_timestamps(t, sampling_rate_hz=sampling_rate_hz)
+    warning = check_unit_magnitudes(amag.values(), gmag.values() if has_gyr else None, meta)
+    del amag, gmag
+    tally.raise_first()
+    meta.update(plan["meta"])
+    finish_resampling_meta(meta, plan)
+    if warning and warning not in meta.get("warnings", []):
+        meta["warnings"] = [*meta.get("warnings", []), warning]
+    return Scan(
+        path=p,
+        sampling_rate_hz=plan["fs"],
+        resampled=plan["resampled"],
+        max_rate_hz=plan["max_rate_hz"],
+        t0=float(t[0]),
+        t_end=float(t[-1]),
+        n_rows=int(len(t)),
+        has_gyr=has_gyr,
+        has_labels=has_labels,
+        meta=meta,
+        acc_unit=acc_unit,
+        gyr_unit=gyr_unit,
+    )
+
+
+def scan_input(path: str | os.PathLike, *, format: str | None = None, columns=None, **read_kwargs) -> Scan | None:
+    """:func:`scan_gaitml_csv` for a gaitml-csv input; None for other formats (they are read whole)."""
+    p = require_file(path)
+    fmt = "columns-csv" if columns is not None else (format or detect_format(p))
+    if fmt != "gaitml-csv":
+        return None
+    keep = {k: read_kwargs[k] for k in ("sampling_rate_hz", "acc_unit", "gyr_unit") if read_kwargs.get(k) is not None}
+    return scan_gaitml_csv(p, **keep)
+
+
+def _blocks_gaitml_csv(scan: Scan, rows_per_read: int | None = None):
+    """Second pass: yield ``(acc, gyr, labels)`` blocks on the uniform grid the scan chose."""
+    rs = UniformResampler(scan.t0, scan.t_end, scan.sampling_rate_hz, max_rate_hz=scan.max_rate_hz) if scan.resampled else None
+    for block, _offset, _cols in _parsed_blocks(scan.path, int(rows_per_read or _ROWS_PER_READ)):
+        acc, gyr = convert_units(block.acc, block.gyr, scan.acc_unit, scan.gyr_unit)
+        x = acc if gyr is None else np.hstack([acc, gyr])
+        if rs is None:
+            out, lab = x, block.labels
         else:
-            yield (
-                acc[start:],
-                (None if gyr is None else gyr[start:]),
-                (None if lab is None else lab[start:]),
-                {
-                    "sampling_rate_hz": fs,
-                    "resampled": False,
-                },
-            )
-        prev = (t[-1], acc[-1:], None if gyr is None else gyr[-1:], None if lab is None else lab[-1])
-        line += len(df)
-    if t0 is None:
-        raise InputError(f"{path.name} has a header but no samples; record or export the data again.")
+            out, lab = rs.push(block.t, x, block.labels)
+        if len(out):
+            yield out[:, :3], (out[:, 3:6] if gyr is not None else None), lab
+    if rs is not None:
+        out, lab = rs.flush()
+        if len(out):
+            yield out[:, :3], (out[:, 3:6] if scan.has_gyr else None), lab
 
 
 def iter_chunks(
@@ -211,6 +299,7 @@ def iter_chunks(
     sampling_rate_hz: float | None = None,
     acc_unit: str = "m/s^2",
     gyr_unit: str = "rad/s",
+    scan: Scan | None = None,
     **read_kwargs,
 ) -> Iterator[Chunk]:
     """Yield overlapping chunks of a recording file (see the module docstring).
@@ -224,6 +313,9 @@ def iter_chunks(
     align_samples : int
         Core boundaries are multiples of this (use the window hop for windowed
         features so the window grid is the same as in a whole-file run).
+    scan : Scan, optional
+        The first pass over the file (:func:`scan_gaitml_csv`), when the caller
+        already made it (to print its warnings); made here otherwise.
     """
     p = require_file(path)
     fmt = "columns-csv" if read_kwargs.get("columns") is not None else (format or detect_format(p))
@@ -231,15 +323,17 @@ def iter_chunks(
         rec = read_recording(p, format=fmt, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit, **read_kwargs)
         yield from _chunks_of(rec, chunk_s, margin_s, align_samples)
         return
-    total = estimate_samples(p)
-    blocks = _blocks_gaitml_csv(p, sampling_rate_hz, acc_unit, gyr_unit)
+    if scan is None:
+        scan = scan_gaitml_csv(p, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit)
+    total = scan.n_samples
+    blocks = _blocks_gaitml_csv(scan)
     buf_acc: list[np.ndarray] = []
     buf_gyr: list[np.ndarray] = []
     buf_lab: list[np.ndarray] = []
     buf_start = 0  # global index of the first buffered sample
     core_start = 0
-    fs = None
-    meta_base = {"source": str(p), "format": "gaitml-csv", "id": p.stem, "subject": p.stem, "session": p.stem, "chunked": True}
+    fs = scan.sampling_rate_hz
+    meta_base = dict(scan.meta)
 
     def buffered() -> int:
         return sum(len(b) for b in buf_acc)
@@ -255,7 +349,7 @@ def iter_chunks(
             gyr=None if gyr is None else gyr[:hi_local],
             labels=None if lab is None else lab[:hi_local],
             sampling_rate_hz=fs,
-            meta={**meta_base, **extra},
+            meta=meta_base,
             check_units=False,
         )
         ch = Chunk(rec, buf_start, core_lo, core_hi if not last else buf_start + len(acc), total)
@@ -267,15 +361,9 @@ def iter_chunks(
         buf_start += keep_from
         return ch
 
-    extra: dict = {}
-    margin = 0
-    core_len = 0
-    for a, g, lab, info in blocks:
-        if fs is None:
-            fs = info["sampling_rate_hz"]
-            extra = {"resampled": info["resampled"], "sampling_rate_hz_source": "first block" if info["resampled"] else "timestamps"}
-            margin = int(round(margin_s * fs))
-            core_len = max(align_samples, int(round(chunk_s * fs / align_samples)) * align_samples)
+    margin = int(round(margin_s * fs))
+    core_len = max(align_samples, int(round(chunk_s * fs / align_samples)) * align_samples)
+    for a, g, lab in blocks:
         buf_acc.append(a)
         if g is not None:
             buf_gyr.append(g)
@@ -285,7 +373,7 @@ def iter_chunks(
             core_end = core_start + core_len
             yield make(core_start, core_end, last=False)
             core_start = core_end
-    if fs is not None and buf_start + buffered() > core_start:
+    if buf_start + buffered() > core_start:
         yield make(core_start, buf_start + buffered(), last=True)
 
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import io
 import os
+import re
 from collections.abc import Mapping
 
 import numpy as np
@@ -32,8 +33,9 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import sniff_csv
+from gaitml.io._hold import dehold
 from gaitml.io._merge import check_times, merge_clocks
-from gaitml.recording import Recording
+from gaitml.recording import MIN_RATE_HZ, Recording
 
 __all__ = ["read_columns_csv", "parse_column_map", "TIME_UNITS", "COLUMN_KEYS"]
 
@@ -101,6 +103,11 @@ def _times(series: pd.Series, unit: str, where: str) -> np.ndarray:
         else:
             vals = vals.astype(float) - float(vals[0])
         return vals.astype(float) * TIME_UNITS[unit]
+    clock = series.astype(str).str.strip().str.extract(_CLOCK)
+    if len(series) and clock[[1, 2]].notna().all(axis=None):
+        secs = _clock_seconds(clock)
+        if secs is not None:
+            return secs - secs[0]
     try:
         dt = pd.to_datetime(series, utc=True, format="ISO8601")
     except (ValueError, TypeError) as exc:
@@ -108,8 +115,39 @@ def _times(series: pd.Series, unit: str, where: str) -> np.ndarray:
         raise InputError(
             f"{where}: time {series.iloc[bad]!r} at line {bad + 2} is neither a number nor a date-time; fix the column or --columns t=."
         ) from exc
-    ns = dt.astype("int64").to_numpy()
-    return (ns - ns[0]).astype(float) * 1e-9
+    return datetime_seconds(dt)
+
+
+def datetime_seconds(dt: pd.Series) -> np.ndarray:
+    """Seconds from the first date-time, whatever resolution pandas parsed it at.
+
+    pandas 2 parses to nanoseconds, pandas 3 to the resolution the text needs
+    (microseconds, milliseconds...): the unit is read from the dtype
+    (``numpy.datetime_data``), never assumed.
+    """
+    values = dt.dt.tz_localize(None).to_numpy() if getattr(dt.dt, "tz", None) is not None else dt.to_numpy()
+    unit, count = np.datetime_data(values.dtype)
+    ticks = values.view("int64")
+    per_s = {"s": 1, "ms": 1e3, "us": 1e6, "ns": 1e9}[unit] / count
+    return (ticks - ticks[0]).astype(float) / per_s
+
+
+#: Clock times without a date: ``HH:MM:SS.fff``, ``MM:SS.fff`` or ``HH:MM:SS:fff`` (Physics Toolbox).
+_CLOCK = r"^(?:(\d{1,2}):)?(\d{1,2}):(\d{1,2}(?:\.\d+)?)(?::(\d{1,3}))?$"
+
+
+def _clock_seconds(parts: pd.DataFrame) -> np.ndarray | None:
+    """Seconds of clock-time parts (hours optional; a fourth ``:fff`` field is milliseconds); midnight roll-over unwrapped."""
+    if parts[[1, 2]].isna().any(axis=None):
+        return None
+    h = pd.to_numeric(parts[0], errors="coerce").fillna(0).to_numpy(float)
+    m = pd.to_numeric(parts[1]).to_numpy(float)
+    sec = pd.to_numeric(parts[2]).to_numpy(float)
+    ms = pd.to_numeric(parts[3], errors="coerce").fillna(0).to_numpy(float) / 1000.0
+    out = h * 3600 + m * 60 + sec + ms
+    period = 86400.0 if parts[0].notna().any() else 3600.0
+    wraps = np.cumsum(np.r_[0, np.diff(out) < -period / 2])
+    return out + wraps * period
 
 
 def read_columns_csv(
@@ -150,8 +188,8 @@ def read_columns_csv(
     try:
         raw = p.read_bytes()
         head = raw[:4096].decode("utf-8-sig", errors="replace")
-        sep, dec = sniff_csv(head.splitlines()[0] if head.strip() else "")
-        df = pd.read_csv(io.BytesIO(raw), sep=sep, decimal=dec, encoding="utf-8-sig", skipinitialspace=True)
+        sep, dec, skip = _dialect(head.splitlines())
+        df = pd.read_csv(io.BytesIO(raw), sep=sep, decimal=dec, encoding="utf-8-sig", skipinitialspace=True, skiprows=skip)
     except pd.errors.EmptyDataError as exc:
         raise InputError(f"the file is empty: {p}; record or export the data again.") from exc
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:
@@ -168,14 +206,21 @@ def read_columns_csv(
     t_acc = _times(df.loc[acc_rows, col["t"]], time_unit, p.name)
     acc = df.loc[acc_rows, acc_cols].apply(pd.to_numeric).to_numpy(dtype=float)
     m: dict = {"source": str(p), "format": "columns-csv", "id": p.stem, "subject": p.stem, "session": p.stem, "columns": dict(cmap)}
+    if skip:
+        m["dialect"] = f"first line {head.splitlines()[0].strip()!r} (a spreadsheet separator hint) skipped"
     if time_unit != "s":
         m["time_unit"] = time_unit
     labels = None
     if "label" in col:
-        lab = df.loc[acc_rows, col["label"]]
-        if lab.isna().any():
+        # labels as written: "01" stays "01", "NA" and "None" are labels (only an empty field is missing)
+        text = pd.read_csv(
+            io.BytesIO(raw), sep=sep, decimal=dec, encoding="utf-8-sig", skipinitialspace=True, dtype=str, keep_default_na=False
+        )
+        lab = text.iloc[:, list(df.columns).index(col["label"])][acc_rows.to_numpy() if hasattr(acc_rows, "to_numpy") else acc_rows]
+        empty = lab.str.strip().eq("").to_numpy()
+        if empty.any():
             raise InputError(
-                f"{p.name}: empty label at line {int(np.flatnonzero(lab.isna().to_numpy())[0]) + 2}; label every sample or drop label= from --columns."
+                f"{p.name}: empty label at line {int(np.flatnonzero(empty)[0]) + 2}; label every sample or drop label= from --columns."
             )
         labels = lab.astype(str).to_numpy()
     gyr = None
@@ -190,6 +235,8 @@ def read_columns_csv(
         if labels is not None:
             labels = labels[np.isin(t_acc, t)]
         m["clock_merge"] = info
+        if info["warning"]:
+            m.setdefault("warnings", []).append(info["warning"])
     elif has_gyr:
         gyr = df.loc[acc_rows, gyr_cols].apply(pd.to_numeric, errors="coerce").to_numpy(dtype=float)
         bad = ~np.isfinite(gyr).all(axis=1)
@@ -197,6 +244,8 @@ def read_columns_csv(
             raise InputError(
                 f"{p.name}: a missing or non-numeric gyroscope value at line {int(np.flatnonzero(bad)[0]) + 2}; fix the row, or give t_gyr= if the gyroscope has its own clock."
             )
+    t, acc, gyr, labels = dehold_rows(t, acc, gyr, labels, m, p.name)
+    _check_row_rate(t, time_unit, p.name)
     m.update(meta or {})
     return Recording.from_timestamps(
         t, acc, gyr=gyr, labels=labels, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit, gyr_unit=gyr_unit
@@ -219,3 +268,68 @@ def _rows(df: pd.DataFrame, cols: list[str], fname: str, *, allow_empty: bool) -
     if full.sum() == 0:
         raise InputError(f"{fname} has no rows with all of {cols}; check --columns.")
     return full
+
+
+def _dialect(lines: list[str]) -> tuple[str, str, int]:
+    """``(separator, decimal, rows to skip)``: a first line ``sep=;`` (AndroSensor, Excel) names the separator.
+
+    With a semicolon separator the decimal mark is taken from the first data rows
+    (``1,5`` -> comma; AndroSensor writes points).
+    """
+    skip = 0
+    if lines and lines[0].strip().lower().startswith("sep=") and len(lines[0].strip()) >= 5:
+        sep = lines[0].strip()[4]
+        skip = 1
+        header = lines[1] if len(lines) > 1 else ""
+        dec = "."
+    else:
+        header = lines[0] if lines else ""
+        sep, dec = sniff_csv(header)
+    if sep == ";":
+        rows = [c.strip() for line in lines[skip + 1 : skip + 6] for c in line.split(";")]
+        dec = "," if any(re.fullmatch(r"[-+]?\d+,\d+([eE][-+]?\d+)?", c) for c in rows) else "."
+    return sep, dec, skip
+
+
+def dehold_rows(t, acc, gyr, labels, m: dict, name: str):
+    """Read sample-and-hold columns at their own update times (gaitml.io._hold), merging the two clocks if needed."""
+    t_a, acc_a, info_a = dehold(t, acc, "accelerometer")
+    hold: dict = {}
+    if info_a:
+        hold["acc"] = info_a
+    if gyr is not None and "clock_merge" not in m:
+        t_g, gyr_g, info_g = dehold(t, gyr, "gyroscope")
+        if info_g:
+            hold["gyr"] = info_g
+        if hold:
+            t_new, acc_new, gyr_new, merge = merge_clocks(t_a, acc_a, t_g, gyr_g, what=name)
+            m["clock_merge"] = merge
+            if labels is not None:
+                labels = labels[np.searchsorted(t, t_new)]
+            t, acc, gyr = t_new, acc_new, gyr_new
+    elif info_a:
+        if labels is not None:
+            labels = labels[np.searchsorted(t, t_a)]
+        t, acc = t_a, acc_a
+    if hold:
+        m["sample_and_hold"] = hold
+        m.setdefault("warnings", []).extend(v["warning"] for v in hold.values())
+    return t, acc, gyr, labels
+
+
+def _check_row_rate(t: np.ndarray, time_unit: str, name: str) -> None:
+    """Refuse a too-slow time base with a message that knows the --time-unit given."""
+    if len(t) < 2:
+        return
+    d = np.diff(t)
+    d = d[d > 0]
+    if not len(d):
+        return
+    rate = 1.0 / float(np.median(d))
+    if rate < MIN_RATE_HZ * (1 - 1e-6):
+        other = [u for u in TIME_UNITS if u != time_unit]
+        raise InputError(
+            f"{name}: the samples are {1 / rate:.4g} s apart ({rate:.4g} Hz with the time column read in {time_unit}), too slow for gait "
+            f"(>= {MIN_RATE_HZ:g} Hz): if the time column is not in {time_unit} pass --time-unit with one of {', '.join(other)}; "
+            "otherwise record with a shorter logging interval (AndroSensor: Settings, recording interval)."
+        )

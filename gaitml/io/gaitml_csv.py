@@ -17,6 +17,7 @@ recording's ``meta``. Without a manifest, subject and session are the file stem.
 
 from __future__ import annotations
 
+import dataclasses
 import gzip
 import os
 import re
@@ -111,59 +112,25 @@ def read_gaitml_csv(
     """
     p = require_file(path)
     df = _read_table(p)
-    missing = [c for c in REQUIRED if c not in df.columns]
-    if missing:
-        found = [_short(c) for c in list(df.columns)[:8]]
-        raise InputError(
-            f"{_short(p.name)} is not a gaitml-csv: missing columns {missing} (found {found}); "
-            f"expected {', '.join(REQUIRED)} [, {', '.join(GYR_COLS)}] [, {LABEL_COL}]."
-        )
-    if len(df) == 0:
-        raise InputError(f"{p.name} has a header but no samples; record or export the data again.")
-    has_gyr = [c for c in GYR_COLS if c in df.columns]
-    if has_gyr and len(has_gyr) != 3:
-        raise InputError(f"{p.name} has only {has_gyr} of the gyro columns; give all of {', '.join(GYR_COLS)} or none.")
-    num_cols = [*REQUIRED, *has_gyr]
-    for c in num_cols:
-        if not pd.api.types.is_numeric_dtype(df[c]):
-            bad = pd.to_numeric(df[c], errors="coerce").isna() & df[c].notna()
-            row = int(np.flatnonzero(bad.to_numpy())[0]) if bad.any() else 0
-            value = _short(df[c].iloc[row], 30)
-            if re.fullmatch(r"\s*[-+]?\d+,\d+\s*", str(df[c].iloc[row])):
-                raise InputError(
-                    f"{p.name}: column {c!r} has the decimal comma {value!r} at line {row + 2}; "
-                    "write decimals with '.', or separate the fields with ';' (then decimal commas are read)."
-                )
-            if c == TIME_COL:
-                raise InputError(
-                    f"{p.name}: the time column 't' holds {value!r} at line {row + 2}, not a number of seconds; "
-                    "write t as seconds (e.g. 0.02), not a date or clock time."
-                )
-            raise InputError(f"{p.name}: column {c!r} has a non-numeric value at line {row + 2} ({value!r}); fix or remove that row.")
-    nan_rows = df[num_cols].isna().any(axis=1).to_numpy() | ~np.isfinite(df[num_cols].to_numpy(dtype=float)).all(axis=1)
-    if nan_rows.any():
-        first = int(np.flatnonzero(nan_rows)[0])
-        raise InputError(
-            f"{p.name}: {int(nan_rows.sum())} rows with NaN/inf values (first at line {first + 2}); "
-            "remove or interpolate them before loading."
-        )
-    labels = None
-    if LABEL_COL in df.columns:
-        if df[LABEL_COL].isna().any():
-            first = int(np.flatnonzero(df[LABEL_COL].isna().to_numpy())[0])
-            raise InputError(f"{p.name}: empty label at line {first + 2}; label every sample or drop the label column.")
-        labels = df[LABEL_COL].astype(str).to_numpy()
-    ignored = [c for c in df.columns if c not in (*num_cols, LABEL_COL)]
+    cols = check_columns(p, list(df.columns), n_rows=len(df))
+    block = parse_block(p, df, cols, first_line=2)
+    block.raise_nan(p)
     m = {"source": str(p), "format": "gaitml-csv", "id": p.stem, "subject": p.stem, "session": p.stem}
-    if ignored:
-        m["ignored_columns"] = ignored
+    if cols.ignored:
+        m["ignored_columns"] = cols.ignored
     m.update(meta or {})
     reference = _read_sidecars(p)
+    check_sidecar_times(p, reference, block.t)
     build = Recording.segments_from_timestamps if segments else Recording.from_timestamps
+    t, acc, gyr, labels = block.t, block.acc, block.gyr, block.labels
+    if len(t) > 1 and (np.diff(t) > 0).all():  # sample-and-hold columns (gaitml.io._hold); bad times are refused below
+        from gaitml.io.columns_csv import dehold_rows
+
+        t, acc, gyr, labels = dehold_rows(t, acc, gyr, labels, m, p.name)
     return build(
-        df[TIME_COL].to_numpy(dtype=float),
-        df[list(ACC_COLS)].to_numpy(dtype=float),
-        gyr=df[list(GYR_COLS)].to_numpy(dtype=float) if has_gyr else None,
+        t,
+        acc,
+        gyr=gyr,
         labels=labels,
         sampling_rate_hz=sampling_rate_hz,
         meta=m,
@@ -173,18 +140,169 @@ def read_gaitml_csv(
     )
 
 
-def _read_table(p: Path) -> pd.DataFrame:
-    """Read a gaitml-csv into a DataFrame: dialect sniffed, ragged rows and duplicate columns refused."""
-    import warnings
+@dataclasses.dataclass(frozen=True)
+class Columns:
+    """The columns of a gaitml-csv: whether it has a gyroscope and labels, and the columns not read."""
+
+    has_gyr: bool
+    has_labels: bool
+    ignored: list[str]
+
+
+def check_columns(p: Path, columns: list[str], *, n_rows: int | None = None) -> Columns:
+    """Refuse a header without the required columns, with part of the gyroscope, or a file without rows."""
+    missing = [c for c in REQUIRED if c not in columns]
+    if missing:
+        found = [_short(c) for c in columns[:8]]
+        raise InputError(
+            f"{_short(p.name)} is not a gaitml-csv: missing columns {missing} (found {found}); "
+            f"expected {', '.join(REQUIRED)} [, {', '.join(GYR_COLS)}] [, {LABEL_COL}]."
+        )
+    if n_rows == 0:
+        raise InputError(f"{p.name} has a header but no samples; record or export the data again.")
+    has_gyr = [c for c in GYR_COLS if c in columns]
+    if has_gyr and len(has_gyr) != 3:
+        raise InputError(f"{p.name} has only {has_gyr} of the gyro columns; give all of {', '.join(GYR_COLS)} or none.")
+    num_cols = [*REQUIRED, *has_gyr]
+    return Columns(bool(has_gyr), LABEL_COL in columns, [c for c in columns if c not in (*num_cols, LABEL_COL)])
+
+
+@dataclasses.dataclass
+class Block:
+    """Rows of a gaitml-csv as arrays (``t``, ``acc``, ``gyr``, ``labels``) and its rows with NaN/inf values."""
+
+    t: np.ndarray
+    acc: np.ndarray
+    gyr: np.ndarray | None
+    labels: np.ndarray | None
+    nan_first_line: int | None = None
+    nan_count: int = 0
+
+    def raise_nan(self, p: Path) -> None:
+        """Refuse the rows with NaN/inf values (the count and the first line)."""
+        if self.nan_count:
+            raise InputError(
+                f"{p.name}: {self.nan_count} rows with NaN/inf values (first at line {self.nan_first_line}); "
+                "remove or interpolate them before loading."
+            )
+
+
+#: Characters a label may not hold (control characters: a NUL byte, escape codes...).
+_CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f]")
+
+
+def parse_block(p: Path, df: pd.DataFrame, cols: Columns, *, first_line: int) -> Block:
+    """Check and convert rows of a gaitml-csv (the whole file, or one block of a long one).
+
+    ``first_line`` is the file line of the block's first row, for the messages.
+    Numeric columns must be numbers (a decimal comma or a date in ``t`` is named
+    with its fix); labels are kept as the strings written (``"01"`` stays
+    ``"01"``, ``"NA"`` and ``"None"`` are labels), and an empty label or one with
+    a control character is refused. Rows with NaN/inf are counted in the block
+    (:meth:`Block.raise_nan` refuses them) so that a long file read in blocks is
+    refused with the same count as when read whole.
+    """
+    num_cols = [*REQUIRED, *(GYR_COLS if cols.has_gyr else ())]
+    for c in num_cols:
+        if not pd.api.types.is_numeric_dtype(df[c]):
+            bad = pd.to_numeric(df[c], errors="coerce").isna() & df[c].notna()
+            row = int(np.flatnonzero(bad.to_numpy())[0]) if bad.any() else 0
+            value = _short(df[c].iloc[row], 30)
+            if re.fullmatch(r"\s*[-+]?\d+,\d+\s*", str(df[c].iloc[row])):
+                raise InputError(
+                    f"{p.name}: column {c!r} has the decimal comma {value!r} at line {row + first_line}; "
+                    "write decimals with '.', or separate the fields with ';' (then decimal commas are read)."
+                )
+            if c == TIME_COL:
+                raise InputError(
+                    f"{p.name}: the time column 't' holds {value!r} at line {row + first_line}, not a number of seconds; "
+                    "write t as seconds (e.g. 0.02), not a date or clock time."
+                )
+            raise InputError(
+                f"{p.name}: column {c!r} has a non-numeric value at line {row + first_line} ({value!r}); fix or remove that row."
+            )
+    vals = df[num_cols].to_numpy(dtype=float)
+    nan_rows = df[num_cols].isna().any(axis=1).to_numpy() | ~np.isfinite(vals).all(axis=1)
+    labels = None
+    if cols.has_labels:
+        raw = df[LABEL_COL]
+        lab = raw.fillna("").astype(str).to_numpy(dtype=object)
+        empty = np.array([not str(v).strip() for v in lab], dtype=bool)
+        if empty.any():
+            first = int(np.flatnonzero(empty)[0])
+            raise InputError(f"{p.name}: empty label at line {first + first_line}; label every sample or drop the label column.")
+        ctrl = np.array([bool(_CONTROL.search(v)) for v in lab], dtype=bool)
+        if ctrl.any():
+            first = int(np.flatnonzero(ctrl)[0])
+            raise InputError(
+                f"{p.name}: the label at line {first + first_line} holds a control character ({lab[first]!r}); "
+                "write labels as plain text (no NUL bytes or escape codes)."
+            )
+        labels = lab.astype(str)
+    nan_first = int(np.flatnonzero(nan_rows)[0]) + first_line if nan_rows.any() else None
+    return Block(
+        t=vals[:, 0],
+        acc=vals[:, 1:4],
+        gyr=vals[:, 4:7] if cols.has_gyr else None,
+        labels=labels,
+        nan_first_line=nan_first,
+        nan_count=int(nan_rows.sum()),
+    )
+
+
+def csv_options(p: Path) -> dict:
+    """The ``pandas.read_csv`` options of a gaitml-csv: dialect sniffed, labels read as the strings written.
+
+    Only empty fields and pandas' NA words (``nan``, ``NaN``, ``NA``...) in the
+    numeric columns are missing values; the label column is text as written.
+    """
+    from pandas._libs.parsers import STR_NA_VALUES
 
     from gaitml.io._common import head_lines
 
-    dialect = sniff_dialect(head_lines(p, 2)) or (",", ".")
-    sep, decimal = dialect
+    sep, decimal = sniff_dialect(head_lines(p, 2)) or (",", ".")
+    na = sorted(STR_NA_VALUES)
+    return {
+        "sep": sep,
+        "decimal": decimal,
+        "skipinitialspace": True,
+        "index_col": False,
+        "encoding": "utf-8-sig",
+        "dtype": {LABEL_COL: str},
+        "keep_default_na": False,
+        "na_values": {c: na for c in (*REQUIRED, *GYR_COLS)},
+    }
+
+
+def _read_table(p: Path, *, chunksize: int | None = None):
+    """Read a gaitml-csv into a DataFrame (or an iterator of blocks of ``chunksize`` rows):
+    dialect sniffed, ragged rows and duplicate columns refused."""
+    reader = _guard_reading(p, lambda: pd.read_csv(p, chunksize=chunksize, **csv_options(p)))
+    if chunksize is None:
+        return _clean_columns(p, reader)
+    return _blocks(p, reader)
+
+
+def _blocks(p: Path, reader):
+    try:
+        it = iter(reader)
+        while True:
+            df = _guard_reading(p, lambda: next(it, None))
+            if df is None:
+                return
+            yield _clean_columns(p, df)
+    finally:
+        reader.close()
+
+
+def _guard_reading(p: Path, read):
+    """Run ``read()`` turning pandas' parsing errors into one-line InputErrors."""
+    import warnings
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)
-            df = pd.read_csv(p, sep=sep, decimal=decimal, skipinitialspace=True, index_col=False, encoding="utf-8-sig")
+            return read()
     except pd.errors.EmptyDataError as exc:
         raise InputError(f"the file is empty: {p}; record or export the data again.") from exc
     except pd.errors.ParserWarning as exc:
@@ -198,6 +316,9 @@ def _read_table(p: Path) -> pd.DataFrame:
         ) from exc
     except (EOFError, zlib.error, gzip.BadGzipFile, OSError) as exc:
         raise InputError(f"cannot read {p.name}: {_short(exc, 120)}; the compressed file is truncated or corrupt.") from exc
+
+
+def _clean_columns(p: Path, df: pd.DataFrame) -> pd.DataFrame:
     names = [str(c).strip() for c in df.columns]
     dup = sorted({c for c in names if names.count(c) > 1})
     dup += sorted({c.rsplit(".", 1)[0] for c in names if "." in c and c.rsplit(".", 1)[0] in names and c.rsplit(".", 1)[1].isdigit()})
@@ -230,6 +351,37 @@ def _read_sidecars(p: Path) -> dict:
     if traj.exists():
         ref["trajectory"] = pd.read_csv(traj)
     return ref
+
+
+#: Sidecar event times may lie this far (s) outside the recording's timestamps (an event at its very edge).
+SIDECAR_SLACK_S = 1.0
+
+
+def check_sidecar_times(p: Path, reference: dict, t: np.ndarray) -> None:
+    """Refuse sidecar event times (``<stem>.steps.csv``'s ``t_s``) outside the recording's time span.
+
+    They are on the recording's clock in seconds; times beyond the recording
+    are another unit or another clock, and scoring against them would give
+    F1 = 0 without a word. When the times divided by 1000 fall inside, the
+    message names milliseconds.
+    """
+    v = np.asarray(reference.get("steps_t_s", []), dtype=float)
+    if not len(v) or not len(t):
+        return
+    lo, hi = float(t[0]) - SIDECAR_SLACK_S, float(t[-1]) + SIDECAR_SLACK_S
+    if np.isfinite(v).all() and v.min() >= lo and v.max() <= hi:
+        return
+    name = f"{_stem(p)}.steps.csv"
+    span = f"the recording runs from t = {t[0]:.6g} to {t[-1]:.6g} s"
+    if np.isfinite(v).all() and (v / 1000).min() >= lo and (v / 1000).max() <= hi:
+        raise InputError(
+            f"{name}: t_s runs from {v.min():.6g} to {v.max():.6g} but {span}: the step times look like milliseconds; "
+            "write t_s in seconds (divide by 1000)."
+        )
+    raise InputError(
+        f"{name}: t_s runs from {np.nanmin(v):.6g} to {np.nanmax(v):.6g} but {span}; write the true step times in seconds "
+        "on the recording's clock (the same t as the recording), or remove the sidecar."
+    )
 
 
 def write_gaitml_csv(recording: Recording, path: str | os.PathLike) -> Path:

@@ -2,7 +2,8 @@
 
 The export is a zip archive (or the folder it unpacks to) with one CSV per
 sensor, each with the columns ``time`` (ns since the UNIX epoch, one clock for
-all sensors), ``seconds_elapsed`` (s since the recording started) and ``z, y, x``
+all sensors), ``seconds_elapsed`` (s since the recording started; absent from
+older exports, whose tables are ``time, z, y, x``) and ``z, y, x``
 (the app's column order), plus ``Metadata.csv`` (``platform`` iOS or Android,
 ``device name``, ...). Documented units and frames (awesome-sensor-logger
 UNITS.md, CROSSPLATFORM.md):
@@ -44,7 +45,8 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._export import ExportContainer, open_export, read_table
-from gaitml.io._merge import check_times, merge_clocks
+from gaitml.io._hold import dehold, note_hold
+from gaitml.io._merge import check_times, merge_clocks, override_units
 from gaitml.recording import Recording
 
 __all__ = ["read_sensor_logger", "is_sensor_logger", "is_sensor_logger_header", "SENSOR_LOGGER_TABLES"]
@@ -63,7 +65,10 @@ _XYZ = ("x", "y", "z")
 def is_sensor_logger_header(line: str) -> bool:
     """Whether a CSV header line is a Sensor Logger motion table (time, seconds_elapsed, z, y, x)."""
     cols = [c.strip().strip('"') for c in line.split(",")]
-    return "seconds_elapsed" in cols and all(a in cols for a in _XYZ)
+    if "seconds_elapsed" in cols and all(a in cols for a in _XYZ):
+        return True
+    # older exports (before seconds_elapsed was added): exactly time, z, y, x
+    return sorted(cols) == ["time", "x", "y", "z"]
 
 
 def is_sensor_logger(path: str | os.PathLike) -> bool:
@@ -136,6 +141,8 @@ def read_sensor_logger(
     *,
     sampling_rate_hz: float | None = None,
     meta: dict | None = None,
+    acc_unit: str | None = None,
+    gyr_unit: str | None = None,
 ) -> Recording:
     """Read a Sensor Logger export (zip, its folder, or one motion table of the folder).
 
@@ -178,6 +185,7 @@ def read_sensor_logger(
             m["platform"] = info["platform"]
         if info.get("device"):
             m["device"] = info["device"]
+        acc_override, gyr_override = acc_unit, gyr_unit
         acc_unit = "m/s^2"
         if "totalacceleration.csv" in top:
             t_acc, acc, tcol = _table(box, "totalacceleration.csv", name)
@@ -192,7 +200,12 @@ def read_sensor_logger(
                 )
             t0 = min(t_acc[0], t_grav[0])
             ta, tg = _seconds(t_acc, t0, tcol), _seconds(t_grav, t0, tcol)
-            ta_kept, user_kept, grav_on, _ = merge_clocks(ta, user, tg, grav, what=f"{name} (Accelerometer.csv + Gravity.csv)")
+            ta_kept, user_kept, grav_on, grav_merge = merge_clocks(
+                ta, user, tg, grav, what=f"{name} (Accelerometer.csv + Gravity.csv)", names=("accelerometer", "gravity sensor")
+            )
+            m["gravity_merge"] = grav_merge
+            if grav_merge["warning"]:
+                m.setdefault("warnings", []).append(grav_merge["warning"])
             acc = user_kept + grav_on
             t_acc = ta_kept if tcol == "seconds_elapsed" else (np.round(ta_kept * 1e9).astype(np.int64) + t0)
             m["acc_source"] = "Accelerometer.csv + Gravity.csv (gravity interpolated onto the accelerometer times)"
@@ -221,9 +234,11 @@ def read_sensor_logger(
         elif not platform:
             m["frame"] = "platform unknown (no Metadata.csv): Android convention assumed"
         gyr = None
+        t_acc, acc = note_hold(m, "acc", *dehold(t_acc, acc, "accelerometer"))
         t0 = t_acc[0]
         if "gyroscope.csv" in top:
             t_gyr, gyr_raw, tcol_g = _table(box, "gyroscope.csv", name)
+            t_gyr, gyr_raw = note_hold(m, "gyr", *dehold(t_gyr, gyr_raw, "gyroscope"))
             if tcol_g != tcol:
                 raise InputError(
                     f"the accelerometer and Gyroscope.csv of {name} have different time columns; export both from the same recording."
@@ -231,13 +246,16 @@ def read_sensor_logger(
             t0 = min(t_acc[0], t_gyr[0])
             t, acc, gyr, merge = merge_clocks(_seconds(t_acc, t0, tcol), acc, _seconds(t_gyr, t0, tcol), gyr_raw, what=name)
             m["clock_merge"] = merge
+            if merge["warning"]:
+                m.setdefault("warnings", []).append(merge["warning"])
         else:
             t = _seconds(t_acc, t0, tcol)
             check_times(t, f"the accelerometer table of {name}")
         if tcol == "time":
             m["t0_epoch_ns"] = int(t0)
     m.update(meta or {})
-    return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit)
+    acc_unit, gyr_unit = override_units(m, acc_unit, "rad/s", acc_override, gyr_override)
+    return Recording.from_timestamps(t, acc, gyr=gyr, sampling_rate_hz=sampling_rate_hz, meta=m, acc_unit=acc_unit, gyr_unit=gyr_unit)
 
 
 def _seconds(t: np.ndarray, t0, tcol: str) -> np.ndarray:

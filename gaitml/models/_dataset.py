@@ -94,6 +94,7 @@ def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recordi
         sampling_rate_hz=sampling_rate_hz,
         meta={**recording.meta, "resampled_from_hz": fs0},
         reference=recording.reference,
+        anti_alias=False,  # low-passed above
     )
     return rec
 

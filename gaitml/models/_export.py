@@ -159,13 +159,32 @@ def input_spec(model) -> dict:
         "sampling_rate_hz": float(info["sampling_rate_hz"]),
         "resampling": "input at another rate: low-pass at 0.45 x the new rate (4th-order Butterworth, zero phase) when down-sampling, then linear interpolation onto the new grid",
         "window": _window_spec(info),
-        "postprocess": {"adjacent_correction": bool((info.get("postprocess") or {}).get("adjacent_correction", True)), **_CORRECTION},
+        "postprocess": {
+            "adjacent_correction": bool((info.get("postprocess") or {}).get("adjacent_correction", True)),
+            **_CORRECTION,
+            "still": _still_spec(),
+        },
     }
     if info["input_kind"] == "features":
         out["features"] = _feature_spec(info)
     else:
         out["raw_channels"] = list(info.get("raw_channels", []))
     return out
+
+
+def _still_spec() -> dict:
+    """The still gate (gaitml.models._predict.still_windows) as the JSON export states it."""
+    from gaitml.models._predict import STILL, STILL_RANGE_MS2
+
+    return {
+        "mode": STILL,
+        "range_ms2": STILL_RANGE_MS2,
+        "rule": (
+            "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2, at the model's rate) "
+            f"has max - min < range_ms2 over its samples gets the label '{STILL}' (no step in it: paper 003 sec. 2.2's "
+            "step peak rises 2 m/s^2 above gravity); the raw label is the classifier's."
+        ),
+    }
 
 
 def export_json(model) -> dict:

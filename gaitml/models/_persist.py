@@ -427,11 +427,68 @@ def check_versions(info: dict) -> None:
             )
 
 
-def _read_npz(path: Path) -> dict[str, np.ndarray]:
-    """The arrays of an .npz, refusing anything that is not a zip of plain .npy arrays."""
+def max_array_elements(info: dict) -> int:
+    """The most elements any array of a model can hold, from its model.json.
+
+    With ``D`` inputs (feature names, or raw samples x channels) and ``L``
+    labels, the largest arrays are the domain record's per-class precision
+    matrices (``L x D x D``); nothing a model saves is larger than
+    ``(L + 1) D^2`` plus a fixed allowance (:data:`_ARRAY_SLACK`).
+    """
+    window = info.get("window") or {}
+    raw = len(info.get("raw_channels") or []) * int(window.get("length_samples") or 0)
+    d = max(len(info.get("feature_names") or []), raw, 1)
+    n_labels = len(info.get("labels") or [])
+    return (n_labels + 1) * d * d + _ARRAY_SLACK
+
+
+#: Elements any model array may hold beyond (L + 1) D^2 (small tables: gravity directions, pairs...).
+_ARRAY_SLACK = 1_000_000
+
+
+def check_npz_sizes(path: Path, max_elements: int) -> None:
+    """Refuse an .npz member larger than its declared shape, or declaring more than ``max_elements``, before decompressing it.
+
+    Reads the zip's central directory (each member's uncompressed size) and the
+    ``.npy`` header of each member (its shape and dtype; a few hundred bytes):
+    a member whose size is not its header plus ``prod(shape) x itemsize``, or
+    whose shape is beyond what the model.json allows, is refused. ``np.load``
+    would otherwise inflate a 5 MB archive into gigabytes of zeros.
+    """
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(path) as zf:
+            for zi in zf.infolist():
+                with zf.open(zi) as fh:
+                    version = np.lib.format.read_magic(fh)
+                    read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+                    shape, _fortran, dtype = read_header(fh)
+                    header_len = fh.tell()
+                n = int(np.prod(shape, dtype=np.float64)) if len(shape) else 1
+                if n > max_elements:
+                    raise ModelError(
+                        f"{path.name} member {zi.filename} declares an array of shape {tuple(shape)} ({n:.3g} values), more than the "
+                        f"model.json allows ({max_elements:.3g}); the artifact is corrupt or was replaced: train the model again."
+                    )
+                if header_len + n * dtype.itemsize != zi.file_size:
+                    raise ModelError(
+                        f"{path.name} member {zi.filename} holds {zi.file_size} bytes but its header declares {tuple(shape)} {dtype} "
+                        f"({header_len + n * dtype.itemsize} bytes); the artifact is corrupt or was replaced: train the model again."
+                    )
+    except ModelError:
+        raise
+    except (zipfile.BadZipFile, ValueError, OSError, EOFError) as exc:
+        raise ModelError(f"cannot read {path} as plain arrays ({' '.join(str(exc).split())}); train the model again.") from exc
+
+
+def _read_npz(path: Path, max_elements: int | None = None) -> dict[str, np.ndarray]:
+    """The arrays of an .npz, refusing anything that is not a zip of plain .npy arrays (sizes checked first)."""
     with open(path, "rb") as f:
         if f.read(4) != _ZIP_MAGIC:
             raise ModelError(f"{path} is not a numpy .npz archive; the artifact is corrupt or was replaced: train the model again.")
+    if max_elements is not None:
+        check_npz_sizes(path, max_elements)
     try:
         with np.load(path, allow_pickle=False) as z:
             return {k: z[k] for k in z.files}
@@ -485,7 +542,7 @@ def load_model(path: str | os.PathLike) -> TrainedModel:
         raise ModelError(
             f"model.json in {p} describes estimator {spec.get('class') if isinstance(spec, dict) else spec!r}, not {cls.__name__}; retrain the model."
         )
-    arrays = _read_npz(p / ARRAYS_NAME)
+    arrays = _read_npz(p / ARRAYS_NAME, max_array_elements(info))
     from gaitml.models.domain import ARRAY_PREFIX, domain_from_model_info
 
     domain_arrays = {k: v for k, v in arrays.items() if k.startswith(ARRAY_PREFIX)}

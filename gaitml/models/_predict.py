@@ -8,7 +8,36 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 
-__all__ = ["predict_recording", "model_inputs", "domain_columns"]
+__all__ = ["predict_recording", "model_inputs", "domain_columns", "still_windows", "STILL", "STILL_RANGE_MS2"]
+
+#: The mode reported for a window with no gait in it (a phone lying still, a person standing).
+STILL = "still"
+#: A window whose |acc| swings by less than this (m/s^2) from its lowest to its highest sample
+#: holds no step: paper 003 sec. 2.2 counts a step only at a peak rising sigma1 = 2 m/s^2 above
+#: gravity (:data:`gaitml.steps.single_peak.PEAK_THRESHOLD_MS2`), so a window whose whole
+#: swing is smaller cannot hold one. The classifier was trained on walking, running and
+#: sideways or backward steps only and has no class for it.
+STILL_RANGE_MS2 = 2.0
+
+
+def still_windows(recording: Recording, windows: pd.DataFrame, range_ms2: float = STILL_RANGE_MS2) -> np.ndarray:
+    """Whether each window (``start``, ``end`` samples of ``recording``) holds no step (see :data:`STILL_RANGE_MS2`)."""
+    n = len(windows)
+    if n == 0:
+        return np.zeros(0, dtype=bool)
+    mag = np.sqrt(np.sum(np.square(recording.acc), axis=1))
+    start = windows["start"].to_numpy(dtype=np.int64)
+    end = np.minimum(windows["end"].to_numpy(dtype=np.int64), len(mag))
+    lengths = end - start
+    swing = np.zeros(n)
+    if n and (lengths == lengths[0]).all() and lengths[0] > 0:
+        view = np.lib.stride_tricks.sliding_window_view(mag, int(lengths[0]))
+        sub = view[start]
+        swing = sub.max(axis=1) - sub.min(axis=1)
+    else:
+        for i, (a, b) in enumerate(zip(start, end, strict=True)):
+            swing[i] = float(np.ptp(mag[a:b])) if b > a else 0.0
+    return swing < float(range_ms2)
 
 
 def _windows_for(recording: Recording, length_s: float, overlap: float) -> pd.DataFrame:
@@ -136,7 +165,8 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     DataFrame
         One row per window: ``start``, ``end`` (samples at the model's rate),
         ``t_start_s``, ``t_end_s``, ``mode_raw`` (model output), ``mode`` (after
-        the correction, or equal to ``mode_raw``), ``in_domain`` (True/False from
+        the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
+        step in it, :func:`still_windows`), ``still``, ``in_domain`` (True/False from
         the model's domain record, :mod:`gaitml.models.domain`; None when the model
         has none), ``domain_distance``, ``gravity_angle_deg`` (NaN when not
         checked), plus ``label`` and ``label_fraction`` when the recording has
@@ -179,7 +209,10 @@ def predicted_modes(model, X: np.ndarray, correction: bool) -> tuple[np.ndarray,
 def finish_predictions(
     out: pd.DataFrame, windows: pd.DataFrame, domain: dict, model, recording: Recording, rec: Recording, correction: bool, **attrs
 ) -> pd.DataFrame:
-    """The common end of a prediction table: the out-of-domain columns, the windows' labels, the ``attrs``.
+    """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
+
+    A window with no step in it (:func:`still_windows`) gets the mode :data:`STILL`
+    and ``still = True``; ``mode_raw`` keeps the model's answer.
 
     ``rec`` is ``recording`` at the model's rate (``recording`` itself when no resampling was needed).
     ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz`` (``recording``'s rate,
@@ -187,6 +220,9 @@ def finish_predictions(
     """
     for c, v in domain.items():
         out[c] = v
+    # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
+    out["still"] = still_windows(rec, windows)
+    out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)
     for c in ("label", "label_fraction"):
         if c in windows.columns:
             out[c] = windows[c].to_numpy()

@@ -15,6 +15,21 @@ squared hinge loss; the paper's eq. (5) is the plain hinge. Both give a maximum
 margin linear separator with penalty C; ``loss='hinge'`` (dual solver) is
 available for a literal reading.
 
+Convergence: the primal objective ``0.5 |w|^2 + C sum max(0, 1 - y w.x)^2`` (bias
+included in ``w``, as liblinear penalises it) is 1-strongly convex, so a weight vector
+whose gradient has norm g lies within g of the exact optimum (Boyd and Vandenberghe,
+*Convex Optimization*, sec. 9.1.2). liblinear's Newton solver (TRON, Lin, Weng and
+Keerthi 2008, *JMLR* 9: 627-650) stops when the gradient norm falls below ``tol``
+times its norm at w = 0, which on thousands of windows is of order 1e4: at
+scikit-learn's ``tol=1e-4`` a weight may then sit anywhere within about 1 of the
+optimum, and a last-bit change of the input or of a BLAS dot product (another CPU,
+another thread count) moves it there. The primal default here is ``tol=1e-10``
+(Newton converges quadratically: a handful more iterations), and the fit records
+every pair's final gradient norm (``gradient_norm_``): the bound on how far the weights
+can be from the optimum, hence from a retrain on another machine. liblinear's dot
+products are BLAS calls; the fit runs them with one BLAS thread so that their order
+of summation is fixed.
+
 After fitting, the standardisation is folded into the pairwise weights so that
 prediction is one matrix product plus a vote: about 30 microseconds for one
 window (input checks included), which is what the streaming path needs.
@@ -33,10 +48,14 @@ from sklearn.utils.validation import check_is_fitted
 from gaitml.errors import InputError
 from gaitml.models._validation import seed_from, set_classes, standardisation, validate_fit, validate_predict
 
-__all__ = ["LinearOVOSVM", "ovo_vote"]
+__all__ = ["LinearOVOSVM", "ovo_vote", "primal_gradient_norm"]
 
 #: Penalty factor default (paper 003 eq. 5 calls it M; its value is not given).
 DEFAULT_C = 1.0
+#: Default stopping tolerance of the primal Newton solver (relative gradient norm; see the module docstring).
+PRIMAL_TOL = 1e-10
+#: Default stopping tolerance of the dual solvers (liblinear ``loss='hinge'``; libsvm gets ten times it), scikit-learn's.
+DUAL_TOL = 1e-4
 
 
 def ovo_vote(decision: np.ndarray, pairs: np.ndarray, n_classes: int) -> np.ndarray:
@@ -84,6 +103,33 @@ def _vote(decision: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.nda
     return np.argmax(_vote_scores(decision, first, second), axis=1)
 
 
+def primal_gradient_norm(Z: np.ndarray, y: np.ndarray, w: np.ndarray, b: float, C: float) -> float:
+    """Norm of the gradient of liblinear's primal L2-loss SVM objective at (w, b).
+
+    The objective is ``0.5 (|w|^2 + b^2) + C sum_i max(0, 1 - y_i (w.z_i + b))^2``
+    (Fan et al. 2008, *JMLR* 9: 1871-1874, eq. 2, with the bias as a constant feature
+    of value 1, scikit-learn's ``intercept_scaling=1``). It is 1-strongly convex, so the
+    returned norm bounds the distance of (w, b) to the exact optimum.
+
+    Parameters
+    ----------
+    Z : ndarray, shape (n, n_features)
+        Standardised features of the pair's windows.
+    y : ndarray, shape (n,)
+        +1 / -1 labels.
+    w : ndarray, shape (n_features,)
+    b : float
+    C : float
+    """
+    y = np.asarray(y, dtype=float)
+    margin = 1.0 - y * (Z @ w + b)
+    act = margin > 0
+    r = 2.0 * C * y[act] * margin[act]
+    gw = w - r @ Z[act]
+    gb = b - r.sum()
+    return float(np.sqrt(gw @ gw + gb * gb))
+
+
 class LinearOVOSVM(ClassifierMixin, BaseEstimator):
     """Standardised features + linear SVM, one-vs-one (paper 003, sec. 3.1).
 
@@ -99,7 +145,11 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         liblinear loss; 'squared_hinge' is solved in the primal (fast), 'hinge'
         (the paper's eq. 5) in the dual.
     max_iter : int, default 2000
-    tol : float, default 1e-4
+    tol : float or None, default None
+        Stopping tolerance. None: :data:`PRIMAL_TOL` (1e-10) for the primal solver
+        (``loss='squared_hinge'``, converged to within ``gradient_norm_`` of the
+        optimum), :data:`DUAL_TOL` (1e-4) for the dual solvers, whose coordinate
+        steps converge linearly.
     random_state : int, RandomState instance or None, default 0
         Seed of liblinear's / libsvm's internal shuffling (the dual solvers;
         the default primal solver is deterministic). An int is passed to every
@@ -116,6 +166,14 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
     coef_ : ndarray, shape (n_pairs, n_features)
         Pairwise weights on the raw (unstandardised) features.
     intercept_ : ndarray, shape (n_pairs,)
+    n_iter_ : ndarray of int, shape (n_pairs,)
+        Solver iterations of every pair (all below ``max_iter`` when ``converged_``).
+    gradient_norm_ : ndarray, shape (n_pairs,)
+        Primal solver only (NaN otherwise): the norm of every pair's objective gradient
+        at the fitted (standardised) weights and bias, an upper bound on their distance
+        to the exact optimum.
+    converged_ : bool
+        Every pair stopped on its tolerance before ``max_iter``.
     n_features_in_ : int
     """
 
@@ -128,7 +186,7 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         solver: str = "liblinear",
         loss: str = "squared_hinge",
         max_iter: int = 2000,
-        tol: float = 1e-4,
+        tol: float | None = None,
         random_state: int = 0,
     ):
         self.C = C
@@ -145,6 +203,16 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
             raise InputError(f"`solver` must be 'liblinear' or 'libsvm', got {self.solver!r}.")
         if self.loss not in ("squared_hinge", "hinge"):
             raise InputError(f"`loss` must be 'squared_hinge' or 'hinge', got {self.loss!r}.")
+        if self.tol is not None and not (isinstance(self.tol, int | float) and np.isfinite(self.tol) and self.tol > 0):
+            raise InputError(f"`tol` must be a positive number or None (the solver's default), got {self.tol!r}; e.g. tol = 1e-10.")
+
+    def _primal(self) -> bool:
+        return self.solver == "liblinear" and self.loss == "squared_hinge"
+
+    def _tol(self) -> float:
+        if self.tol is not None:
+            return float(self.tol)
+        return PRIMAL_TOL if self._primal() else DUAL_TOL
 
     def fit(self, X, y) -> LinearOVOSVM:
         """Fit the standardisation and the m (m - 1) / 2 pairwise linear machines.
@@ -166,8 +234,10 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
             A bad parameter, bad ``X``/``y``, or fewer than 2 classes.
         """
         from sklearn.svm import SVC, LinearSVC
+        from threadpoolctl import threadpool_limits
 
         self._check_params()
+        tol = self._tol()
         X, y = validate_fit(self, X, y)
         codes = set_classes(self, y)
         seed = seed_from(self.random_state)
@@ -177,19 +247,20 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         coef = np.zeros((len(pairs), X.shape[1]))
         intercept = np.zeros(len(pairs))
         self.n_iter_ = np.zeros(len(pairs), dtype=int)
-        with warnings.catch_warnings(record=True) as caught:
+        self.gradient_norm_ = np.full(len(pairs), np.nan)
+        with warnings.catch_warnings(record=True) as caught, threadpool_limits(limits=1, user_api="blas"):
             warnings.simplefilter("always", ConvergenceWarning)
             for k, (i, j) in enumerate(pairs):
                 mask = (codes == i) | (codes == j)
                 yk = np.where(codes[mask] == i, 1, -1)
                 if self.solver == "libsvm":
-                    clf = SVC(kernel="linear", C=self.C, tol=self.tol * 10, max_iter=-1, random_state=seed)
+                    clf = SVC(kernel="linear", C=self.C, tol=tol * 10, max_iter=-1, random_state=seed)
                 else:
                     clf = LinearSVC(
                         C=self.C,
                         loss=self.loss,
                         dual=self.loss == "hinge",
-                        tol=self.tol,
+                        tol=tol,
                         max_iter=self.max_iter,
                         random_state=seed,
                     )
@@ -198,7 +269,11 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
                 coef[k] = np.ravel(clf.coef_)
                 intercept[k] = float(np.ravel(clf.intercept_)[0])
                 self.n_iter_[k] = int(np.max(getattr(clf, "n_iter_", 0)))
+                if self._primal():
+                    self.gradient_norm_[k] = primal_gradient_norm(Z[mask], yk, coef[k], intercept[k], self.C)
         self.converged_ = not any(issubclass(w.category, ConvergenceWarning) for w in caught)
+        if self.solver == "liblinear":
+            self.converged_ = self.converged_ and bool(np.all(self.n_iter_ < self.max_iter))
         # fold the standardisation in: w.(x - m)/s + b = (w/s).x + (b - w.(m/s))
         self.coef_ = coef / self.scale_
         self.intercept_ = intercept - coef @ (self.mean_ / self.scale_)
@@ -255,6 +330,12 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         """Fitted values as (JSON scalars, numeric arrays) for a data-only model file."""
         check_is_fitted(self, "coef_")
         scalars = {"n_features_in_": int(self.n_features_in_), "converged_": bool(getattr(self, "converged_", True))}
+        n_iter = getattr(self, "n_iter_", None)
+        if n_iter is not None and len(n_iter):
+            scalars["n_iter_max_"] = int(np.max(n_iter))
+        gnorm = getattr(self, "gradient_norm_", None)
+        if gnorm is not None and np.isfinite(gnorm).any():  # the model card states the bound
+            scalars["gradient_norm_max_"] = float(np.nanmax(gnorm))
         arrays = {
             "classes_": self.classes_,
             "mean_": self.mean_,
@@ -264,6 +345,8 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
             "pairs_": self.pairs_,
             "n_iter_": getattr(self, "n_iter_", np.zeros(len(self.pairs_), dtype=int)),
         }
+        if gnorm is not None:
+            arrays["gradient_norm_"] = np.asarray(gnorm, dtype=float)
         if hasattr(self, "feature_names_in_"):
             arrays["feature_names_in_"] = self.feature_names_in_
         return scalars, arrays
@@ -276,6 +359,8 @@ class LinearOVOSVM(ClassifierMixin, BaseEstimator):
         est.converged_ = bool(scalars["converged_"])
         for name in ("classes_", "mean_", "scale_", "coef_", "intercept_", "pairs_", "n_iter_"):
             setattr(est, name, np.asarray(arrays[name]))
+        # models saved before the bound was recorded have no gradient_norm_
+        est.gradient_norm_ = np.asarray(arrays.get("gradient_norm_", np.full(len(est.pairs_), np.nan)), dtype=float)
         if "feature_names_in_" in arrays:
             est.feature_names_in_ = np.asarray(arrays["feature_names_in_"], dtype=object)
         n_pairs = len(est.classes_) * (len(est.classes_) - 1) // 2

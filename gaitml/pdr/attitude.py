@@ -26,11 +26,12 @@ Paper 003 sec. 4.2, eqs. (14)-(15).
 from __future__ import annotations
 
 import math
+from typing import ClassVar
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from gaitml._base import BaseAlgorithm
+from gaitml._base import NON_NEGATIVE, POSITIVE, BaseAlgorithm
 from gaitml.errors import InputError
 from gaitml.signal import gravity_direction
 
@@ -233,8 +234,11 @@ class AttitudeEstimator(BaseAlgorithm):
     """
 
     _action_method = "estimate"
-    _positive = ("init_window_s", "gravity_cutoff_hz")
-    _non_negative = ("gravity_gain_hz",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "init_window_s": [POSITIVE],
+        "gravity_cutoff_hz": [POSITIVE],
+        "gravity_gain_hz": [NON_NEGATIVE],
+    }
 
     def __init__(
         self,
@@ -256,10 +260,6 @@ class AttitudeEstimator(BaseAlgorithm):
         self._validate_params()
         gyr = recording.require_gyr("gyro heading (attitude integration)")
         fs = recording.sampling_rate_hz
-        if self.gravity_gain_hz < 0:
-            raise InputError(f"`gravity_gain_hz` must be >= 0, got {self.gravity_gain_hz}.")
-        if self.init_window_s <= 0:
-            raise InputError(f"`init_window_s` must be > 0, got {self.init_window_s}.")
         recording.require_samples(2, "attitude integration")
         n0 = max(1, min(recording.n_samples, int(round(self.init_window_s * fs))))
         up0 = gravity_direction(recording.acc[:n0])

@@ -37,8 +37,11 @@ Zhu et al., "Dynamic-Window PCA Algorithm for Step Direction Estimation", J. Sof
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 
+from gaitml._base import NON_NEGATIVE, NON_NEGATIVE_INTEGER
 from gaitml.errors import InputError
 from gaitml.pdr.attitude import AttitudeEstimator, wrap_angle
 from gaitml.pdr.hde import HeuristicDriftElimination, hde_heading
@@ -217,8 +220,10 @@ class DwPcaHeading(BaseHeadingSource):
     """
 
     name = "dwpca"
-    _non_negative = ("check_rad", "reanchor_steps")
-    _integer = ("reanchor_steps",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "check_rad": [NON_NEGATIVE],
+        "reanchor_steps": [NON_NEGATIVE_INTEGER],
+    }
 
     def __init__(
         self,

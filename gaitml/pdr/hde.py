@@ -62,8 +62,11 @@ IMU-based personnel tracking systems", J. Navigation 62 (2009) (the HDE integrat
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 
+from gaitml._base import NON_NEGATIVE, NON_NEGATIVE_INTEGER, POSITIVE, POSITIVE_INTEGER
 from gaitml.errors import InputError
 from gaitml.pdr.attitude import AttitudeEstimator, wrap_angle
 from gaitml.pdr.heading import BaseHeadingSource
@@ -276,9 +279,16 @@ class HeuristicDriftElimination(BaseHeadingSource):
     """
 
     name = "hde"
-    _positive = ("n_directions", "buffer_steps", "straight_spread_rad", "straight_trend_rad", "max_error_rad")
-    _non_negative = ("feedback", "lookahead_steps", "persist_steps")
-    _integer = ("n_directions", "buffer_steps", "lookahead_steps", "persist_steps")
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "n_directions": [POSITIVE_INTEGER],
+        "buffer_steps": [POSITIVE_INTEGER],
+        "straight_spread_rad": [POSITIVE],
+        "straight_trend_rad": [POSITIVE],
+        "max_error_rad": [POSITIVE],
+        "feedback": [NON_NEGATIVE],
+        "lookahead_steps": [NON_NEGATIVE_INTEGER],
+        "persist_steps": [NON_NEGATIVE_INTEGER],
+    }
 
     def __init__(
         self,

@@ -669,7 +669,7 @@ def load_config(path: str | os.PathLike, *, check_paths: bool = True) -> Experim
     if not p.is_file():
         raise ConfigError(f"config file not found: {p}; pass a TOML file such as experiments/paper-svm.toml.")
     try:
-        raw = tomllib.loads(p.read_text(encoding="utf-8"))
+        raw = tomllib.loads(p.read_text(encoding="utf-8-sig"))  # a BOM (Windows editors) is no syntax error
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{p.name} is not valid TOML: {exc}; fix the syntax.") from exc
     except (OSError, UnicodeDecodeError) as exc:

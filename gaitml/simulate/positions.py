@@ -1,93 +1,61 @@
 """Carrying positions: which body segment moves the phone, and how the phone sits in it.
 
-Today's simulator holds the phone in the hand in front of the body
-(``hand-flat``, ``hand-tilted``: :mod:`.sensor`). This module adds the other
-ways people carry a phone. Each position follows the body segment that
-carries it; the segment's motion is a kinematic model driven by the same gait
-(step phase, mode, heading) as the body acceleration of :mod:`.modes`:
+The hand-held phone in front of the body (``hand-flat``, ``hand-tilted``) is
+:mod:`.sensor`'s; this module adds the other ways people carry a phone. Each
+position follows the body segment that carries it; the segment's motion is a
+kinematic model driven by the same gait (step phase, mode, heading) as the body
+acceleration of :mod:`.modes`. The ranges every model draws its parameters from
+are in :meth:`Placement.random` and the constants below; the fits behind them and
+their realism are in ``experiments/reports/simulator-positions.md``.
 
 - ``front-pocket`` (trouser front pocket) and ``back-pocket``: the phone
   rotates with the *thigh* of one leg. The thigh's sagittal angle
   (flexion +) follows a stride-periodic curve: most flexed at that leg's heel
-  strike, most extended just before toe-off, flexing again in swing (range
-  about 30-45 deg in walking, larger in running; Winter, *Biomechanics and
-  Motor Control of Human Movement*, 4th ed., ch. 4 joint angles). Only one
-  leg carries the phone, so the rotation (and the gravity direction in the
-  phone) repeats once per *stride* (two steps). Walking backwards runs the
-  pattern in reverse: the foot lands behind the body with the thigh extended
-  and the thigh flexes during stance, so the thigh's pitch rate in stance
-  changes sign. Side steps move the thigh sideways (ab-/adduction, one cycle
-  per side step). The back pocket sits on the buttock near the hip joint: a
-  shorter lever, with the phone lying on the buttock's surface, which faces
-  backward and 15-30 deg down whichever way up the phone is (so the screen's
-  normal, not the phone's top, decides the sign of gravity on the phone's z
-  axis: the three Oxford back-pocket users, upright and upside down, all read
-  it negative). The buttock's surface belongs to the pelvis and the gluteal
-  tissue more than to the thigh: hip flexion swings the front of the thigh
-  through its whole sagittal range but barely moves the skin over the
-  gluteus, which rides on the pelvis. The back pocket's rotation is
-  therefore a blend, ``(1 - pelvis_share)`` times the thigh's (about 60 % of
-  the front pocket's amplitude, stride-periodic) plus ``pelvis_share`` times
-  the pelvis's (the belt's model below: rotation and obliquity once per
-  stride, anterior tilt once per step, a few degrees each). A loose back
-  pocket also lets the phone turn in the screen's plane
-  (``pocket_roll_deg``, added to the small in-plane tilt). Both are drawn per
-  subject over :data:`BACK_POCKET_RANGE`. Fitted to the real Oxford
-  back-pocket walks (``python -m experiments.scripts.back_pocket``; the
-  real phones' acceleration has its power at the step frequency, 7-10 dB
-  above the stride frequency summed over the axes, where the thigh-driven
-  model gives 1-5 dB, and gravity lies 5-22 deg off the phone's long axis in
-  the screen plane), the share goes to 1 (the pelvis only) and the extra
-  roll to +-13 deg (:data:`BACK_POCKET_FIT`). That fit alone was not
-  shipped: it matches the two statistics it was fitted on but makes the
-  back pocket less like the real one on the others (steps too alike, bounce
-  too dominant; realism verdict partial -> no match). The real phone's
-  left and right steps differ in shape while its power sits at the step
-  frequency, which neither the thigh nor the symmetric pelvis produces.
-  **The one-sided step** (``stance_gate``): averaged per foot over the
-  strides (the Oxford foot switches), a real back-pocket phone feels most of
-  the step bounce in one leg's step (heel-strike peak, mid-stance dip,
-  rise towards the next strike) and little in the other's (the quieter mean
-  step's ``|acc|`` spread is 0.34-0.65 of the louder one's; 0.73-0.96 in the
-  thigh-driven simulator). The gluteus maximus and
-  medius of the carrying side are active from terminal swing through the
-  loading response (hip extension and frontal-plane support; Perry &
-  Burnfield, *Gait Analysis: Normal and Pathological Function*, the hip's
-  muscle activity in gait): in that leg's stance the
-  buttock's tissue under the phone is stiff and passes the trunk's
-  acceleration to it; in that leg's swing the muscle is relaxed and the
-  soft tissue (and the loose pocket) isolates the phone from much of it.
-  So the trunk's acceleration at a back-pocket phone (bounce, fore-aft and
-  sideways: :func:`stance_gate`) is multiplied by 1 in the carrying leg's
-  step and by ``1 - stance_gate`` in the other's, with edges of about a
-  tenth of a step at each heel strike (the tissue stiffens over the loading
-  response). Being constant within a step, the gate keeps each step's net
-  velocity change zero. It adds power at odd multiples of half the cadence
-  (1.5 x cadence) and lowers the step regularity (``r_step``), without the
-  stride-frequency swing of the thigh; the heel-strike impacts stay one-sided
-  as before (``other_leg_impact``). Drawn last of all over
-  :data:`STANCE_GATE_RANGE`. Fitted jointly with the pelvis share to the
-  real walks (step over stride power and ``r_step``; then the vigour
-  refitted), the gate goes to 1 (the other leg's step passes none of the
-  trunk's acceleration: only its weak impact, the tissue's wobble and the
-  pelvis's rotation reach the phone) and the share to 0.8-1.0
-  (:data:`STANCE_GATE_FIT`); shipped, because it raises the back pocket's
-  realism verdict by the rule stated before the fit.
+  strike, most extended just before toe-off, flexing again in swing (Winter,
+  *Biomechanics and Motor Control of Human Movement*, 4th ed., ch. 4 joint
+  angles). Only one leg carries the phone, so the rotation (and the gravity
+  direction in the phone) repeats once per *stride* (two steps). Walking
+  backwards runs the pattern in reverse: the foot lands behind the body with
+  the thigh extended and the thigh flexes during stance, so the thigh's pitch
+  rate in stance changes sign. Side steps move the thigh sideways (ab-/adduction,
+  one cycle per side step).
+- ``back-pocket``: the phone lies on the buttock's surface near the hip joint (a
+  shorter lever), which faces backward and down whichever way up the phone is
+  (so the screen's normal, not the phone's top, decides the sign of gravity on
+  the phone's z axis). The buttock's surface belongs to the pelvis and the
+  gluteal tissue more than to the thigh, so its rotation is a blend,
+  ``(1 - pelvis_share)`` times the thigh's (with a smaller amplitude than the
+  front pocket's) plus ``pelvis_share`` times the pelvis's (the belt's model
+  below); a loose pocket also lets the phone turn in the screen's plane
+  (``pocket_roll_deg``). Both are drawn over :data:`BACK_POCKET_RANGE`.
+  **The one-sided step** (``stance_gate``): the gluteus maximus and medius of
+  the carrying side are active from terminal swing through the loading response
+  (Perry & Burnfield, *Gait Analysis: Normal and Pathological Function*, the
+  hip's muscle activity in gait): in that leg's stance the buttock's tissue under
+  the phone is stiff and passes the trunk's acceleration to it; in that leg's
+  swing the relaxed tissue (and the loose pocket) isolates the phone from much
+  of it. So the trunk's acceleration at a back-pocket phone (:func:`stance_gate`)
+  is multiplied by 1 in the carrying leg's step and by ``1 - stance_gate`` in the
+  other's, with edges of :data:`STANCE_GATE_EDGE` of a step at each heel strike.
+  Being constant within a step, the gate keeps each step's net velocity change
+  zero; the heel-strike impacts stay one-sided (``other_leg_impact``). Drawn last
+  of all over :data:`STANCE_GATE_RANGE`.
 - ``belt`` (waist clip): the phone follows the *pelvis*: the trunk bounce
   and sway of :mod:`.modes` plus the pelvic rotations of gait: transverse
-  rotation (yaw) and obliquity (roll) of a few degrees at the stride
-  frequency and anterior tilt (pitch) at the step frequency, on a lever of
-  the waist radius at a random azimuth around the waist.
+  rotation (yaw) and obliquity (roll) at the stride frequency and anterior
+  tilt (pitch) at the step frequency, on a lever of the waist radius at a
+  random azimuth around the waist.
 - ``swinging-hand``: the hand hangs and the arm swings as a pendulum about the
   shoulder at the stride frequency, in counter-phase with the leg on the same
   side (the arm is forward when the other leg's heel strikes), with a large
-  pitch rotation (15-35 deg amplitude) and the centripetal and tangential
-  acceleration of a 0.5-0.7 m lever; the grip (the phone's angle in the hand)
-  is random.
+  pitch rotation (``arm_swing_deg``) and the centripetal and tangential
+  acceleration of the arm's lever (``lever_m``; :data:`RUN_ARM_LEVER` of it when
+  running, the elbow bent); the grip (the phone's angle in the hand) is random.
 - ``bag`` (shoulder bag / backpack): the bag is a damped, delayed
   spring-pendulum driven by the trunk: its acceleration is the trunk's passed
-  through a second-order system (vertical natural frequency 2.5-4.5 Hz, which
-  amplifies the step bounce, horizontal 1-2 Hz), and it tilts like a
+  through a second-order system (natural frequencies ``bag_vertical_hz``, which
+  amplifies the step bounce, and a lower ``bag_horizontal_hz``; the horizontal
+  part saturating near :data:`BAG_SWING_LIMIT_MS2`), and it tilts like a
   pendulum by the filtered horizontal acceleration over g; the phone lies in
   the bag at a uniformly random orientation.
 
@@ -102,11 +70,11 @@ axes in segment coordinates). As in :mod:`.sensor` the accelerometer reads
 ``d^2/dt^2 (R_seg r)``, and the gyroscope the body rate of the same ``R``
 (:func:`~gaitml.simulate.sensor.body_rates` of the segment chain, rotated by
 ``M^T``), so gravity and the gyroscope agree (integrating the noise-free
-gyroscope reproduces the attitude; tested).
+gyroscope reproduces the attitude).
 
 Randomness: the placement and the carried-phone noise come from their own
 generators (spawned children of the recording's seed), so the hand-held
-path keeps its random stream and its outputs byte for byte.
+path keeps its random stream.
 """
 
 from __future__ import annotations
@@ -128,9 +96,7 @@ __all__ = [
     "Placement",
     "VIGOUR_RANGE",
     "BACK_POCKET_RANGE",
-    "BACK_POCKET_FIT",
     "STANCE_GATE_RANGE",
-    "STANCE_GATE_FIT",
     "stance_gate",
     "check_positions",
     "carried_signals",
@@ -160,47 +126,24 @@ BAG_SWING_LIMIT_MS2 = 4.0
 #: Running: the elbow is bent (about 90 deg), so the hand is this fraction of the arm's length from the shoulder.
 RUN_ARM_LEVER = 0.55
 #: Ranges (log-uniform) of :attr:`Placement.vigour` per carried position: how vigorously the
-#: subject walks, as the carrying segment feels it, relative to the placement ranges above
-#: (which were sized on the Oxford users Jamie and Carmelo). Fitted to the walking ``|acc|``
-#: standard deviation of every real Oxford walk in the position (three users; the simulated
-#: 5 % and 95 % quantiles matched to the calmest and the most vigorous real walk) by
-#: ``python -m experiments.scripts.carry_vigour``, which also holds each user out in turn
-#: (``experiments/reports/simulator-positions.md``, section "Vigour of carried walks"). Positions without
-#: an entry (``belt``: no real walking; ``swinging-hand``: one real user, nobody to hold
-#: out) keep vigour 1 and draw nothing. The back pocket's range is refitted on the back pocket with
-#: the pelvis share and the one-sided step (:data:`STANCE_GATE_FIT`; 0.90-1.45 on the thigh-driven
-#: back pocket before it): the gate takes part of the trunk's acceleration away, the vigour gives the
-#: intensity back.
+#: subject walks, as the carrying segment feels it, relative to the placement's other ranges.
+#: Fitted to the walking ``|acc|`` spread of the real Oxford walks in each position by
+#: ``python -m experiments.scripts.carry_vigour`` (``experiments/reports/simulator-positions.md``,
+#: "Vigour of carried walks"). Positions without an entry keep vigour 1 and draw nothing.
 VIGOUR_RANGE = {"front-pocket": (0.7, 1.8), "back-pocket": (1.2, 1.75), "bag": (0.95, 1.1)}
 #: Ranges (uniform) of the back pocket's own fields, drawn after the vigour (:meth:`Placement.random`):
 #: ``pelvis_share``, how much the buttock follows the pelvis instead of the thigh (0: the thigh's
-#: rotation only, as before; 1: the pelvis's only), and ``pocket_roll_deg``, an extra in-plane turn
-#: of the phone in the pocket (deg, added to ``tilt_z_deg``; symmetric about 0). Fitted to
-#: the real Oxford back-pocket walks (step over stride power of the acceleration, and the roll of
-#: gravity in the phone's screen plane) by ``python -m experiments.scripts.back_pocket``
-#: (``experiments/reports/simulator-positions.md``, section "Back pocket: pelvis and roll").
-#: What that fit gives on the three Oxford users (share 1, roll +-13 deg) is :data:`BACK_POCKET_FIT`;
-#: it was not shipped because it lowers the back pocket's realism on the statistics it was not
-#: fitted on (steps too alike, bounce too dominant: verdict partial -> no match). The share shipped
-#: is the one fitted jointly with the one-sided step (:data:`STANCE_GATE_RANGE`, :data:`STANCE_GATE_FIT`:
-#: 0.8-1.0; section "Back pocket: the one-sided step"); the extra roll stays 0 (not refitted with
-#: the gate). Patch the ranges with ``experiments.scripts.back_pocket.back_pocket_ranges``.
+#: rotation only; 1: the pelvis's only), and ``pocket_roll_deg``, an extra in-plane turn of the phone
+#: in the pocket (deg, added to ``tilt_z_deg``). The share is fitted jointly with the one-sided step
+#: by ``python -m experiments.scripts.back_pocket`` (report sections "Back pocket: pelvis and roll"
+#: and "Back pocket: the one-sided step"); patch the ranges with
+#: ``experiments.scripts.back_pocket.back_pocket_ranges``.
 BACK_POCKET_RANGE = {"pelvis_share": (0.8, 1.0), "pocket_roll_deg": (0.0, 0.0)}
-#: The back pocket's ranges fitted by ``python -m experiments.scripts.back_pocket`` on every Oxford
-#: back-pocket user (not shipped: see :data:`BACK_POCKET_RANGE`).
-BACK_POCKET_FIT = {"pelvis_share": (1.0, 1.0), "pocket_roll_deg": (-13.0, 13.0)}
 #: Range (uniform) of the back pocket's :attr:`Placement.stance_gate`, drawn last of all its fields
 #: (:meth:`Placement.random`): how much less of the trunk's acceleration the phone feels in the
-#: other leg's step than in the carrying leg's (module docstring, "the one-sided step"). 0: no gate
-#: (the back pocket before it, byte for byte). Fitted jointly with ``pelvis_share`` (step over
-#: stride power and ``r_step``), then the back pocket's vigour refitted on the result, to the real
-#: Oxford back-pocket walks by ``python -m experiments.scripts.back_pocket`` (section "Back pocket:
-#: the one-sided step" of ``experiments/reports/simulator-positions.md``): :data:`STANCE_GATE_FIT`,
-#: shipped because it raises the back pocket's realism verdict (7/8, 5/8, 6/8 -> 7/8, 5/8, 7/8).
+#: other leg's step than in the carrying leg's (module docstring, "the one-sided step"); 0: no gate.
+#: Fitted with ``pelvis_share`` by ``python -m experiments.scripts.back_pocket``.
 STANCE_GATE_RANGE = (1.0, 1.0)
-#: The joint fit on every Oxford back-pocket user (shipped: :data:`STANCE_GATE_RANGE`, the share of
-#: :data:`BACK_POCKET_RANGE`, the back pocket's :data:`VIGOUR_RANGE`).
-STANCE_GATE_FIT = {"pelvis_share": (0.8, 1.0), "stance_gate": (1.0, 1.0), "vigour": (1.2, 1.75)}
 #: Half-width of the gate's edges (in steps) around each heel strike: the tissue stiffens and
 #: relaxes over about a tenth of a step (loading response), not at once.
 STANCE_GATE_EDGE = 0.1
@@ -339,11 +282,10 @@ class Placement:
     def random(cls, position: str, rng: np.random.Generator) -> Placement:
         """Draw a placement of ``position`` (a carried position) for one subject.
 
-        Ranges: thigh flexion amplitude 14-22 deg around a mean of 4-12 deg
-        (sagittal thigh range 30-45 deg in walking), pelvic rotations 2-6 deg,
-        arm swing 15-35 deg, waist radius 0.12-0.18 m, arm lever 0.55-0.72 m;
-        the segment gains and the vibration are sized against the Oxford
-        walks (``experiments/reports/simulator-positions.md``). The vigour is
+        The ranges of each position's fields are the uniform draws written out in
+        :meth:`_random_placement` (thigh flexion, pelvic rotations, arm swing, levers,
+        bag frequencies, gains and noise), sized against the Oxford walks
+        (``experiments/reports/simulator-positions.md``). The vigour is
         drawn last, log-uniformly over :data:`VIGOUR_RANGE` (positions without
         an entry keep 1 and draw nothing), so the other fields of a seed do not
         depend on it. The back pocket then draws its pelvis share and extra

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import pandas as pd
-
-from gaitml.errors import InputError
+from gaitml._base import Registry
 from gaitml.recording import Recording
 from gaitml.steps._base import BaseStepDetector
 from gaitml.steps.adaptive import AdaptiveStepDetector
@@ -18,40 +16,43 @@ from gaitml.steps.zupt_magnitude import ZuptMagnitudeStepDetector
 __all__ = ["DETECTORS", "get_detector", "detect_steps", "detector_names"]
 
 #: CLI name -> step detector class
-DETECTORS: dict[str, type[BaseStepDetector]] = {
-    "single-peak": SinglePeakStepDetector,
-    "ifsm": IFSMStepDetector,
-    "ifsm-literal": IFSMLiteralStepDetector,
-    "adfsm": ADFSMStepDetector,
-    "autocorr": AutocorrStepDetector,
-    "fsm-selflearn": SelfLearningFSMStepDetector,
-    "adaptive": AdaptiveStepDetector,
-    "zupt-magnitude": ZuptMagnitudeStepDetector,
-}
+DETECTORS: Registry = Registry(
+    "step detector",
+    {
+        "single-peak": SinglePeakStepDetector,
+        "ifsm": IFSMStepDetector,
+        "ifsm-literal": IFSMLiteralStepDetector,
+        "adfsm": ADFSMStepDetector,
+        "autocorr": AutocorrStepDetector,
+        "fsm-selflearn": SelfLearningFSMStepDetector,
+        "adaptive": AdaptiveStepDetector,
+        "zupt-magnitude": ZuptMagnitudeStepDetector,
+    },
+    module="gaitml.steps",
+)
 
 
 def detector_names() -> tuple[str, ...]:
     """All registered step detector names."""
-    return tuple(DETECTORS)
+    return DETECTORS.names()
 
 
 def get_detector(name: str, **params) -> BaseStepDetector:
-    """Instantiate the step detector registered as ``name`` with ``params``.
+    """Instantiate the step detector registered as ``name`` with ``params`` (:meth:`gaitml._base.Registry.create`).
 
     Raises
     ------
     InputError
         For an unknown name (the message lists the valid ones) or unknown parameters.
     """
-    if name not in DETECTORS:
-        raise InputError(f"unknown step detector {name!r}; valid names: {', '.join(DETECTORS)}.")
-    cls = DETECTORS[name]
-    try:
-        return cls(**params)
-    except TypeError as exc:
-        raise InputError(f"bad parameters for step detector {name!r}: {exc}; see help(gaitml.steps.{cls.__name__}).") from exc
+    return DETECTORS.create(name, **params)
 
 
-def detect_steps(recording: Recording, detector: str = "single-peak", **params) -> pd.DataFrame:
-    """Detect steps in ``recording`` with the named detector; returns its step table."""
-    return get_detector(detector, **params).detect(recording).steps_
+def detect_steps(recording: Recording, detector: str = "single-peak", *, return_detector: bool = False, **params):
+    """Detect steps in ``recording`` with the named detector.
+
+    Returns its step table (``steps_``), or with ``return_detector=True`` the fitted
+    detector (as :func:`gaitml.zupt.detect_zupts`).
+    """
+    det = get_detector(detector, **params).detect(recording)
+    return det if return_detector else det.steps_

@@ -29,8 +29,7 @@ amplitude it uses is a noise floor. Five stages:
    the local maximum near its half (or the half itself where the
    autocorrelation has a plateau there); repeated while the half stays in the
    step range. A period of one step instead gives a deep negative correlation
-   at its half (the signal is in anti-phase there; -0.55 to -0.98 on every
-   Oxford recording).
+   at its half (the signal is in anti-phase there).
    A period still longer than the longest human step (``1 / min_step_hz``) is
    a stride whose second step is not visible: its half is the step period.
    So is a period longer than ``1 / slow_step_hz`` (1.2 Hz) in a window with
@@ -38,7 +37,7 @@ amplitude it uses is a noise floor. Five stages:
    ``slow_step_max_rms_ms2``): a slow step, 0.75-1.2 Hz, shows as a deep
    anti-phase at its half (the half-period rule does not take it for a
    stride) and a gentle signal; a one-leg stride of normal walking at the
-   same period shows several m/s^2 (issue 30). A slow step must also be in
+   same period shows several m/s^2. A slow step must also be in
    deep anti-phase at its half (autocorrelation there at most
    ``slow_step_max_half_correlation``, -0.5): a one-leg stride of a gentle
    walk (a trouser pocket) has no such anti-phase, both heel strikes reach
@@ -91,9 +90,9 @@ evidence). The per-window cadence is kept in ``cadence_``.
    in which each foot's step repeats. Step counters hold back a new bout until
    a run of regular steps confirms it and then count the confirming steps
    too; here the whole confirmed bout counts, so only its weak fringe and
-   unconfirmed fragments (handling, a bump between walks) are lost. Oxford
-   hard floor, every position: 89 fewer false steps for 14 true ones lost
-   (``experiments/reports/steps-heldout.md``, section "Bout edges").
+   unconfirmed fragments (handling, a bump between walks) are lost (the
+   effect is measured in ``experiments/reports/steps-heldout.md``, section
+   "Bout edges").
 
 Evaluated on the Oxford step counter optimisation recordings (Salvi et al.,
 CC BY 4.0) in sample and leave-one-user-out (``gaitml evaluate
@@ -108,6 +107,7 @@ import numpy as np
 import pandas as pd
 import scipy.signal
 
+from gaitml._base import NON_NEGATIVE, NON_NEGATIVE_INTEGER, POSITIVE, POSITIVE_INTEGER, Interval
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import bandpass, sliding_windows
@@ -305,7 +305,7 @@ def local_cadence(
     # more motion than a slow walker makes (window RMS over slow_step_max_rms_ms2): a stride too
     rms = np.sqrt(np.mean(sliding_windows(y, L, H)[:n_win] ** 2, axis=1))
     half_correlation = r_at(lag / 2.0)
-    # not in deep anti-phase at its half: a one-leg stride (issue 30)
+    # not in deep anti-phase at its half: a one-leg stride
     slower = lag > fs / slow_step_hz
     inferred = (lag > fs / min_step_hz) | (slower & ((rms > slow_step_max_rms_ms2) | (half_correlation > slow_step_max_half_correlation)))
     # a slow step must persist: a slow reading among windows of twice that cadence (within SLOW_STEP_CONTEXT
@@ -538,7 +538,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         autocorrelation at its half is at most this (a step is in deep
         anti-phase at half its period: -0.55 to -0.98 on every Oxford
         recording); above it the period is a one-leg stride whose other step
-        shakes the phone too (a trouser pocket on a slow walk, issue 30).
+        shakes the phone too (a trouser pocket on a slow walk).
     min_periodicity : float, default 0.3
         Steps only where the window's strongest autocorrelation peak reaches
         this (periodic motion; dimensionless).
@@ -608,16 +608,23 @@ class AdaptiveStepDetector(BaseStepDetector):
     """
 
     name = "adaptive"
-    _positive = ("window_s", "hop_s", "min_step_hz", "max_step_hz", "min_distance_ratio", "min_bout_steps", "slow_step_hz")
-    _non_negative = (
-        "min_rms_ms2",
-        "edge_confidence_ratio",
-        "min_confidence",
-        "slow_step_max_rms_ms2",
-        "short_bout_steps",
-        "max_short_bout_cv",
-    )
-    _integer = ("min_bout_steps", "short_bout_steps")
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "window_s": [POSITIVE],
+        "hop_s": [POSITIVE],
+        "min_step_hz": [POSITIVE],
+        "max_step_hz": [POSITIVE],
+        "min_distance_ratio": [POSITIVE],
+        "min_bout_steps": [POSITIVE_INTEGER],
+        "min_rms_ms2": [NON_NEGATIVE],
+        "edge_confidence_ratio": [Interval(0, 1, closed="both")],
+        "min_confidence": [NON_NEGATIVE],
+        "fold": ["boolean"],
+        "slow_step_hz": [POSITIVE],
+        "slow_step_max_rms_ms2": [NON_NEGATIVE],
+        "slow_step_max_half_correlation": [Interval(-1, 1, closed="both")],
+        "short_bout_steps": [NON_NEGATIVE_INTEGER],
+        "max_short_bout_cv": [NON_NEGATIVE],
+    }
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
 
@@ -672,14 +679,6 @@ class AdaptiveStepDetector(BaseStepDetector):
             raise InputError(f"`band_hz` must be (low, high) with 0 < low < high < {fs / 2:g} Hz (half the rate), got {self.band_hz!r}.")
         if self.min_step_hz >= self.max_step_hz:
             raise InputError(f"`min_step_hz` ({self.min_step_hz}) must be below `max_step_hz` ({self.max_step_hz}).")
-        if not 0 <= self.edge_confidence_ratio <= 1:
-            raise InputError(f"`edge_confidence_ratio` must be in [0, 1] (0 keeps every bout edge), got {self.edge_confidence_ratio!r}.")
-        if not -1.0 <= float(self.slow_step_max_half_correlation) <= 1.0:
-            raise InputError(
-                f"`slow_step_max_half_correlation` is a correlation in [-1, 1] (1 turns the anti-phase test off), got {self.slow_step_max_half_correlation!r}."
-            )
-        if not isinstance(self.fold, bool | np.bool_):
-            raise InputError(f"`fold` must be true or false, got {self.fold!r}.")
         r = adaptive_steps(acc_magnitude(rec), fs, **params)
         p = r["peak"]
         per = r["period_s"]

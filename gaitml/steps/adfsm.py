@@ -12,9 +12,12 @@ counts below are ours (stated as defaults) and the preprocessing is paper 000's
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 import pandas as pd
 
+from gaitml._base import NON_NEGATIVE, POSITIVE_INTEGER
 from gaitml.recording import Recording
 from gaitml.signal import moving_average
 from gaitml.steps._base import BaseStepDetector
@@ -136,9 +139,12 @@ class ADFSMStepDetector(BaseStepDetector):
     """
 
     name = "adfsm"
-    _positive = ("min_rises", "min_falls", "smoothing_samples")
-    _non_negative = ("flat_diff_ms2",)
-    _integer = ("min_rises", "min_falls", "smoothing_samples")
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "min_rises": [POSITIVE_INTEGER],
+        "min_falls": [POSITIVE_INTEGER],
+        "smoothing_samples": [POSITIVE_INTEGER],
+        "flat_diff_ms2": [NON_NEGATIVE],
+    }
 
     def __init__(
         self,

@@ -22,9 +22,12 @@ windows and a step is emitted each time it passes an integer.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 import pandas as pd
 
+from gaitml._base import NON_NEGATIVE, POSITIVE
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import moving_average
@@ -132,8 +135,13 @@ class AutocorrStepDetector(BaseStepDetector):
     """
 
     name = "autocorr"
-    _positive = ("window_s", "min_period_s", "max_period_s", "smoothing_s")
-    _non_negative = ("min_std_ms2",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "window_s": [POSITIVE],
+        "min_period_s": [POSITIVE],
+        "max_period_s": [POSITIVE],
+        "smoothing_s": [POSITIVE],
+        "min_std_ms2": [NON_NEGATIVE],
+    }
 
     def __init__(
         self,

@@ -21,10 +21,12 @@ the chosen cut).
 from __future__ import annotations
 
 from bisect import bisect_left
+from typing import ClassVar
 
 import numpy as np
 import pandas as pd
 
+from gaitml._base import NON_NEGATIVE_INTEGER, POSITIVE
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import lowpass
@@ -369,9 +371,12 @@ class SelfLearningFSMStepDetector(BaseStepDetector):
     """
 
     name = "fsm-selflearn"
-    _positive = ("lowpass_hz", "max_step_s", "end_timeout_s")
-    _non_negative = ("learn_steps",)
-    _integer = ("learn_steps",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "lowpass_hz": [POSITIVE],
+        "max_step_s": [POSITIVE],
+        "end_timeout_s": [POSITIVE],
+        "learn_steps": [NON_NEGATIVE_INTEGER],
+    }
 
     def __init__(
         self,

@@ -14,10 +14,12 @@ Two readings of the printed text are implemented (see :class:`IFSMStepDetector`)
 from __future__ import annotations
 
 from bisect import bisect_left
+from typing import ClassVar
 
 import numpy as np
 import pandas as pd
 
+from gaitml._base import NON_NEGATIVE, POSITIVE_INTEGER
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import moving_average
@@ -243,9 +245,15 @@ class IFSMStepDetector(BaseStepDetector):
     """
 
     name = "ifsm"
-    _positive = ("first_climbs", "descents", "second_climbs", "disturb_descents", "smoothing_samples")
-    _non_negative = ("diff_threshold_ms2", "end_tolerance_ms2")
-    _integer = _positive
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "first_climbs": [POSITIVE_INTEGER],
+        "descents": [POSITIVE_INTEGER],
+        "second_climbs": [POSITIVE_INTEGER],
+        "disturb_descents": [POSITIVE_INTEGER],
+        "smoothing_samples": [POSITIVE_INTEGER],
+        "diff_threshold_ms2": [NON_NEGATIVE],
+        "end_tolerance_ms2": [NON_NEGATIVE],
+    }
 
     def __init__(
         self,

@@ -29,10 +29,13 @@ do not depend on the zero points.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 import pandas as pd
 import scipy.signal
 
+from gaitml._base import NON_NEGATIVE, POSITIVE
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import moving_average
@@ -222,8 +225,13 @@ class SinglePeakStepDetector(BaseStepDetector):
     """
 
     name = "single-peak"
-    _positive = ("min_peak_distance_s", "smoothing_s")
-    _non_negative = ("left_zero_search_s", "right_zero_search_s", "min_lobe_s")
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "min_peak_distance_s": [POSITIVE],
+        "smoothing_s": [POSITIVE],
+        "left_zero_search_s": [NON_NEGATIVE],
+        "right_zero_search_s": [NON_NEGATIVE],
+        "min_lobe_s": [NON_NEGATIVE],
+    }
 
     def __init__(
         self,

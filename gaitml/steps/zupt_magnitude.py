@@ -8,9 +8,12 @@ the pseudo-zero rejection is one step of that foot.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 import pandas as pd
 
+from gaitml._base import POSITIVE
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.steps._base import BaseStepDetector
@@ -95,7 +98,9 @@ class ZuptMagnitudeStepDetector(BaseStepDetector):
     """
 
     name = "zupt-magnitude"
-    _positive = ("min_run_fraction",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "min_run_fraction": [POSITIVE],
+    }
 
     def __init__(
         self,

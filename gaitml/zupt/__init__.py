@@ -10,15 +10,13 @@ also ``fit(recordings, reference)`` their threshold on labelled zero-velocity
 samples.
 
 >>> from gaitml.zupt import detect_zupts
->>> det = detect_zupts(recording, detector="pseudo-std")   # doctest: +SKIP
->>> det.zupts_[["t_start_s", "t_end_s"]]                    # doctest: +SKIP
+>>> zupts = detect_zupts(recording, detector="pseudo-std")   # doctest: +SKIP
+>>> zupts[["t_start_s", "t_end_s"]]                           # doctest: +SKIP
 """
 
 from __future__ import annotations
 
-import warnings
-
-from gaitml.errors import InputError
+from gaitml._base import Registry
 from gaitml.zupt._base import BaseZuptDetector, reference_zupt_mask
 from gaitml.zupt._intervals import (
     intervals_table,
@@ -48,6 +46,7 @@ __all__ = [
     "ShoeZuptDetector",
     "clean_stances",
     "detect_zupts",
+    "detector_names",
     "get_detector",
     "intervals_table",
     "intervals_to_mask",
@@ -68,36 +67,40 @@ __all__ = [
     "stride_scaled_stances",
 ]
 
-#: name -> detector class (the names of DESIGN sec. 5 and ``gaitml zupt --detector``)
-DETECTORS: dict[str, type[BaseZuptDetector]] = {
-    "pseudo-std": PseudoStdZuptDetector,
-    "magnitude": MagnitudeZuptDetector,
-    "gyro-range": GyroRangeZuptDetector,
-    "magnitude-std": MagnitudeStdZuptDetector,
-    "shoe": ShoeZuptDetector,
-}
+#: name -> detector class (the names of DESIGN sec. 5 and ``gaitml zupt --detector``); old names
+#: (``DEPRECATED_NAMES``) are accepted by :func:`get_detector` with a DeprecationWarning, not listed
+DETECTORS: Registry = Registry(
+    "zero-velocity detector",
+    {
+        "pseudo-std": PseudoStdZuptDetector,
+        "magnitude": MagnitudeZuptDetector,
+        "gyro-range": GyroRangeZuptDetector,
+        "magnitude-std": MagnitudeStdZuptDetector,
+        "shoe": ShoeZuptDetector,
+    },
+    module="gaitml.zupt",
+    deprecated={"method1": "gyro-range", "method2": "magnitude-std"},
+)
+#: old name -> registry name
+DEPRECATED_NAMES = DETECTORS.deprecated
 
-#: old name -> registry name; accepted by :func:`get_detector` with a DeprecationWarning, not listed in DETECTORS
-DEPRECATED_NAMES = {"method1": "gyro-range", "method2": "magnitude-std"}
+
+def detector_names() -> tuple[str, ...]:
+    """All registered zero-velocity detector names."""
+    return DETECTORS.names()
 
 
 def get_detector(name: str, **params) -> BaseZuptDetector:
-    """A detector instance by registry name; unknown names or parameters raise InputError."""
-    if name in DEPRECATED_NAMES:
-        warnings.warn(
-            f"the zero-velocity detector name {name!r} is deprecated; use {DEPRECATED_NAMES[name]!r}.", DeprecationWarning, stacklevel=2
-        )
-        name = DEPRECATED_NAMES[name]
-    try:
-        cls = DETECTORS[name]
-    except KeyError:
-        raise InputError(f"unknown zero-velocity detector {name!r}; choose one of {', '.join(DETECTORS)}.") from None
-    try:
-        return cls(**params)
-    except TypeError as exc:
-        raise InputError(f"bad parameters for zero-velocity detector {name!r}: {exc}; see help(gaitml.zupt.{cls.__name__}).") from None
+    """A detector instance by registry name (:meth:`gaitml._base.Registry.create`); unknown names or parameters raise InputError."""
+    return DETECTORS.create(name, **params)
 
 
-def detect_zupts(recording, detector: str = "pseudo-std", **params) -> BaseZuptDetector:
-    """Run a detector by name on a recording and return the fitted detector (``zupts_`` etc.)."""
-    return get_detector(detector, **params).detect(recording)
+def detect_zupts(recording, detector: str = "pseudo-std", *, return_detector: bool = False, **params):
+    """Detect zero-velocity intervals in ``recording`` with the named detector.
+
+    Returns its interval table (``zupts_``), or with ``return_detector=True`` the fitted
+    detector (``per_sample_zupts_`` etc.; what this function returned before), as
+    :func:`gaitml.steps.detect_steps`.
+    """
+    det = get_detector(detector, **params).detect(recording)
+    return det if return_detector else det.zupts_

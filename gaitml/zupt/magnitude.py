@@ -6,13 +6,16 @@ and Information Science of Wuhan University 42(6), 2017 (``papers/004``), sec. 2
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 
+from gaitml._base import NON_NEGATIVE, Interval, Options
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 from gaitml.signal import magnitude
 from gaitml.zupt._base import BaseZuptDetector, labelled_samples
-from gaitml.zupt._intervals import check_interval_rules, remove_short_runs, stride_scaled_stances
+from gaitml.zupt._intervals import INTERVAL_RULES, check_interval_rules, remove_short_runs, stride_scaled_stances
 from gaitml.zupt.pseudo_std import _LazyPeriod
 
 __all__ = ["MagnitudeZuptDetector", "magnitude_zupts", "DEFAULT_T_MIN_MS2", "DEFAULT_T_MAX_MS2", "MIN_RUN_FRACTION_OF_FS"]
@@ -98,8 +101,11 @@ class MagnitudeZuptDetector(BaseZuptDetector):
     """
 
     name = "magnitude"
-    _positive = ("eps",)
-    _non_negative = ("min_run_fraction",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "eps": [Interval(0, 1, closed="neither")],
+        "min_run_fraction": [NON_NEGATIVE],
+        "interval_rules": [Options(INTERVAL_RULES)],
+    }
 
     def __init__(
         self,
@@ -142,8 +148,6 @@ class MagnitudeZuptDetector(BaseZuptDetector):
     def fit(self, recordings, reference=None) -> MagnitudeZuptDetector:
         """Set ``(t_min, t_max)`` to the ``eps/2`` and ``1 - eps/2`` quantiles of |a| on labelled samples."""
         self._validate_params()
-        if not 0 < self.eps < 1:
-            raise InputError(f"`eps` must be in (0, 1), got {self.eps!r}.")
         pairs = labelled_samples(recordings, reference)
         vals = np.concatenate([magnitude(r.acc)[m] for r, m in pairs])
         lo, hi = np.quantile(vals, [self.eps / 2, 1 - self.eps / 2])

@@ -7,10 +7,12 @@ pseudo-standard deviation and N-P criterion", J. Chinese Inertial Technology
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 from scipy.stats import norm
 
-from gaitml._base import check_number
+from gaitml._base import POSITIVE, Options, check_number
 from gaitml.consts import DEG2RAD
 from gaitml.errors import InputError
 from gaitml.recording import Recording
@@ -155,7 +157,7 @@ class _LazyPeriod:
 
     ``value`` is a per-sample array, NaN except at the positions asked (None when never asked). Centred
     blocks make the period at a position independent of where the recording starts, so a chunked run
-    (:func:`gaitml.longrun.long_zupts`) decides as a whole-file run does.
+    (:func:`gaitml.chunked_run.long_zupts`) decides as a whole-file run does.
     """
 
     def __init__(self, x: np.ndarray, sampling_rate_hz: float):
@@ -252,7 +254,11 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     """
 
     name = "pseudo-std"
-    _positive = ("half_window_s", "eps")
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "half_window_s": [POSITIVE],
+        "eps": [POSITIVE],
+        "interval_rules": [Options(INTERVAL_RULES)],
+    }
 
     def __init__(
         self,

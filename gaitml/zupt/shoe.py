@@ -8,8 +8,11 @@ The usual reference detector of the field; not one of the package's papers.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 
+from gaitml._base import POSITIVE, POSITIVE_INTEGER
 from gaitml.consts import DEG2RAD, GRAVITY_MS2
 from gaitml.errors import InputError
 from gaitml.recording import Recording
@@ -105,8 +108,14 @@ class ShoeZuptDetector(BaseZuptDetector):
     """
 
     name = "shoe"
-    _positive = ("gamma", "sigma_a_ms2", "sigma_w_rads", "window_samples", "eps")
-    _integer = ("window_samples",)
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "gamma": [POSITIVE],
+        "sigma_a_ms2": [POSITIVE],
+        "sigma_w_rads": [POSITIVE],
+        "window_samples": [POSITIVE_INTEGER],
+        "eps": [POSITIVE],
+        "window_s": [None, POSITIVE],
+    }
 
     def __init__(
         self,
@@ -127,8 +136,6 @@ class ShoeZuptDetector(BaseZuptDetector):
 
     def _half(self, fs: float) -> int:
         if self.window_s is not None:
-            if not self.window_s > 0:
-                raise InputError(f"`window_s` must be > 0, got {self.window_s!r}.")
             return int(round(self.window_s * fs / 2.0))
         if int(self.window_samples) < 1 or int(self.window_samples) % 2 == 0:
             raise InputError(f"`window_samples` must be an odd number >= 1 (a centred window), got {self.window_samples!r}.")

@@ -1,12 +1,12 @@
-"""The cheaper batch domain check (issue 12 speed) computes what it computed before.
+"""The batch domain check's fast paths give the numbers and flags of the plain computation.
 
 ``gaitml predict`` of a gyroscope model (``all52+gyro``, whose record has the
-orientation-dynamics part) now takes the feature distance in column blocks of the
-triangular Cholesky factors (:meth:`DomainModel._blocked_distances`) and the window
+orientation-dynamics part) takes the feature distance in column blocks of the
+triangular Cholesky factors (:meth:`DomainModel._certified_distances`) and the window
 gravity from the phone-frame feature means (:func:`feature_gravity`). Both are the
-same sums in another order: on a simulated recording the flags are those of the
-previous computation (one product with the stacked factors, gravity from prefix sums;
-``tests/reference/domain.py``) and the numbers agree to rounding.
+same sums in another order than the plain computation (one product with the stacked
+factors, gravity from prefix sums; ``tests/reference/domain.py``): on a simulated
+recording the flags are the same and the numbers agree to rounding.
 """
 
 from __future__ import annotations
@@ -91,6 +91,13 @@ def test_predict_flags_equal_the_previous_computation(gyro_model, walker, case):
     assert (flagged < 0.5) if case == "as recorded" else (flagged == 1.0)  # both outcomes are exercised
 
 
+def _exact(dom, X):
+    """The float64 feature distances by the plain reference (one class at a time)."""
+    from gaitml.models.domain import _min_mahalanobis
+
+    return _min_mahalanobis((X - dom.arrays["center"]) / dom.arrays["scale"], dom.arrays["class_means"], dom.arrays["class_precisions"])
+
+
 def test_blocked_distances_equal_the_one_product_and_the_per_window_reference(gyro_model, walker):
     dom = gyro_model.domain
     w = _windows_for(walker, gyro_model.length_s, gyro_model.overlap)
@@ -110,11 +117,10 @@ def test_blocked_distances_equal_the_one_product_and_the_per_window_reference(gy
         np.testing.assert_array_equal(d <= dom.distance_threshold, before <= dom.distance_threshold)
         np.testing.assert_allclose(d[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-6)
         Xf = np.where(np.isfinite(X[:n]), X[:n], 0.0)
-        np.testing.assert_allclose(dom._blocked_distances(Xf)[fin], before[fin], rtol=1e-12)  # the float64 blocks
-        np.testing.assert_allclose(dom._blocked_distances(Xf)[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-9)
+        exact = _exact(dom, Xf)  # the plain reference the float32 path recomputes with near the threshold
+        np.testing.assert_allclose(exact[fin], before[fin], rtol=1e-12)
+        np.testing.assert_allclose(exact[fin], reference_check(no_gravity, X[:n][fin])["distance"], rtol=1e-9)
     assert np.isinf(d[[7, 11]]).all() and fin.sum() == len(X) - 2
-    blocks = dom._factor_blocks()
-    assert [b[0] for b in blocks] == list(range(0, 104, 13)) and blocks[0][2].shape == (5 * 13, 105) and blocks[-1][2].shape == (5 * 13, 14)
     # a sum that overflows in the blocks: the one product answers, as before
     huge = np.where(np.arange(X.shape[1]) == 5, 1e250, X[100:200])
     with np.errstate(over="ignore", invalid="ignore"):
@@ -246,7 +252,7 @@ def test_float32_distances_give_the_float64_flags_at_any_threshold(gyro_model, w
     dom = gyro_model.domain
     w = _windows_for(walker, gyro_model.length_s, gyro_model.overlap)
     X = model_inputs(gyro_model, walker, w)
-    exact = dom._blocked_distances(X)  # float64
+    exact = _exact(dom, X)  # float64
     far = dom.distances(X)
     np.testing.assert_allclose(far, exact, rtol=1e-6)
     assert np.abs(far / exact - 1).max() > 1e-12  # the float32 products do answer away from the threshold

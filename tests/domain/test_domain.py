@@ -1,4 +1,4 @@
-"""The model's training domain (issue 12): record, save/load data-only, predict/pdr flags and warnings."""
+"""The model's training domain (gaitml.models.domain): record, save/load data-only, predict/pdr flags and warnings."""
 
 from __future__ import annotations
 
@@ -10,11 +10,12 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gaitml.cli import main
+from gaitml.commands._domain import NO_DOMAIN_WARNING
 from gaitml.errors import ModelError
 from gaitml.io import write_gaitml_csv
 from gaitml.models import load_model, model_card, predict_recording
 from gaitml.models._persist import ARRAYS_NAME, JSON_NAME, settings_sha256, sha256_file
-from gaitml.models.domain import NO_DOMAIN_WARNING, DomainModel, fit_domain, out_of_domain_fraction, window_gravity
+from gaitml.models.domain import DomainModel, fit_domain, out_of_domain_fraction, window_gravity
 from gaitml.pipeline.config import parse_config
 from gaitml.pipeline.runner import train_config
 from gaitml.simulate import simulate_dataset

@@ -1,4 +1,4 @@
-"""The dynamics part on a grid of windows (issue 12 cost): the check computes every ``every``-th window's descriptors.
+"""The dynamics part on a grid of windows: the check computes every ``every``-th window's descriptors.
 
 Each piece is checked against a plain loop: the running median (bit for bit against
 ``np.nanmedian``), the span median of the computed windows, the check on the grid
@@ -259,7 +259,7 @@ def test_descriptors_of_windows_of_many_lengths_match_the_loop(fs):
 
 
 def test_descriptors_in_batches_equal_one_block(monkeypatch):
-    import gaitml.models.domain as dm
+    import gaitml.models.domain._descriptors as dm
 
     acc, gyr = _walk(6, 900)
     starts = np.arange(0, 900 - 75 + 1, 37)

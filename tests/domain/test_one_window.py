@@ -1,4 +1,4 @@
-"""The one-window (streaming) domain check: the same numbers as the general path and as a plain reference (issue 12 speed)."""
+"""The one-window (streaming) domain check: the same numbers as the general path and as a plain reference."""
 
 from __future__ import annotations
 

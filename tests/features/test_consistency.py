@@ -10,6 +10,7 @@ from hypothesis.extra import numpy as hnp
 
 from gaitml.errors import InputError
 from gaitml.features import StreamingFeatureExtractor, extract_features, feature_names, features_from_arrays, make_windows
+from gaitml.features._catalogue import MODE_BIN_WIDTH
 from gaitml.recording import Recording
 from tests.reference.features import reference_features
 
@@ -92,6 +93,7 @@ def test_features_invariant_to_window_position(window, before, after, seed):
 @settings(max_examples=30, deadline=None)
 @given(sig=hnp.arrays(np.float64, st.tuples(st.integers(10, 60), st.just(3)), elements=finite), length=st.integers(4, 10))
 @example(sig=np.where(np.arange(30).reshape(10, 3) == 0, 0.0, 5.96046448e-08), length=5)  # ill-conditioned acc_mag skew
+@example(sig=np.where(np.arange(30).reshape(10, 3) == 6, 0.15, 0.0), length=4)  # acc_mag's moving average on a bin edge
 def test_vectorised_equals_reference_on_random_signals(sig, length):
     starts = np.arange(0, len(sig) - length + 1, max(1, length // 2))
     got = features_from_arrays(sig, None, 50.0, starts, length)
@@ -113,8 +115,12 @@ def test_vectorised_equals_reference_on_random_signals(sig, length):
                 cond = np.where(std > 0, np.abs(mean) / std, 0.0)
             tol[:, j] += 1e3 * np.finfo(float).eps * cond * scale[:, j]
     assert np.all(np.abs(got[:, other] - want[:, other]) <= tol)
-    # the mode is exact except when a value sits within rounding of a bin edge
-    assert np.mean(np.isclose(got[:, mode_cols], want[:, mode_cols], atol=1e-9)) > 0.95
+    # the mode is exact, except that a value within rounding of a bin edge (e.g. a 3-sample moving average
+    # landing on k * w - w / 2) may fall in the neighbouring bin: then the two differ by exactly one bin width
+    width = MODE_BIN_WIDTH["acc"]
+    diff = np.abs(got[:, mode_cols] - want[:, mode_cols])
+    assert np.all(np.isclose(diff, 0.0, atol=1e-9) | np.isclose(diff, width, rtol=1e-9, atol=1e-9)), diff
+    assert np.mean(np.isclose(diff, 0.0, atol=1e-9)) >= 0.5  # edge ties are rare, not the rule
 
 
 @settings(max_examples=30, deadline=None)

@@ -1,4 +1,4 @@
-"""The gravity feature frame (issue 12): rotation invariance, the physics of its sign, reference loop, CLI."""
+"""The gravity feature frame (gaitml.features, frame='gravity'): rotation invariance, the physics of its sign, reference loop, CLI."""
 
 from __future__ import annotations
 

@@ -290,6 +290,6 @@ def test_fast_timestamps_accepted_with_a_target_rate_and_upsampling_bounded():
     with pytest.raises(InputError, match="above 10000 Hz.*lower --sampling-rate-hz"):
         Recording.from_timestamps(t, _acc(2000))
     rec = Recording.from_timestamps(t, _acc(2000), sampling_rate_hz=1000.0)
-    assert rec.n_samples == 100 and "without an anti-alias filter" in rec.meta["resample_method"]
+    assert rec.n_samples == 100 and "anti-alias FIR low-pass" in rec.meta["resample_method"]  # issue 28: filtered before decimation
     with pytest.raises(InputError, match="more than 100x the original"):
         Recording.from_timestamps(np.arange(50) / 5.0, _acc(50), sampling_rate_hz=10_000.0)

@@ -1,4 +1,4 @@
-"""Generator of hostile and odd input files (issue 17); nothing binary is committed.
+"""Generator of hostile and odd input files; nothing binary is committed.
 
 Every input class is a :class:`Case`: a function that writes the input into a
 folder (a test's ``tmp_path``) and returns the path to pass, the extra command

@@ -1,4 +1,4 @@
-"""Run a gaitml command as a user would and check the command-line contract (issue 17).
+"""Run a gaitml command as a user would and check the command-line contract.
 
 ``run_cli`` calls :func:`gaitml.cli.main` in process with stdout/stderr captured;
 ``run_subprocess`` runs ``python -m gaitml.cli`` for real. ``check_contract``

@@ -1,4 +1,4 @@
-"""Print the table of input classes x commands with each outcome (issue 17's closing note).
+"""Print the table of input classes x commands with each outcome.
 
 Usage: ``PYTHONPATH=. python -m tests.hostile.table`` (about half a minute). Each cell is
 ``0`` (accepted, the right answer) or ``2`` (refused with one line), followed by ``!``

@@ -1,4 +1,4 @@
-"""Hostile model folders, experiment configs and output places, through the CLI (issue 17).
+"""Hostile model folders, experiment configs and output places, through the CLI: one-line refusals, nothing left behind.
 
 Model files are attacked through the loader's public behaviour only (a refusal
 names the model and a fix, exit 2), so these tests hold whatever the files of a

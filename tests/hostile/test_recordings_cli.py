@@ -1,4 +1,4 @@
-"""Every recording command against the hostile corpus, as a user runs it (issue 17).
+"""Every recording command against the hostile corpus, as a user runs it.
 
 For each input class of :data:`tests.hostile.corpus.RECORDING_CASES` and each of
 ``info, steps, zupt, features, predict, pdr``: the command-line contract holds

@@ -138,3 +138,13 @@ def sensor_logger_export(
         (folder / "Metadata.csv").write_text(f"version,device name,recording time,platform\n3,TestPhone,2023-11-14_22-13-20,{platform}\n")
     (folder / "Annotation.csv").write_text("time,seconds_elapsed,text,millisecond_press_duration\n")
     return folder
+
+
+def measured(rec, *keys: str) -> np.ndarray:
+    """Samples of ``rec`` where every merged stream ran (not filled by the clock merge's hold rule), with one interval of margin."""
+    t = rec.t_s
+    keep = np.ones(len(t), dtype=bool)
+    for key in keys or ("clock_merge", "gravity_merge"):
+        for a, b in rec.meta.get(key, {}).get("gyr_filled_s", []):
+            keep &= (t < a - 1.0 / rec.sampling_rate_hz) | (t > b + 1.0 / rec.sampling_rate_hz)
+    return keep

@@ -95,7 +95,7 @@ def test_bad_parameters(sim):
     iv = pd.DataFrame([(0.0, 5.0, "walk")], columns=["start_s", "end_s", "label"])
     with pytest.raises(InputError, match="unknown step detector 'pseudo-std'"):
         label_recording(sim, iv, detector="pseudo-std")
-    with pytest.raises(InputError, match="snap must be one of"):
+    with pytest.raises(InputError, match="`snap` must be one of"):
         label_recording(sim, iv, snap="frames")
     with pytest.raises(InputError, match="bad labelling parameters"):
         label_recording(sim, iv, snap_s=1)
@@ -109,7 +109,7 @@ def test_strides_on_foot_sensor():
     lab = IntervalLabeller(snap="strides").label(rec, iv)
     from gaitml.zupt import detect_zupts, segment_strides
 
-    strides = segment_strides(detect_zupts(rec, detector="pseudo-std").zupts_, rec.sampling_rate_hz)
+    strides = segment_strides(detect_zupts(rec, detector="pseudo-std"), rec.sampling_rate_hz)
     b = lab.boundaries_.query("status == 'snapped'")
     assert len(b) == 1
     k = int(round(b["snapped_t_s"].iloc[0] * rec.sampling_rate_hz))

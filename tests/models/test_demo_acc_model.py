@@ -1,12 +1,12 @@
-"""The shipped accelerometer-only demo model ``models/demo-acc`` (issue 12).
+"""The shipped accelerometer-only demo model ``models/demo-acc``.
 
 It is ``experiments/demo-acc.toml`` (``experiments/demo.toml`` with ``features.set =
 "all52"``) trained by ``gaitml train experiments/demo-acc.toml --out models/demo-acc``.
 The fast tests check that the shipped folder was trained from the committed config and
-still predicts what it predicted when it was shipped; the slow test retrains it and
-compares it with the shipped one: the same model up to floating-point rounding (another
-CPU's vector width changes the last bit of a mean, and liblinear then stops one iteration
-earlier or later inside its tolerance), and the same modes and flags window for window.
+reads accelerometer-only recordings; the slow test retrains it and compares what a user
+sees (every window's mode and flag, the CV accuracy) and the arrays, to tolerances that
+follow from the solver's recorded distance to the optimum (gaitml.models._svm), so a
+retrain on another CPU or with another BLAS thread count passes.
 """
 
 from __future__ import annotations
@@ -62,14 +62,13 @@ def test_demo_acc_config_is_the_demo_config_without_the_gyroscope():
     assert (acc["features.set"], demo["features.set"]) == ("all52", "all52+gyro")
 
 
-def test_demo_acc_reads_an_accelerometer_only_recording_as_when_it_was_shipped():
-    """Pinned: the window modes of the committed sample (checked when the model was shipped), gyroscope or not."""
+def test_demo_acc_reads_an_accelerometer_only_recording_like_one_with_the_gyroscope():
+    """Without the gyroscope columns the sample's windows get the same modes, all in domain, most of them right."""
     model = load_model(DEMO_ACC)
     rec = read_recording(SAMPLE)
     with_gyro = predict_recording(model, rec)
     t = predict_recording(model, _acc_only(rec))
     np.testing.assert_array_equal(t["mode_raw"].to_numpy(), with_gyro["mode_raw"].to_numpy())
-    assert t["mode"].value_counts().to_dict() == {"backward": 18, "side_left": 17, "run": 15, "walk": 14, "side_right": 13}
     assert bool(t["in_domain"].astype(bool).all())
     sel = t["label_fraction"].to_numpy() >= 0.5
     # the sample's walker is a calm one (hand gain 0.30): without the gyroscope 71 % of its windows
@@ -88,14 +87,27 @@ def test_gaitml_predict_with_demo_acc_on_an_accelerometer_only_file(tmp_path, ca
     assert {w["in_domain"] for w in out["windows"]} == {True}
 
 
+#: CV accuracy of a retrain vs the shipped record: 6 of the 12,576 held-out windows (the weights agree to about
+#: 1e-5, so only a window within about that of a decision boundary can change class).
+CV_ACCURACY_TOLERANCE = 6 / 12576
+
+
+def _standardised(coef: np.ndarray, intercept: np.ndarray, mean: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """Pairwise (weights, bias) in the standardised space the solver works in (undoing the fold into raw units)."""
+    return np.c_[coef * scale, intercept + coef @ mean]
+
+
 @pytest.mark.slow
 def test_retraining_demo_acc_gives_the_shipped_model(tmp_path):
-    """``gaitml train experiments/demo-acc.toml`` again (about 40 s): the shipped model up to rounding.
+    """``gaitml train experiments/demo-acc.toml`` again (about 40 s) gives the shipped model.
 
-    Preprocessing and domain arrays agree to 1e-9 (relative to the array's largest entry); the SVM weights to 2 % of the
-    largest weight (liblinear's stopping tolerance: on one machine a pair's solver took one
-    iteration more, which moved a weight by 0.026 of a largest 3.16); and what a user sees,
-    the mode and the flag of every window, is the same.
+    What a user sees is the same: the mode and the flag of every window of the sample and two
+    simulated walkers, and the CV accuracy within :data:`CV_ACCURACY_TOLERANCE`. The solver
+    converged on both (``n_iter_`` below ``max_iter``), and every pair's standardised weights
+    and bias differ by at most the sum of the two fits' final gradient norms (each fit is
+    within its own of the exact optimum: the objective is 1-strongly convex), with a factor 2
+    for the optimum itself moving with the last bits of the inputs. Preprocessing and domain
+    arrays are sums and products, not iterations: they agree to 1e-9 of their largest entry.
     """
     from gaitml.cli import main
     from gaitml.simulate import simulate_dataset
@@ -103,46 +115,40 @@ def test_retraining_demo_acc_gives_the_shipped_model(tmp_path):
     assert main(["train", str(CONFIG), "--out", str(tmp_path / "demo-acc")]) == 0
     shipped = np.load(DEMO_ACC / "arrays.npz", allow_pickle=False)
     again = np.load(tmp_path / "demo-acc" / "arrays.npz", allow_pickle=False)
-    assert sorted(shipped.files) == sorted(again.files)
-    for name in shipped.files:
+    # a model trained before the domain record stopped writing its feature quantiles still carries them; nothing reads them
+    retired = {"domain__feature_lo", "domain__feature_hi"}
+    assert sorted(set(shipped.files) - retired) == sorted(set(again.files) - retired)
+    a_info = json.loads((DEMO_ACC / "model.json").read_text())
+    b_info = json.loads((tmp_path / "demo-acc" / "model.json").read_text())
+    max_iter = a_info["estimator"]["params"]["max_iter"]
+    for arrays in (shipped, again):
+        assert np.all(arrays["n_iter_"] < max_iter)
+        assert np.all(np.isfinite(arrays["gradient_norm_"]))
+    assert a_info["estimator"]["state"]["converged_"] and b_info["estimator"]["state"]["converged_"]
+    bound = 2 * (shipped["gradient_norm_"] + again["gradient_norm_"])
+    moved = np.linalg.norm(
+        _standardised(again["coef_"], again["intercept_"], again["mean_"], again["scale_"])
+        - _standardised(shipped["coef_"], shipped["intercept_"], shipped["mean_"], shipped["scale_"]),
+        axis=1,
+    )
+    assert np.all(moved <= bound), (moved, bound)
+    iterative = {"coef_", "intercept_", "n_iter_", "gradient_norm_"}  # checked above, through the bound
+    for name in sorted(set(again.files) - iterative - retired):
         a, b = shipped[name], again[name]
         assert a.shape == b.shape and a.dtype == b.dtype, name
-        if name == "n_iter_":  # the solver's iteration counts are what rounding may change
-            np.testing.assert_allclose(b, a, atol=2, err_msg=name)
-        elif a.dtype.kind != "f":
+        if a.dtype.kind != "f":
             np.testing.assert_array_equal(b, a, err_msg=name)
-        elif name in ("coef_", "intercept_"):
-            np.testing.assert_allclose(b, a, rtol=0, atol=0.02 * np.abs(shipped["coef_"]).max(), err_msg=name)
         else:
             np.testing.assert_allclose(b, a, rtol=1e-9, atol=1e-9 * np.abs(a).max(), err_msg=name)
-    a = json.loads((DEMO_ACC / "model.json").read_text())
-    b = json.loads((tmp_path / "demo-acc" / "model.json").read_text())
-    for key in ("training_config", "training_data", "estimator", "feature_names", "labels", "window"):
-        assert a[key] == b[key], key
+    for key in ("training_config", "training_data", "feature_names", "labels", "window"):
+        assert a_info[key] == b_info[key], key
+    assert a_info["estimator"]["params"] == b_info["estimator"]["params"]
     for key in ("distance_threshold", "distance_threshold_in_sample", "gravity_threshold_rad", "gravity_threshold_in_sample_rad"):
-        assert b["domain"][key] == pytest.approx(a["domain"][key], rel=1e-9), key
-    assert b["cv_scores"]["accuracy_before"] == pytest.approx(a["cv_scores"]["accuracy_before"], abs=2e-3)
+        assert b_info["domain"][key] == pytest.approx(a_info["domain"][key], rel=1e-9), key
+    for key in ("accuracy_before", "accuracy_after"):
+        assert b_info["cv_scores"][key] == pytest.approx(a_info["cv_scores"][key], abs=CV_ACCURACY_TOLERANCE), key
     shipped_model, retrained = load_model(DEMO_ACC), load_model(tmp_path / "demo-acc")
     for rec in [read_recording(SAMPLE), *simulate_dataset(n_subjects=2, duration_s=120.0, pose="mixed", seed=2024)]:
         ta, tb = predict_recording(shipped_model, rec), predict_recording(retrained, rec)
         np.testing.assert_array_equal(tb["mode"].to_numpy(), ta["mode"].to_numpy())
         np.testing.assert_array_equal(tb["in_domain"].to_numpy(), ta["in_domain"].to_numpy())
-
-
-@pytest.mark.realdata
-def test_demo_acc_meets_the_issue_targets_on_real_hand_held_walking():
-    """Oxford InHand (16 walks, 3 users): walk >= 90 % of the windows, silently wrong (neither walk
-    nor flagged) <= 5 %; measured 98.9 % and 0.8 % (90.5 % and 5.5 % before the simulator's hand
-    gain; held out per user: 95.6 % and 2.4 %, experiments/reports/model-domain.md)."""
-    from experiments.scripts.domain_report import _add, score
-    from gaitml.io import read_dataset
-    from tests.conftest import shared
-
-    recs = [r for r in read_dataset(shared("oxford-step-counter", "optimisation")) if r.meta.get("position") == "InHand"]
-    assert len(recs) == 16
-    model = load_model(DEMO_ACC)
-    tot: dict = {}
-    for r in recs:
-        tot = _add(tot, score(model, r))
-    assert tot["walk_all"] / tot["windows"] >= 0.90
-    assert tot["silent"] / tot["windows"] <= 0.05

@@ -20,6 +20,7 @@ from gaitml.models import (
     save_model,
     torch_available,
 )
+from gaitml.models._svm import PRIMAL_TOL, primal_gradient_norm
 from tests.models.synth import synth_set
 
 needs_torch = pytest.mark.skipif(not torch_available(), reason="torch extra not installed")
@@ -47,7 +48,7 @@ def test_linear_ovo_svm_matches_sklearn_one_vs_one(dataset):
     X, y = dataset.inputs("features"), dataset.y
     ours = LinearOVOSVM(C=0.5).fit(X, y)
     Z = (X - ours.mean_) / ours.scale_
-    ref = OneVsOneClassifier(LinearSVC(C=0.5, dual=False, tol=1e-4, max_iter=2000, random_state=0)).fit(Z, y)
+    ref = OneVsOneClassifier(LinearSVC(C=0.5, dual=False, tol=PRIMAL_TOL, max_iter=2000, random_state=0)).fit(Z, y)
     # same pairwise machines and the same vote: the predictions agree
     assert np.array_equal(ours.predict(X), ref.predict(Z))
     assert ours.converged_
@@ -62,11 +63,55 @@ def test_linear_ovo_svm_pairwise_weights_equal_liblinear(dataset):
     Z = (X - m.mean_) / m.scale_
     i, j = m.pairs_[0]
     mask = np.isin(y, [m.classes_[i], m.classes_[j]])
-    clf = LinearSVC(dual=False, random_state=0).fit(Z[mask], np.where(y[mask] == m.classes_[i], 1, -1))
+    clf = LinearSVC(dual=False, tol=PRIMAL_TOL, random_state=0).fit(Z[mask], np.where(y[mask] == m.classes_[i], 1, -1))
     np.testing.assert_allclose(X[mask] @ m.coef_[0] + m.intercept_[0], clf.decision_function(Z[mask]), rtol=1e-9, atol=1e-9)
 
 
-@pytest.mark.parametrize("bad", [{"C": 0}, {"C": -1.0}, {"solver": "sgd"}, {"loss": "log"}])
+def _primal_objective(Z, y, w, b, C):
+    margin = np.maximum(0.0, 1.0 - y * (Z @ w + b))
+    return 0.5 * (w @ w + b * b) + C * np.sum(margin**2)
+
+
+def test_primal_gradient_norm_is_the_norm_of_the_objectives_gradient():
+    rng = np.random.default_rng(3)
+    Z = rng.standard_normal((200, 4))
+    y = np.where(Z[:, 0] + 0.5 * rng.standard_normal(200) > 0, 1.0, -1.0)
+    w, b, C, h = rng.standard_normal(4) * 0.3, 0.2, 0.7, 1e-6
+    theta = np.r_[w, b]
+    fd = [
+        (_primal_objective(Z, y, *np.split(theta + h * e, [4]), C) - _primal_objective(Z, y, *np.split(theta - h * e, [4]), C)) / (2 * h)
+        for e in np.eye(5)
+    ]
+    fd = np.asarray(fd, dtype=float)
+    assert primal_gradient_norm(Z, y, w, b, C) == pytest.approx(np.linalg.norm(fd), rel=1e-5)
+
+
+def test_linear_ovo_svm_converges_and_records_its_distance_to_the_optimum(dataset):
+    """Every pair stops on its tolerance, and a last-bit change of the input (another CPU's sums) moves the
+    standardised weights by no more than the two fits' recorded gradient norms (the objective is 1-strongly convex)."""
+    X, y = dataset.inputs("features"), dataset.y
+    a = LinearOVOSVM().fit(X, y)
+    noise = np.random.default_rng(0).standard_normal(X.shape)
+    b = LinearOVOSVM().fit(X * (1 + 4e-16 * noise), y)
+    for m in (a, b):
+        assert m.converged_ and np.all(m.n_iter_ < m.max_iter)
+        assert np.all(np.isfinite(m.gradient_norm_)) and np.all(m.gradient_norm_ < 1e-3)
+
+    def standardised(m):
+        return np.c_[m.coef_ * m.scale_, m.intercept_ + m.coef_ @ m.mean_]
+
+    moved = np.linalg.norm(standardised(a) - standardised(b), axis=1)
+    assert np.all(moved <= a.gradient_norm_ + b.gradient_norm_ + 1e-9)
+    loose = LinearOVOSVM(tol=1e-4).fit(X, y)  # scikit-learn's default: much further from the optimum
+    assert loose.gradient_norm_.max() > 100 * a.gradient_norm_.max()
+
+
+def test_linear_ovo_svm_dual_solver_keeps_its_own_tolerance(dataset):
+    m = LinearOVOSVM(loss="hinge", max_iter=5000).fit(dataset.inputs("features"), dataset.y)
+    assert m._tol() == 1e-4 and np.isnan(m.gradient_norm_).all()
+
+
+@pytest.mark.parametrize("bad", [{"C": 0}, {"C": -1.0}, {"solver": "sgd"}, {"loss": "log"}, {"tol": 0.0}, {"tol": "tight"}])
 def test_svm_bad_params(dataset, bad):
     with pytest.raises(InputError, match=next(iter(bad))):
         LinearOVOSVM(**bad).fit(dataset.inputs("features"), dataset.y)

@@ -1,4 +1,4 @@
-"""Models trained on every simulated carrying position (issue 12): their domain and card.
+"""Models trained on every simulated carrying position: their domain and card.
 
 A small version of experiments/positions-acc.toml (2 subjects x 20 s x 7 positions) is
 trained through the CLI: the model's training domain lists every position, its card

@@ -1,4 +1,4 @@
-"""Hypothesis profiles and example counts for the property tests (issue 17).
+"""Hypothesis profiles and example counts for the property tests.
 
 Two profiles, chosen by the environment variable ``GAITML_HYPOTHESIS_PROFILE``:
 

@@ -69,7 +69,7 @@ def test_by_strides_and_zupt_on_a_foot(foot):
     st = segment(foot, by="strides")
     _check_table(z, 100.0)
     _check_table(st, 100.0)
-    zupts = detect_zupts(foot, "pseudo-std").zupts_
+    zupts = detect_zupts(foot, "pseudo-std")
     assert z["start"].tolist() == zupts["start"].tolist() and (z["kind"] == "stance").all()
     ref = segment_strides(zupts, 100.0)
     assert st["start"].tolist() == ref["start"].tolist() and st["end"].tolist() == ref["end"].tolist()

@@ -1,4 +1,4 @@
-"""The vigour of a carried phone: what it scales, what it leaves alone, and its fit to real walks."""
+"""The vigour of a carried phone (gaitml.simulate.positions): what it scales, what it leaves alone, its draw."""
 
 from __future__ import annotations
 
@@ -6,11 +6,10 @@ import dataclasses
 
 import numpy as np
 import pytest
-import scipy.stats
 
 from gaitml.errors import InputError
 from gaitml.simulate import Placement, sample_subjects, simulate_recording
-from gaitml.simulate.positions import CARRIED_POSITIONS, VIGOUR_RANGE
+from gaitml.simulate.positions import VIGOUR_RANGE
 
 
 def _walk(position: str, vigour: float, modes=("walk",), seed: int = 4, duration_s: float = 30.0):
@@ -37,29 +36,6 @@ def test_vigour_scales_the_walking_intensity_but_not_the_steps(position):
 def test_running_ignores_the_vigour():
     a, b = (_walk("front-pocket", v, modes=("run",), duration_s=20.0) for v in (1.0, 1.6))
     assert np.array_equal(a.acc, b.acc) and np.array_equal(a.gyr, b.gyr)
-
-
-def test_vigour_is_drawn_last_and_only_where_it_was_fitted():
-    from experiments.scripts.carry_vigour import VIGOUR_POSITIONS, vigour_range
-
-    assert set(VIGOUR_RANGE) == set(VIGOUR_POSITIONS)
-    for position in CARRIED_POSITIONS:
-        drawn = [Placement.random(position, np.random.default_rng(s)) for s in range(2000)]
-        v = np.array([p.vigour for p in drawn])
-        if position not in VIGOUR_RANGE:
-            assert np.all(v == 1.0), position
-            continue
-        lo, hi = VIGOUR_RANGE[position]
-        assert v.min() >= lo and v.max() <= hi
-        if hi > lo:  # log-uniform, not uniform: the logs are uniform over the range's logs
-            span = np.log(hi) - np.log(lo)
-            assert scipy.stats.kstest(np.log(v), "uniform", args=(np.log(lo), span)).pvalue > 0.01
-            if hi / lo > 1.5:  # wide enough to tell log-uniform from uniform (not the bag's 0.95-1.10)
-                assert scipy.stats.kstest(v, "uniform", args=(lo, hi - lo)).pvalue < 1e-6
-        with vigour_range(position, 1.3, 1.3):
-            again = Placement.random(position, np.random.default_rng(7))
-        assert again.vigour == pytest.approx(1.3)
-        assert dataclasses.replace(again, vigour=drawn[7].vigour) == drawn[7]
 
 
 def test_the_vigour_is_drawn_after_every_other_field():
@@ -118,18 +94,3 @@ def test_manifest_carries_the_vigour(tmp_path):
     lo, hi = VIGOUR_RANGE["front-pocket"]
     pocket = man[man["position"] == "front-pocket"]["carry_vigour"]
     assert np.all((pocket >= lo) & (pocket <= hi))
-
-
-@pytest.mark.realdata
-@pytest.mark.slow
-def test_shipped_ranges_are_the_fit_on_every_real_oxford_user(shared_data):
-    """VIGOUR_RANGE is what ``python -m experiments.scripts.carry_vigour`` fits on the three Oxford users."""
-    from experiments.scripts.carry_vigour import _END_GRID, VIGOUR_GRID, VIGOUR_POSITIONS, real_carried_walks, vigour_curves
-    from experiments.scripts.hand_gain import fit_range
-
-    walks = real_carried_walks(shared_data)
-    for position in VIGOUR_POSITIONS:
-        pw = walks[walks["position"] == position]
-        assert sorted(pw["user"].unique()) == ["Carmelo", "Dario", "Jamie"], position
-        fitted = fit_range(pw["mag_std_ms2"].to_numpy(), vigour_curves(position), grid=VIGOUR_GRID, lo_grid=_END_GRID, hi_grid=_END_GRID)
-        assert fitted == VIGOUR_RANGE[position], position

@@ -1,4 +1,4 @@
-"""The hand gain of a hand-held phone: what it damps, what it leaves alone, and its fit to real walks."""
+"""The hand gain of a hand-held phone (gaitml.simulate.subject): what it damps, what it leaves alone, its draw."""
 
 from __future__ import annotations
 
@@ -71,29 +71,3 @@ def test_the_gain_is_drawn_last_so_other_parameters_keep_their_seeded_values():
 def test_hand_gain_out_of_range_is_refused(bad):
     with pytest.raises(InputError, match="hand_gain"):
         Subject(hand_gain=bad)
-
-
-def test_fit_range_recovers_a_known_range_from_synthetic_curves():
-    from experiments.scripts.hand_gain import GAIN_GRID, fit_range
-
-    rng = np.random.default_rng(0)
-    # mag_std proportional to the gain, subject factors 2.7-4.0 (the simulated hand-held spread)
-    factors = rng.uniform(2.7, 4.0, 40)
-    curves = factors[:, None] * GAIN_GRID[None, :]
-    # the target from an independent Monte-Carlo population: random subjects at log-uniform gains
-    n = 20000
-    gains = np.exp(rng.uniform(np.log(0.4), np.log(1.1), n))
-    target = np.percentile(rng.choice(factors, n) * gains, [5, 95])
-    lo, hi = fit_range(np.array(target), curves)
-    assert abs(lo - 0.4) <= 0.05 and abs(hi - 1.1) <= 0.05
-
-
-@pytest.mark.realdata
-@pytest.mark.slow
-def test_shipped_range_is_the_fit_on_every_real_hand_held_user(shared_data):
-    """HAND_GAIN_RANGE is what ``python -m experiments.scripts.hand_gain`` fits on all five users."""
-    from experiments.scripts.hand_gain import fit_range, gain_curves, real_hand_walks
-
-    walks = real_hand_walks(shared_data)
-    assert sorted(walks["user"].unique()) == ["Carmelo", "Dario", "Jamie", "ifsm-1", "ifsm-2"]
-    assert fit_range(walks["mag_std_ms2"].to_numpy(), gain_curves()) == HAND_GAIN_RANGE

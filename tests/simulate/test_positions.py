@@ -1,4 +1,4 @@
-"""Carrying positions (issue 12): every position x mode, segment physics, attitude truth, manifest, CLI, config."""
+"""Carrying positions (gaitml.simulate.positions): every position x mode, segment physics, attitude truth, manifest, CLI, config."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Config keys of issue 14: windows.by / windows.detector, data.manifest, [data.labelling]."""
+"""Config keys of step-synchronous windows and folder data: windows.by / windows.detector, data.manifest, [data.labelling]."""
 
 from __future__ import annotations
 

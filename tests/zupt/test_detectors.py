@@ -185,7 +185,7 @@ def test_detector_api(name):
     assert (z["end"] > z["start"]).all()
     assert det.name == name
     assert repr(det).startswith(type(det).__name__)
-    assert detect_zupts(rec, detector=name).per_sample_zupts_.sum() == det.per_sample_zupts_.sum()
+    assert detect_zupts(rec, detector=name, return_detector=True).per_sample_zupts_.sum() == det.per_sample_zupts_.sum()
 
 
 def test_get_detector_unknown_name_lists_names():

@@ -1,4 +1,4 @@
-"""The pseudo-std interval rules (issue 13): merge a spike inside a stance, drop a dip inside a swing."""
+"""The pseudo-std detector's interval rules (gaitml.zupt): merge a spike inside a stance, drop a dip inside a swing."""
 
 from __future__ import annotations
 

@@ -1,0 +1,40 @@
+"""The out-of-domain warning line of ``gaitml predict`` and ``gaitml pdr`` (the check itself: :mod:`gaitml.models.domain`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["NO_DOMAIN_WARNING", "OUT_OF_DOMAIN_WARN_FRACTION", "domain_warning"]
+
+#: ``gaitml predict`` / ``pdr`` print one warning when more than this fraction of windows is out of domain.
+OUT_OF_DOMAIN_WARN_FRACTION = 0.10
+#: The warning for a model saved without a domain record.
+NO_DOMAIN_WARNING = (
+    "the model has no domain record (trained before gaitml recorded one), so in_domain is unknown (null); "
+    "retrain it with 'gaitml train CONFIG' to get the out-of-domain check"
+)
+
+
+def domain_warning(model, in_domain, what: str = "windows") -> str | None:
+    """The one warning line (without the ``gaitml: warning:`` prefix) for a prediction, or None.
+
+    A model without a domain record gives :data:`NO_DOMAIN_WARNING`; otherwise a
+    warning is given when more than :data:`OUT_OF_DOMAIN_WARN_FRACTION` of the
+    ``what`` are out of domain.
+    """
+    from gaitml.models.domain import out_of_domain_fraction
+
+    dom = getattr(model, "domain", None)
+    if dom is None:
+        return NO_DOMAIN_WARNING
+    frac = out_of_domain_fraction(in_domain)
+    if frac is None or frac <= OUT_OF_DOMAIN_WARN_FRACTION:
+        return None
+    n = len(np.asarray(in_domain, dtype=object).reshape(-1))
+    k = int(round(frac * n))
+    positions = ", ".join(sorted(dom.positions)) or "unknown"
+    return (
+        f"{100 * frac:.1f} % of the {what} ({k} of {n}) lie outside the model's training domain (positions {positions}, "
+        f"{dom.frame} frame); their modes are unreliable: use a model trained on recordings like this one "
+        "(docs/models.md: 'Is my recording in the model's domain?')"
+    )

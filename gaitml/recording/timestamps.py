@@ -1,0 +1,304 @@
+"""Timestamps of a recording: increasing times, a plausible rate, gaps to bridge or cut.
+
+:func:`check_timed_samples` checks shapes, finiteness and strictly increasing
+times; :func:`check_rate` refuses a rate no gait recording has;
+:func:`max_bridge_s` and :func:`split_points` say which intervals are gaps too
+long to bridge by interpolation.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from gaitml.errors import InputError
+from gaitml.recording.ranges import as_2d3, check_finite
+
+__all__ = [
+    "check_rate",
+    "check_timed_samples",
+    "check_increasing",
+    "judge_rate",
+    "judge_timestamps",
+    "local_rates",
+    "max_bridge_s",
+    "split_points",
+    "MIN_RATE_HZ",
+    "MAX_RATE_HZ",
+    "GAP_FACTOR",
+    "MAX_BRIDGE_S",
+    "MAX_BRIDGE_FACTOR",
+]
+
+#: Plausible uniform sampling rates for gait (steps at up to ~4 Hz need >= 5 Hz).
+MIN_RATE_HZ = 5.0
+MAX_RATE_HZ = 10_000.0
+#: A sampling interval more than this many times the median counts as a gap
+#: (reported in ``meta['gaps']``).
+GAP_FACTOR = 3.0
+#: Gaps are bridged by linear interpolation only up to
+#: ``max(MAX_BRIDGE_S, MAX_BRIDGE_FACTOR x median interval)`` (see :func:`max_bridge_s`).
+#: 1 s is about one stride (two steps) at a normal cadence, so a bridged gap hides
+#: at most one stride of made-up straight-line signal; the relative bound keeps
+#: the ordinary jitter of a slow logger (5-20 Hz) from counting as a gap to refuse.
+#: A longer gap is refused (or, on request, the recording is cut there): bridging
+#: it would invent minutes of signal (and a 10^7 s gap would allocate gigabytes).
+MAX_BRIDGE_S = 1.0
+MAX_BRIDGE_FACTOR = 10.0
+#: The rate is judged on stretches of this many intervals (:func:`local_rates`): long enough
+#: to average the rounding of millisecond timestamps, short enough to place a rate change.
+RATE_STRETCH_INTERVALS = 1000
+#: Timestamps whose intervals take at most this many distinct values (to 1 ns) are quantised
+#: (a clock with a coarse resolution, e.g. whole milliseconds) ...
+QUANTISED_LEVELS = 8
+#: ... counted among this many intervals spread over the file.
+QUANTISED_SAMPLE = 100_000
+#: ... and when the median interval's rate and the stretch rate then disagree by more than
+#: this fraction, the stretch rate is the rate (:func:`judge_rate`).
+QUANTISED_TOLERANCE = 0.05
+#: A stretch whose rate differs from the file's by more than this fraction is a rate change ...
+RATE_CHANGE_TOLERANCE = 0.2
+#: ... when it lasts at least this long (s).
+RATE_CHANGE_MIN_S = 1.0
+
+
+def max_bridge_s(median_interval_s: float) -> float:
+    """The longest sampling interval (s) that resampling may bridge by interpolation.
+
+    ``max(MAX_BRIDGE_S, MAX_BRIDGE_FACTOR * median_interval_s)``: one stride, or
+    ten of the recording's own sampling intervals when those are longer.
+    """
+    return max(MAX_BRIDGE_S, MAX_BRIDGE_FACTOR * float(median_interval_s))
+
+
+def split_points(t_s: np.ndarray, limit_s: float | None = None) -> np.ndarray:
+    """Indices ``i`` where the interval ``t_s[i] -> t_s[i + 1]`` is longer than the bridge limit.
+
+    ``limit_s`` defaults to :func:`max_bridge_s` of the median interval.
+    """
+    t = np.asarray(t_s, dtype=float)
+    if len(t) < 2:
+        return np.zeros(0, dtype=int)
+    dt = np.diff(t)
+    lim = max_bridge_s(float(np.median(dt))) if limit_s is None else float(limit_s)
+    return np.flatnonzero(dt > lim)
+
+
+def check_rate(fs: float, *, what: str = "the sampling rate") -> None:
+    """Raise InputError unless ``fs`` is a plausible sampling rate (MIN_RATE_HZ..MAX_RATE_HZ)."""
+    if not np.isfinite(fs) or fs <= 0:
+        raise InputError(f"{what} must be a positive number of Hz, got {fs!r}.")
+    if fs < MIN_RATE_HZ * (1 - 1e-6):
+        raise InputError(
+            f"{what} is {fs:.4g} Hz, too low for gait (>= {MIN_RATE_HZ:g} Hz needed); "
+            "if the time column is in ms or ns, convert it to seconds."
+        )
+    if fs > MAX_RATE_HZ * (1 + 1e-6):
+        raise InputError(
+            f"{what} is {fs:.4g} Hz, above {MAX_RATE_HZ:g} Hz; if the time column is not in seconds convert it, "
+            "or ask for a lower --sampling-rate-hz."
+        )
+
+
+def check_timed_samples(t_s: Any, acc: Any, gyr: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Shapes, finiteness and strictly increasing times of timestamped samples."""
+    t = np.asarray(t_s, dtype=float)
+    if t.ndim != 1:
+        raise InputError(f"timestamps must be 1-D, got shape {t.shape}.")
+    acc = as_2d3("acc", acc)
+    if len(acc) != len(t):
+        raise InputError(f"{len(t)} timestamps but {len(acc)} acc samples; they must match.")
+    if len(t) < 2:
+        raise InputError(f"need at least 2 timestamped samples to find the sampling rate, got {len(t)}; use a longer recording.")
+    check_finite("t", t)
+    check_finite("acc", acc)
+    gyr_arr = None if gyr is None else as_2d3("gyr", gyr)
+    if gyr_arr is not None:
+        if len(gyr_arr) != len(t):
+            raise InputError(f"{len(t)} timestamps but {len(gyr_arr)} gyr samples; they must match.")
+        check_finite("gyr", gyr_arr)
+    check_increasing(t)
+    return t, acc, gyr_arr
+
+
+def check_increasing(t: np.ndarray) -> None:
+    """Raise InputError on duplicate or decreasing timestamps (first offending sample and a fix)."""
+    dt = np.diff(t)
+    if (dt == 0).any():
+        i = int(np.flatnonzero(dt == 0)[0]) + 1
+        raise InputError(
+            f"duplicate timestamp {t[i]:.9g} s at sample {i} ({int((dt == 0).sum())} in all); "
+            "remove duplicated rows or give each sample its own time."
+        )
+    if (dt < 0).any():
+        i = int(np.flatnonzero(dt < 0)[0]) + 1
+        raise InputError(f"timestamps decrease at sample {i} ({t[i - 1]:.9g} -> {t[i]:.9g} s); sort the rows by time or fix the clock.")
+    if not np.isfinite(dt).all():
+        raise InputError("the timestamps span more than the float range; check the time column's unit.")
+
+
+def local_rates(t: np.ndarray, *, stretch: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Rates of consecutive stretches of ``stretch`` intervals: ``(start times, rates in Hz)``.
+
+    Each stretch's rate is its number of intervals over its duration, gaps
+    (intervals over :data:`GAP_FACTOR` x the median) left out: the mean rate,
+    which quantised timestamps (400 Hz logged in whole milliseconds: 2, 3, 2, 3 ms)
+    still give right where the median interval does not. ``stretch`` defaults
+    to :data:`RATE_STRETCH_INTERVALS`.
+    """
+    t = np.asarray(t, dtype=float)
+    return _local_rates(t, np.diff(t), None, stretch)
+
+
+def _local_rates(t: np.ndarray, dt: np.ndarray, med: float | None, stretch: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`local_rates` from the intervals ``dt`` (and their median) already computed; no copy of ``dt``."""
+    w = int(stretch or RATE_STRETCH_INTERVALS)
+    if len(dt) == 0:
+        return np.zeros(0), np.zeros(0)
+    med = float(np.median(dt)) if med is None else med
+    n = len(dt) // w if len(dt) >= w else 1
+    w_eff = len(dt) // n
+    d = dt[: n * w_eff].reshape(n, w_eff).sum(axis=1)
+    c = np.full(n, float(w_eff))
+    gaps = np.flatnonzero(dt[: n * w_eff] > GAP_FACTOR * med)
+    np.subtract.at(d, gaps // w_eff, dt[gaps])
+    np.subtract.at(c, gaps // w_eff, 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rates = np.where(d > 0, c / d, np.nan)
+    return t[: n * w_eff : w_eff], rates
+
+
+def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = None) -> dict[str, Any]:
+    """The rate of a recording's timestamps, judged over the whole file (see :func:`judge_timestamps`).
+
+    The rate is ``1 / median interval``, unless the timestamps are quantised (at
+    most :data:`QUANTISED_LEVELS` distinct intervals) and that rate disagrees by
+    more than :data:`QUANTISED_TOLERANCE` with the median of the stretch rates
+    (:func:`local_rates`): the clock's resolution is then too coarse for the
+    rate (400 Hz in whole milliseconds) and the stretch rate is the rate. Stretches whose
+    rate differs from it by more than :data:`RATE_CHANGE_TOLERANCE` for at least
+    :data:`RATE_CHANGE_MIN_S` are rate changes, reported with their position.
+
+    Returns
+    -------
+    dict
+        ``median_interval_s``, ``rate_hz``, ``rate_rule`` (text), ``max_rate_hz``
+        (fastest stretch), ``rate_changes`` (``[[t_start_s, t_end_s, rate_hz], ...]``,
+        s from the first timestamp).
+    """
+    t = np.asarray(t, dtype=float)
+    dt = np.diff(t) if dt is None else dt
+    med = float(np.median(dt)) if med is None else med
+    rate = 1.0 / med
+    starts, rates = _local_rates(t, dt, med)
+    good = np.isfinite(rates)
+    rule = "1 / median interval"
+    if good.any():
+        r_med = float(np.median(rates[good]))
+        # distinct intervals among at most QUANTISED_SAMPLE of them, spread over the file
+        sample = dt[:: max(1, len(dt) // QUANTISED_SAMPLE)]
+        levels = np.unique(np.round(sample[sample <= GAP_FACTOR * med], 9))
+        if len(levels) <= QUANTISED_LEVELS and abs(r_med - rate) > QUANTISED_TOLERANCE * r_med:
+            res = float(np.min(np.diff(levels))) if len(levels) > 1 else float(levels[0])
+            rule = (
+                f"mean interval over stretches of {RATE_STRETCH_INTERVALS} samples (the timestamps are quantised to "
+                f"{res:.3g} s: the median interval gives {rate:.6g} Hz)"
+            )
+            rate = r_med
+    changes: list[list[float]] = []
+    if good.any():
+        off = good & (np.abs(rates - rate) > RATE_CHANGE_TOLERANCE * rate)
+        ends = np.append(starts[1:], t[-1])
+        i = 0
+        while i < len(off):
+            if not off[i]:
+                i += 1
+                continue
+            j = i
+            while j + 1 < len(off) and off[j + 1]:
+                j += 1
+            if ends[j] - starts[i] >= RATE_CHANGE_MIN_S:
+                r = float(np.median(rates[i : j + 1]))
+                changes.append([round(float(starts[i] - t[0]), 6), round(float(ends[j] - t[0]), 6), round(r, 3)])
+            i = j + 1
+    max_rate = float(np.nanmax(rates)) if good.any() else rate
+    return {"median_interval_s": med, "rate_hz": rate, "rate_rule": rule, "max_rate_hz": max(max_rate, rate), "rate_changes": changes}
+
+
+def rate_change_warning(changes: list[list[float]], rate_hz: float, fs: float) -> str:
+    """One line naming where the timestamps' rate differs from the file's and what was done."""
+    first = changes[0]
+    more = f" ({len(changes)} stretches in all)" if len(changes) > 1 else ""
+    return (
+        f"the sampling rate changes mid-file: {first[2]:g} Hz from {first[0]:.6g} to {first[1]:.6g} s{more} against "
+        f"{rate_hz:.6g} Hz for the rest; resampled to {fs:g} Hz throughout (an anti-alias filter before any decimation), "
+        "see meta rate_changes; pass --sampling-rate-hz to choose the rate."
+    )
+
+
+def judge_timestamps(
+    t: np.ndarray,
+    *,
+    sampling_rate_hz: float | None = None,
+    max_gap_s: float | None = None,
+    uniform_tolerance: float = 1e-3,
+) -> dict[str, Any]:
+    """Judge checked timestamps: rate, gaps, uniformity, the grid to resample to.
+
+    The same judgement for a file read whole and one read in blocks (the times
+    are the whole file's either way). Refuses (InputError) an implausible rate
+    (:func:`check_rate`) and a gap longer than ``max_gap_s`` (default
+    :func:`max_bridge_s`) with its position.
+
+    Returns
+    -------
+    dict
+        ``fs`` (the uniform rate), ``resampled`` (bool), ``max_rate_hz``,
+        ``meta`` (``original_rate_hz``, ``jitter_s``, ``max_interval_s``,
+        ``gaps``, ``n_original_samples``, ``t0_original_s``, and ``rate_rule``
+        and ``rate_changes`` when they apply) and ``warnings`` (lines).
+    """
+    t = np.asarray(t, dtype=float)
+    dt = np.diff(t)
+    judged = judge_rate(t, dt, float(np.median(dt)))
+    med = judged["median_interval_s"]
+    original_rate = judged["rate_hz"]
+    if sampling_rate_hz is not None:
+        check_rate(float(sampling_rate_hz), what="the requested sampling rate")
+        if original_rate < MIN_RATE_HZ * (1 - 1e-6):
+            check_rate(original_rate, what="the rate of the timestamps")
+    else:
+        check_rate(original_rate, what="the rate of the timestamps")
+    limit = max_bridge_s(med) if max_gap_s is None else float(max_gap_s)
+    long_gaps = np.flatnonzero(dt > limit)
+    if long_gaps.size:
+        i = int(long_gaps[0])
+        raise InputError(
+            f"a {dt[i]:.6g} s gap in the timestamps after sample {i} (t = {t[i] - t[0]:.6g} s from the start; "
+            f"{long_gaps.size} gaps longer than {limit:.3g} s in all) is too long to bridge by interpolation; "
+            "cut the file at its gaps with `gaitml split FILE --out DIR` (in Python: gaitml.io.read_segments)."
+        )
+    gaps = [[round(float(t[i] - t[0]), 6), round(float(dt[i]), 6)] for i in np.flatnonzero(dt > GAP_FACTOR * med)]
+    uniform = bool(np.all(np.abs(dt - med) <= uniform_tolerance * med))
+    meta: dict[str, Any] = {
+        "original_rate_hz": round(original_rate, 6),
+        "jitter_s": float(np.std(dt)),
+        "max_interval_s": float(dt.max()),
+        "gaps": gaps,
+        "n_original_samples": int(len(t)),
+        "t0_original_s": float(t[0]),
+    }
+    if judged["rate_rule"] != "1 / median interval":
+        meta["rate_rule"] = judged["rate_rule"]
+    if uniform and sampling_rate_hz is None:
+        fs = float(np.round((len(t) - 1) / (t[-1] - t[0]), 6))
+        resampled = False
+    else:
+        fs = float(sampling_rate_hz if sampling_rate_hz is not None else np.round(original_rate, 6))
+        resampled = True
+    warnings = []
+    if judged["rate_changes"]:
+        meta["rate_changes"] = judged["rate_changes"]
+        warnings.append(rate_change_warning(judged["rate_changes"], original_rate, fs))
+    return {"fs": fs, "resampled": resampled, "max_rate_hz": judged["max_rate_hz"], "meta": meta, "warnings": warnings}

@@ -1,0 +1,461 @@
+"""Data-only model folders (gaitml.models._persist, _export, _card): no unpickling, conversion, JSON/ONNX export, model card.
+
+The JSON test re-implements prediction from the exported JSON alone in plain numpy
+(only the feature extraction, which the JSON specifies, comes from gaitml.features).
+"""
+
+from __future__ import annotations
+
+import json
+import pickle
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gaitml.errors import ModelError
+from gaitml.models import (
+    build_window_dataset,
+    convert_model,
+    export_json,
+    load_model,
+    make_model,
+    model_card,
+    predict_recording,
+    read_model_json,
+    resample_recording,
+    save_model,
+    torch_available,
+)
+from gaitml.models._legacy import load_legacy_model
+from gaitml.models._persist import settings_sha256, sha256_file
+from tests.conftest import ROOT, shared
+from tests.models.synth import synth_recording, synth_set
+
+LEGACY = Path(__file__).parent / "data" / "legacy-demo"
+DEMO = ROOT / "models" / "demo"
+needs_torch = pytest.mark.skipif(not torch_available(), reason="torch extra not installed")
+
+
+def _route():
+    from gaitml.simulate import simulate_route
+
+    return simulate_route("rectangle", seed=3)
+
+
+def _gaitmap_real():
+    from gaitml.io import read_recording
+
+    return read_recording(shared("gaitmap-example", "imu_sample.csv.gz"), sensor="left")
+
+
+# ------------------------------------------------------------------ old pickle models
+def test_old_pickle_model_is_refused_with_the_convert_command(tmp_path, capsys):
+    from gaitml.cli import main
+
+    with pytest.raises(ModelError, match=r"gaitml model convert .*legacy-demo .*legacy-demo-v2") as exc:
+        load_model(LEGACY)
+    assert "\n" not in str(exc.value)
+    assert main(["model", "card", str(LEGACY)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "gaitml model convert" in err
+
+
+def test_convert_keeps_predictions_and_weights(tmp_path):
+    # the legacy pickle is the demo model as first shipped (format 1); models/demo has since been
+    # retrained in the data-only format (simulator with hand gain), so the conversion is checked
+    # against the pickle itself
+    old = load_legacy_model(LEGACY)
+    new = convert_model(LEGACY, tmp_path / "demo")
+    assert sorted(p.name for p in (tmp_path / "demo").iterdir()) == ["MODEL.md", "arrays.npz", "model.json"]
+    assert new.info["converted_from"]["sha256"] == old.info["sha256"]
+    assert new.info["created_utc"] == old.info["created_utc"]
+    rec = _route()
+    before = predict_recording(old, rec)
+    after = predict_recording(new, rec)
+    np.testing.assert_array_equal(after["mode_raw"].to_numpy(), before["mode_raw"].to_numpy())
+    np.testing.assert_array_equal(after["mode"].to_numpy(), before["mode"].to_numpy())
+    for name in ("coef_", "intercept_", "mean_", "scale_", "pairs_", "classes_"):
+        np.testing.assert_array_equal(getattr(new.estimator, name), getattr(old.estimator, name))
+
+
+def test_shipped_demo_was_trained_from_its_config():
+    """models/demo is an ordinary `gaitml train experiments/demo.toml` output (since the simulator's hand gain)."""
+    from gaitml.pipeline.config import load_config
+
+    model = load_model(DEMO)
+    assert model.info["training_config"] == json.loads(json.dumps(load_config(ROOT / "experiments" / "demo.toml").resolved()))
+    assert model.info["name"] == "demo" and model.feature_set == "all52+gyro" and model.frame == "phone"
+    assert model.info["training_data"]["n_windows"] == 12576
+    assert model.domain is not None and model.domain.gravity_check and model.domain.dynamics is None  # train.domain_dynamics = false
+    assert "converted_from" not in model.info
+
+
+@pytest.mark.realdata
+def test_converted_demo_predicts_like_the_pickle_on_a_real_recording(tmp_path):
+    rec = _gaitmap_real()
+    before = predict_recording(load_legacy_model(LEGACY), rec)
+    after = predict_recording(convert_model(LEGACY, tmp_path / "demo"), rec)
+    np.testing.assert_array_equal(after["mode"].to_numpy(), before["mode"].to_numpy())
+    np.testing.assert_array_equal(after["mode_raw"].to_numpy(), before["mode_raw"].to_numpy())
+
+
+def test_convert_refuses_bad_input(tmp_path):
+    with pytest.raises(ModelError, match="give another folder"):
+        convert_model(LEGACY, LEGACY)
+    with pytest.raises(ModelError, match="not an old"):
+        convert_model(DEMO, tmp_path / "x")
+    bad = tmp_path / "bad"
+    shutil.copytree(LEGACY, bad)
+    b = bytearray((bad / "model.joblib").read_bytes())
+    b[len(b) // 2] ^= 0xFF
+    (bad / "model.joblib").write_bytes(bytes(b))
+    with pytest.raises(ModelError, match="refusing to unpickle"):
+        convert_model(bad, tmp_path / "y")
+    assert not (tmp_path / "y").exists()
+
+
+# ------------------------------------------------------------------ torch kinds
+@needs_torch
+@pytest.mark.parametrize("kind", ["mlp", "cnn1d"])
+def test_torch_model_roundtrip_is_weights_only(tmp_path, kind):
+    recs = synth_set(3, seconds_per_mode=8.0)
+    ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], length_s=1.5, overlap=0.5, need_raw=True)
+    est = make_model(kind, {"epochs": 2})
+    X = ds.inputs(est.input_kind)
+    est.fit(X, ds.y)
+    info = _info(ds, kind, est.input_kind)
+    save_model(tmp_path / "m", est, info)
+    saved = json.loads((tmp_path / "m" / "model.json").read_text())
+    assert set(saved["files"]) == {"arrays.npz", "weights.pt"}
+    m = load_model(tmp_path / "m")
+    np.testing.assert_array_equal(m.estimator.predict_proba(X), est.predict_proba(X))
+    np.testing.assert_array_equal(m.estimator.predict(X), est.predict(X))
+
+
+def _info(ds, kind="linear-ovo-svm", input_kind="features", fset="all52"):
+    from gaitml.features import feature_names
+
+    return {
+        "model_kind": kind,
+        "input_kind": input_kind,
+        "feature_set": fset,
+        "feature_names": list(feature_names(fset)) if input_kind == "features" else [],
+        "raw_channels": list(ds.raw_channels) if input_kind == "raw" else [],
+        "window": {"length_s": 1.5, "overlap": 0.5, "min_label_fraction": 0.5},
+        "sampling_rate_hz": 50.0,
+        "labels": sorted(set(ds.y)),
+        "postprocess": {"adjacent_correction": True},
+    }
+
+
+# ------------------------------------------------------------------ JSON export in plain numpy
+def _numpy_predict_from_json(spec: dict, acc: np.ndarray, gyr: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Prediction from the exported JSON alone (features from gaitml.features, as the JSON specifies)."""
+    from gaitml.features import features_from_arrays
+
+    length, hop = spec["window"]["length_samples"], spec["window"]["hop_samples"]
+    starts = np.arange(0, len(acc) - length + 1, hop)
+    names = [f["name"] for f in spec["features"]["features"]]
+    X = features_from_arrays(acc, gyr, starts=starts, length=length, subset=spec["features"]["set"])
+    assert X.shape[1] == len(names)
+    clf = spec["classifier"]
+    coef, intercept = np.array(clf["coef"]), np.array(clf["intercept"])
+    pairs, labels = clf["pairs"], spec["labels"]
+    d = X @ coef.T + intercept
+    votes = np.zeros((len(X), len(labels)))
+    conf = np.zeros((len(X), len(labels)))
+    for k, (i, j) in enumerate(pairs):
+        votes[:, i] += d[:, k] > 0
+        votes[:, j] += d[:, k] <= 0
+        conf[:, i] += d[:, k]
+        conf[:, j] -= d[:, k]
+    raw = [labels[c] for c in np.argmax(votes + conf / (3 * (np.abs(conf) + 1)), axis=1)]
+    out = list(raw)
+    for k in range(1, len(raw) - 1):  # the correction rule as written in spec["postprocess"]["rule"]
+        w1 = out[k - 2] if k >= 2 else None
+        w2, w3, w4 = out[k - 1], raw[k], raw[k + 1]
+        if w1 is not None and w2 != w3 and w2 != w4 and w3 != w4 and w1 == w2:
+            out[k] = w2
+        elif w2 == w4 and w2 != w3:
+            out[k] = w2
+    still = spec["postprocess"]["still"]  # the still gate as the JSON states it (issue 28)
+    mag = np.linalg.norm(acc, axis=1)
+    swing = np.array([np.ptp(mag[s : s + length]) for s in starts])
+    out = [still["mode"] if sw < still["range_ms2"] else m for m, sw in zip(out, swing, strict=True)]
+    return np.array(raw), np.array(out)
+
+
+def _check_json_equals_predict(model, rec, tmp_path):
+    from gaitml.cli import main
+
+    out = tmp_path / "model.export.json"
+    assert main(["model", "export", str(model.path), "--format", "json", "--out", str(out)]) == 0
+    spec = json.loads(out.read_text())
+    rec = resample_recording(rec, spec["sampling_rate_hz"])  # the JSON's "resampling" step (a no-op at the model's rate)
+    raw, corrected = _numpy_predict_from_json(spec, rec.acc, rec.gyr)
+    table = predict_recording(model, rec)
+    assert len(raw) == len(table) > 20
+    np.testing.assert_array_equal(raw, table["mode_raw"].to_numpy())
+    np.testing.assert_array_equal(corrected, table["mode"].to_numpy())
+    return spec
+
+
+def test_json_export_in_plain_numpy_equals_predict_on_the_demo_route(tmp_path):
+    spec = _check_json_equals_predict(load_model(DEMO), _route(), tmp_path)
+    f = spec["features"]["features"]
+    assert len(f) == 104 and f[0]["code"] == "F1" and f[51]["paper_number"] == 52 and f[52]["code"] == "G1" and f[52]["paper_number"] == 1
+    assert spec["window"]["length_samples"] == 75 and spec["window"]["hop_samples"] == 38
+    for key in ("rule", "tie_rule"):
+        assert spec["classifier"]["voting"][key]
+    assert "sec. 3.4" in spec["postprocess"]["source"]
+    # the standardised form in the export is the same decision
+    clf = spec["classifier"]
+    x = np.array(clf["scaler"]["mean"]) + np.array(clf["scaler"]["scale"])
+    z = (x - np.array(clf["scaler"]["mean"])) / np.array(clf["scaler"]["scale"])
+    np.testing.assert_allclose(
+        np.array(clf["coef_standardised"]) @ z + np.array(clf["intercept_standardised"]),
+        np.array(clf["coef"]) @ x + np.array(clf["intercept"]),
+        rtol=1e-9,
+        atol=1e-9,
+    )
+
+
+@pytest.mark.realdata
+def test_json_export_in_plain_numpy_equals_predict_on_real_recordings(tmp_path):
+    from gaitml.io import read_recording
+    from gaitml.models import LinearOVOSVM
+
+    # the shipped gyro model on a real IMU recording (204.8 Hz, resampled to 50 Hz)
+    _check_json_equals_predict(load_model(DEMO), _gaitmap_real(), tmp_path)
+    # an accelerometer-only model on the real IFSM phone recording at its own 50 Hz
+    recs = synth_set(3, seconds_per_mode=10.0)
+    ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], length_s=1.5, overlap=0.5)
+    save_model(tmp_path / "acc", LinearOVOSVM().fit(ds.inputs("features"), ds.y), _info(ds))
+    rec = read_recording(shared("ifsm-flat-phone", "acceleration_flat_holding_1.xlsx"))
+    assert rec.sampling_rate_hz == 50.0
+    _check_json_equals_predict(load_model(tmp_path / "acc"), rec, tmp_path)
+
+
+def test_json_export_refuses_torch_kinds(tmp_path):
+    class Fake:
+        kind = "mlp"
+
+    with pytest.raises(ModelError, match="--format onnx"):
+        export_json(Fake())
+
+
+# ------------------------------------------------------------------ ONNX
+def _ort():
+    return pytest.importorskip("onnxruntime", reason="optional extra gaitml[onnx] (onnx, onnxruntime) not installed")
+
+
+def test_onnx_export_equals_predict(tmp_path):
+    ort = _ort()
+    from gaitml.cli import main
+    from gaitml.models import model_inputs
+    from gaitml.models._predict import _windows_for
+
+    out = tmp_path / "demo.onnx"
+    assert main(["model", "export", str(DEMO), "--format", "onnx", "--out", str(out)]) == 0
+    sess = ort.InferenceSession(str(out), providers=["CPUExecutionProvider"])
+    model = load_model(DEMO)
+    recs = [_route()]
+    try:
+        recs.append(resample_recording(_gaitmap_real(), 50.0))
+    except pytest.skip.Exception:
+        pass
+    for rec in recs:
+        X = model_inputs(model, rec, _windows_for(rec, model.length_s, model.overlap))
+        label, _, scores = sess.run(None, {"features": X})
+        table = predict_recording(model, rec, correction=False)
+        np.testing.assert_array_equal(np.asarray(label).astype(str), table["mode_raw"].to_numpy())
+    meta = {p.key: p.value for p in __import__("onnx").load(str(out)).metadata_props}
+    assert json.loads(meta["gaitml"])["features"]["features"][0]["code"] == "F1"
+
+
+@needs_torch
+@pytest.mark.parametrize("kind", ["mlp", "cnn1d"])
+def test_onnx_export_of_torch_models_equals_predict(tmp_path, kind):
+    ort = _ort()
+    pytest.importorskip("onnxscript", reason="torch.onnx.export needs onnxscript (extra gaitml[onnx])")
+    from gaitml.models import export_onnx
+
+    recs = synth_set(3, seconds_per_mode=8.0)
+    ds = build_window_dataset(recs, groups=[r.meta["subject"] for r in recs], length_s=1.5, overlap=0.5, need_raw=True)
+    est = make_model(kind, {"epochs": 3})
+    X = ds.inputs(est.input_kind)
+    est.fit(X, ds.y)
+    save_model(tmp_path / "m", est, _info(ds, kind, est.input_kind))
+    model = load_model(tmp_path / "m")
+    export_onnx(model, tmp_path / "m.onnx")
+    sess = ort.InferenceSession(str(tmp_path / "m.onnx"), providers=["CPUExecutionProvider"])
+    (proba,) = sess.run(None, {"features": np.asarray(X, dtype=np.float64)})
+    np.testing.assert_allclose(proba, model.estimator.predict_proba(X), rtol=1e-4, atol=1e-5)
+    np.testing.assert_array_equal(model.estimator.classes_[np.argmax(proba, axis=1)], model.estimator.predict(X))
+
+
+# ------------------------------------------------------------------ model card
+def test_shipped_models_have_an_up_to_date_card():
+    for folder in sorted(p for p in (ROOT / "models").iterdir() if (p / "model.json").is_file()):
+        _, info = read_model_json(folder)
+        assert (folder / "MODEL.md").read_text(encoding="utf-8") == model_card(info), f"regenerate {folder}/MODEL.md"
+
+
+def test_model_card_command(tmp_path, capsys):
+    from gaitml.cli import main
+
+    assert main(["model", "card", str(DEMO)]) == 0
+    text = capsys.readouterr().out
+    for part in (
+        "# Model card: demo",
+        "## Training data",
+        "## Cross-validation",
+        "| walk |",
+        "## Domain it is valid for",
+        "## Known failure cases",
+        "## Versions",
+        "all52+gyro",
+        "1.5 s",
+    ):
+        assert part in text
+    assert main(["model", "card", str(DEMO), "--out", str(tmp_path / "card.md")]) == 0
+    assert (tmp_path / "card.md").read_text() == text
+
+
+# ------------------------------------------------------------------ security
+class _Payload:
+    """Unpickling this writes ``marker`` (what an attacker's model file would do)."""
+
+    def __init__(self, marker: Path):
+        self.marker = str(marker)
+
+    def __reduce__(self):
+        return (exec, (f"open({self.marker!r}, 'w').write('unpickled')",))
+
+
+def _rehash(folder: Path) -> None:
+    """Recompute every hash in model.json so that the tampering is not caught by a hash."""
+    info = json.loads((folder / "model.json").read_text())
+    if "files" in info:
+        info["files"] = {name: sha256_file(folder / name) for name in info["files"]}
+    if "sha256" in info:
+        info["sha256"] = sha256_file(folder / "model.joblib")
+    info["settings_sha256"] = settings_sha256(info)
+    (folder / "model.json").write_text(json.dumps(info))
+
+
+def _npz_with_pickled_member(path: Path, marker: Path) -> None:
+    import io
+    import zipfile
+
+    buf = io.BytesIO()
+    np.save(buf, np.array([_Payload(marker)], dtype=object), allow_pickle=True)
+    with zipfile.ZipFile(path, "w") as z:
+        z.writestr("coef_.npy", buf.getvalue())
+
+
+def _attacks(tmp_path: Path, marker: Path):
+    """(name, model folder) pairs, each with a crafted pickle where a model file is expected."""
+    payload = pickle.dumps(_Payload(marker))
+    out = []
+    # 1. an old-format folder: model.joblib is the payload, model.json (format 1) rehashed
+    d = tmp_path / "legacy"
+    shutil.copytree(LEGACY, d)
+    (d / "model.joblib").write_bytes(payload)
+    _rehash(d)
+    out.append(("model.joblib, format 1", d))
+    # 2. a current folder with format_version edited to 1 and the payload as model.joblib
+    d = tmp_path / "downgraded"
+    shutil.copytree(DEMO, d)
+    (d / "model.joblib").write_bytes(payload)
+    info = json.loads((d / "model.json").read_text())
+    info.update(format_version=1, sha256="")
+    (d / "model.json").write_text(json.dumps(info))
+    _rehash(d)
+    out.append(("model.joblib, format edited to 1", d))
+    # 3. arrays.npz replaced by the raw pickle
+    d = tmp_path / "npz-pickle"
+    shutil.copytree(DEMO, d)
+    (d / "arrays.npz").write_bytes(payload)
+    _rehash(d)
+    out.append(("arrays.npz = pickle", d))
+    # 4. arrays.npz a real zip whose .npy member is a pickled object array
+    d = tmp_path / "npz-object"
+    shutil.copytree(DEMO, d)
+    _npz_with_pickled_member(d / "arrays.npz", marker)
+    _rehash(d)
+    out.append(("arrays.npz with an object-array member", d))
+    if torch_available():
+        import torch
+
+        recs = synth_set(2, seconds_per_mode=6.0)
+        ds = build_window_dataset(recs, groups=["a", "b"], length_s=1.5, overlap=0.5)
+        est = make_model("mlp", {"epochs": 1}).fit(ds.inputs("features"), ds.y)
+        # 5. weights.pt as a torch zip archive whose data.pkl is the payload
+        d = tmp_path / "torch-zip"
+        save_model(d, est, _info(ds, "mlp"))
+        torch.save(_Payload(marker), d / "weights.pt")
+        _rehash(d)
+        out.append(("weights.pt = torch.save(payload)", d))
+        # 6. weights.pt as a raw pickle
+        d = tmp_path / "torch-raw"
+        save_model(d, est, _info(ds, "mlp"))
+        (d / "weights.pt").write_bytes(payload)
+        _rehash(d)
+        out.append(("weights.pt = pickle", d))
+    return out
+
+
+def test_crafted_pickles_are_never_executed(tmp_path, capsys):
+    from gaitml.cli import main
+    from gaitml.io import write_gaitml_csv
+
+    marker = tmp_path / "MARKER"
+    # the payload works: unpickling it does write the marker (so the test below can fail)
+    pickle.loads(pickle.dumps(_Payload(tmp_path / "proof")))
+    assert (tmp_path / "proof").read_text() == "unpickled"
+
+    rec = synth_recording(0, seconds_per_mode=6.0, gyr=True)
+    csv = write_gaitml_csv(rec, tmp_path / "rec.csv")
+    attacks = _attacks(tmp_path, marker)
+    assert len(attacks) >= 4
+    for name, folder in attacks:
+        for argv in (
+            ["predict", str(folder), str(csv)],
+            ["pdr", str(csv), "--model", str(folder)],
+            ["model", "card", str(folder)],
+            ["model", "export", str(folder), "--format", "json", "--out", str(tmp_path / "x.json")],
+        ):
+            code = main(argv)
+            err = capsys.readouterr().err
+            assert not marker.exists(), f"{name}: {' '.join(argv[:2])} executed the pickle"
+            if argv[0] != "model" or argv[1] != "card" or "format" in name or "joblib" in name:
+                assert code == 2, f"{name}: {argv[:2]} should refuse the model: {err}"
+        with pytest.raises(ModelError):
+            load_model(folder)
+        assert not marker.exists()
+    # a pickle lying beside a valid data-only model is ignored: the model loads, the file is never opened
+    d = tmp_path / "beside"
+    shutil.copytree(DEMO, d)
+    (d / "model.joblib").write_bytes(pickle.dumps(_Payload(marker)))
+    assert main(["predict", str(d), str(csv)]) == 0
+    assert main(["model", "card", str(d)]) == 0
+    assert not marker.exists()
+
+
+def test_evaluate_and_train_never_open_a_crafted_model_folder(tmp_path, capsys):
+    """evaluate and train read data, never a model: a crafted model folder as their output is replaced unread."""
+    from gaitml.cli import main
+    from tests.models.synth import write_synth_folder
+
+    marker = tmp_path / "MARKER"
+    write_synth_folder(tmp_path / "data", n_subjects=3, seconds_per_mode=6.0)
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('name = "safe"\n[data]\nsource = "folder"\npath = "data"\n[cv]\nn_jobs = 1\n')
+    for cmd in ("evaluate", "train"):
+        name, folder = next((n, f) for n, f in _attacks(tmp_path / cmd, marker) if n == "arrays.npz = pickle")
+        assert main([cmd, str(cfg), "--out", str(folder)]) == 0, capsys.readouterr().err
+        assert not marker.exists(), f"{cmd} executed the pickle of a crafted model folder ({name})"
+    assert load_model(tmp_path / "train" / "npz-pickle").labels  # train replaced it with a real model

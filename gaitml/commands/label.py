@@ -37,6 +37,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="step boundaries at the step events (default) or the detector's step start/end",
     )
     p.add_argument("--max-snap-s", type=float, default=0.5, help="largest move of a boundary in s (default 0.5)")
+    p.add_argument(
+        "--boundary-noise-s",
+        type=float,
+        help="the most a written boundary is off (s): snap only to the one step boundary within it, never guess (default: nearest)",
+    )
     p.add_argument("--unlabelled", default="unlabelled", help="label of samples outside every interval (default unlabelled)")
     p.add_argument("--out", metavar="OUT.csv", required=True, help="labelled gaitml-csv; OUT.step-labels.csv is written beside it")
     p.add_argument("--report", metavar="PNG", help="plot the signal, intervals, steps and snapped boundaries")
@@ -75,6 +80,7 @@ def run(args) -> int:
         max_snap_s=args.max_snap_s,
         unlabelled=args.unlabelled,
         boundary=args.boundary,
+        noise_s=args.boundary_noise_s,
     )
     side = step_labels_path(out)
     # the per-step table is moved into place only after the recording was written (atomically)
@@ -109,6 +115,8 @@ def run(args) -> int:
     print("\n".join(lines))
     if r["not_snapped"] and args.snap != "none":
         log(
-            f"note: {len(r['not_snapped'])} boundaries had no {unit[:-1]} boundary within {r['max_snap_s']:g} s and stay where they were written."
+            f"note: {len(r['not_snapped'])} boundaries had no {unit[:-1]} boundary within {r['max_snap_s']:g} s"
+            + (" or more than one within the stated noise" if r["noise_s"] is not None else "")
+            + " and stay where they were written."
         )
     return 0

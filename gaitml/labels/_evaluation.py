@@ -51,6 +51,7 @@ def evaluate_snapping(
     detectors=SNAP_DETECTORS,
     boundary: str = "peak",
     max_snap_s: float = 0.5,
+    snap_noise_s: float | None = None,
 ) -> pd.DataFrame:
     """Per-sample agreement of noisy hand-written intervals with the truth, unsnapped and snapped, on simulated walks.
 
@@ -80,7 +81,9 @@ def evaluate_snapping(
         base = rec.replace(labels=None)
         for method in ("none", *detectors):
             snap = "none" if method == "none" else "steps"
-            lab = IntervalLabeller(snap=snap, detector=None if method == "none" else method, boundary=boundary, max_snap_s=max_snap_s)
+            lab = IntervalLabeller(
+                snap=snap, detector=None if method == "none" else method, boundary=boundary, max_snap_s=max_snap_s, noise_s=snap_noise_s
+            )
             lab.label(base, iv)
             r = lab.report_
             rows.append(

@@ -8,7 +8,7 @@ from typing import Any, ClassVar
 import numpy as np
 import pandas as pd
 
-from gaitml._base import NON_NEGATIVE, BaseAlgorithm, Options
+from gaitml._base import NON_NEGATIVE, POSITIVE, BaseAlgorithm, Options
 from gaitml.errors import InputError
 from gaitml.labels._intervals import check_intervals, read_intervals
 from gaitml.recording import Recording
@@ -70,6 +70,12 @@ def _stride_candidates(rec: Recording, detector: str) -> tuple[np.ndarray, pd.Da
     return np.unique(np.concatenate([s, e])), strides, s, e
 
 
+#: the step detector's own timing error (s) added to the stated noise when looking for candidate boundaries
+STEP_TIMING_TOLERANCE_S = 0.1
+#: a step interval over this many times its neighbour hides a missed step (a missed step doubles the interval)
+MISSED_STEP_RATIO = 1.8
+
+
 # ------------------------------------------------------------------ labeller
 
 
@@ -91,6 +97,17 @@ class IntervalLabeller(BaseAlgorithm):
     boundary : {'peak', 'edges'}
         Step boundaries at the step events (default) or at the detector's step
         start/end samples.
+    noise_s : float, optional
+        The most a written boundary is off (s). Given, a boundary is snapped
+        only when exactly one candidate lies within ``noise_s`` plus
+        ``STEP_TIMING_TOLERANCE_S`` (0.1 s) of it and the step intervals on
+        either side of that candidate are regular (neither over
+        ``MISSED_STEP_RATIO`` = 1.8 times the other: a missed step may be the
+        true boundary); otherwise it stays where it was written (status
+        ``ambiguous``). The true boundary is a step boundary within the
+        noise, so a unique candidate is that boundary: snapping then cannot
+        make the boundary worse unless the detector misses or misplaces the
+        step there. Default: the nearest candidate within ``max_snap_s``.
 
     Attributes
     ----------
@@ -103,7 +120,7 @@ class IntervalLabeller(BaseAlgorithm):
     boundaries_ : DataFrame
         One row per distinct boundary: ``t_s`` (as written), ``snapped_t_s``,
         ``shift_s``, ``status`` (``snapped``, ``too far``, ``recording edge``,
-        ``no candidates``, ``collapsed``, ``not snapped`` for snap none).
+        ``no candidates``, ``collapsed``, ``ambiguous`` (``noise_s``), ``not snapped`` for snap none).
     steps_ : DataFrame
         One row per detected step (or stride): ``t_s`` (the step event / stride
         start), ``span_start_s``, ``span_end_s`` (the samples the step covers,
@@ -122,6 +139,7 @@ class IntervalLabeller(BaseAlgorithm):
         "snap": [Options(SNAP_MODES)],
         "max_snap_s": [NON_NEGATIVE],
         "boundary": [Options(BOUNDARY_KINDS)],
+        "noise_s": [None, POSITIVE],
     }
 
     def __init__(
@@ -132,12 +150,14 @@ class IntervalLabeller(BaseAlgorithm):
         max_snap_s: float = 0.5,
         unlabelled: str = UNLABELLED,
         boundary: str = "peak",
+        noise_s: float | None = None,
     ):
         self.snap = snap
         self.detector = detector
         self.max_snap_s = max_snap_s
         self.unlabelled = unlabelled
         self.boundary = boundary
+        self.noise_s = noise_s
 
     def label(self, recording: Recording, intervals: pd.DataFrame | str | os.PathLike) -> IntervalLabeller:
         """Label ``recording`` from ``intervals`` (a DataFrame or an intervals file); returns ``self``."""
@@ -174,6 +194,22 @@ class IntervalLabeller(BaseAlgorithm):
                 j = int(np.searchsorted(cand, k))
                 opts = [c for c in (cand[j - 1] if j > 0 else None, cand[j] if j < len(cand) else None) if c is not None]
                 best = min(opts, key=lambda c: (abs(c - k), c))
+                if self.noise_s is not None:
+                    # the true boundary is a step boundary within noise_s (plus the detector's timing error) of the
+                    # written one: snap only when exactly one candidate lies there (two or more: the written time
+                    # cannot tell which) and the steps around it are regular (an interval over MISSED_STEP_RATIO
+                    # times its neighbour hides a missed step, which may be the true boundary): otherwise it stays
+                    band = (self.noise_s + STEP_TIMING_TOLERANCE_S) * fs + 1e-6
+                    inside = cand[(cand >= k - band) & (cand <= k + band)]
+                    if len(inside) != 1 or abs(best - k) > max_k:
+                        status[i] = "ambiguous" if len(inside) > 1 else "too far"
+                        continue
+                    c = int(np.searchsorted(cand, best))
+                    if 0 < c < len(cand) - 1:
+                        left, right = cand[c] - cand[c - 1], cand[c + 1] - cand[c]
+                        if max(left, right) > MISSED_STEP_RATIO * min(left, right):
+                            status[i] = "ambiguous"
+                            continue
                 if abs(best - k) <= max_k:
                     new_k[i] = best
                     status[i] = "snapped"
@@ -221,6 +257,7 @@ class IntervalLabeller(BaseAlgorithm):
             "detector": det,
             "boundary": self.boundary if self.snap != "strides" else "stride start",
             "max_snap_s": float(self.max_snap_s),
+            "noise_s": None if self.noise_s is None else float(self.noise_s),
             "n_intervals": int(len(iv)),
             "n_boundaries": int(real.sum()),
             "n_snapped": int(snapped.sum()),

@@ -37,7 +37,11 @@ amplitude it uses is a noise floor. Five stages:
    ``slow_step_max_rms_ms2``): a slow step, 0.75-1.2 Hz, shows as a deep
    anti-phase at its half (the half-period rule does not take it for a
    stride) and a gentle signal; a one-leg stride of normal walking at the
-   same period shows several m/s^2. A slow-step window whose
+   same period shows several m/s^2. A slow step must also be in
+   deep anti-phase at its half (autocorrelation there at most
+   ``slow_step_max_half_correlation``, -0.5): a one-leg stride of a gentle
+   walk (a trouser pocket) has no such anti-phase, both heel strikes reach
+   the phone, and stays a stride. A slow-step window whose
    neighbours (``SLOW_STEP_CONTEXT`` windows either side, mostly not slow) walk
    at twice its cadence is a stride too: a walker's cadence does not halve for
    one window.
@@ -130,6 +134,10 @@ SLOW_STEP_HZ = 1.2
 #: amplitude (0.6 RMS) at 1.2 steps/s with the ~3 cm excursion of slow walking (Orendurff et al., J. Rehabil.
 #: Res. Dev. 41, 2004); the ceiling allows 2.5 times that for the phone's own motion. A period there is a stride.
 SLOW_STEP_MAX_RMS_MS2 = 1.5
+#: a slow step is in deep anti-phase at half its period: a period longer than 1 / SLOW_STEP_HZ whose
+#: autocorrelation at its half is above this is a stride (a step period gives -0.55 to -0.98 at its half on every
+#: Oxford recording; a one-leg stride, whose both heel strikes shake the phone, stays near 0)
+SLOW_STEP_MAX_HALF_CORRELATION = -0.5
 #: windows either side that must not contradict a slow-step reading (a slow window among windows of twice
 #: its cadence is a stride of the same walk)
 SLOW_STEP_CONTEXT = 3
@@ -201,6 +209,7 @@ def local_cadence(
     half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
     slow_step_hz: float = SLOW_STEP_HZ,
     slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
+    slow_step_max_half_correlation: float = SLOW_STEP_MAX_HALF_CORRELATION,
 ) -> dict[str, np.ndarray]:
     """Step period per sliding window, with the stride-versus-step decision (module docstring, stage 2).
 
@@ -209,7 +218,8 @@ def local_cadence(
     y : float array (n,)
         Band-passed signal (zero mean), e.g. the acceleration magnitude.
     sampling_rate_hz : float
-    window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation, slow_step_hz, slow_step_max_rms_ms2
+    window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation, slow_step_hz, slow_step_max_rms_ms2,
+    slow_step_max_half_correlation
         As :class:`AdaptiveStepDetector`.
 
     Returns
@@ -294,7 +304,10 @@ def local_cadence(
     # still longer than any human step: a stride whose other step is not visible; slower than slow_step_hz with
     # more motion than a slow walker makes (window RMS over slow_step_max_rms_ms2): a stride too
     rms = np.sqrt(np.mean(sliding_windows(y, L, H)[:n_win] ** 2, axis=1))
-    inferred = (lag > fs / min_step_hz) | ((lag > fs / slow_step_hz) & (rms > slow_step_max_rms_ms2))
+    half_correlation = r_at(lag / 2.0)
+    # not in deep anti-phase at its half: a one-leg stride
+    slower = lag > fs / slow_step_hz
+    inferred = (lag > fs / min_step_hz) | (slower & ((rms > slow_step_max_rms_ms2) | (half_correlation > slow_step_max_half_correlation)))
     # a slow step must persist: a slow reading among windows of twice that cadence (within SLOW_STEP_CONTEXT
     # windows either side) is a stride of the same walk (cadence does not halve for a window)
     slow = (lag > fs / slow_step_hz) & ~inferred & ~stride
@@ -314,6 +327,7 @@ def local_cadence(
         "stride": stride | inferred,
         "inferred": inferred,
         "rms": rms,
+        "half_correlation": half_correlation,
     }
 
 
@@ -385,6 +399,7 @@ def adaptive_steps(
     half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
     slow_step_hz: float = SLOW_STEP_HZ,
     slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
+    slow_step_max_half_correlation: float = SLOW_STEP_MAX_HALF_CORRELATION,
     min_periodicity: float = MIN_PERIODICITY,
     min_rms_ms2: float = MIN_RMS_MS2,
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
@@ -421,6 +436,7 @@ def adaptive_steps(
         half_lag_min_correlation=half_lag_min_correlation,
         slow_step_hz=slow_step_hz,
         slow_step_max_rms_ms2=slow_step_max_rms_ms2,
+        slow_step_max_half_correlation=slow_step_max_half_correlation,
     )
     centres = cad["centre"] * q
     cad["centre"] = centres
@@ -517,6 +533,12 @@ class AdaptiveStepDetector(BaseStepDetector):
         The most motion a walker slower than ``slow_step_hz`` makes at the
         phone (m/s^2 RMS): the trunk's vertical acceleration at 1.2 steps/s and
         a ~3 cm excursion (Orendurff et al. 2004) is ~0.6 RMS; 2.5 times that.
+    slow_step_max_half_correlation : float, default -0.5
+        A period longer than ``1 / slow_step_hz`` is a slow step only where the
+        autocorrelation at its half is at most this (a step is in deep
+        anti-phase at half its period: -0.55 to -0.98 on every Oxford
+        recording); above it the period is a one-leg stride whose other step
+        shakes the phone too (a trouser pocket on a slow walk).
     min_periodicity : float, default 0.3
         Steps only where the window's strongest autocorrelation peak reaches
         this (periodic motion; dimensionless).
@@ -599,6 +621,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         "fold": ["boolean"],
         "slow_step_hz": [POSITIVE],
         "slow_step_max_rms_ms2": [NON_NEGATIVE],
+        "slow_step_max_half_correlation": [Interval(-1, 1, closed="both")],
         "short_bout_steps": [NON_NEGATIVE_INTEGER],
         "max_short_bout_cv": [NON_NEGATIVE],
     }
@@ -616,6 +639,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         half_lag_min_correlation: float = HALF_LAG_MIN_CORRELATION,
         slow_step_hz: float = SLOW_STEP_HZ,
         slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
+        slow_step_max_half_correlation: float = SLOW_STEP_MAX_HALF_CORRELATION,
         min_periodicity: float = MIN_PERIODICITY,
         min_rms_ms2: float = MIN_RMS_MS2,
         min_distance_ratio: float = MIN_DISTANCE_RATIO,
@@ -634,6 +658,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.half_lag_min_correlation = half_lag_min_correlation
         self.slow_step_hz = slow_step_hz
         self.slow_step_max_rms_ms2 = slow_step_max_rms_ms2
+        self.slow_step_max_half_correlation = slow_step_max_half_correlation
         self.min_periodicity = min_periodicity
         self.min_rms_ms2 = min_rms_ms2
         self.min_distance_ratio = min_distance_ratio

@@ -53,10 +53,45 @@ def test_gesture_bursts_lose_steps_and_confidence_to_the_short_bout_rule():
 
 
 @pytest.mark.parametrize(
-    "bad", [{"short_bout_steps": -1}, {"max_short_bout_cv": -0.1}, {"slow_step_max_rms_ms2": -1.0}, {"slow_step_hz": 0}]
+    "bad",
+    [
+        {"short_bout_steps": -1},
+        {"max_short_bout_cv": -0.1},
+        {"slow_step_max_rms_ms2": -1.0},
+        {"slow_step_hz": 0},
+        {"slow_step_max_half_correlation": 1.5},
+    ],
 )
 def test_new_parameters_are_checked(bad):
     from gaitml.errors import InputError
 
     with pytest.raises(InputError, match=next(iter(bad))):
         get_detector("adaptive", **bad).detect(_slow_walk(1, 1.0))
+
+
+def _gentle_one_leg_walk(stride_s: float, seconds: float = 60.0, fs: float = 100.0):
+    """|acc| of a trouser pocket on a gentle walk: the near leg's swing once per stride, a heel strike of each leg."""
+    from gaitml.recording import Recording
+
+    t = np.arange(0, seconds, 1 / fs)
+    phase = (t / stride_s) % 1.0
+
+    def pulse(centre, width=0.06):
+        d = (phase - centre + 0.5) % 1.0 - 0.5
+        return np.exp(-0.5 * (d * stride_s / width) ** 2)
+
+    mag = 9.81 + 0.6 * np.sin(2 * np.pi * t / stride_s) + 1.6 * pulse(0.1) + 1.0 * pulse(0.6)
+    acc = np.column_stack([np.zeros_like(t), np.zeros_like(t), mag])
+    return Recording.from_arrays(acc, fs), seconds / stride_s
+
+
+@pytest.mark.parametrize("stride_s", [0.95, 1.1, 1.25])
+def test_a_gentle_one_leg_stride_is_not_taken_for_a_slow_step(stride_s):
+    """A stride of 0.83-1.33 s without deep anti-phase at its half is two steps (a tyrex back pocket, issue 30)."""
+    rec, strides = _gentle_one_leg_walk(stride_s)
+    det = get_detector("adaptive").detect(rec)
+    assert float(det.cadence_["cadence_hz"].median()) == pytest.approx(2.0 / stride_s, rel=0.05)
+    assert abs(len(det.steps_) - 2 * strides) <= max(4, 0.03 * 2 * strides)
+    # without the anti-phase requirement the gentle stride (RMS below slow_step_max_rms_ms2) was one slow step
+    off = get_detector("adaptive", slow_step_max_half_correlation=1.0).detect(rec).steps_
+    assert len(off) < 0.7 * 2 * strides

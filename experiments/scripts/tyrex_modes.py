@@ -26,6 +26,7 @@ the simulated part from ``experiments/tyrex-modes.toml`` (five positions tyrex c
 - ``a``: real moving windows of the two training people + simulated walk, run, side steps
   and backward in those positions;
 - ``b``: real windows for walk and run, simulated windows only for side steps and backward;
+- ``sim``: the simulator alone in the same positions (a reference: what the real windows add);
 - ``c``: as ``b`` with the real windows counted twice (weight 2: a linear SVM's hinge loss
   sums over windows), so that the real walking and running outweigh the simulated side
   steps and backward walking they border.
@@ -41,6 +42,7 @@ does not cover (armband, neck pouch, purse).
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 import tempfile
 import time
@@ -58,6 +60,19 @@ RECIPES = {
     "a": (("walk", "run", "side_left", "side_right", "backward"), 1),
     "b": (SIDE_MODES, 1),
     "c": (SIDE_MODES, 2),
+    # reference: the simulator alone in the same positions (no real window)
+    "sim": (("walk", "run", "side_left", "side_right", "backward"), 0),
+}
+#: tyrex motion -> the carrying position a position recogniser is asked for (RunningPocket: which pocket is not known)
+COARSE_POSITION = {
+    "Texting": "hand",
+    "AR": "hand",
+    "Phoning": "hand",
+    "RunningHand": "hand",
+    "Swinging": "swinging-hand",
+    "FrontPocket": "pocket",
+    "BackPocket": "pocket",
+    "RunningPocket": "pocket",
 }
 HELDOUT_SEED = 2024
 OXFORD_UNCOVERED = {"armband": "Armband", "neckpouch": "NeckPouch", "purse": "Purse"}
@@ -221,22 +236,80 @@ def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path):
     return load_model(out_dir), len(ds)
 
 
+def position_table(cfg, items: list[dict]) -> pd.DataFrame:
+    """Position recognition, one tyrex person left out: per motion, the share of moving windows given the right position.
+
+    A linear OVO SVM (paper 003, the config's features and windows) on the moving windows of
+    the other two people, labelled :data:`COARSE_POSITION` (hand, swinging hand, pocket).
+    """
+    from gaitml.models import build_window_dataset, make_model
+
+    w = cfg["windows"]
+    fset = cfg["features"]["set"]
+
+    def dataset(its):
+        recs = []
+        for it in its:
+            lab = it["recording"].labels.astype(str)
+            recs.append(
+                it["recording"].replace(
+                    labels=np.where(lab == it["mode"], COARSE_POSITION[it["motion"]], "x").astype(object), check_units=False
+                )
+            )
+        return build_window_dataset(
+            recs,
+            groups=[it["subject"] for it in its],
+            length_s=w["length_s"],
+            overlap=w["overlap"],
+            min_label_fraction=w["min_label_fraction"],
+            feature_set=fset,
+            keep_labels=sorted(set(COARSE_POSITION.values())),
+        )
+
+    rows = []
+    for person in sorted({it["subject"] for it in items}):
+        train = dataset([it for it in items if it["subject"] != person])
+        model = make_model(cfg["model"]["kind"], cfg["model"]["params"], seed=cfg.seed).fit(train.inputs("features"), train.y)
+        for motion in MOTION_ORDER:
+            its = [it for it in items if it["subject"] == person and it["motion"] == motion]
+            test = dataset(its)
+            pred = model.predict(test.inputs("features"))
+            rows.append({"left_out": person, "motion": motion, "n": len(test), "right": int(np.sum(pred == test.y))})
+    t = pd.DataFrame(rows)
+    g = t.groupby("motion", sort=False)[["n", "right"]].sum().reset_index()
+    g["accuracy"] = g["right"] / g["n"]
+    per = t.assign(a=t["right"] / t["n"]).groupby("motion", sort=False)["a"].agg(["min", "max"]).reset_index()
+    g["per person"] = [f"{lo:.2f}-{hi:.2f}" for lo, hi in zip(per["min"], per["max"], strict=True)]
+    g.insert(1, "position asked", [COARSE_POSITION[m] for m in g["motion"]])
+    return g.drop(columns=["right"])
+
+
 def sim_side_table(model, recs) -> pd.DataFrame:
-    """Held-out simulated recordings: per position and mode, right / flagged / wrong."""
+    """Held-out simulated recordings: per position and mode, right / flagged / wrong, and read as a side step of either direction."""
     from gaitml.models import predict_recording
 
     rows = []
     for r in recs:
         p = predict_recording(model, r)
+        inside = p["in_domain"].map(lambda v: v is not False).to_numpy(bool)
+        side = inside & p["mode"].astype(str).isin(["side_left", "side_right"]).to_numpy()
         for m in ("walk", "run", *SIDE_MODES):
-            rows.append({"position": r.meta["position"], "mode": m, **score_windows(p, m)})
-    t = pd.DataFrame(rows).groupby(["position", "mode"], sort=False)[["n", "right", "flagged", "wrong"]].sum()
+            w = ((p["label"].astype(str) == m) & (p["label_fraction"] >= 0.5)).to_numpy()
+            rows.append({"position": r.meta["position"], "mode": m, **score_windows(p, m), "side": int(np.sum(side & w))})
+    t = pd.DataFrame(rows).groupby(["position", "mode"], sort=False)[["n", "right", "flagged", "wrong", "side"]].sum()
     return t.reset_index()
+
+
+@functools.cache
+def _oxford(folder: Path) -> tuple:
+    from gaitml.io import read_dataset
+
+    return tuple(read_dataset(folder))
 
 
 def untrained_table(model, sim_recs, data: Path) -> list[dict]:
     """Share of windows flagged out of domain on what the recipes were not trained on."""
-    from gaitml.io import read_dataset, read_recording
+    from gaitml.io import read_recording
     from gaitml.models import predict_recording
 
     def flagged_share(recs):
@@ -260,7 +333,7 @@ def untrained_table(model, sim_recs, data: Path) -> list[dict]:
         rows.append({"what": "gaitmap foot-mounted IMU (both feet)", "windows": n, "flagged": share})
     ox = data / "oxford-step-counter" / "optimisation"
     if ox.exists() and "gyro" not in model.feature_set:
-        recs = read_dataset(ox)
+        recs = _oxford(ox)
         for key, name in OXFORD_UNCOVERED.items():
             share, n = flagged_share([r for r in recs if str(r.meta.get("position", "")).lower() == key])
             rows.append({"what": f"Oxford {name} (no gyroscope)", "windows": n, "flagged": share})
@@ -284,9 +357,10 @@ def main(argv=None) -> int:
     ap.add_argument("--data", type=Path, default=Path("../shared/data"))
     ap.add_argument("--config", type=Path, default=Path("experiments/tyrex-modes.toml"))
     ap.add_argument("--features", default=None, help="override features.set (all52 for the accelerometer-only twin)")
-    ap.add_argument("--recipes", default="a,b,c")
+    ap.add_argument("--recipes", default="sim,a,b,c")
     ap.add_argument("--baseline", default="models/demo,models/demo-acc", help="shipped models to score first ('' = none)")
     ap.add_argument("--sim-subjects", type=int, default=None, help="override data.simulated.subjects")
+    ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
     ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
     a = ap.parse_args(argv)
@@ -318,6 +392,9 @@ def main(argv=None) -> int:
         rows_all.append(t)
         emit(f"\n### shipped {mdir} (trained on the simulator only), all 3 people\n")
         emit(md(summarise(t)))
+    if a.positions:
+        emit(f"\n### position recognition ({cfg['features']['set']}, real tyrex moving windows only), each person left out in turn\n")
+        emit(md(position_table(cfg, items)))
     positions = cfg["data"]["simulated"]["positions"]
     sim_train = _sim(cfg, cfg.seed, cfg["data"]["simulated"]["subjects"], positions)
     sim_test = _sim(cfg, HELDOUT_SEED, 2, [*positions, "bag", "belt"])
@@ -349,11 +426,12 @@ def main(argv=None) -> int:
         ns, nf = t["n_still"].sum(), t["still_flagged"].sum()
         emit(f"\nstill windows of the left-out people flagged: {nf / max(ns, 1):.2f} of {ns}")
         s = pd.concat(sides, ignore_index=True)
-        g = s.groupby(["position", "mode"], sort=False)[["n", "right", "flagged", "wrong"]].sum().reset_index()
+        g = s.groupby(["position", "mode"], sort=False)[["n", "right", "flagged", "wrong", "side"]].sum().reset_index()
         per = s.assign(r=s["right"] / s["n"]).groupby(["position", "mode"], sort=False)["r"].agg(["min", "max"]).reset_index()
         g["right"] = g["right"] / g["n"]
         g["flagged"] = g["flagged"] / g["n"]
         g["silently wrong"] = g["wrong"] / g["n"]
+        g["side step, either direction"] = g.pop("side") / g["n"]
         g["right over folds"] = [f"{lo:.2f}-{hi:.2f}" for lo, hi in zip(per["min"], per["max"], strict=True)]
         emit(f"\nheld-out simulator (seed {HELDOUT_SEED}, 2 subjects, windows summed over the 3 folds' models)\n")
         emit(md(g.drop(columns=["wrong"])))

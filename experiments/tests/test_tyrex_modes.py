@@ -62,5 +62,18 @@ def test_summarise_pools_windows_and_gives_the_spread_over_people():
 
 
 def test_every_recipe_keeps_side_steps_and_backward_from_the_simulator():
-    for sim_modes, weight in RECIPES.values():
-        assert {"side_left", "side_right", "backward"} <= set(sim_modes) and weight >= 1
+    for name, (sim_modes, weight) in RECIPES.items():
+        assert {"side_left", "side_right", "backward"} <= set(sim_modes)
+        assert weight >= 1 or name == "sim"
+
+
+def test_recipe_b_keeps_only_the_simulated_side_steps_and_backward():
+    from experiments.scripts.tyrex_modes import _keep_modes
+    from gaitml.recording import Recording
+
+    n = 8
+    labels = np.array(["walk", "run", "side_left", "side_right", "backward", "walk", "backward", "run"], dtype=object)
+    acc = np.tile([0.0, 0.0, 9.81], (n, 1))
+    rec = Recording.from_arrays(acc, 50.0, labels=labels)
+    kept = _keep_modes(rec, RECIPES["b"][0]).labels.astype(str)
+    assert list(kept) == ["unlabelled", "unlabelled", "side_left", "side_right", "backward", "unlabelled", "backward", "unlabelled"]

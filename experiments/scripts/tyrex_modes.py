@@ -1,6 +1,7 @@
 """Modes on real carried phones (issue 27): the shipped models and three training recipes, one tyrex person left out at a time.
 
-``python -m experiments.scripts.tyrex_modes [--data ../shared/data] [--features all52+gyro|all52] [--recipes a,b,c] [--out FILE] [--csv FILE]``
+``python -m experiments.scripts.tyrex_modes [--data ../shared/data] [--features all52+gyro|all52] [--recipes sim,a,b,c]
+[--holdout person|person-phone] [--out FILE] [--csv FILE]``
 from the repository root.
 
 Moving windows (the speed rule): the phone's true path from the motion capture is
@@ -31,7 +32,8 @@ the simulated part from ``experiments/tyrex-modes.toml`` (five positions tyrex c
   sums over windows), so that the real walking and running outweigh the simulated side
   steps and backward walking they border.
 
-Each recipe is trained once per left-out tyrex person (3 folds) and scored on that person;
+Each recipe is trained once per left-out tyrex person (3 folds; ``--holdout person-phone``: per
+person x phone, trained on the other people's other phones, 9 folds) and scored on what was left out;
 the tables give the pooled figure and the spread over the three left-out people. Side steps
 and backward walking are scored on held-out simulator seeds (seed 2024) per position; the
 domain check (fitted on the training windows) on the simulator's bag and belt (held-out seed),
@@ -148,15 +150,15 @@ def window_table(model, items: list[dict]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def summarise(t: pd.DataFrame) -> pd.DataFrame:
-    """Per motion: pooled shares over the moving windows, and the min-max of `right` over left-out people."""
+def summarise(t: pd.DataFrame, by: str = "subject") -> pd.DataFrame:
+    """Per motion: pooled shares over the moving windows, and the min-max of `right` and `wrong` over ``by`` (the left-out people)."""
     rows = []
     for motion in [*MOTION_ORDER, "all"]:
         g = t if motion == "all" else t[t["motion"] == motion]
         if g.empty:
             continue
         n = g["n"].sum()
-        per = g.groupby("subject")[["right", "n", "wrong", "flagged"]].sum()
+        per = g.groupby(by)[["right", "n", "wrong", "flagged"]].sum()
         r_p = per["right"] / per["n"].where(per["n"] > 0)
         w_p = per["wrong"] / per["n"].where(per["n"] > 0)
         rows.append(
@@ -166,8 +168,8 @@ def summarise(t: pd.DataFrame) -> pd.DataFrame:
                 "right": g["right"].sum() / n,
                 "flagged": g["flagged"].sum() / n,
                 "silently wrong": g["wrong"].sum() / n,
-                "right per person": f"{r_p.min():.2f}-{r_p.max():.2f}",
-                "wrong per person": f"{w_p.min():.2f}-{w_p.max():.2f}",
+                "right per left-out": f"{r_p.min():.2f}-{r_p.max():.2f}",
+                "wrong per left-out": f"{w_p.min():.2f}-{w_p.max():.2f}",
             }
         )
     return pd.DataFrame(rows)
@@ -358,6 +360,7 @@ def main(argv=None) -> int:
     ap.add_argument("--config", type=Path, default=Path("experiments/tyrex-modes.toml"))
     ap.add_argument("--features", default=None, help="override features.set (all52 for the accelerometer-only twin)")
     ap.add_argument("--recipes", default="sim,a,b,c")
+    ap.add_argument("--holdout", choices=("person", "person-phone"), default="person", help="what each fold leaves out")
     ap.add_argument("--baseline", default="models/demo,models/demo-acc", help="shipped models to score first ('' = none)")
     ap.add_argument("--sim-subjects", type=int, default=None, help="override data.simulated.subjects")
     ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
@@ -392,19 +395,23 @@ def main(argv=None) -> int:
         rows_all.append(t)
         emit(f"\n### shipped {mdir} (trained on the simulator only), all 3 people\n")
         emit(md(summarise(t)))
-    if a.positions:
+    if a.positions and a.holdout == "person":
         emit(f"\n### position recognition ({cfg['features']['set']}, real tyrex moving windows only), each person left out in turn\n")
         emit(md(position_table(cfg, items)))
     positions = cfg["data"]["simulated"]["positions"]
     sim_train = _sim(cfg, cfg.seed, cfg["data"]["simulated"]["subjects"], positions)
     sim_test = _sim(cfg, HELDOUT_SEED, 2, [*positions, "bag", "belt"])
-    people = sorted({it["subject"] for it in items})
+    if a.holdout == "person":
+        folds = [(p, None) for p in sorted({it["subject"] for it in items})]
+    else:  # another person AND another phone: train on the other two people's other two phones
+        folds = sorted({(it["subject"], it["phone"]) for it in items})
     for recipe in [r for r in a.recipes.split(",") if r]:
         tabs, sides, untr = [], [], []
-        for person in people:
+        for person, phone in folds:
             t1 = time.perf_counter()
-            train = [it for it in items if it["subject"] != person]
-            test = [it for it in items if it["subject"] == person]
+            train = [it for it in items if it["subject"] != person and (phone is None or it["phone"] != phone)]
+            test = [it for it in items if it["subject"] == person and (phone is None or it["phone"] == phone)]
+            person = person if phone is None else f"{person}/{phone}"
             with tempfile.TemporaryDirectory() as tmp:
                 model, n_win = train_recipe(cfg, sim_train, train, recipe, Path(tmp) / "m")
             t = window_table(model, test)
@@ -421,8 +428,13 @@ def main(argv=None) -> int:
             )
         t = pd.concat(tabs, ignore_index=True)
         rows_all.append(t)
-        emit(f"\n### recipe {recipe} ({cfg['features']['set']}), each tyrex person left out in turn\n")
-        emit(md(summarise(t)))
+        what = (
+            "each tyrex person left out in turn"
+            if a.holdout == "person"
+            else "each person x phone left out (trained on the other people's other phones)"
+        )
+        emit(f"\n### recipe {recipe} ({cfg['features']['set']}), {what}\n")
+        emit(md(summarise(t, by="left_out")))
         ns, nf = t["n_still"].sum(), t["still_flagged"].sum()
         emit(f"\nstill windows of the left-out people flagged: {nf / max(ns, 1):.2f} of {ns}")
         s = pd.concat(sides, ignore_index=True)
@@ -433,13 +445,17 @@ def main(argv=None) -> int:
         g["silently wrong"] = g["wrong"] / g["n"]
         g["side step, either direction"] = g.pop("side") / g["n"]
         g["right over folds"] = [f"{lo:.2f}-{hi:.2f}" for lo, hi in zip(per["min"], per["max"], strict=True)]
-        emit(f"\nheld-out simulator (seed {HELDOUT_SEED}, 2 subjects, windows summed over the 3 folds' models)\n")
+        emit(f"\nheld-out simulator (seed {HELDOUT_SEED}, 2 subjects, windows summed over the {len(folds)} folds' models)\n")
         emit(md(g.drop(columns=["wrong"])))
         u = pd.DataFrame(untr)
         ug = u.groupby("what", sort=False).agg(
             windows=("windows", "first"), flagged=("flagged", lambda v: "/".join(f"{x:.2f}" if isinstance(x, float) else str(x) for x in v))
         )
-        emit("\nnot trained on, flagged (one figure per left-out person)\n")
+        emit(
+            "\nnot trained on, flagged (one figure per fold, in the order "
+            + ", ".join(p if q is None else f"{p}/{q}" for p, q in folds)
+            + ")\n"
+        )
         emit(md(ug.reset_index()))
     if a.csv:
         pd.concat(rows_all, ignore_index=True).to_csv(a.csv, index=False)

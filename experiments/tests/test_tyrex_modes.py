@@ -58,7 +58,7 @@ def test_summarise_pools_windows_and_gives_the_spread_over_people():
     )
     row = summarise(t).iloc[0]
     assert row["right"] == pytest.approx(25 / 40)
-    assert row["right per person"] == "0.50-1.00"
+    assert row["right per left-out"] == "0.50-1.00"
 
 
 def test_every_recipe_keeps_side_steps_and_backward_from_the_simulator():

@@ -83,6 +83,9 @@ OXFORD_UNCOVERED = {"armband": "Armband", "neckpouch": "NeckPouch", "purse": "Pu
 def moving_labels(t_s, truth_t_s, truth_xy, mode: str, *, min_speed_ms: float | None = None) -> np.ndarray:
     """Per-sample labels from the motion capture's body speed: ``mode`` when moving, ``still``, or ``unlabelled``.
 
+    The rule of :func:`gaitml.evaluation.trajectory.moving_samples` (the pipeline's
+    ``data.labelling.moving_speed_ms``), as labels.
+
     Parameters
     ----------
     t_s : (n,) sample times of the recording (s, on the truth's clock).
@@ -91,16 +94,11 @@ def moving_labels(t_s, truth_t_s, truth_xy, mode: str, *, min_speed_ms: float | 
     min_speed_ms : body speed above which a sample is moving (default
         :data:`gaitml.evaluation.trajectory.MOVING_SPEED_MS`).
     """
-    from gaitml.evaluation.trajectory import MOVING_SPEED_MS, body_track
+    from gaitml.evaluation.trajectory import MOVING_SPEED_MS, moving_samples
 
     v_min = MOVING_SPEED_MS if min_speed_ms is None else float(min_speed_ms)
-    tt = np.asarray(truth_t_s, dtype=float)
-    body = body_track(tt, truth_xy)
-    speed = np.linalg.norm(np.gradient(body, tt, axis=0), axis=1)
-    t = np.asarray(t_s, dtype=float)
-    s = np.interp(t, tt, speed)
-    out = np.where(s > v_min, mode, "still").astype(object)
-    out[(t < tt[0]) | (t > tt[-1])] = "unlabelled"
+    m = moving_samples(t_s, truth_t_s, truth_xy, min_speed_ms=v_min)
+    out = np.where(m == 1, mode, np.where(m == 0, "still", "unlabelled")).astype(object)
     return out
 
 

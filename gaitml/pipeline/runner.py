@@ -151,6 +151,13 @@ def _load_recordings(cfg: ExperimentConfig):
             raise ConfigError(
                 "data.labelling.moving_speed_ms > 0 but no recording has a motion capture; set it to 0 or use tyrex recordings."
             )
+    # a stretch shorter than one window gives no window (e.g. a 9-sample piece between two sensor gaps of a tyrex
+    # recording, read as segments): left out and counted rather than failing the resampling filter
+    win_s = float(cfg["windows"]["length_s"])
+    short = [r for r in recs if r.duration_s < win_s]
+    if short:
+        recs = [r for r in recs if r.duration_s >= win_s]
+        notes.append(f"{len(short)} recording(s) shorter than one {win_s:g} s window left out: {', '.join(r.name for r in short)}")
     rates = sorted({round(r.sampling_rate_hz, 3) for r in recs})
     out = [resample_recording(r, fs) for r in recs]
     if any(abs(r - fs) > 1e-6 for r in rates):

@@ -90,3 +90,20 @@ def test_recordings_without_a_capture_are_left_out_or_refused(tmp_path):
 def test_mixed_source_keys_need_a_folder(data, pattern):
     with pytest.raises(ConfigError, match=pattern):
         parse_config({"name": "x", "data": {"source": "simulated", **data}})
+
+
+def test_a_recording_shorter_than_a_window_is_left_out_and_counted(tmp_path):
+    """E.g. a 9-sample stretch between two sensor gaps of a tyrex recording (read as segments): it gives no window."""
+    import pandas as pd
+
+    from gaitml.pipeline.runner import _load_recordings
+
+    for name, dur_s in (("long", 10.0), ("short", 0.2)):
+        t = np.arange(0, dur_s, 0.01)
+        pd.DataFrame({"t": t, "acc_x": 0.1 * np.sin(t), "acc_y": 0.0, "acc_z": 9.81, "label": "walk"}).to_csv(
+            tmp_path / f"{name}.csv", index=False
+        )
+    cfg = parse_config({"name": "x", "data": {"source": "folder", "path": str(tmp_path)}}, base_dir=tmp_path)
+    recs, notes = _load_recordings(cfg)
+    assert len(recs) == 1 and recs[0].duration_s > 9
+    assert any("1 recording(s) shorter than one 1.5 s window left out: short" in n for n in notes)

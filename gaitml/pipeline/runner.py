@@ -169,6 +169,11 @@ def _load_recordings(cfg: ExperimentConfig):
     return out, notes
 
 
+def _interval_labelling(d: dict) -> dict:
+    """``[data.labelling]`` keys of the intervals-file labeller (``moving_speed_ms`` is the motion capture's, :func:`_label_moving`)."""
+    return {k: v for k, v in d["labelling"].items() if k != "moving_speed_ms"}
+
+
 def _read_folder(cfg: ExperimentConfig):
     """The recordings of a ``data.source = "folder"`` config.
 
@@ -190,7 +195,7 @@ def _read_folder(cfg: ExperimentConfig):
             "position, format]) or fix the name."
         )
     if manifest is not None and manifest.is_file():
-        recs, notes = read_manifest_folder(folder, manifest, label=d["label"], labelling=d["labelling"])
+        recs, notes = read_manifest_folder(folder, manifest, label=d["label"], labelling=_interval_labelling(d))
         return recs, [f"folder {folder}: {len(recs)} recordings read", *notes]
     try:
         recs = read_dataset(folder)

@@ -435,6 +435,10 @@ def _leaf_at(path: str):
     return node if isinstance(node, _Leaf) else None
 
 
+#: Keys written into :meth:`ExperimentConfig.resolved` only when they differ from their default (issue 27).
+_WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {("data", "add_simulated"): False, ("data", "labelling", "moving_speed_ms"): 0.0}
+
+
 @dataclasses.dataclass(frozen=True)
 class ExperimentConfig:
     """A validated experiment config (``values`` holds every key, defaults filled in).
@@ -486,6 +490,15 @@ class ExperimentConfig:
     def resolved(self) -> dict:
         """The resolved config as a plain dict (for the run folder and model.json)."""
         d = copy.deepcopy(self.values)
+        # keys that are off by default are written only when set, so that the resolved config (and
+        # the training_config of a model in model.json) of a config that does not use them is unchanged
+        for path, default in _WRITTEN_WHEN_SET.items():
+            *parents, key = path
+            sec = d
+            for k in parents:
+                sec = sec.get(k, {})
+            if key in sec and sec[key] == default:
+                del sec[key]
         if self.data_path is not None:
             d["data"]["path_resolved"] = str(self.data_path)
         if self.sweep:

@@ -107,3 +107,11 @@ def test_a_recording_shorter_than_a_window_is_left_out_and_counted(tmp_path):
     recs, notes = _load_recordings(cfg)
     assert len(recs) == 1 and recs[0].duration_s > 9
     assert any("1 recording(s) shorter than one 1.5 s window left out: short" in n for n in notes)
+
+
+def test_the_new_keys_are_written_to_the_resolved_config_only_when_set(tmp_path):
+    """A config that does not use them resolves as before (the shipped models' training_config stays equal)."""
+    plain = parse_config({"name": "x"}).resolved()
+    assert "add_simulated" not in plain["data"] and "moving_speed_ms" not in plain["data"]["labelling"]
+    used = _config(_tyrex_root(tmp_path)).resolved()
+    assert used["data"]["add_simulated"] is True and used["data"]["labelling"]["moving_speed_ms"] == 0.3

@@ -30,6 +30,7 @@ from gaitml.errors import InputError
 
 __all__ = [
     "BODY_CUTOFF_HZ",
+    "moving_samples",
     "absolute_trajectory_error",
     "align_once",
     "body_track",
@@ -259,6 +260,30 @@ def walked_distance_ratio(est_t_s, est_xy, true_t_s, true_xy, *, cutoff_hz: floa
 def _true_body(true_t_s, true_xy, cutoff_hz):
     t, _, fs = _uniform_track(true_t_s, true_xy, "true_xy")
     return t, body_track(true_t_s, true_xy, cutoff_hz=cutoff_hz), fs
+
+
+def moving_samples(t_s, true_t_s, true_xy, *, min_speed_ms: float = MOVING_SPEED_MS, cutoff_hz: float = BODY_CUTOFF_HZ) -> np.ndarray:
+    """Which samples of a recording fall where the walker moves: 1 moving, 0 still, -1 outside the truth.
+
+    The walker's path is the phone's true horizontal path low-passed (:func:`body_track`,
+    which removes the arm swing and the handling of the phone); a sample is moving where
+    that path's speed, interpolated at the sample's time, exceeds ``min_speed_ms``.
+
+    Parameters
+    ----------
+    t_s : (n,) sample times (s) on the truth's clock.
+    true_t_s, true_xy : the truth's times (s, uniform rate) and horizontal positions (m), (m, 2).
+
+    Returns
+    -------
+    ndarray of int8, shape (n,)
+    """
+    t, body, _ = _true_body(true_t_s, true_xy, cutoff_hz)
+    speed = np.linalg.norm(np.gradient(body, t, axis=0), axis=1)
+    q = np.asarray(t_s, dtype=float).reshape(-1)
+    out = (np.interp(q, t, speed) > float(min_speed_ms)).astype(np.int8)
+    out[(q < t[0]) | (q > t[-1])] = -1
+    return out
 
 
 def _moving(t: np.ndarray, body: np.ndarray, min_speed_ms: float) -> np.ndarray:

@@ -26,12 +26,18 @@ Keys (defaults in brackets) of ``task = "classification"``::
     labels = []                      # keep only these labels (others dropped and reported)
     resample_hz = 50.0               # every recording is resampled to this rate
     where = {}                       # keep recordings whose meta matches, e.g. { surface = "Hard" }
+    add_simulated = false            # "folder" (issue 27): also simulate [data.simulated] and add those recordings
+                                     # (real and simulated windows in one training set; groups from data.group)
     manifest = ""                    # "folder": the manifest in data.path (default: manifest.csv when present;
                                      # a name given here must exist). Columns: gaitml.pipeline.folder_source
     [data.labelling]                 # "folder": recordings with an intervals file are labelled by gaitml.labels
     snap = "steps"                   # "steps" | "strides" | "none": boundaries snap to detected steps / strides
     detector = ""                    # the step (or, for strides, zero-velocity) detector; default single-peak / pseudo-std
     max_snap_s = 0.5
+    moving_speed_ms = 0.0            # "folder" (issue 27): > 0 labels every recording with a motion capture (tyrex)
+                                     # per sample: its data.label value where the walker's body (the true path
+                                     # low-passed at 0.5 Hz) moves faster than this, "still" elsewhere,
+                                     # "unlabelled" outside the capture (gaitml.evaluation.trajectory.moving_samples)
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -299,7 +305,11 @@ SCHEMA: dict[str, Any] = {
             "snap": _Leaf((str,), "steps", allowed=_snap_modes),
             "detector": _Leaf((str,), ""),
             "max_snap_s": _Leaf(_NUM, 0.5, check=_nonneg),
+            # issue 27: label recordings with a motion capture by the walker's speed (0 = off)
+            "moving_speed_ms": _Leaf(_NUM, 0.0, check=_nonneg),
         },
+        # issue 27: a folder source plus the simulated subjects of [data.simulated]
+        "add_simulated": _Leaf((bool,), False),
         "simulated": {
             "subjects": _Leaf((int,), 8, check=_subjects),
             "sessions": _Leaf((int,), 1, check=_sessions),
@@ -425,6 +435,10 @@ def _leaf_at(path: str):
     return node if isinstance(node, _Leaf) else None
 
 
+#: Keys written into :meth:`ExperimentConfig.resolved` only when they differ from their default (issue 27).
+_WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {("data", "add_simulated"): False, ("data", "labelling", "moving_speed_ms"): 0.0}
+
+
 @dataclasses.dataclass(frozen=True)
 class ExperimentConfig:
     """A validated experiment config (``values`` holds every key, defaults filled in).
@@ -476,6 +490,15 @@ class ExperimentConfig:
     def resolved(self) -> dict:
         """The resolved config as a plain dict (for the run folder and model.json)."""
         d = copy.deepcopy(self.values)
+        # keys that are off by default are written only when set, so that the resolved config (and
+        # the training_config of a model in model.json) of a config that does not use them is unchanged
+        for path, default in _WRITTEN_WHEN_SET.items():
+            *parents, key = path
+            sec = d
+            for k in parents:
+                sec = sec.get(k, {})
+            if key in sec and sec[key] == default:
+                del sec[key]
         if self.data_path is not None:
             d["data"]["path_resolved"] = str(self.data_path)
         if self.sweep:
@@ -603,6 +626,13 @@ def parse_config(
     sweep = _check_sweep(raw_sweep, values)
     cfg = ExperimentConfig(values=values, sweep=sweep, base_dir=base, source=None if source is None else Path(source))
     d = values["data"]
+    if d["source"] != "folder":
+        for key, on in (
+            ("data.add_simulated", d["add_simulated"]),
+            ("data.labelling.moving_speed_ms", d["labelling"]["moving_speed_ms"] > 0),
+        ):
+            if on:
+                raise ConfigError(f"{key} applies to data.source = 'folder' (a real data set); remove it or read a folder.")
     if d["source"] == "folder":
         if not d["path"]:
             raise ConfigError("data.source = 'folder' needs data.path (a data set folder, relative to the config file).")

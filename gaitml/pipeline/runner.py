@@ -57,30 +57,77 @@ def _meta_columns(recs) -> list[str]:
     return sorted(keys)
 
 
+def _simulated_recordings(cfg: ExperimentConfig):
+    """The ``[data.simulated]`` recordings of ``cfg`` and their notes."""
+    from gaitml.simulate import simulate_dataset
+
+    d = cfg["data"]
+    fs = float(d["resample_hz"])
+    notes: list[str] = []
+    s = d["simulated"]
+    recs = simulate_dataset(
+        n_subjects=s["subjects"],
+        n_sessions=s["sessions"],
+        pose=s["pose"],
+        duration_s=s["duration_s"],
+        modes=tuple(s["modes"]),
+        sampling_rate_hz=fs,
+        seed=cfg.seed,
+        positions=tuple(s.get("positions") or ()) or None,
+    )
+    notes.append(
+        f"simulated: {s['subjects']} subjects x {s['sessions']} session(s), phone pose {s['pose']}, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}"
+    )
+    if s.get("positions"):
+        notes.append(f"carrying positions: {', '.join(s['positions'])} (one recording per subject and position)")
+    return list(recs), notes
+
+
+def _label_moving(recs, label: str, min_speed_ms: float):
+    """Per-sample labels of the recordings with a motion capture (tyrex) from the walker's speed (issue 27).
+
+    A sample takes the recording's meta ``label`` value where the walker's body moves
+    faster than ``min_speed_ms`` (:func:`gaitml.evaluation.trajectory.moving_samples`),
+    ``still`` where it does not, and ``unlabelled`` outside the capture (left out of the
+    windows like the samples outside an intervals file). Recordings without a motion
+    capture are left out (and counted in the note).
+    """
+    from gaitml.evaluation.trajectory import moving_samples
+    from gaitml.io.tyrex import read_tyrex_truth
+    from gaitml.labels import UNLABELLED
+
+    out, n_without = [], 0
+    for r in recs:
+        if not r.meta.get("truth"):
+            n_without += 1
+            continue
+        if label not in r.meta:
+            raise ConfigError(
+                f"data.label = {label!r} is not a meta column of {r.name!r}; with data.labelling.moving_speed_ms > 0 the label must be "
+                "a recording-level column such as 'mode'."
+            )
+        try:
+            truth = read_tyrex_truth(r.meta["source"], truth_path=r.meta["truth"])
+            m = moving_samples(r.t_s + float(r.meta.get("t0_original_s", 0.0)), truth.t_s, truth.pos_m[:, :2], min_speed_ms=min_speed_ms)
+        except InputError as exc:
+            raise ConfigError(f"data.labelling.moving_speed_ms: the motion capture of {r.name!r}: {str(exc).rstrip('.')}.") from None
+        labels = np.where(m == 1, str(r.meta[label]), np.where(m == 0, "still", UNLABELLED)).astype(object)
+        out.append(r.replace(labels=labels, meta={**r.meta, "labelled_from": "motion capture speed"}, check_units=False))
+    note = (
+        f"labels from the motion capture: the recording's {label!r} where the walker moves faster than {min_speed_ms:g} m/s "
+        f"(true path low-passed at 0.5 Hz), 'still' elsewhere; {len(out)} recordings"
+    )
+    if n_without:
+        note += f", {n_without} without a motion capture left out"
+    return out, note
+
+
 def _load_recordings(cfg: ExperimentConfig):
     d = cfg["data"]
     fs = float(d["resample_hz"])
     notes: list[str] = []
     if d["source"] == "simulated":
-        from gaitml.simulate import simulate_dataset
-
-        s = d["simulated"]
-        recs = simulate_dataset(
-            n_subjects=s["subjects"],
-            n_sessions=s["sessions"],
-            pose=s["pose"],
-            duration_s=s["duration_s"],
-            modes=tuple(s["modes"]),
-            sampling_rate_hz=fs,
-            seed=cfg.seed,
-            positions=tuple(s.get("positions") or ()) or None,
-        )
-        notes.append(
-            f"simulated: {s['subjects']} subjects x {s['sessions']} session(s), phone pose {s['pose']}, duration_s = {s['duration_s']}, modes {', '.join(s['modes'])}, {fs:g} Hz, seed {cfg.seed}"
-        )
-        if s.get("positions"):
-            notes.append(f"carrying positions: {', '.join(s['positions'])} (one recording per subject and position)")
-        return list(recs), notes
+        return _simulated_recordings(cfg)
     from gaitml.models import resample_recording
 
     recs, read_notes = _read_folder(cfg)
@@ -97,11 +144,34 @@ def _load_recordings(cfg: ExperimentConfig):
             values = {k: sorted({str(r.meta.get(k)) for r in recs}) for k in where}
             raise ConfigError(f"data.where = {where} matches no recording; values present: {values}.")
         recs = kept
+    if d["labelling"]["moving_speed_ms"] > 0:
+        recs, note = _label_moving(recs, d["label"], float(d["labelling"]["moving_speed_ms"]))
+        notes.append(note)
+        if not recs:
+            raise ConfigError(
+                "data.labelling.moving_speed_ms > 0 but no recording has a motion capture; set it to 0 or use tyrex recordings."
+            )
+    # a stretch shorter than one window gives no window (e.g. a 9-sample piece between two sensor gaps of a tyrex
+    # recording, read as segments): left out and counted rather than failing the resampling filter
+    win_s = float(cfg["windows"]["length_s"])
+    short = [r for r in recs if r.duration_s < win_s]
+    if short:
+        recs = [r for r in recs if r.duration_s >= win_s]
+        notes.append(f"{len(short)} recording(s) shorter than one {win_s:g} s window left out: {', '.join(r.name for r in short)}")
     rates = sorted({round(r.sampling_rate_hz, 3) for r in recs})
     out = [resample_recording(r, fs) for r in recs]
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
+    if d["add_simulated"]:
+        sim, sim_notes = _simulated_recordings(cfg)
+        out += sim
+        notes += [f"added to the folder: {n}" for n in sim_notes]
     return out, notes
+
+
+def _interval_labelling(d: dict) -> dict:
+    """``[data.labelling]`` keys of the intervals-file labeller (``moving_speed_ms`` is the motion capture's, :func:`_label_moving`)."""
+    return {k: v for k, v in d["labelling"].items() if k != "moving_speed_ms"}
 
 
 def _read_folder(cfg: ExperimentConfig):
@@ -125,7 +195,7 @@ def _read_folder(cfg: ExperimentConfig):
             "position, format]) or fix the name."
         )
     if manifest is not None and manifest.is_file():
-        recs, notes = read_manifest_folder(folder, manifest, label=d["label"], labelling=d["labelling"])
+        recs, notes = read_manifest_folder(folder, manifest, label=d["label"], labelling=_interval_labelling(d))
         return recs, [f"folder {folder}: {len(recs)} recordings read", *notes]
     try:
         recs = read_dataset(folder)
@@ -158,7 +228,8 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
     d = cfg["data"]
     label, group = d["label"], d["group"]
     cols = _meta_columns(recs)
-    per_sample = label == "label" and all(r.labels is not None for r in recs)
+    # per-sample labels: the 'label' column, or set from a motion capture (data.labelling.moving_speed_ms)
+    per_sample = (label == "label" or d["labelling"]["moving_speed_ms"] > 0) and all(r.labels is not None for r in recs)
     labelled = []
     if per_sample:
         labelled = list(recs)

@@ -52,7 +52,7 @@ def test_a_sweep_over_windows_by_is_checked():
 def test_labelling_keys(tmp_path):
     base = {"name": "x", "data": {"source": "folder", "path": str(tmp_path)}}
     cfg = parse_config(base)
-    assert cfg["data"]["labelling"] == {"snap": "steps", "detector": "", "max_snap_s": 0.5}
+    assert cfg["data"]["labelling"] == {"snap": "steps", "detector": "", "max_snap_s": 0.5, "moving_speed_ms": 0.0}
     assert cfg["data"]["manifest"] == ""
     with pytest.raises(ConfigError, match=r"data.labelling.snap = 'step' is not allowed; allowed: 'steps', 'strides', 'none'"):
         parse_config({**base, "data": {**base["data"], "labelling": {"snap": "step"}}})

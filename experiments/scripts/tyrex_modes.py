@@ -1,0 +1,466 @@
+"""Modes on real carried phones (issue 27): the shipped models and three training recipes, one tyrex person left out at a time.
+
+``python -m experiments.scripts.tyrex_modes [--data ../shared/data] [--features all52+gyro|all52] [--recipes sim,a,b,c]
+[--holdout person|person-phone] [--out FILE] [--csv FILE]``
+from the repository root.
+
+Moving windows (the speed rule): the phone's true path from the motion capture is
+low-passed at 0.5 Hz (:func:`gaitml.evaluation.trajectory.body_track`, the walker's
+path); a sample is *moving* when that body speed exceeds
+:data:`gaitml.evaluation.trajectory.MOVING_SPEED_MS` (0.3 m/s). Moving samples take the
+recording's mode (``walk``, or ``run`` for RunningHand / RunningPocket), the others
+``still``, samples outside the capture ``unlabelled``; a window takes the majority label
+of its samples when that majority is at least half the window (``min_label_fraction``),
+so a *moving window* is one in which the body moves faster than 0.3 m/s for more than
+half of the 1.5 s. Standing windows are neither walk nor any other mode and are not scored.
+
+Scores per motion over the moving windows (``gaitml predict``'s own path,
+:func:`gaitml.models.predict_recording`, adjacent-window correction on): *right* (in
+domain and the recording's mode), *flagged* (out of domain), *silently wrong* (in domain,
+another mode). They add up to 1.
+
+Recipes (the project's training path: :func:`gaitml.pipeline.runner.build_dataset`,
+:func:`gaitml.models.make_model` (the linear OVO SVM of paper 003),
+:func:`gaitml.pipeline.runner.fit_training_domain`, :func:`gaitml.models.save_model`),
+the simulated part from ``experiments/tyrex-modes.toml`` (five positions tyrex covers):
+
+- ``a``: real moving windows of the two training people + simulated walk, run, side steps
+  and backward in those positions;
+- ``b``: real windows for walk and run, simulated windows only for side steps and backward;
+- ``sim``: the simulator alone in the same positions (a reference: what the real windows add);
+- ``c``: as ``b`` with the real windows counted twice (weight 2: a linear SVM's hinge loss
+  sums over windows), so that the real walking and running outweigh the simulated side
+  steps and backward walking they border.
+
+Each recipe is trained once per left-out tyrex person (3 folds; ``--holdout person-phone``: per
+person x phone, trained on the other people's other phones, 9 folds) and scored on what was left out;
+the tables give the pooled figure and the spread over the three left-out people. Side steps
+and backward walking are scored on held-out simulator seeds (seed 2024) per position; the
+domain check (fitted on the training windows) on the simulator's bag and belt (held-out seed),
+the gaitmap foot-mounted IMU, and (accelerometer-only models) the Oxford positions tyrex
+does not cover (armband, neck pouch, purse).
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["RECIPES", "moving_labels", "score_windows", "window_table", "main"]
+
+MOTION_ORDER = ("Texting", "AR", "Phoning", "Swinging", "FrontPocket", "BackPocket", "RunningHand", "RunningPocket")
+SIDE_MODES = ("side_left", "side_right", "backward")
+#: recipe -> (simulated modes kept, weight of the real windows)
+RECIPES = {
+    "a": (("walk", "run", "side_left", "side_right", "backward"), 1),
+    "b": (SIDE_MODES, 1),
+    "c": (SIDE_MODES, 2),
+    # reference: the simulator alone in the same positions (no real window)
+    "sim": (("walk", "run", "side_left", "side_right", "backward"), 0),
+}
+#: tyrex motion -> the carrying position a position recogniser is asked for (RunningPocket: which pocket is not known)
+COARSE_POSITION = {
+    "Texting": "hand",
+    "AR": "hand",
+    "Phoning": "hand",
+    "RunningHand": "hand",
+    "Swinging": "swinging-hand",
+    "FrontPocket": "pocket",
+    "BackPocket": "pocket",
+    "RunningPocket": "pocket",
+}
+HELDOUT_SEED = 2024
+OXFORD_UNCOVERED = {"armband": "Armband", "neckpouch": "NeckPouch", "purse": "Purse"}
+
+
+def moving_labels(t_s, truth_t_s, truth_xy, mode: str, *, min_speed_ms: float | None = None) -> np.ndarray:
+    """Per-sample labels from the motion capture's body speed: ``mode`` when moving, ``still``, or ``unlabelled``.
+
+    The rule of :func:`gaitml.evaluation.trajectory.moving_samples` (the pipeline's
+    ``data.labelling.moving_speed_ms``), as labels.
+
+    Parameters
+    ----------
+    t_s : (n,) sample times of the recording (s, on the truth's clock).
+    truth_t_s, truth_xy : the motion-capture times (s) and horizontal positions (m), uniform rate.
+    mode : the recording's mode (``walk`` | ``run``).
+    min_speed_ms : body speed above which a sample is moving (default
+        :data:`gaitml.evaluation.trajectory.MOVING_SPEED_MS`).
+    """
+    from gaitml.evaluation.trajectory import MOVING_SPEED_MS, moving_samples
+
+    v_min = MOVING_SPEED_MS if min_speed_ms is None else float(min_speed_ms)
+    m = moving_samples(t_s, truth_t_s, truth_xy, min_speed_ms=v_min)
+    out = np.where(m == 1, mode, np.where(m == 0, "still", "unlabelled")).astype(object)
+    return out
+
+
+def score_windows(pred: pd.DataFrame, true_mode: str) -> dict:
+    """Right / flagged / silently wrong over the windows of ``pred`` whose label is ``true_mode`` (counts)."""
+    w = pred[(pred["label"].astype(str) == true_mode) & (pred["label_fraction"] >= 0.5)]
+    flagged = w["in_domain"].map(lambda v: v is False or v == False).to_numpy(bool)  # noqa: E712 (object column of True/False)
+    right = (~flagged) & (w["mode"].astype(str).to_numpy() == true_mode)
+    return {"n": len(w), "right": int(right.sum()), "flagged": int(flagged.sum()), "wrong": int((~flagged & ~right).sum())}
+
+
+def load_tyrex_labelled(data: Path, fs: float = 50.0) -> list[dict]:
+    """Every tyrex recording with motion capture at ``fs`` with :func:`moving_labels` (and its manifest row)."""
+    from experiments.scripts.tyrex_pdr import load_tyrex
+    from gaitml.models import resample_recording
+
+    out = []
+    for item in load_tyrex(data):
+        rec = resample_recording(item["recording"], fs)
+        tt = item["truth"].t_s - rec.meta["t0_original_s"]
+        labels = moving_labels(rec.t_s, tt, item["truth"].pos_m[:, :2], item["mode"])
+        meta = {**rec.meta, "subject": item["subject"], "position": item["position"], "motion": item["motion"]}
+        out.append({**item, "recording": rec.replace(labels=labels, meta=meta, check_units=False)})
+    return out
+
+
+def window_table(model, items: list[dict]) -> pd.DataFrame:
+    """Per recording: right / flagged / wrong counts over its moving windows, and its still windows flagged."""
+    from gaitml.models import predict_recording
+
+    rows = []
+    for it in items:
+        p = predict_recording(model, it["recording"])
+        s = score_windows(p, it["mode"])
+        still = p[(p["label"].astype(str) == "still") & (p["label_fraction"] >= 0.5)]
+        n_still_flagged = int(sum(v is False for v in still["in_domain"]))
+        rows.append(
+            {
+                "subject": it["subject"],
+                "phone": it["phone"],
+                "motion": it["motion"],
+                **s,
+                "n_still": len(still),
+                "still_flagged": n_still_flagged,
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def summarise(t: pd.DataFrame, by: str = "subject") -> pd.DataFrame:
+    """Per motion: pooled shares over the moving windows, and the min-max of `right` and `wrong` over ``by`` (the left-out people)."""
+    rows = []
+    for motion in [*MOTION_ORDER, "all"]:
+        g = t if motion == "all" else t[t["motion"] == motion]
+        if g.empty:
+            continue
+        n = g["n"].sum()
+        per = g.groupby(by)[["right", "n", "wrong", "flagged"]].sum()
+        r_p = per["right"] / per["n"].where(per["n"] > 0)
+        w_p = per["wrong"] / per["n"].where(per["n"] > 0)
+        rows.append(
+            {
+                "motion": motion,
+                "moving windows": int(n),
+                "right": g["right"].sum() / n,
+                "flagged": g["flagged"].sum() / n,
+                "silently wrong": g["wrong"].sum() / n,
+                "right per left-out": f"{r_p.min():.2f}-{r_p.max():.2f}",
+                "wrong per left-out": f"{w_p.min():.2f}-{w_p.max():.2f}",
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def _sim(cfg, seed: int, subjects: int, positions) -> list:
+    from gaitml.simulate import simulate_dataset
+
+    s = cfg["data"]["simulated"]
+    return list(
+        simulate_dataset(
+            n_subjects=subjects,
+            duration_s=s["duration_s"],
+            modes=tuple(s["modes"]),
+            sampling_rate_hz=cfg["data"]["resample_hz"],
+            seed=seed,
+            pose=s["pose"],
+            positions=tuple(positions),
+        )
+    )
+
+
+def keep_modes(rec, modes) -> object:
+    lab = np.asarray(rec.labels).astype(object)
+    lab = np.where(np.isin(lab.astype(str), list(modes)), lab, "unlabelled").astype(object)
+    return rec.replace(labels=lab, check_units=False)
+
+
+def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path):
+    """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model."""
+    from gaitml.consts import MOTION_MODES
+    from gaitml.features import feature_names
+    from gaitml.models import load_model, make_model, save_model
+    from gaitml.pipeline.runner import PreparedData, _window_info, build_dataset, fit_training_domain
+
+    sim_modes, weight = RECIPES[recipe]
+    recs = [keep_modes(r, sim_modes) for r in sim_recs]
+    groups = [f"sim-{r.meta['subject']}" for r in sim_recs]
+    for it in real_items:
+        for _ in range(weight):
+            recs.append(it["recording"])
+            groups.append(f"tyrex-{it['subject']}")
+    data = PreparedData(recs, groups, [f"recipe {recipe}"], keep_labels=list(MOTION_MODES))
+    ds = build_dataset(cfg, data, use_cache=False)
+    model = make_model(cfg["model"]["kind"], cfg["model"]["params"], seed=cfg.seed)
+    model.fit(ds.inputs("features"), ds.y)
+    fset = cfg["features"]["set"]
+    info = {
+        "name": f"{cfg.name}-{recipe}",
+        "model_kind": cfg["model"]["kind"],
+        "model_params": cfg["model"]["params"],
+        "input_kind": "features",
+        "feature_set": fset,
+        "feature_names": list(feature_names(fset)),
+        "raw_channels": [],
+        "window": _window_info(cfg),
+        "sampling_rate_hz": ds.sampling_rate_hz,
+        "labels": [str(x) for x in model.classes_],
+        "postprocess": cfg["postprocess"],
+        "training_config": cfg.resolved(),
+        "training_data": {"n_windows": len(ds), "n_recordings": len(recs), "groups": sorted(set(groups)), "notes": data.notes},
+        "feature_frame": cfg["features"]["frame"],
+    }
+    domain = fit_training_domain(cfg, data, ds, model)
+    save_model(out_dir, model, info, domain=domain, card=False)
+    return load_model(out_dir), len(ds)
+
+
+def position_table(cfg, items: list[dict]) -> pd.DataFrame:
+    """Position recognition, one tyrex person left out: per motion, the share of moving windows given the right position.
+
+    A linear OVO SVM (paper 003, the config's features and windows) on the moving windows of
+    the other two people, labelled :data:`COARSE_POSITION` (hand, swinging hand, pocket).
+    """
+    from gaitml.models import build_window_dataset, make_model
+
+    w = cfg["windows"]
+    fset = cfg["features"]["set"]
+
+    def dataset(its):
+        recs = []
+        for it in its:
+            lab = it["recording"].labels.astype(str)
+            recs.append(
+                it["recording"].replace(
+                    labels=np.where(lab == it["mode"], COARSE_POSITION[it["motion"]], "x").astype(object), check_units=False
+                )
+            )
+        return build_window_dataset(
+            recs,
+            groups=[it["subject"] for it in its],
+            length_s=w["length_s"],
+            overlap=w["overlap"],
+            min_label_fraction=w["min_label_fraction"],
+            feature_set=fset,
+            keep_labels=sorted(set(COARSE_POSITION.values())),
+        )
+
+    rows = []
+    for person in sorted({it["subject"] for it in items}):
+        train = dataset([it for it in items if it["subject"] != person])
+        model = make_model(cfg["model"]["kind"], cfg["model"]["params"], seed=cfg.seed).fit(train.inputs("features"), train.y)
+        for motion in MOTION_ORDER:
+            its = [it for it in items if it["subject"] == person and it["motion"] == motion]
+            test = dataset(its)
+            pred = model.predict(test.inputs("features"))
+            rows.append({"left_out": person, "motion": motion, "n": len(test), "right": int(np.sum(pred == test.y))})
+    t = pd.DataFrame(rows)
+    g = t.groupby("motion", sort=False)[["n", "right"]].sum().reset_index()
+    g["accuracy"] = g["right"] / g["n"]
+    per = t.assign(a=t["right"] / t["n"]).groupby("motion", sort=False)["a"].agg(["min", "max"]).reset_index()
+    g["per person"] = [f"{lo:.2f}-{hi:.2f}" for lo, hi in zip(per["min"], per["max"], strict=True)]
+    g.insert(1, "position asked", [COARSE_POSITION[m] for m in g["motion"]])
+    return g.drop(columns=["right"])
+
+
+def sim_side_table(model, recs) -> pd.DataFrame:
+    """Held-out simulated recordings: per position and mode, right / flagged / wrong, and read as a side step of either direction."""
+    from gaitml.models import predict_recording
+
+    rows = []
+    for r in recs:
+        p = predict_recording(model, r)
+        inside = p["in_domain"].map(lambda v: v is not False).to_numpy(bool)
+        side = inside & p["mode"].astype(str).isin(["side_left", "side_right"]).to_numpy()
+        for m in ("walk", "run", *SIDE_MODES):
+            w = ((p["label"].astype(str) == m) & (p["label_fraction"] >= 0.5)).to_numpy()
+            rows.append({"position": r.meta["position"], "mode": m, **score_windows(p, m), "side": int(np.sum(side & w))})
+    t = pd.DataFrame(rows).groupby(["position", "mode"], sort=False)[["n", "right", "flagged", "wrong", "side"]].sum()
+    return t.reset_index()
+
+
+@functools.cache
+def _oxford(folder: Path) -> tuple:
+    from gaitml.io import read_dataset
+
+    return tuple(read_dataset(folder))
+
+
+def untrained_table(model, sim_recs, data: Path) -> list[dict]:
+    """Share of windows flagged out of domain on what the recipes were not trained on."""
+    from gaitml.io import read_recording
+    from gaitml.models import predict_recording
+
+    def flagged_share(recs):
+        n = k = 0
+        for r in recs:
+            try:
+                p = predict_recording(model, r)
+            except Exception as exc:  # a model that needs a gyroscope cannot read an accelerometer-only set
+                return f"n/a ({type(exc).__name__})", 0
+            n += len(p)
+            k += int(sum(v is False for v in p["in_domain"]))
+        return (k / n if n else float("nan")), n
+
+    rows = []
+    for pos in ("bag", "belt"):
+        share, n = flagged_share([r for r in sim_recs if r.meta["position"] == pos])
+        rows.append({"what": f"simulator {pos} (seed {HELDOUT_SEED})", "windows": n, "flagged": share})
+    gm = data / "gaitmap-example" / "imu_sample.csv.gz"
+    if gm.exists():
+        share, n = flagged_share([read_recording(gm, sensor=s) for s in ("left", "right")])
+        rows.append({"what": "gaitmap foot-mounted IMU (both feet)", "windows": n, "flagged": share})
+    ox = data / "oxford-step-counter" / "optimisation"
+    if ox.exists() and "gyro" not in model.feature_set:
+        recs = _oxford(ox)
+        for key, name in OXFORD_UNCOVERED.items():
+            share, n = flagged_share([r for r in recs if str(r.meta.get("position", "")).lower() == key])
+            rows.append({"what": f"Oxford {name} (no gyroscope)", "windows": n, "flagged": share})
+    return rows
+
+
+def md(df: pd.DataFrame) -> str:
+    """A DataFrame as a markdown table, shares to 2 decimals."""
+    cols = list(df.columns)
+    out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    for r in df.to_dict("records"):
+        out.append("| " + " | ".join(f"{v:.2f}" if isinstance(v, float) else str(v) for v in r.values()) + " |")
+    return "\n".join(out)
+
+
+def main(argv=None) -> int:
+    from gaitml.models import load_model
+    from gaitml.pipeline.config import load_config
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", type=Path, default=Path("../shared/data"))
+    ap.add_argument("--config", type=Path, default=Path("experiments/tyrex-modes.toml"))
+    ap.add_argument("--features", default=None, help="override features.set (all52 for the accelerometer-only twin)")
+    ap.add_argument("--recipes", default="sim,a,b,c")
+    ap.add_argument("--holdout", choices=("person", "person-phone"), default="person", help="what each fold leaves out")
+    ap.add_argument("--baseline", default="models/demo,models/demo-acc", help="shipped models to score first ('' = none)")
+    ap.add_argument("--sim-subjects", type=int, default=None, help="override data.simulated.subjects")
+    ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
+    ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
+    ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
+    a = ap.parse_args(argv)
+    cfg = load_config(a.config)
+    over = {}
+    if a.features:
+        over["features.set"] = a.features
+    if a.sim_subjects:
+        over["data.simulated.subjects"] = a.sim_subjects
+    if over:
+        cfg = cfg.with_values(over)
+    t0 = time.perf_counter()
+    items = load_tyrex_labelled(a.data, cfg["data"]["resample_hz"])
+    print(f"[tyrex_modes] {len(items)} tyrex recordings read ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    text: list[str] = []
+    rows_all = []
+
+    def emit(s=""):
+        print(s)
+        text.append(s)
+
+    n_moving = sum(int(np.sum(it["recording"].labels.astype(str) == it["mode"])) for it in items)
+    n_in = sum(int(np.sum(it["recording"].labels.astype(str) != "unlabelled")) for it in items)
+    emit(f"moving samples (body speed > 0.3 m/s): {n_moving / n_in:.3f} of the captured samples")
+    for mdir in [m for m in a.baseline.split(",") if m]:
+        model = load_model(mdir)
+        t = window_table(model, items)
+        t["model"] = mdir
+        rows_all.append(t)
+        emit(f"\n### shipped {mdir} (trained on the simulator only), all 3 people\n")
+        emit(md(summarise(t)))
+    if a.positions and a.holdout == "person":
+        emit(f"\n### position recognition ({cfg['features']['set']}, real tyrex moving windows only), each person left out in turn\n")
+        emit(md(position_table(cfg, items)))
+    positions = cfg["data"]["simulated"]["positions"]
+    sim_train = _sim(cfg, cfg.seed, cfg["data"]["simulated"]["subjects"], positions)
+    sim_test = _sim(cfg, HELDOUT_SEED, 2, [*positions, "bag", "belt"])
+    if a.holdout == "person":
+        folds = [(p, None) for p in sorted({it["subject"] for it in items})]
+    else:  # another person AND another phone: train on the other two people's other two phones
+        folds = sorted({(it["subject"], it["phone"]) for it in items})
+    for recipe in [r for r in a.recipes.split(",") if r]:
+        tabs, sides, untr = [], [], []
+        for person, phone in folds:
+            t1 = time.perf_counter()
+            train = [it for it in items if it["subject"] != person and (phone is None or it["phone"] != phone)]
+            test = [it for it in items if it["subject"] == person and (phone is None or it["phone"] == phone)]
+            person = person if phone is None else f"{person}/{phone}"
+            with tempfile.TemporaryDirectory() as tmp:
+                model, n_win = train_recipe(cfg, sim_train, train, recipe, Path(tmp) / "m")
+            t = window_table(model, test)
+            t["model"], t["left_out"] = f"recipe {recipe} ({cfg['features']['set']})", person
+            tabs.append(t)
+            s = sim_side_table(model, [r for r in sim_test if r.meta["position"] in positions])
+            s["left_out"] = person
+            sides.append(s)
+            for row in untrained_table(model, sim_test, a.data):
+                untr.append({**row, "left_out": person})
+            print(
+                f"[tyrex_modes] recipe {recipe}, {person} left out: {n_win} training windows, {time.perf_counter() - t1:.0f} s",
+                file=sys.stderr,
+            )
+        t = pd.concat(tabs, ignore_index=True)
+        rows_all.append(t)
+        what = (
+            "each tyrex person left out in turn"
+            if a.holdout == "person"
+            else "each person x phone left out (trained on the other people's other phones)"
+        )
+        emit(f"\n### recipe {recipe} ({cfg['features']['set']}), {what}\n")
+        emit(md(summarise(t, by="left_out")))
+        ns, nf = t["n_still"].sum(), t["still_flagged"].sum()
+        emit(f"\nstill windows of the left-out people flagged: {nf / max(ns, 1):.2f} of {ns}")
+        s = pd.concat(sides, ignore_index=True)
+        g = s.groupby(["position", "mode"], sort=False)[["n", "right", "flagged", "wrong", "side"]].sum().reset_index()
+        per = s.assign(r=s["right"] / s["n"]).groupby(["position", "mode"], sort=False)["r"].agg(["min", "max"]).reset_index()
+        g["right"] = g["right"] / g["n"]
+        g["flagged"] = g["flagged"] / g["n"]
+        g["silently wrong"] = g["wrong"] / g["n"]
+        g["side step, either direction"] = g.pop("side") / g["n"]
+        g["right over folds"] = [f"{lo:.2f}-{hi:.2f}" for lo, hi in zip(per["min"], per["max"], strict=True)]
+        emit(f"\nheld-out simulator (seed {HELDOUT_SEED}, 2 subjects, windows summed over the {len(folds)} folds' models)\n")
+        emit(md(g.drop(columns=["wrong"])))
+        u = pd.DataFrame(untr)
+        ug = u.groupby("what", sort=False).agg(
+            windows=("windows", "first"), flagged=("flagged", lambda v: "/".join(f"{x:.2f}" if isinstance(x, float) else str(x) for x in v))
+        )
+        emit(
+            "\nnot trained on, flagged (one figure per fold, in the order "
+            + ", ".join(p if q is None else f"{p}/{q}" for p, q in folds)
+            + ")\n"
+        )
+        emit(md(ug.reset_index()))
+    if a.csv:
+        pd.concat(rows_all, ignore_index=True).to_csv(a.csv, index=False)
+    if a.out:
+        a.out.write_text("\n".join(text) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

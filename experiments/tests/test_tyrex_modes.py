@@ -1,0 +1,79 @@
+"""The tyrex modes study's own pieces: the speed rule and the window scores, on known answers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from experiments.scripts.tyrex_modes import RECIPES, moving_labels, score_windows, summarise
+
+
+def test_moving_labels_follow_the_body_speed_and_leave_the_uncaptured_out():
+    """Stand 10 s, walk 20 s at 1 m/s (arm swing of 0.3 m at 1 Hz on top), stand 10 s: only the walk is moving."""
+    tt = np.arange(0, 40, 1 / 60)
+    x = np.clip(tt - 10, 0, 20)
+    swing = 0.3 * np.sin(2 * np.pi * 1.0 * tt) * ((tt > 10) & (tt < 30))
+    xy = np.column_stack([x + swing, np.zeros_like(tt)])
+    t = np.arange(-2, 42, 1 / 50)
+    lab = moving_labels(t, tt, xy, "walk")
+    assert set(lab[t < 0]) == {"unlabelled"} and set(lab[t > 40]) == {"unlabelled"}
+    assert set(lab[(t > 13) & (t < 27)]) == {"walk"}
+    assert set(lab[((t > 1) & (t < 7)) | ((t > 33) & (t < 39))]) == {"still"}
+    walk_s = np.sum(lab == "walk") / 50
+    assert walk_s == pytest.approx(20, abs=2)
+
+
+def test_a_phone_swinging_in_a_still_hand_is_not_moving():
+    """The 0.5 Hz low-pass removes a 1 Hz swing of 0.3 m: a person standing still is still."""
+    tt = np.arange(0, 30, 1 / 60)
+    xy = np.column_stack([0.3 * np.sin(2 * np.pi * tt), np.zeros_like(tt)])
+    lab = moving_labels(np.arange(5, 25, 0.02), tt, xy, "walk")
+    assert set(lab) == {"still"}
+
+
+def test_score_windows_splits_right_flagged_and_silently_wrong():
+    pred = pd.DataFrame(
+        {
+            "label": ["walk", "walk", "walk", "walk", "still", "walk"],
+            "label_fraction": [1.0, 1.0, 1.0, 1.0, 1.0, 0.4],
+            "mode": ["walk", "backward", "walk", "run", "walk", "walk"],
+            "in_domain": np.array([True, True, False, True, True, True], dtype=object),
+        }
+    )
+    s = score_windows(pred, "walk")
+    assert s == {"n": 4, "right": 1, "flagged": 1, "wrong": 2}
+
+
+def test_summarise_pools_windows_and_gives_the_spread_over_people():
+    t = pd.DataFrame(
+        {
+            "subject": ["A", "B"],
+            "motion": ["Texting", "Texting"],
+            "n": [10, 30],
+            "right": [10, 15],
+            "flagged": [0, 15],
+            "wrong": [0, 0],
+        }
+    )
+    row = summarise(t).iloc[0]
+    assert row["right"] == pytest.approx(25 / 40)
+    assert row["right per left-out"] == "0.50-1.00"
+
+
+def test_every_recipe_keeps_side_steps_and_backward_from_the_simulator():
+    for name, (sim_modes, weight) in RECIPES.items():
+        assert {"side_left", "side_right", "backward"} <= set(sim_modes)
+        assert weight >= 1 or name == "sim"
+
+
+def test_recipe_b_keeps_only_the_simulated_side_steps_and_backward():
+    from experiments.scripts.tyrex_modes import keep_modes
+    from gaitml.recording import Recording
+
+    n = 8
+    labels = np.array(["walk", "run", "side_left", "side_right", "backward", "walk", "backward", "run"], dtype=object)
+    acc = np.tile([0.0, 0.0, 9.81], (n, 1))
+    rec = Recording.from_arrays(acc, 50.0, labels=labels)
+    kept = keep_modes(rec, RECIPES["b"][0]).labels.astype(str)
+    assert list(kept) == ["unlabelled", "unlabelled", "side_left", "side_right", "backward", "unlabelled", "backward", "unlabelled"]

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from gaitml.commands._args import add_input_options, choices, heading_sources, mode_assignments, mode_sources, step_detectors
-from gaitml.commands._util import emit_json, load_input, log
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 from gaitml.errors import InputError
 
 #: The command's one-line description in ``gaitml --help``.
@@ -139,6 +139,8 @@ def run(args) -> int:
 
         model = load_model(args.model)
     step_length = StepLengthModel.load(args.step_length) if getattr(args, "step_length", None) else None
+    if is_large_input(args):
+        return _run_long(args, model, step_length, notes)
     rec = load_input(args)
     rec.require_gyr("PDR heading")
     modes = getattr(args, "modes", None)
@@ -250,6 +252,90 @@ def run(args) -> int:
             lines.append(f"  truth: distance {d_true:.1f} m; end-point error {err:.2f} m = {pct:.2f} % of distance")
     if scored is not None:
         lines.extend(_truth_lines(truth_obj, scored))
+    if args.out:
+        lines.append(f"  trajectory written to {args.out}")
+    if args.plot:
+        lines.append(f"  plot written to {args.plot}")
+    print("\n".join(lines))
+    return 0
+
+
+def _run_long(args, model, step_length, notes: list[str]) -> int:
+    """A long input (over :data:`gaitml.io.chunked.LARGE_INPUT_SAMPLES`): dead reckoning chunk by chunk
+    (:func:`gaitml.chunked_run.long_pdr`, bounded memory), the same outputs as a file read whole.
+
+    ``--truth`` is refused (it scores against the whole recording held in memory); the plot shows the
+    per-step trajectory (one point per step, not per sample), without the input's reference path.
+    """
+    from gaitml.chunked_run import long_pdr
+    from gaitml.io import atomic_path
+    from gaitml.steps.crosscheck import CROSSCHECK_DETECTOR, FIXED_THRESHOLD_DETECTORS, compare_counts
+
+    name = Path(args.input).name
+    if getattr(args, "truth", None):
+        raise InputError(
+            f"--truth scores against the whole recording in memory and {name} is read in chunks (a long file); "
+            "score a shorter part (gaitml split) or run without --truth."
+        )
+    detector = _detector(args, model, notes)
+    also = CROSSCHECK_DETECTOR if detector in FIXED_THRESHOLD_DETECTORS and detector != CROSSCHECK_DETECTOR else None
+    h0 = getattr(args, "initial_heading_rad", None)
+    res = long_pdr(
+        args.input,
+        model=model,
+        detector=detector,
+        heading=getattr(args, "heading", "hde"),
+        modes=getattr(args, "modes", None),
+        mode_boundaries=getattr(args, "mode_boundaries", "auto"),
+        step_length=step_length,
+        initial_heading_rad=0.0 if h0 is None else h0,
+        count_also=also,
+        progress=True,
+        **long_read_kwargs(args),
+    )
+    modes = res.info["modes"]
+    if step_length is None:
+        notes.append("step lengths from the uncalibrated default model (pass --step-length FILE.json for a calibrated one).")
+    notes.insert(0, f"{name} is long: read in chunks (bounded memory); the heading is integrated across the chunks")
+    notes += list(res.info["notes"])
+    with contextlib.ExitStack() as stack:
+        if args.plot:
+            from gaitml.pdr.plot import plot_trajectory
+
+            tmp_plot = stack.enter_context(atomic_path(args.plot, suffix=".png"))
+            title = f"{name}: {res.n_steps} steps, heading {res.info['heading']}, modes {modes}, update {res.info['update']}"
+            plot_trajectory(tmp_plot, res.trajectory, truth=None, title=title)
+        if args.out:
+            tmp_out = stack.enter_context(atomic_path(args.out, suffix=".csv"))
+            res.trajectory.to_csv(tmp_out, index=False)
+    for note in notes:
+        log(f"note: {note}")
+    if model is not None and modes == "model":
+        from gaitml.commands._domain import domain_warning
+
+        flags = res.steps["in_domain"].to_numpy(dtype=object) if "in_domain" in res.steps else []
+        warning = domain_warning(model, flags, what="steps")
+        if warning:
+            tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
+            log(f"gaitml: warning: {warning}{tail}")
+    count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
+    if count_msg:
+        log(f"gaitml: warning: {count_msg}")
+    if args.json:
+        obj = res.to_json_dict()
+        if count_msg:
+            obj["warnings"] = [count_msg]
+        emit_json(obj)
+        return 0
+    x, y = res.end_xy_m
+    lines = [
+        f"{name}: {res.n_steps} steps, distance {res.distance_m:.1f} m, end point ({x:.2f}, {y:.2f}) m "
+        f"[heading {res.info['heading']}, modes {modes}, update {res.info['update']}]"
+    ]
+    if res.info.get("out_of_domain_steps") is not None:
+        lines.append(
+            f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
+        )
     if args.out:
         lines.append(f"  trajectory written to {args.out}")
     if args.plot:

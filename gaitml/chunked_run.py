@@ -360,7 +360,8 @@ def long_pdr(
 
     Returns
     -------
-    PdrResult, with ``steps.attrs["count_also"]`` as :func:`long_steps` when ``count_also`` is given.
+    PdrResult, with ``steps.attrs["count_also"]`` as :func:`long_steps` when ``count_also`` is given
+    and ``steps.attrs["recording_name"]`` (the :attr:`~gaitml.recording.Recording.name` of a whole-file read).
     """
     from gaitml.errors import InputError
     from gaitml.pdr.attitude import step_headings
@@ -428,6 +429,7 @@ def long_pdr(
         rec = ch.recording
         fs = rec.sampling_rate_hz
         rec.require_gyr("PDR heading")
+        attrs["recording_name"] = rec.name
         if modes is None:
             if rec.labels is not None:
                 modes = "true"
@@ -454,7 +456,7 @@ def long_pdr(
         prev_heading, prev_lo = heading_local, ch.offset
         # ---- steps anchored in the core
         table = get_detector(detector).detect(rec).steps_
-        attrs = dict(table.attrs)
+        attrs.update(table.attrs)
         table = table[_in_core(table, ch)].reset_index(drop=True)
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(rec).steps_, ch).sum()))

@@ -141,3 +141,26 @@ def test_pdr_cli_long_path_refusals(walk_file, monkeypatch, capsys, tmp_path, ex
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and needle in err[0] and "chunks" in err[0]
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_pdr_cli_long_path_summary_is_the_whole_files(walk_file, monkeypatch, capsys, tmp_path):
+    """With a reference trajectory sidecar, both roads start from its heading and print the same summary
+    (steps, distance, end point, the end-point error line)."""
+    import shutil
+
+    import pandas as pd
+
+    f = tmp_path / "walk.csv"
+    shutil.copy(walk_file, f)
+    pd.DataFrame({"t_s": [0.0, 100.0, 200.0], "x_m": [0.0, 30.0, 60.0], "y_m": [0.0, 90.0, 180.0], "heading_rad": 0.3}).to_csv(
+        tmp_path / "walk.trajectory.csv", index=False
+    )
+    assert main(["pdr", str(f)]) == 0
+    short = capsys.readouterr()
+    _force_long(monkeypatch)
+    assert main(["pdr", str(f)]) == 0
+    long = capsys.readouterr()
+    assert "start heading 0.300 rad" in long.err and "start heading 0.300 rad" in short.err
+    lines = long.out.strip().splitlines()
+    assert len(lines) == 2 and lines[1].startswith("  truth:")
+    assert lines == short.out.strip().splitlines()

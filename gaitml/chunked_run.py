@@ -366,7 +366,6 @@ def long_pdr(
     from gaitml.errors import InputError
     from gaitml.pdr.attitude import step_headings
     from gaitml.pdr.pipeline import (
-        MODE_SOURCES,
         _heading_source,
         _out_of_domain_steps,
         _resolve_step_length,
@@ -381,32 +380,7 @@ def long_pdr(
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
     source = _heading_source(heading, attitude=None, hde=None, dwpca=None, initial_heading_rad=initial_heading_rad)
-    if not source.steps_only:
-        raise InputError(
-            f"the {heading} heading needs the whole recording in memory and {Path(path).name} is read in chunks "
-            "(a long file); use --heading hde or --heading gyro, or split the file (gaitml split)."
-        )
-    notes: list[str] = []
-    if modes is None:
-        modes = "model" if model is not None else None  # labels or forward: decided on the first chunk
-    if modes is not None and modes not in MODE_SOURCES:
-        raise InputError(f"unknown mode source {modes!r}; use one of {', '.join(MODE_SOURCES)}.")
-    if modes == "model":
-        if model is None:
-            raise InputError("modes='model' needs a model (--model MODEL_DIR); use modes='true' with labels or 'forward'.")
-        if getattr(model, "window_by", "time") != "time":
-            raise InputError(
-                "a step-window model classifies each step on the whole recording's samples and this file is read in chunks "
-                "(a long file); use a time-window model, or split the file (gaitml split)."
-            )
-        if mode_boundaries == "refine":
-            raise InputError(
-                "--mode-boundaries refine reads the samples around every mode change and this file is read in chunks "
-                "(a long file); use --mode-boundaries nearest or middle, or split the file (gaitml split)."
-            )
-        if mode_boundaries == "auto":
-            mode_boundaries = "nearest"
-            notes.append("a long file read in chunks: modes from the nearest window, without boundary refinement")
+    modes, mode_boundaries, notes = check_long_pdr(path, source, model=model, modes=modes, mode_boundaries=mode_boundaries)
     slm, sl_source = _resolve_step_length(step_length)
     if slm is None:
         raise InputError(
@@ -530,3 +504,46 @@ def long_pdr(
     )
     res.steps.attrs.update(steps.attrs)
     return res
+
+
+def check_long_pdr(
+    path, heading, *, model=None, modes: str | None = None, mode_boundaries: str = "auto"
+) -> tuple[str | None, str, list[str]]:
+    """Refuse what :func:`long_pdr` cannot run chunked (before any reading), one :class:`~gaitml.errors.InputError` each.
+
+    ``heading`` is a heading source name or object. Returns ``(modes, mode_boundaries, notes)``:
+    ``modes`` is ``'model'`` with a model and None when it is decided on the first chunk (labels
+    or forward); ``'auto'`` boundaries become ``'nearest'``, with a note.
+    """
+    from gaitml.errors import InputError
+    from gaitml.pdr.pipeline import HEADING_SOURCES, MODE_SOURCES
+
+    cls = HEADING_SOURCES.get(heading) if isinstance(heading, str) else type(heading)
+    if cls is not None and not cls.steps_only:
+        name = heading if isinstance(heading, str) else cls.name or cls.__name__
+        raise InputError(
+            f"the {name} heading needs the whole recording in memory and {Path(path).name} is read in chunks "
+            "(a long file); use --heading hde or --heading gyro, or split the file (gaitml split)."
+        )
+    notes: list[str] = []
+    if modes is None:
+        modes = "model" if model is not None else None
+    if modes is not None and modes not in MODE_SOURCES:
+        raise InputError(f"unknown mode source {modes!r}; use one of {', '.join(MODE_SOURCES)}.")
+    if modes == "model":
+        if model is None:
+            raise InputError("modes='model' needs a model (--model MODEL_DIR); use modes='true' with labels or 'forward'.")
+        if getattr(model, "window_by", "time") != "time":
+            raise InputError(
+                "a step-window model classifies each step on the whole recording's samples and this file is read in chunks "
+                "(a long file); use a time-window model, or split the file (gaitml split)."
+            )
+        if mode_boundaries == "refine":
+            raise InputError(
+                "--mode-boundaries refine reads the samples around every mode change and this file is read in chunks "
+                "(a long file); use --mode-boundaries nearest or middle, or split the file (gaitml split)."
+            )
+        if mode_boundaries == "auto":
+            mode_boundaries = "nearest"
+            notes.append("a long file read in chunks: modes from the nearest window, without boundary refinement")
+    return modes, mode_boundaries, notes

@@ -260,7 +260,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
     ``--truth`` is refused (it scores against the whole recording held in memory); the plot shows the
     per-step trajectory (one point per step).
     """
-    from gaitml.chunked_run import long_pdr
+    from gaitml.chunked_run import check_long_pdr, long_pdr
     from gaitml.io import atomic_path
     from gaitml.steps.crosscheck import CROSSCHECK_DETECTOR, FIXED_THRESHOLD_DETECTORS, compare_counts
 
@@ -270,6 +270,13 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
             f"--truth scores against the whole recording in memory and {name} is read in chunks (a long file); "
             "score a shorter part (gaitml split) or run without --truth."
         )
+    check_long_pdr(
+        args.input,
+        getattr(args, "heading", "hde"),
+        model=model,
+        modes=getattr(args, "modes", None),
+        mode_boundaries=getattr(args, "mode_boundaries", "auto"),
+    )
     detector = _detector(args, model, notes)
     also = CROSSCHECK_DETECTOR if detector in FIXED_THRESHOLD_DETECTORS and detector != CROSSCHECK_DETECTOR else None
     truth = _long_reference(args)

@@ -135,6 +135,11 @@ def test_pdr_cli_long_path_refusals(walk_file, monkeypatch, capsys, tmp_path, ex
     from tests.conftest import ROOT
 
     _force_long(monkeypatch)
+
+    def no_read(*_a, **_k):  # refused before the first pass over the file
+        raise AssertionError("pdr read the input before refusing an option")
+
+    monkeypatch.setattr("gaitml.commands.pdr.long_read_kwargs", no_read)
     out = tmp_path / "traj.csv"
     argv = ["pdr", str(walk_file), "--out", str(out), *[str(ROOT / "models" / "demo") if a == "MODEL" else a for a in extra]]
     assert main(argv) == 2

@@ -351,7 +351,8 @@ def long_pdr(
     :func:`long_predict` (identical windows), each step taking the nearest window's mode.
 
     Not available chunked, each refused with an :class:`~gaitml.errors.InputError`: DW-PCA
-    headings (they need every step's samples after the polarity is learned), step-window
+    headings (not implemented: they would need each step's navigation-frame acceleration and
+    mode inside the chunk loop), step-window
     models and ``mode_boundaries='refine'`` (the refinement reads the samples around every
     mode change); ``'auto'`` becomes ``'nearest'`` with a note.
 
@@ -522,8 +523,8 @@ def check_long_pdr(
     if cls is not None and not cls.steps_only:
         name = heading if isinstance(heading, str) else cls.name or cls.__name__
         raise InputError(
-            f"the {name} heading needs the whole recording in memory and {Path(path).name} is read in chunks "
-            "(a long file); use --heading hde or --heading gyro, or split the file (gaitml split)."
+            f"the {name} heading is not available on {Path(path).name}, which is read in chunks (a long file); "
+            "use --heading hde or --heading gyro, or split the file (gaitml split)."
         )
     notes: list[str] = []
     if modes is None:

@@ -15,7 +15,9 @@ Equivalence with a whole-file run:
 - step detectors whose state is local (peaks, zero crossings, FSMs that reset
   every step) give the same steps away from chunk boundaries; detectors that
   learn thresholds (``fsm-selflearn``, ``adaptive``) restart learning in every
-  chunk's left margin, which the 30 s margin covers.
+  chunk's left margin, which the 30 s margin covers;
+- dead reckoning (:func:`long_pdr`) carries the attitude across chunks and corrects
+  the heading over all steps: identical steps, positions within a millimetre.
 """
 
 from __future__ import annotations
@@ -24,13 +26,15 @@ import math
 import os
 import sys
 from collections.abc import Callable, Iterator
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from sklearn.base import clone
 
 from gaitml.io.chunked import Chunk, iter_chunks, scan_input
 
-__all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "progress_chunks"]
+__all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pdr", "progress_chunks"]
 
 DEFAULT_CHUNK_S = 600.0
 DEFAULT_MARGIN_S = 30.0
@@ -311,3 +315,236 @@ def long_predict(
         corrected = np.asarray(adjacent_window_correction(out["mode_raw"].to_numpy())).astype(str)
         out["mode"] = np.where(out["still"].to_numpy(dtype=bool), STILL, corrected)
     return out
+
+
+def long_pdr(
+    path: str | os.PathLike,
+    *,
+    model=None,
+    detector: str = "single-peak",
+    heading: str = "hde",
+    modes: str | None = None,
+    mode_boundaries: str = "auto",
+    step_length=None,
+    initial_heading_rad: float = 0.0,
+    chunk_s: float | None = None,
+    margin_s: float | None = None,
+    progress: bool = True,
+    count_also: str | None = None,
+    **read_kwargs,
+):
+    """Dead-reckon a long recording chunk by chunk: :func:`gaitml.pdr.run_pdr` in bounded memory.
+
+    One pass over the file's chunks detects the steps (those anchored in each chunk's core,
+    as :func:`long_steps`), computes their step-length features and true-label modes on the
+    chunk, and integrates the attitude (paper 003 sec. 4.2) across the chunks: each chunk
+    continues the integration from the attitude of the sample before its core
+    (:meth:`~gaitml.pdr.attitude.AttitudeEstimator.estimate_from`), and the samples of its
+    left margin keep the previous chunk's headings, so every sample's heading is that of one
+    integration over the whole file (the complementary filter's zero-phase gravity low-pass
+    is computed per chunk; the margins keep its edge effects out of the cores). Only per-step
+    values are kept, so memory grows with the steps (a few hundred bytes each), not the samples.
+
+    The heading correction then runs on the whole step sequence, as on a whole recording: HDE
+    (paper 003 sec. 4.2, with its drift rate fitted over all steps) and the raw gyro heading
+    need only the per-step gyro headings (``steps_only``). Modes from a model come from
+    :func:`long_predict` (identical windows), each step taking the nearest window's mode.
+
+    Not available chunked, each refused with an :class:`~gaitml.errors.InputError`: DW-PCA
+    headings (not implemented: they would need each step's navigation-frame acceleration and
+    mode inside the chunk loop), step-window
+    models and ``mode_boundaries='refine'`` (the refinement reads the samples around every
+    mode change); ``'auto'`` becomes ``'nearest'`` with a note.
+
+    ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
+    :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).
+
+    Returns
+    -------
+    PdrResult, with ``steps.attrs["count_also"]`` as :func:`long_steps` when ``count_also`` is given
+    and ``steps.attrs["recording_name"]`` (the :attr:`~gaitml.recording.Recording.name` of a whole-file read).
+    """
+    from gaitml.errors import InputError
+    from gaitml.pdr.attitude import step_headings
+    from gaitml.pdr.pipeline import (
+        _heading_source,
+        _out_of_domain_steps,
+        _resolve_step_length,
+        assemble_result,
+        modes_from_labels,
+    )
+    from gaitml.pdr.step_length import step_length_features
+    from gaitml.pdr.step_modes import modes_from_windows, next_step_times
+    from gaitml.pdr.update import mode_offsets_rad
+    from gaitml.steps import get_detector
+
+    chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
+    margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
+    source = _heading_source(heading, attitude=None, hde=None, dwpca=None, initial_heading_rad=initial_heading_rad)
+    modes, mode_boundaries, notes = check_long_pdr(path, source, model=model, modes=modes, mode_boundaries=mode_boundaries)
+    slm, sl_source = _resolve_step_length(step_length)
+    if slm is None:
+        raise InputError(
+            "step_length='reference' needs a simulated recording's reference steps, which a file read in chunks does not carry."
+        )
+
+    windows = None
+    if modes == "model":
+        windows = long_predict(model, path, correction=True, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
+
+    parts, feat_parts, gyro_parts, label_parts = [], [], [], []
+    also_counts: list[int] = []
+    attrs: dict = {}
+    fs = None
+    carry = None  # attitude of the sample before the next chunk's core
+    prev_heading = None  # per-sample heading of the previous chunk, from global index prev_lo
+    prev_lo = 0
+    att = source.attitude
+    for ch in progress_chunks(iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"pdr ({detector})", enabled=progress):
+        rec = ch.recording
+        fs = rec.sampling_rate_hz
+        rec.require_gyr("PDR heading")
+        attrs["recording_name"] = rec.name
+        if modes is None:
+            if rec.labels is not None:
+                modes = "true"
+                notes.append("no --model; using the recording's own per-sample labels as the motion modes (--modes true).")
+            else:
+                modes = "forward"
+                notes.append("no --model and no labels: every step is treated as a forward walk step (traditional PDR, --modes forward).")
+        if modes == "true" and rec.labels is None:
+            raise InputError(
+                f"--modes true needs per-sample labels but {Path(path).name} has none; pass --model MODEL_DIR or use --modes forward."
+            )
+        # ---- attitude: continue the integration from the sample before this chunk's core
+        k = ch.core_start - ch.offset
+        if carry is None:
+            run = clone(att).estimate(rec)
+            heading_local = run.heading_rad_
+            first = 0
+        else:
+            run = clone(att).estimate_from(rec, k - 1, carry)
+            first = k - 1
+            heading_local = np.concatenate([prev_heading[ch.offset - prev_lo : ch.offset - prev_lo + first], run.heading_rad_])
+        last = ch.core_end - 1 - ch.offset  # local index of the core's last sample
+        carry = run.rotation_[last - first]
+        prev_heading, prev_lo = heading_local, ch.offset
+        # ---- steps anchored in the core
+        table = get_detector(detector).detect(rec).steps_
+        attrs.update(table.attrs)
+        table = table[_in_core(table, ch)].reset_index(drop=True)
+        if count_also is not None:
+            also_counts.append(int(_in_core(get_detector(count_also).detect(rec).steps_, ch).sum()))
+        start = table["start"].to_numpy(np.int64)
+        end = np.maximum(table["end"].to_numpy(np.int64), start + 1)
+        gyro_parts.append(step_headings(heading_local, start, end) if len(table) else np.zeros(0))
+        feat_parts.append(step_length_features(rec.acc, table, fs))
+        if modes == "true":
+            label_parts.append(modes_from_labels(rec.labels, start, end) if len(table) else np.zeros(0, dtype=str))
+        parts.append(_shift_steps(table, ch.offset, fs))
+    if fs is None:
+        raise InputError(f"{Path(path).name} has no samples.")
+    steps = pd.concat(parts, ignore_index=True)
+    steps.attrs.update(attrs)
+    event = steps.attrs.get("event", "t_peak_s")
+    if event not in steps:
+        event = "t_peak_s"
+    steps.attrs["event"] = event
+    steps.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_s}
+    if count_also is not None:
+        steps.attrs["count_also"] = {"detector": count_also, "n_steps": int(sum(also_counts))}
+    feats = pd.concat(feat_parts, ignore_index=True)
+    gyro_h = np.concatenate(gyro_parts)
+    t_step = steps[event].to_numpy(float)
+    n = len(steps)
+
+    # ---- modes per step (as run_pdr)
+    step_in_domain = model_modes = None
+    if modes == "true":
+        step_modes = np.concatenate(label_parts).astype(str)
+    elif modes == "model":
+        t_look = 0.5 * (t_step + next_step_times(t_step)) if mode_boundaries == "middle" and n > 1 else t_step
+        step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
+        step_in_domain, step_modes, model_modes = _out_of_domain_steps(model, windows, t_look, step_modes)
+    else:
+        step_modes = np.full(n, "walk", dtype=object)
+    step_modes = np.asarray(step_modes).astype(str)
+    update = "forward" if modes == "forward" else "multi"
+    offsets = mode_offsets_rad(step_modes, unknown="forward")
+    unknown = sorted(set(step_modes) - {"walk", "run", "side_left", "side_right", "backward", "forward"})
+    if unknown:
+        notes.append(f"modes {unknown} are not motion modes of paper 003; moved along the heading")
+    lengths = slm.predict(feats, step_modes)
+    lengths = np.where(np.isfinite(lengths), lengths, 0.0)
+    heading_steps = steps.assign(mode=step_modes, mode_offset_rad=offsets if update == "multi" else np.zeros(n))
+    heading_steps.attrs = dict(steps.attrs)
+    source.estimate_steps(heading_steps, gyro_h, fs)
+    res = assemble_result(
+        steps,
+        feats,
+        step_modes,
+        lengths,
+        source.heading_rad_,
+        gyro_h,
+        update=update,
+        start_xy_m=(0.0, 0.0),
+        initial_heading_rad=initial_heading_rad,
+        step_in_domain=step_in_domain,
+        model_modes=model_modes,
+        model=model,
+        info={
+            "detector": detector,
+            "heading": heading,
+            "modes": modes,
+            "mode_boundaries": mode_boundaries if modes == "model" else None,
+            "update": update,
+            "step_length": sl_source,
+            "initial_heading_rad": float(initial_heading_rad),
+            "notes": notes,
+        },
+    )
+    res.steps.attrs.update(steps.attrs)
+    return res
+
+
+def check_long_pdr(
+    path, heading, *, model=None, modes: str | None = None, mode_boundaries: str = "auto"
+) -> tuple[str | None, str, list[str]]:
+    """Refuse what :func:`long_pdr` cannot run chunked (before any reading), one :class:`~gaitml.errors.InputError` each.
+
+    ``heading`` is a heading source name or object. Returns ``(modes, mode_boundaries, notes)``:
+    ``modes`` is ``'model'`` with a model and None when it is decided on the first chunk (labels
+    or forward); ``'auto'`` boundaries become ``'nearest'``, with a note.
+    """
+    from gaitml.errors import InputError
+    from gaitml.pdr.pipeline import HEADING_SOURCES, MODE_SOURCES
+
+    cls = HEADING_SOURCES.get(heading) if isinstance(heading, str) else type(heading)
+    if cls is not None and not cls.steps_only:
+        name = heading if isinstance(heading, str) else cls.name or cls.__name__
+        raise InputError(
+            f"the {name} heading is not available on {Path(path).name}, which is read in chunks (a long file); "
+            "use --heading hde or --heading gyro, or split the file (gaitml split)."
+        )
+    notes: list[str] = []
+    if modes is None:
+        modes = "model" if model is not None else None
+    if modes is not None and modes not in MODE_SOURCES:
+        raise InputError(f"unknown mode source {modes!r}; use one of {', '.join(MODE_SOURCES)}.")
+    if modes == "model":
+        if model is None:
+            raise InputError("modes='model' needs a model (--model MODEL_DIR); use modes='true' with labels or 'forward'.")
+        if getattr(model, "window_by", "time") != "time":
+            raise InputError(
+                "a step-window model classifies each step on the whole recording's samples and this file is read in chunks "
+                "(a long file); use a time-window model, or split the file (gaitml split)."
+            )
+        if mode_boundaries == "refine":
+            raise InputError(
+                "--mode-boundaries refine reads the samples around every mode change and this file is read in chunks "
+                "(a long file); use --mode-boundaries nearest or middle, or split the file (gaitml split)."
+            )
+        if mode_boundaries == "auto":
+            mode_boundaries = "nearest"
+            notes.append("a long file read in chunks: modes from the nearest window, without boundary refinement")
+    return modes, mode_boundaries, notes

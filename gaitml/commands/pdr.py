@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from gaitml.commands._args import add_input_options, choices, heading_sources, mode_assignments, mode_sources, step_detectors
-from gaitml.commands._util import emit_json, load_input, log
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 from gaitml.errors import InputError
 
 #: The command's one-line description in ``gaitml --help``.
@@ -126,7 +126,6 @@ def _detector(args, model, notes: list[str]) -> str:
 
 def run(args) -> int:
     """Dead-reckon INPUT; print a summary or the JSON contract; optionally write the table and a plot."""
-    from gaitml.evaluation.trajectory import end_point_error
     from gaitml.io import atomic_path
     from gaitml.pdr import run_pdr
     from gaitml.pdr.step_length import StepLengthModel
@@ -139,6 +138,8 @@ def run(args) -> int:
 
         model = load_model(args.model)
     step_length = StepLengthModel.load(args.step_length) if getattr(args, "step_length", None) else None
+    if is_large_input(args):
+        return _run_long(args, model, step_length, notes)
     rec = load_input(args)
     rec.require_gyr("PDR heading")
     modes = getattr(args, "modes", None)
@@ -240,14 +241,7 @@ def run(args) -> int:
         lines.append(
             f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
         )
-    if truth is not None and len(truth):
-        import numpy as np
-
-        xy = truth[["x_m", "y_m"]].to_numpy(float)
-        d_true = float(np.linalg.norm(np.diff(xy, axis=0), axis=1).sum())
-        if d_true > 0:
-            err, pct = end_point_error(res.trajectory[["x_m", "y_m"]].to_numpy(), xy[-1], d_true)
-            lines.append(f"  truth: distance {d_true:.1f} m; end-point error {err:.2f} m = {pct:.2f} % of distance")
+    lines.extend(_reference_lines(res, truth))
     if scored is not None:
         lines.extend(_truth_lines(truth_obj, scored))
     if args.out:
@@ -256,6 +250,132 @@ def run(args) -> int:
         lines.append(f"  plot written to {args.plot}")
     print("\n".join(lines))
     return 0
+
+
+def _run_long(args, model, step_length, notes: list[str]) -> int:
+    """A long input (over :data:`gaitml.io.chunked.LARGE_INPUT_SAMPLES`): dead reckoning chunk by chunk
+    (:func:`gaitml.chunked_run.long_pdr`, bounded memory), the same outputs as a file read whole
+    (the start heading and the end-point line from a gaitml-csv's reference trajectory sidecar too).
+
+    ``--truth`` is refused (it scores against the whole recording held in memory); the plot shows the
+    per-step trajectory (one point per step).
+    """
+    from gaitml.chunked_run import check_long_pdr, long_pdr
+    from gaitml.io import atomic_path
+    from gaitml.steps.crosscheck import CROSSCHECK_DETECTOR, FIXED_THRESHOLD_DETECTORS, compare_counts
+
+    name = Path(args.input).name
+    if getattr(args, "truth", None):
+        raise InputError(
+            f"--truth scores against the whole recording in memory and {name} is read in chunks (a long file); "
+            "score a shorter part (gaitml split) or run without --truth."
+        )
+    check_long_pdr(
+        args.input,
+        getattr(args, "heading", "hde"),
+        model=model,
+        modes=getattr(args, "modes", None),
+        mode_boundaries=getattr(args, "mode_boundaries", "auto"),
+    )
+    detector = _detector(args, model, notes)
+    also = CROSSCHECK_DETECTOR if detector in FIXED_THRESHOLD_DETECTORS and detector != CROSSCHECK_DETECTOR else None
+    truth = _long_reference(args)
+    h0 = getattr(args, "initial_heading_rad", None)
+    if h0 is None and truth is not None and len(truth) and "heading_rad" in truth:
+        h0 = float(truth["heading_rad"].iloc[0])
+        notes.append(
+            f"start heading {h0:.3f} rad taken from the input's reference trajectory (no compass; pass --initial-heading-rad to override)."
+        )
+    res = long_pdr(
+        args.input,
+        model=model,
+        detector=detector,
+        heading=getattr(args, "heading", "hde"),
+        modes=getattr(args, "modes", None),
+        mode_boundaries=getattr(args, "mode_boundaries", "auto"),
+        step_length=step_length,
+        initial_heading_rad=0.0 if h0 is None else h0,
+        count_also=also,
+        progress=True,
+        **long_read_kwargs(args),
+    )
+    modes = res.info["modes"]
+    name = res.steps.attrs.get("recording_name", name)
+    if step_length is None:
+        notes.append("step lengths from the uncalibrated default model (pass --step-length FILE.json for a calibrated one).")
+    notes.insert(0, f"{name} is long: read in chunks (bounded memory); the heading is integrated across the chunks")
+    notes += list(res.info["notes"])
+    with contextlib.ExitStack() as stack:
+        if args.plot:
+            from gaitml.pdr.plot import plot_trajectory
+
+            tmp_plot = stack.enter_context(atomic_path(args.plot, suffix=".png"))
+            title = f"{name}: {res.n_steps} steps, heading {res.info['heading']}, modes {modes}, update {res.info['update']}"
+            plot_trajectory(tmp_plot, res.trajectory, truth=truth, title=title)
+        if args.out:
+            tmp_out = stack.enter_context(atomic_path(args.out, suffix=".csv"))
+            res.trajectory.to_csv(tmp_out, index=False)
+    for note in notes:
+        log(f"note: {note}")
+    if model is not None and modes == "model":
+        from gaitml.commands._domain import domain_warning
+
+        flags = res.steps["in_domain"].to_numpy(dtype=object) if "in_domain" in res.steps else []
+        warning = domain_warning(model, flags, what="steps")
+        if warning:
+            tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
+            log(f"gaitml: warning: {warning}{tail}")
+    count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
+    if count_msg:
+        log(f"gaitml: warning: {count_msg}")
+    if args.json:
+        obj = res.to_json_dict()
+        if count_msg:
+            obj["warnings"] = [count_msg]
+        emit_json(obj)
+        return 0
+    x, y = res.end_xy_m
+    lines = [
+        f"{name}: {res.n_steps} steps, distance {res.distance_m:.1f} m, end point ({x:.2f}, {y:.2f}) m "
+        f"[heading {res.info['heading']}, modes {modes}, update {res.info['update']}]"
+    ]
+    if res.info.get("out_of_domain_steps") is not None:
+        lines.append(
+            f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
+        )
+    lines.extend(_reference_lines(res, truth))
+    if args.out:
+        lines.append(f"  trajectory written to {args.out}")
+    if args.plot:
+        lines.append(f"  plot written to {args.plot}")
+    print("\n".join(lines))
+    return 0
+
+
+def _long_reference(args):
+    """The reference trajectory of a long gaitml-csv input (its ``<stem>.trajectory.csv`` sidecar, read as a
+    whole-file read reads it), or None."""
+    from gaitml.io._detect import detect_format
+    from gaitml.io.gaitml_csv import _read_sidecars
+
+    p = Path(args.input)
+    if getattr(args, "columns", None) is not None or (getattr(args, "format", None) or detect_format(p)) != "gaitml-csv":
+        return None
+    return _read_sidecars(p).get("trajectory")
+
+
+def _reference_lines(res, truth) -> list[str]:
+    """The summary line comparing the end point with the input's reference trajectory (none without one)."""
+    from gaitml.evaluation.trajectory import end_point_error
+
+    if truth is None or not len(truth):
+        return []
+    xy = truth[["x_m", "y_m"]].to_numpy(float)
+    d_true = float(np.linalg.norm(np.diff(xy, axis=0), axis=1).sum())
+    if not d_true > 0:
+        return []
+    err, pct = end_point_error(res.trajectory[["x_m", "y_m"]].to_numpy(), xy[-1], d_true)
+    return [f"  truth: distance {d_true:.1f} m; end-point error {err:.2f} m = {pct:.2f} % of distance"]
 
 
 # ---- scoring against ground truth (issue 31): --truth, --truth-align, --truth-heading-m

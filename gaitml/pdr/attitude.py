@@ -274,6 +274,33 @@ class AttitudeEstimator(BaseAlgorithm):
         self.heading_rad_ = compass_heading(fwd)
         return self
 
+    def estimate_from(self, recording, start: int, initial: Rotation) -> AttitudeEstimator:
+        """Continue an integration: the attitudes of samples ``[start, n)`` of ``recording``, sample
+        ``start`` having the attitude ``initial`` (from an earlier run over the samples before).
+
+        Used to integrate a long recording chunk by chunk (:func:`gaitml.chunked_run.long_pdr`):
+        the filter state of eqs. (14)-(15) is the attitude quaternion alone, so carrying the
+        attitude of the sample before a chunk's core continues the integration as a whole-file
+        run would. The complementary correction's gravity direction (a zero-phase low-pass of
+        the chunk's acc) differs from the whole file's only near the chunk's ends, which the
+        chunk margins keep away from the core. Sets ``rotation_`` and ``heading_rad_`` for the
+        ``n - start`` samples from ``start``; returns ``self``.
+        """
+        self._validate_params()
+        gyr = recording.require_gyr("gyro heading (attitude integration)")
+        fs = recording.sampling_rate_hz
+        start = int(start)
+        if not 0 <= start < recording.n_samples:
+            raise InputError(f"`start` must be a sample of the recording (0 to {recording.n_samples - 1}), got {start}.")
+        if self.gravity_gain_hz == 0:
+            rot = integrate_gyro(gyr[start:], fs, initial)
+        else:
+            up = gravity_direction(recording.acc, fs, cutoff_hz=self.gravity_cutoff_hz)
+            rot = integrate_gyro_gravity(gyr[start:], up[start:], fs, initial, self.gravity_gain_hz)
+        self.rotation_ = rot
+        self.heading_rad_ = compass_heading(rot.apply(np.asarray(self.forward_axis_body, dtype=float)))
+        return self
+
     def linear_acc_nav(self, recording) -> np.ndarray:
         """Acceleration in the navigation frame with gravity removed (n, 3), m/s^2."""
         from gaitml.consts import GRAVITY_MS2

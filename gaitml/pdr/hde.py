@@ -79,6 +79,8 @@ N_DIRECTIONS = 12
 FEEDBACK_COEFFICIENT = 0.01
 #: paper 003 works at 50 Hz (sec. 2.2: 15 samples = 0.3 s); the rate the coefficient refers to.
 PAPER_RATE_HZ = 50.0
+#: steps per block of the drift-rate score (bounds its memory: grid x block floats)
+_SCORE_BLOCK = 4096
 
 
 def _circmean(a: np.ndarray) -> float:
@@ -110,7 +112,13 @@ def estimate_drift_rate(
     rates = np.linspace(-max_rate_rads, max_rate_rads, n_grid)
 
     def score(r):
-        return np.cos(n_directions * (psi[None, :] - r[:, None] * t[None, :] - reference_rad)).mean(axis=1)
+        # summed over blocks of steps: a (grid, block) array, not (grid, all steps), so a day of
+        # steps (~10^5) costs tens of MB, not gigabytes
+        total = np.zeros(len(r))
+        for lo in range(0, len(psi), _SCORE_BLOCK):
+            p, tt = psi[lo : lo + _SCORE_BLOCK], t[lo : lo + _SCORE_BLOCK]
+            total += np.cos(n_directions * (p[None, :] - r[:, None] * tt[None, :] - reference_rad)).sum(axis=1)
+        return total / len(psi)
 
     i = int(np.argmax(score(rates)))
     fine = np.linspace(rates[max(i - 1, 0)], rates[min(i + 1, n_grid - 1)], 201)
@@ -279,6 +287,7 @@ class HeuristicDriftElimination(BaseHeadingSource):
     """
 
     name = "hde"
+    steps_only = True
     _parameter_constraints: ClassVar[dict[str, list]] = {
         "n_directions": [POSITIVE_INTEGER],
         "buffer_steps": [POSITIVE_INTEGER],

@@ -37,6 +37,10 @@ class BaseHeadingSource(BaseAlgorithm):
 
     _action_method: ClassVar[str] = "estimate"
     name: ClassVar[str] = ""
+    #: whether the heading needs only per-step inputs (the gyro step headings, step times and
+    #: durations), so that :meth:`estimate_steps` can run it on a long recording whose attitude
+    #: was integrated chunk by chunk (:func:`gaitml.chunked_run.long_pdr`)
+    steps_only: ClassVar[bool] = False
 
     def _attitude(self, recording: Recording) -> AttitudeEstimator:
         att = AttitudeEstimator() if self.attitude is None else clone(self.attitude)
@@ -70,6 +74,34 @@ class BaseHeadingSource(BaseAlgorithm):
         self.heading_rad_ = self._heading(recording, steps, self.gyro_heading_rad_, t_step, dur) if n else np.zeros(0)
         return self
 
+    def estimate_steps(self, steps: pd.DataFrame, gyro_heading_rad, sampling_rate_hz: float):
+        """:meth:`estimate` from the gyro step headings alone (sources with ``steps_only``).
+
+        ``gyro_heading_rad`` is the mean attitude heading over each step window (what
+        :meth:`estimate` computes as ``gyro_heading_rad_``), e.g. from an attitude integrated
+        chunk by chunk; sets ``gyro_heading_rad_`` and ``heading_rad_`` and returns ``self``
+        (no ``attitude_``: there is no single attitude run).
+        """
+        self._validate_params()
+        if not self.steps_only:
+            raise InputError(
+                f"the {self.name or type(self).__name__} heading needs the recording's samples, not only step headings; use estimate()."
+            )
+        if not isinstance(steps, pd.DataFrame) or not {"start", "end"} <= set(steps.columns):
+            raise InputError("`steps` must be a step table with `start` and `end` columns; run a step detector first.")
+        n = len(steps)
+        gyro_h = np.asarray(gyro_heading_rad, dtype=float).reshape(-1)
+        if len(gyro_h) != n:
+            raise InputError(f"`gyro_heading_rad` must have one value per step ({n}), got {len(gyro_h)}.")
+        start = steps["start"].to_numpy(np.int64)
+        end = np.maximum(steps["end"].to_numpy(np.int64), start + 1)
+        event = steps.attrs.get("event", "t_peak_s")
+        t_step = steps[event if event in steps else "t_peak_s"].to_numpy(float) if n else np.zeros(0)
+        dur = np.maximum(end - start, 1) / float(sampling_rate_hz)
+        self.gyro_heading_rad_ = gyro_h
+        self.heading_rad_ = self._heading(None, steps, gyro_h, t_step, dur) if n else np.zeros(0)
+        return self
+
 
 class GyroHeading(BaseHeadingSource):
     """The raw gyro heading per step (no correction): the baseline heading source.
@@ -88,6 +120,7 @@ class GyroHeading(BaseHeadingSource):
     """
 
     name = "gyro"
+    steps_only = True
 
     def __init__(self, *, attitude: AttitudeEstimator | None = None):
         self.attitude = attitude

@@ -376,12 +376,58 @@ def run_pdr(
     gyro_h = source.gyro_heading_rad_
     theta = source.heading_rad_
 
-    # ---- positions
+    return assemble_result(
+        steps,
+        feats,
+        step_modes,
+        lengths,
+        theta,
+        gyro_h,
+        update=update,
+        start_xy_m=start_xy_m,
+        initial_heading_rad=initial_heading_rad,
+        step_in_domain=step_in_domain,
+        model_modes=model_modes,
+        model=model,
+        info={
+            "detector": det_name,
+            "heading": heading if isinstance(heading, str) else source.name or type(source).__name__,
+            "modes": modes,
+            "mode_boundaries": mode_boundaries if modes == "model" else None,
+            "update": update,
+            "step_length": sl_source,
+            "initial_heading_rad": float(initial_heading_rad),
+            "notes": notes,
+        },
+    )
+
+
+def assemble_result(
+    steps: pd.DataFrame,
+    feats: pd.DataFrame,
+    step_modes,
+    lengths,
+    theta,
+    gyro_h,
+    *,
+    update: str,
+    start_xy_m,
+    initial_heading_rad: float,
+    step_in_domain,
+    model_modes,
+    model,
+    info: dict,
+) -> PdrResult:
+    """The positions (multi-state update, paper 003 eq. 11, or forward-only, eq. 10) and the
+    :class:`PdrResult` of per-step modes, lengths and headings; shared by :func:`run_pdr` and the
+    chunked run of a long recording (:func:`gaitml.chunked_run.long_pdr`), so both give the same
+    tables and summary."""
+    step_modes = np.asarray(step_modes).astype(str)
     if update == "multi":
         xy = multi_state_update(lengths, theta, step_modes, start_xy_m=start_xy_m, unknown="forward")
     else:
         xy = forward_update(lengths, theta, start_xy_m=start_xy_m)
-
+    t_step = steps[steps.attrs.get("event", "t_peak_s")].to_numpy(float)
     traj = pd.DataFrame(
         {
             "t_s": np.concatenate([[0.0], t_step]),
@@ -407,21 +453,12 @@ def run_pdr(
         if step_in_domain is None or getattr(model, "domain", None) is None
         else int(sum(v is False or v is np.False_ for v in step_in_domain))
     )
-    info = {
-        "detector": det_name,
-        "heading": heading if isinstance(heading, str) else source.name or type(source).__name__,
-        "modes": modes,
-        "mode_boundaries": mode_boundaries if modes == "model" else None,
-        "update": update,
-        "step_length": sl_source,
-        "initial_heading_rad": float(initial_heading_rad),
-        "out_of_domain_steps": n_ood,
-        "notes": notes,
-    }
+    info = {**info, "out_of_domain_steps": n_ood}
+    info = {k: info[k] for k in (*[k for k in info if k != "notes"], "notes")}
     return PdrResult(
         trajectory=traj,
         steps=steps,
-        distance_m=float(lengths.sum()),
+        distance_m=float(np.sum(lengths)),
         end_xy_m=(float(xy[-1, 0]), float(xy[-1, 1])),
         info=info,
     )

@@ -1,7 +1,7 @@
 """The hostile corpus on the large-file road (issue 28 finding 2): the same outcome per class as a small file.
 
 Every input class of :data:`tests.hostile.corpus.RECORDING_CASES` is run through the
-commands that have a chunked road (``steps, zupt, features, predict``) with that road
+commands that have a chunked road (``steps, zupt, features, predict, pdr``) with that road
 forced (``gaitml.io.chunked.LARGE_INPUT_SAMPLES`` below every input) and the file read
 in blocks of 300 rows, so that the first block is not the file. The outcome must be
 the one the class declares for a small file, and accepted variants of the base walk
@@ -17,7 +17,7 @@ from tests.hostile.corpus import OK, RECORDING_CASES
 from tests.hostile.runner import check_contract, command_argv, run_cli
 from tests.hostile.test_recordings_cli import CASES, _same_answer, _table, base_answers, inputs  # noqa: F401 (fixtures)
 
-CHUNKED_COMMANDS = ("steps", "zupt", "features", "predict")
+CHUNKED_COMMANDS = ("steps", "zupt", "features", "predict", "pdr")
 PAIRS = [(c.name, cmd) for c in RECORDING_CASES for cmd in CHUNKED_COMMANDS]
 
 

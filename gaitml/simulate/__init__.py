@@ -104,7 +104,7 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    1e-4 m/s^2 and 1e-5 rad/s;
    sampling rate 20-500 Hz (phones: 50-200 Hz).
 
-5. *Carrying positions* (:mod:`.positions`, issue 12): besides the hand-held
+5. *Carrying positions* (:mod:`.positions`): besides the hand-held
    phone (``hand-flat``, ``hand-tilted``: item 4, the default), the phone can
    ride on the thigh (``front-pocket``: it turns with one leg once per
    stride, in reverse when walking backwards; ``back-pocket``: a blend of the

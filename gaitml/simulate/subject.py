@@ -10,14 +10,13 @@ person; :func:`sample_subjects` draws ``n`` reproducibly from a seed.
 Ranges (the sources of the numbers):
 
 - walking cadence 1.7-2.15 steps/s and step length ~0.41 x height: normal
-  adult gait (the two real flat-held walkers of ``ifsm-flat-phone`` have
-  1.90 and 1.97 steps/s; Table 3 of paper 000 lists 0.50-0.64 s step
-  durations);
+  adult gait (Table 3 of paper 000 lists 0.50-0.64 s step durations; the
+  two real flat-held walkers of ``ifsm-flat-phone`` lie inside);
 - vertical acceleration amplitude 3.0-4.8 m/s^2 at the hand (plus the
-  impact spike of 1.5-5 m/s^2 and the post-peak shoulder): the real
-  flat-held walks have per-step magnitude peaks of 13.7-14.8 m/s^2 and
-  troughs of 5.7-6.8 m/s^2 (smoothed with N = 5), i.e. about +/-4 m/s^2
-  around g;
+  impact spike of 1.5-5 m/s^2 and the post-peak shoulder): sized so that
+  the per-step ``|acc|`` peaks and troughs (smoothed with N = 5) fall in the
+  range of the real flat-held walks, about +/-4 m/s^2 around g (the
+  comparison: ``experiments/reports/simulator-hand.md``);
 - running cadence 2.5-3.1 steps/s (the brief's 2.4-3.2 Hz), duty factor
   0.38-0.48 of the step in stance;
 - side steps 1.4-1.9 cycles/s of 0.35-0.55 m, backward walking 1.45-1.85

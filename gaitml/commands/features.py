@@ -96,20 +96,23 @@ def _run_long(args) -> int:
     from gaitml.io import atomic_path
 
     key = resolve_subset(args.subset)
-    if not args.out:
-        n = [0]
+
+    def run(on_block) -> None:
         long_features(
             args.input,
             length_s=args.window_s,
             overlap=args.overlap,
             subset=key,
             frame=getattr(args, "frame", "phone"),
-            on_block=lambda b: n.__setitem__(0, n[0] + len(b)),
+            on_block=on_block,
             **long_read_kwargs(args),
         )
-        print(f"{args.input}: {n[0]} windows of {args.window_s:g} s ({key}); the input is long: pass --out FILE to write the table")
-        return 0
+
     count = [0]
+    if not args.out:
+        run(lambda b: count.__setitem__(0, count[0] + len(b)))
+        print(f"{args.input}: {count[0]} windows of {args.window_s:g} s ({key}); the input is long: pass --out FILE to write the table")
+        return 0
     with atomic_path(args.out) as tmp:
         with open(tmp, "w", newline="") as fh:
 
@@ -117,14 +120,6 @@ def _run_long(args) -> int:
                 block.to_csv(fh, header=count[0] == 0, index=False)
                 count[0] += len(block)
 
-            long_features(
-                args.input,
-                length_s=args.window_s,
-                overlap=args.overlap,
-                subset=key,
-                frame=getattr(args, "frame", "phone"),
-                on_block=write_block,
-                **long_read_kwargs(args),
-            )
+            run(write_block)
     log(f"wrote {count[0]} windows ({key}, processed in chunks) to {args.out}")
     return 0

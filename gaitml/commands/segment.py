@@ -1,4 +1,4 @@
-"""`gaitml segment INPUT --by steps|strides|zupt [--detector NAME] [--interval-rules R] --out FILE [--json]` (issues 13, 30).
+"""`gaitml segment INPUT --by steps|strides|zupt [--detector NAME] [--interval-rules R] --out FILE [--json]`.
 
 Writes the segment table of :func:`gaitml.segment.segment` as CSV, atomically (a
 failed run leaves no file). The detector is checked against the registry of the

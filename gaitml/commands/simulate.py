@@ -21,7 +21,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--route", default="straight", help="straight | rectangle | arc | random")
     p.add_argument("--sampling-rate-hz", type=float, default=None)
     p.add_argument("--seed", type=int, default=0)
-    # issue 12: carrying positions (comma list, checked against gaitml.simulate.POSITIONS)
+    # carrying positions (comma list, checked against gaitml.simulate.POSITIONS)
     p.add_argument(
         "--positions",
         metavar="LIST",
@@ -43,7 +43,7 @@ def _validate(args) -> tuple[list[str], float, float | None]:
 
     modes = check_modes(args.modes)
     if getattr(args, "positions", None) is not None:
-        check_positions(args.positions)  # issue 12: one line naming the valid positions
+        check_positions(args.positions)  # one line naming the valid positions
     if not 1 <= args.subjects <= MAX_SUBJECTS:
         raise InputError(f"--subjects must be within 1-{MAX_SUBJECTS}, got {args.subjects}.")
     if args.seed < 0:

@@ -38,7 +38,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 #: detectors whose threshold ``--threshold-rads`` sets, and the parameter it maps to
 THRESHOLD_PARAM = {"pseudo-std": "threshold_rads"}
-#: detectors with interval rules (``--interval-rules``, issue 30)
+#: detectors with interval rules (``--interval-rules``)
 INTERVAL_RULE_DETECTORS = ("pseudo-std", "magnitude")
 
 

@@ -45,6 +45,17 @@ def _write_error(target: Path, exc: OSError) -> InputError:
 _WRITE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.EACCES, errno.EPERM, errno.EIO}
 
 
+@contextlib.contextmanager
+def _fixable_write_errors(target: Path) -> Iterator[None]:
+    """Turn a write error the user can fix (:data:`_WRITE_ERRNOS`) inside the block into an InputError naming ``target``."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.errno in _WRITE_ERRNOS:
+            raise _write_error(target, exc) from exc
+        raise
+
+
 def _is_special(target: Path) -> bool:
     """Whether ``target`` exists and is a device, pipe or socket (``/dev/null``, ``/dev/stdout``)."""
     try:
@@ -65,12 +76,8 @@ def atomic_path(path: str | os.PathLike, *, suffix: str | None = None) -> Iterat
     """
     target = Path(path)
     if _is_special(target):
-        try:
+        with _fixable_write_errors(target):
             yield target
-        except OSError as exc:
-            if exc.errno in _WRITE_ERRNOS:
-                raise _write_error(target, exc) from exc
-            raise
         return
     _prepare_parent(target)
     if target.is_dir():
@@ -82,12 +89,8 @@ def atomic_path(path: str | os.PathLike, *, suffix: str | None = None) -> Iterat
     os.close(fd)
     tmp_path = Path(tmp)
     try:
-        try:
+        with _fixable_write_errors(target):
             yield tmp_path
-        except OSError as exc:
-            if exc.errno in _WRITE_ERRNOS:
-                raise _write_error(target, exc) from exc
-            raise
         if tmp_path.exists():
             os.chmod(tmp_path, 0o666 & ~_umask())  # mkstemp creates 0600; give the usual mode
         try:
@@ -117,12 +120,8 @@ def atomic_dir(path: str | os.PathLike) -> Iterator[Path]:
     except OSError as exc:
         raise _write_error(target, exc) from exc
     try:
-        try:
+        with _fixable_write_errors(target):
             yield tmp
-        except OSError as exc:
-            if exc.errno in _WRITE_ERRNOS:
-                raise _write_error(target, exc) from exc
-            raise
         os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp creates 0700
         if target.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent))

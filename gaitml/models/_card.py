@@ -71,7 +71,7 @@ def _training_lines(info: dict) -> list[str]:
     if positions:
         lines.append(f"- Phone positions: {positions if isinstance(positions, str) else ', '.join(map(str, positions))}")
     elif src == "simulated":
-        # models trained before the simulator's tilted range was fitted to real phones do not record it: 30-50 deg then
+        # models that do not record the tilted range were trained with the simulator's 30-50 deg
         lo, hi = td.get("hand_tilted_pitch_deg") or (30.0, 50.0)
         lines.append(
             f"- Phone positions: held in the hand, pose {sim.get('pose', 'flat')} (flat: pitch about 3-12 deg, tilted: {lo:.0f}-{hi:.0f} deg; "

@@ -4,12 +4,11 @@ The paper classifies the five motion modes with a linear-kernel SVM, trained one
 pair of classes at a time (OVO: m (m - 1) / 2 binary machines, majority vote),
 on its time-domain features, with a penalty factor (called M in eq. 5, C here).
 
-Implementation choice (measured, see ``benchmarks/models.py``): each pairwise
+Implementation choice (timed by ``gaitml bench``, ``benchmarks/models.py``): each pairwise
 machine is a :class:`sklearn.svm.LinearSVC` (liblinear) solved in the primal
 (``dual=False``), which is linear in the number of windows; libsvm's
-``SVC(kernel='linear')`` (also one-vs-one) grows faster than linearly (on
-simulated 52-feature windows, 2-core machine: 1.6 s vs 0.55 s at 20,000
-windows, 35 s vs 5.6 s at 100,000). ``solver='libsvm'`` keeps
+``SVC(kernel='linear')`` (also one-vs-one) grows faster than linearly
+(``benchmarks/README.md``). ``solver='libsvm'`` keeps
 that path selectable as the reference. liblinear's primal solver needs the
 squared hinge loss; the paper's eq. (5) is the plain hinge. Both give a maximum
 margin linear separator with penalty C; ``loss='hinge'`` (dual solver) is

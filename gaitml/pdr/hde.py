@@ -24,11 +24,11 @@ reading, stated here so it can be judged and changed:
    ``|E| < max_error_rad`` (default 5 deg). A buffer that passes the straightness tests
    but whose mean heading is farther than that from every dominant direction is not a
    leg along a dominant direction: on the arc route it is the start or end of a bend, or
-   a gentle stretch of it, and the literal rule (any ``|E|`` up to half a sector, 15 deg)
-   pulled the heading by 1-2 deg towards a wrong direction there. Residual drift after the
-   drift-rate fit (step 5) is tracked continuously by the feedback, so on true legs ``E``
-   stays within a few degrees. 5 deg was chosen on simulated seeds 0-9 (3, 4, 5, 7 deg
-   tried; 4 and 5 give the same errors) and checked on seeds 10-19; ``max_error_rad=np.pi``
+   a gentle stretch of it, where the literal rule (any ``|E|`` up to half a sector, 15 deg)
+   pulls the heading towards a wrong direction. Residual drift after the drift-rate fit
+   (step 5) is tracked continuously by the feedback, so on true legs ``E`` stays within a
+   few degrees. The default was chosen on simulated route seeds and checked on others
+   (``experiments/reports/pdr-step-modes.md``, "HDE defaults"); ``max_error_rad=np.pi``
    restores the literal rule.
 4. Feedback coefficient: paper 003 gives 0.01 with no unit. Read per step it would take
    ~100 steps to remove half a 5 deg error, too slow to matter over a 262 m route; we read
@@ -43,16 +43,15 @@ reading, stated here so it can be judged and changed:
    Before the buffered HDE, :func:`estimate_drift_rate` fits one constant heading drift
    rate to the whole recording (offline): the rate that best aligns the step headings
    with the dominant directions (maximum of the mean of ``cos(n (theta - reference))``
-   over all steps). ``drift_rate='none'`` switches it off (with ``max_error_rad=np.pi``: the paper's method). We also
-   tried an online integral correction of the rate (``b += k_i E dt``, as in Borenstein's
-   HDE); on the 400 m arc it locked onto the bends (end errors up to 45 %), so it is not
-   offered.
+   over all steps). ``drift_rate='none'`` switches it off (with ``max_error_rad=np.pi``: the paper's method).
+   An online integral correction of the rate (``b += k_i E dt``, as in Borenstein's HDE)
+   locks onto the bends of a long arc, so it is not offered.
 
 The correction of step k uses only steps up to k (causal), so it can run online.
-Defaults of the buffer tests (10 steps, 8 deg spread, 2 deg trend between the buffer's
-halves, 3 consecutive passes) are ours (chosen on simulated seeds 0-2 and 10-13, checked
-on seeds 3-7 and 10-15): they separate straight legs from the 32 m radius bends of the 400 m
-arc route (0.7-1.3 deg per step), see ``python -m experiments.scripts.pdr_report``.
+The defaults of the buffer tests (keywords of :func:`hde_correct` and
+:class:`HeuristicDriftElimination`: buffer length, spread, trend between the buffer's
+halves, consecutive passes) are ours, chosen on simulated routes to separate straight
+legs from the 32 m radius bends of the 400 m arc route (``experiments/reports/pdr-step-modes.md``, "HDE defaults").
 
 References
 ----------

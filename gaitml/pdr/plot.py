@@ -42,12 +42,23 @@ def plot_trajectory(path, trajectory: pd.DataFrame, *, truth: pd.DataFrame | Non
         ax.scatter(x[sel], y[sel], s=6, color=MODE_COLOURS.get(m, "tab:gray"), label=f"steps: {m}", zorder=3)
     ax.plot([x[0]], [y[0]], marker="o", color="black", ms=7, ls="none", label="start")
     ax.plot([x[-1]], [y[-1]], marker="x", color="crimson", ms=9, mew=2, ls="none", label="end (estimate)")
+    return save_map(fig, ax, path, title=title, title_size=9)
+
+
+def save_map(fig, ax, path, *, title: str = "", title_size: float = 9):
+    """Finish a plan-view plot (equal axes east / north in m, grid, legend, title) and write it as PNG atomically.
+
+    Shared by :func:`plot_trajectory` and :func:`gaitml.pdr.plot_truth.plot_truth_score`;
+    the figure is closed. Returns ``path``.
+    """
+    import matplotlib.pyplot as plt
+
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x east (m)")
     ax.set_ylabel("y north (m)")
     ax.grid(True, alpha=0.3)
     if title:
-        ax.set_title(title, fontsize=9)
+        ax.set_title(title, fontsize=title_size)
     ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
     with atomic_path(path, suffix=".png") as tmp:

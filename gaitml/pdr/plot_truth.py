@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from gaitml.io import atomic_path
+from gaitml.pdr.plot import save_map
 
 __all__ = ["plot_truth_score"]
 
@@ -50,15 +50,4 @@ def plot_truth_score(path, aligned_xy, points: pd.DataFrame, truth: pd.DataFrame
     ax.plot([], [], color="crimson", lw=0.7, label="error at truth points")
     anchor = points[points["role"] == "anchor"]
     ax.plot(anchor["x_m"], anchor["y_m"], marker="o", color="black", ms=7, ls="none", label="start (anchor)")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x east (m)")
-    ax.set_ylabel("y north (m)")
-    ax.grid(True, alpha=0.3)
-    if title:
-        ax.set_title(title, fontsize=8)
-    ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
-    with atomic_path(path, suffix=".png") as tmp:
-        fig.savefig(tmp, format="png")
-    plt.close(fig)
-    return path
+    return save_map(fig, ax, path, title=title, title_size=8)

@@ -5,9 +5,8 @@ of sec. 3.4) and moves every step by the mode of its window (sec. 4.1). A step i
 about 0.5 s, so at every mode change the window that contains the first steps of the
 new mode also contains the last steps of the old one: whichever mode the window gets,
 one or two steps around each change move in the wrong direction. On the simulated
-routes of ``experiments/scripts/pdr_report.py`` about 90 % of the per-step mode errors of the
-nearest-window assignment lie within 0.8 s of a true mode change, and they are what
-pushes the end-point error of some routes beyond the paper's level.
+routes most of the per-step mode errors of the nearest-window assignment lie near a
+true mode change (``experiments/reports/pdr-step-modes.md``).
 
 :func:`refine_mode_boundaries` (ours, not in the papers) keeps the window
 classifier's decision *which* modes occur and re-places *where* each change happens,

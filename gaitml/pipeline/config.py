@@ -150,7 +150,7 @@ def _sim_pose_names() -> tuple[str, ...]:
 
 
 def _sim_position_names() -> tuple[str, ...]:
-    """The simulator's carrying positions (issue 12)."""
+    """The simulator's carrying positions."""
     from gaitml.simulate.positions import POSITIONS
 
     return tuple(POSITIONS)
@@ -316,7 +316,7 @@ SCHEMA: dict[str, Any] = {
             "pose": _Leaf((str,), "flat", allowed=_sim_pose_names),
             "duration_s": _Leaf(_NUM, 120.0, check=_sim_duration),
             "modes": _Leaf((list,), list(MOTION_MODES), item_type=str),
-            # issue 12: carrying positions; [] = the hand-held phone in data.simulated.pose (one recording per subject)
+            # carrying positions; [] = the hand-held phone in data.simulated.pose (one recording per subject)
             "positions": _Leaf((list,), [], item_type=str, item_allowed=_sim_position_names),
         },
     },

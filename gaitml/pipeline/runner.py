@@ -668,7 +668,7 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
         "cv_scores": cv_scores,
     }
     if cfg["data"]["source"] == "simulated":
-        # the simulator's hand pose at training time (the model card states it; it was fitted to real phones later)
+        # the simulator's tilted hand pose at training time (the model card states it)
         from gaitml.simulate.subject import HAND_TILTED_PITCH_DEG
 
         info["training_data"]["hand_tilted_pitch_deg"] = [float(v) for v in HAND_TILTED_PITCH_DEG]

@@ -90,9 +90,9 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    forward speed swing vary per step; the hand shake drifts slowly. All
    per-step values are smooth knots at half steps, so the signal stays
    continuous and the step event stays the peak. Sized against the real
-   flat-held walks' window statistics: the CV across 0.5 s / 1.5 s windows
-   of the window variance of ``|acc|`` is 0.22-0.23 / 0.15-0.19 in the real
-   walks (``experiments/scripts/realism.py``, ``variability_table``).
+   flat-held walks' window-to-window statistics (the CV across 0.5 s and
+   1.5 s windows of the window variance of ``|acc|``;
+   ``experiments/reports/simulator-hand.md``).
 4. *Phone and sensor* (:mod:`.sensor`): attitude ``Rz(-theta + yaw bob +
    wander) Rx(pitch) Ry(roll)`` with gait-induced bobbing (pitch at the step
    frequency, roll and yaw at half of it) and a smooth random wander; the
@@ -104,7 +104,7 @@ or walking backward. Phone frame: x right, y forward, z up when held flat.
    1e-4 m/s^2 and 1e-5 rad/s;
    sampling rate 20-500 Hz (phones: 50-200 Hz).
 
-5. *Carrying positions* (:mod:`.positions`, issue 12): besides the hand-held
+5. *Carrying positions* (:mod:`.positions`): besides the hand-held
    phone (``hand-flat``, ``hand-tilted``: item 4, the default), the phone can
    ride on the thigh (``front-pocket``: it turns with one leg once per
    stride, in reverse when walking backwards; ``back-pocket``: a blend of the

@@ -439,7 +439,7 @@ def simulate_dataset(
         subject and session is simulated once per position (a separate walk), the
         phone's placement drawn per subject, session and position
         (:meth:`Placement.random`). None (default): one hand-held recording per
-        subject and session in ``pose`` (today's behaviour). The recording of the
+        subject and session in ``pose``. The recording of the
         position equal to a subject's hand pose (``hand-flat`` for ``pose='flat'``)
         is the same as without ``positions``, apart from its id.
 

@@ -1,4 +1,4 @@
-"""Phone motion without gait: hand gestures while standing, a phone handled at a desk (issue 30).
+"""Phone motion without gait: hand gestures while standing, a phone handled at a desk.
 
 A step counter must count no steps where nobody walks. These recordings have no
 steps (``reference['n_steps_true'] = 0``) but plenty of motion:

@@ -10,22 +10,20 @@ person; :func:`sample_subjects` draws ``n`` reproducibly from a seed.
 Ranges (the sources of the numbers):
 
 - walking cadence 1.7-2.15 steps/s and step length ~0.41 x height: normal
-  adult gait (the two real flat-held walkers of ``ifsm-flat-phone`` have
-  1.90 and 1.97 steps/s; Table 3 of paper 000 lists 0.50-0.64 s step
-  durations);
+  adult gait (Table 3 of paper 000 lists 0.50-0.64 s step durations; the
+  two real flat-held walkers of ``ifsm-flat-phone`` lie inside);
 - vertical acceleration amplitude 3.0-4.8 m/s^2 at the hand (plus the
-  impact spike of 1.5-5 m/s^2 and the post-peak shoulder): the real
-  flat-held walks have per-step magnitude peaks of 13.7-14.8 m/s^2 and
-  troughs of 5.7-6.8 m/s^2 (smoothed with N = 5), i.e. about +/-4 m/s^2
-  around g;
+  impact spike of 1.5-5 m/s^2 and the post-peak shoulder): sized so that
+  the per-step ``|acc|`` peaks and troughs (smoothed with N = 5) fall in the
+  range of the real flat-held walks, about +/-4 m/s^2 around g (the
+  comparison: ``experiments/reports/simulator-hand.md``);
 - running cadence 2.5-3.1 steps/s (the brief's 2.4-3.2 Hz), duty factor
   0.38-0.48 of the step in stance;
 - side steps 1.4-1.9 cycles/s of 0.35-0.55 m, backward walking 1.45-1.85
   steps/s of 0.38-0.55 m (backward gait is slower with shorter steps);
 - phone pitch 3-12 deg when "flat" (the real files show about 8 deg: mean
   acc_y 1.4 m/s^2), 14-50 deg when "tilted" (reading posture,
-  :data:`HAND_TILTED_PITCH_DEG`: the Oxford ``InHand`` phones are held at
-  19.2-35.7 deg, walk medians; 30-50 deg before that fit);
+  :data:`HAND_TILTED_PITCH_DEG`, fitted to the real hand-held walks);
 - hand vibration 0.25-0.65 m/s^2 per axis in 3-15 Hz (the real files have
   0.45-0.49 m/s^2 on x and y above their N = 5 moving average);
 - step-to-step and slow variability (applied by :mod:`.plan` and
@@ -38,9 +36,8 @@ Ranges (the sources of the numbers):
   ~ L^2, frequency ~ cadence, so acceleration ~ (L f)^2 = v^2); on top,
   every step's peak and mid-stance amplitude vary independently by 5-11 %
   (``step_amp_cv``: foot placement, heel-strike force and above all the
-  compliant elbow/wrist between trunk and phone -- the real flat-held walks
-  have per-step peak and trough excursions of |acc| with a CV of 13-15 %,
-  about twice the 6-9 % the trunk-level model gives alone), the harmonic
+  compliant elbow/wrist between trunk and phone, sized against the per-step
+  ``|acc|`` excursions of the real flat-held walks), the harmonic
   content (waveform shape) by 15-35 % per step (``step_shape_cv``), the
   lateral sway and forward speed swing by 10-25 % per step
   (``step_lateral_cv``: arm swing and trunk sway are less regular than the
@@ -50,10 +47,8 @@ Ranges (the sources of the numbers):
   of the trunk's acceleration (bounce, sway, forward speed swing, heel-strike
   impact) that reaches a hand-held phone in walking, side and backward steps.
   The elbow and wrist are compliant and damp it, more in some people and
-  grips than others: the Oxford ``InHand`` walks range from an ``|acc|``
-  standard deviation of 1.1 m/s^2 (a calm walker) to 3.7 m/s^2, the IFSM
-  flat-held walks (which sized the amplitudes above, gain about 1) 2.7-3.4.
-  Running is not damped (its flight phase is free fall for body and phone
+  grips than others (the IFSM flat-held walks, which sized the amplitudes
+  above, have a gain of about 1). Running is not damped (its flight phase is free fall for body and phone
   alike). The range is fitted to those real walks, each user held out in
   turn, by ``python -m experiments.scripts.hand_gain``;
 - accelerometer noise 0.03-0.10 m/s^2, bias up to 0.12 m/s^2 per axis;
@@ -88,11 +83,9 @@ HAND_GAIN_RANGE = (0.25, 1.2)
 #: Range (uniform, deg) of the pitch of a phone held "tilted" (reading posture; "flat" is 3-12
 #: deg). The lower end is fitted to the real hand-held walks by ``python -m
 #: experiments.scripts.hand_pose``: the smallest median pitch of the tuning users' tilted walks
-#: (over 12 deg) less 5 deg, floored to a whole degree (the Oxford ``InHand`` phones: 19.2-35.7 deg;
-#: each user held out in turn gives the same 14 deg); the upper end keeps the prior 50 deg,
-#: above every real walk. It was 30-50 deg, which left real phones held at 15-30 deg outside
-#: the shipped models' gravity domain (``experiments/reports/model-domain.md``, "The phone's
-#: holding angle").
+#: (over 12 deg) less 5 deg, floored to a whole degree; the upper end keeps the prior 50 deg,
+#: above every real walk (figures, held out per user: ``experiments/reports/model-domain.md``,
+#: "The phone's holding angle").
 HAND_TILTED_PITCH_DEG = (14.0, 50.0)
 
 

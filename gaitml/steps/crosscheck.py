@@ -3,12 +3,10 @@
 Paper 003's ``single-peak`` detector (sec. 2.2) keeps a peak of ``|acc|`` only when it
 rises 2 m/s^2 above g. That fixed height fails both ways:
 
-- **undercount**: calm walking with a hand-held phone stays below it. The Oxford
-  ``InHand`` walks of the calmest user have an ``|acc|`` standard deviation of
-  1.1 m/s^2, and on the simulator a walker with hand gain 0.27 keeps about half of its
-  steps (route seed 4 of ``experiments/scripts/pdr_report.py``);
+- **undercount**: calm walking with a hand-held phone stays below it (calm real
+  hand-held walks and calm simulated walkers, low :attr:`~gaitml.simulate.Subject.hand_gain`);
 - **overcount**: a phone bouncing in a front pocket during vigorous walking crosses it
-  more than once per step (Oxford user Dario's front-pocket walks: +14 and +25 %).
+  more than once per step.
 
 The count is then silently wrong, and so is a PDR trajectory built on it.
 :func:`count_warning` runs the ``adaptive`` detector (:mod:`gaitml.steps.adaptive`:
@@ -38,20 +36,15 @@ __all__ = [
 FIXED_THRESHOLD_DETECTORS = ("single-peak",)
 #: The detector whose count the fixed-threshold one is compared with.
 CROSSCHECK_DETECTOR = "adaptive"
-#: Warn when the fixed-threshold count is below this fraction of the adaptive count. On the
-#: real walks of ``../shared/data`` the two detectors agree within a few percent where
-#: single-peak is right (IFSM 284 / 319 both); the calm simulated walkers that single-peak
-#: fails on lose 40-50 % of their steps. 0.85 lies between.
+#: Warn when the fixed-threshold count is below this fraction of the adaptive count: between
+#: the near-agreement of the two detectors where single-peak is right and the share of steps
+#: it loses on calm walkers (figures: ``experiments/reports/steps-crosscheck.md``).
 UNDERCOUNT_RATIO = 0.85
 #: Warn when the fixed-threshold count is above this multiple of the adaptive count. Chosen
-#: on the 50 real walks of ``../shared/data`` (``experiments/scripts/crosscheck_report.py``):
-#: the middle of the ratios (grid 1.01-1.17, step 0.01; at most 1 / UNDERCOUNT_RATIO, the
-#: mirror of the undercount side) with the fewest false and missed warnings. Single-peak
-#: over adaptive reaches 1.052 where single-peak is within 5 % of the truth and 1.166 / 1.220
-#: on the two walks it overcounts by 14 / 25 % (adaptive within 3 %). Leave-one-user-out
-#: chooses 1.10-1.11 in every fold: 2 warnings correct, 0 false, 0 missed. Both overcounts are
-#: one user's (Dario), so his fold has none to learn from and relies on the grid's bound: on a
-#: grid open to 1.50 it would choose 1.28 and miss both.
+#: on the real walks of ``../shared/data`` by ``python -m experiments.scripts.crosscheck_report``:
+#: the middle of the ratios (grid 1.01-1.17, step 0.01; at most 1 / :data:`UNDERCOUNT_RATIO`,
+#: the mirror of the undercount side) with the fewest false and missed warnings. The choice in
+#: sample and leave-one-user-out: ``experiments/reports/steps-crosscheck.md``.
 OVERCOUNT_RATIO = 1.11
 #: ... and only when the adaptive detector found at least this many steps (a short clip or
 #: standing still says nothing).

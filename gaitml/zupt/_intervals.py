@@ -47,7 +47,7 @@ OCTAVE_RATIO = 0.7
 MIN_STRIDE_CORRELATION = 0.3
 
 
-#: The interval rules a detector may apply after its per-sample decision (issue 30).
+#: The interval rules a detector may apply after its per-sample decision.
 INTERVAL_RULES = ("stride", "fixed", "none")
 
 

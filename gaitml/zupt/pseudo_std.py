@@ -224,7 +224,7 @@ class PseudoStdZuptDetector(BaseZuptDetector):
     were fitted at 100 Hz on heel-mounted MIMU data; the gyro magnitude does not
     depend on the rate, and with s fixed in seconds neither does the statistic.
 
-    Interval rules (not in paper 001, which classifies samples only; issues 13, 30). On
+    Interval rules (not in paper 001, which classifies samples only). On
     foot-mounted data the per-sample rule produces two kinds of wrong intervals
     (``experiments/reports/zupt-heldout.md``): short runs in the swing, where the
     gyro magnitude dips through a minimum because the foot's rotation reverses

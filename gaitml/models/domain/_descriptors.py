@@ -3,7 +3,7 @@
 A pocket phone rotates with the thigh, a belt phone hardly rotates, a swinging hand
 rotates a lot, a bag damps: :func:`orientation_dynamics` gives 13 numbers per window
 that differ between those carrying positions while being unchanged by a constant
-rotation of the phone. Ours (issue 12), not from a paper.
+rotation of the phone. Ours, not from a paper.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def orientation_dynamics(acc, gyr, starts, ends, sampling_rate_hz: float) -> np.
     The signals are first taken at every ``step = max(1, floor(fs / DYNAMICS_RATE_HZ))``-th
     sample (samples 0, step, 2 step, ...; a window keeps the kept samples inside it; spans
     reaching past the signal are cut at its end). A window with fewer than 2 kept samples
-    gives a NaN row. All are unchanged by a constant rotation of the phone. Ours (issue 12),
+    gives a NaN row. All are unchanged by a constant rotation of the phone. Ours,
     not from a paper.
 
     Only the samples of the given windows are read (gathered into one zero-padded

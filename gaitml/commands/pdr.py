@@ -378,7 +378,7 @@ def _reference_lines(res, truth) -> list[str]:
     return [f"  truth: distance {d_true:.1f} m; end-point error {err:.2f} m = {pct:.2f} % of distance"]
 
 
-# ---- scoring against ground truth (issue 31): --truth, --truth-align, --truth-heading-m
+# ---- scoring against ground truth: --truth, --truth-align, --truth-heading-m
 def _load_truth(args, rec):
     """The truth of ``--truth`` on the recording's time base, or None; its notes go to stderr."""
     spec = getattr(args, "truth", None)

@@ -26,7 +26,7 @@ Keys (defaults in brackets) of ``task = "classification"``::
     labels = []                      # keep only these labels (others dropped and reported)
     resample_hz = 50.0               # every recording is resampled to this rate
     where = {}                       # keep recordings whose meta matches, e.g. { surface = "Hard" }
-    add_simulated = false            # "folder" (issue 27): also simulate [data.simulated] and add those recordings
+    add_simulated = false            # "folder": also simulate [data.simulated] and add those recordings
                                      # (real and simulated windows in one training set; groups from data.group)
     manifest = ""                    # "folder": the manifest in data.path (default: manifest.csv when present;
                                      # a name given here must exist). Columns: gaitml.pipeline.folder_source
@@ -34,7 +34,7 @@ Keys (defaults in brackets) of ``task = "classification"``::
     snap = "steps"                   # "steps" | "strides" | "none": boundaries snap to detected steps / strides
     detector = ""                    # the step (or, for strides, zero-velocity) detector; default single-peak / pseudo-std
     max_snap_s = 0.5
-    moving_speed_ms = 0.0            # "folder" (issue 27): > 0 labels every recording with a motion capture (tyrex)
+    moving_speed_ms = 0.0            # "folder": > 0 labels every recording with a motion capture (tyrex)
                                      # per sample: its data.label value where the walker's body (the true path
                                      # low-passed at 0.5 Hz) moves faster than this, "still" elsewhere,
                                      # "unlabelled" outside the capture (gaitml.evaluation.trajectory.moving_samples)
@@ -305,10 +305,10 @@ SCHEMA: dict[str, Any] = {
             "snap": _Leaf((str,), "steps", allowed=_snap_modes),
             "detector": _Leaf((str,), ""),
             "max_snap_s": _Leaf(_NUM, 0.5, check=_nonneg),
-            # issue 27: label recordings with a motion capture by the walker's speed (0 = off)
+            # label recordings with a motion capture by the walker's speed (0 = off)
             "moving_speed_ms": _Leaf(_NUM, 0.0, check=_nonneg),
         },
-        # issue 27: a folder source plus the simulated subjects of [data.simulated]
+        # a folder source plus the simulated subjects of [data.simulated]
         "add_simulated": _Leaf((bool,), False),
         "simulated": {
             "subjects": _Leaf((int,), 8, check=_subjects),
@@ -435,7 +435,7 @@ def _leaf_at(path: str):
     return node if isinstance(node, _Leaf) else None
 
 
-#: Keys written into :meth:`ExperimentConfig.resolved` only when they differ from their default (issue 27).
+#: Keys written into :meth:`ExperimentConfig.resolved` only when they differ from their default.
 _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {("data", "add_simulated"): False, ("data", "labelling", "moving_speed_ms"): 0.0}
 
 

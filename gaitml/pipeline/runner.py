@@ -84,7 +84,7 @@ def _simulated_recordings(cfg: ExperimentConfig):
 
 
 def _label_moving(recs, label: str, min_speed_ms: float):
-    """Per-sample labels of the recordings with a motion capture (tyrex) from the walker's speed (issue 27).
+    """Per-sample labels of the recordings with a motion capture (tyrex) from the walker's speed.
 
     A sample takes the recording's meta ``label`` value where the walker's body moves
     faster than ``min_speed_ms`` (:func:`gaitml.evaluation.trajectory.moving_samples`),

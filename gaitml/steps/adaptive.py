@@ -4,7 +4,7 @@ Not from the papers: a detector for hand, pockets, bag, armband, neck pouch and
 swinging arm, where fixed magnitude thresholds (papers 000, 002, 003) fail
 because the amplitude and the shape of the step signal change with the
 position. Its settings are physiological ranges and dimensionless ratios, not
-thresholds fitted to the recordings it is evaluated on (issue 13); the one
+thresholds fitted to the recordings it is evaluated on; the one
 amplitude it uses is a noise floor. Five stages:
 
 1. **Band-pass** the acceleration magnitude (|acc| minus its median) to the gait
@@ -169,7 +169,7 @@ MIN_BOUT_STEPS = 4
 #: a bout of fewer steps than this is short: it counts only if its steps repeat their strength (step-amplitude
 #: coefficient of variation <= MAX_SHORT_BOUT_CV) and its steps' confidence is scaled by (steps / this). Ten steps:
 #: the continuity rule of pedometers that hold back a new bout until about ten regular steps (Bassett et al.,
-#: Med. Sci. Sports Exerc. 28, 1996, on the 10-step delay of spring-levered pedometers; issue 30)
+#: Med. Sci. Sports Exerc. 28, 1996, on the 10-step delay of spring-levered pedometers)
 SHORT_BOUT_STEPS = 10
 #: the largest step-amplitude coefficient of variation of a short bout: walking bouts repeat their steps' strength
 #: (CV 0.13-0.36, 90th percentile per position on the Oxford walks) while a gesture burst waxes and wanes (~0.5)
@@ -528,7 +528,7 @@ class AdaptiveStepDetector(BaseStepDetector):
     slow_step_hz : float, default 1.2
         A period longer than ``1 / slow_step_hz`` (and without half-period
         evidence) is a slow step only in a window whose band-passed RMS is at
-        most ``slow_step_max_rms_ms2``; otherwise a stride (issue 30).
+        most ``slow_step_max_rms_ms2``; otherwise a stride.
     slow_step_max_rms_ms2 : float, default 1.5
         The most motion a walker slower than ``slow_step_hz`` makes at the
         phone (m/s^2 RMS): the trunk's vertical acceleration at 1.2 steps/s and
@@ -562,7 +562,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         bout-edge rule (stage 5): two strides, left/right seen twice. 1 keeps
         every bout, a single step included.
     short_bout_steps : int, default 10
-        A bout of fewer steps is short (issue 30, no gait): it is dropped when its
+        A bout of fewer steps is short (no gait): it is dropped when its
         step amplitudes vary more than ``max_short_bout_cv``, and every kept
         bout's confidence is scaled by ``min(1, steps / short_bout_steps)``.
         0 disables both.

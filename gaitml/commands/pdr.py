@@ -208,15 +208,7 @@ def run(args) -> int:
             res.trajectory.to_csv(tmp_out, index=False)
     for note in notes:
         log(f"note: {note}")
-    # ---- out-of-domain steps (gaitml.models.domain): one warning line
-    if model is not None and modes == "model":
-        from gaitml.commands._domain import domain_warning
-
-        flags = res.steps["in_domain"].to_numpy(dtype=object) if "in_domain" in res.steps else []
-        warning = domain_warning(model, flags, what="steps")
-        if warning:
-            tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
-            log(f"gaitml: warning: {warning}{tail}")
+    _warn_out_of_domain(model, modes, res.steps)
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
     from gaitml.steps.crosscheck import count_warning
@@ -317,14 +309,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
             res.trajectory.to_csv(tmp_out, index=False)
     for note in notes:
         log(f"note: {note}")
-    if model is not None and modes == "model":
-        from gaitml.commands._domain import domain_warning
-
-        flags = res.steps["in_domain"].to_numpy(dtype=object) if "in_domain" in res.steps else []
-        warning = domain_warning(model, flags, what="steps")
-        if warning:
-            tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
-            log(f"gaitml: warning: {warning}{tail}")
+    _warn_out_of_domain(model, modes, res.steps)
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:
         log(f"gaitml: warning: {count_msg}")
@@ -468,3 +453,16 @@ def _truth_lines(truth, scored) -> list[str]:
             fl = f"{r.floor:5g}" if np.isfinite(r.floor) else f"{'-':>5s}"
             lines.append(f"    {k:3d} {r.t_s:8.2f} {r.error_m:8.2f} {r.distance_m:8.1f} {pct} {fl}  {r.role}")
     return lines
+
+
+def _warn_out_of_domain(model, modes: str, steps) -> None:
+    """One warning line when model modes were used and steps lie outside the model's training domain."""
+    if model is None or modes != "model":
+        return
+    from gaitml.commands._domain import domain_warning
+
+    flags = steps["in_domain"].to_numpy(dtype=object) if "in_domain" in steps else []
+    warning = domain_warning(model, flags, what="steps")
+    if warning:
+        tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
+        log(f"gaitml: warning: {warning}{tail}")

@@ -37,7 +37,7 @@ INPUTS: dict[str, tuple[str, ...]] = {
     "train": ("config",),
     "evaluate": ("config", "data"),
     "predict": ("model_dir", "input"),
-    "pdr": ("input", "model", "step_length"),
+    "pdr": ("input", "model", "step_length", "truth"),
     "label": ("input", "intervals"),
     "segment": ("input",),
     "model convert": ("old_dir",),
@@ -121,7 +121,10 @@ def _extra_outputs(command: str, args) -> list[tuple[str, Path]]:
 def check_outputs(args) -> None:
     """Refuse (InputError, one line) an output path that would replace or corrupt an input; see the module docstring."""
     command = command_name(args)
-    inputs = [(dest, Path(v)) for dest in INPUTS.get(command, ()) if (v := getattr(args, dest, None))]
+    # `--truth self` names no file: the truth is read from the input itself
+    inputs = [
+        (dest, Path(v)) for dest in INPUTS.get(command, ()) if (v := getattr(args, dest, None)) and not (dest == "truth" and v == "self")
+    ]
     outputs: list[tuple[str, Path, str]] = []
     for dest, kind in OUTPUTS.get(command, ()):
         value = getattr(args, dest, None)

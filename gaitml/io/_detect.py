@@ -172,15 +172,11 @@ def read_recording(
             raise InputError("--format columns-csv needs --columns t=...,acc_x=...,acc_y=...,acc_z=... naming the CSV's columns.")
         return read_columns_csv(p, columns, time_unit=time_unit, acc_unit=acc_unit, gyr_unit=gyr_unit, sampling_rate_hz=sampling_rate_hz)
     given = {"acc_unit": None if acc_unit == "m/s^2" else acc_unit, "gyr_unit": None if gyr_unit == "rad/s" else gyr_unit}
+    _refuse_unit_flags(fmt, given)
     if fmt == "phyphox":
         return read_phyphox(p, sampling_rate_hz=sampling_rate_hz, **given)
     if fmt == "sensor-logger":
         return read_sensor_logger(p, sampling_rate_hz=sampling_rate_hz, **given)
-    if any(given.values()) and fmt in ("ifsm-xlsx", "oxford", "gaitmap", "getsensordata", "tyrex", "tyrex-set"):
-        flag = "--acc-unit" if given["acc_unit"] else "--gyr-unit"
-        raise InputError(
-            f"{flag} applies to gaitml-csv, columns-csv, phyphox and Sensor Logger files; a {fmt} recording has its documented units: drop {flag}."
-        )
     if fmt == "getsensordata":
         return read_getsensordata(p, sampling_rate_hz=sampling_rate_hz)
     if fmt == "gaitml-csv":
@@ -231,6 +227,7 @@ def read_segments(
         raise InputError(f"unknown --format {format!r}; choose one of {', '.join(FORMATS)}.")
     p = require_file(path)
     fmt = "columns-csv" if columns is not None else (format or detect_format(p))
+    _refuse_unit_flags(fmt, {"acc_unit": None if acc_unit == "m/s^2" else acc_unit, "gyr_unit": None if gyr_unit == "rad/s" else gyr_unit})
     if fmt == "gaitml-csv" and p.is_file():
         return read_gaitml_csv(p, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit, segments=True)
     if fmt == "oxford":
@@ -313,3 +310,16 @@ def read_dataset(path: str | os.PathLike, **kwargs) -> list[Recording]:
         else:
             out.append(read_recording(f, format=fmt, **kwargs))
     return out
+
+
+#: Formats whose units are documented by the format itself: --acc-unit / --gyr-unit do not apply.
+FIXED_UNIT_FORMATS = ("ifsm-xlsx", "oxford", "gaitmap", "getsensordata", "tyrex", "tyrex-set")
+
+
+def _refuse_unit_flags(fmt: str, given: dict) -> None:
+    """InputError when a unit flag was given for a format with documented units (it would change nothing)."""
+    if any(given.values()) and fmt in FIXED_UNIT_FORMATS:
+        flag = "--acc-unit" if given["acc_unit"] else "--gyr-unit"
+        raise InputError(
+            f"{flag} applies to gaitml-csv, columns-csv, phyphox and Sensor Logger files; a {fmt} recording has its documented units: drop {flag}."
+        )

@@ -304,6 +304,8 @@ def dehold_rows(t, acc, gyr, labels, m: dict, name: str):
         if hold:
             t_new, acc_new, gyr_new, merge = merge_clocks(t_a, acc_a, t_g, gyr_g, what=name)
             m["clock_merge"] = merge
+            if merge["warning"]:
+                m.setdefault("warnings", []).append(merge["warning"])
             if labels is not None:
                 labels = labels[np.searchsorted(t, t_new)]
             t, acc, gyr = t_new, acc_new, gyr_new

@@ -30,7 +30,8 @@ header says so). gaitml therefore times each sensor's samples by its
 :data:`SAME_CLOCK_S` they share one clock (the usual Android case) and the
 accelerometer's offset is used for both, so their relative timing is exactly
 the sensors'. The gyroscope is then interpolated onto the accelerometer times by
-:func:`gaitml.io._merge.merge_clocks` (overlap only), as for the phone-app
+:func:`gaitml.io._merge.merge_clocks` (every accelerometer sample kept, the gyroscope's
+edge samples held where it did not run, said in a warning), as for the phone-app
 readers, and :meth:`Recording.from_timestamps` makes the time base uniform.
 
 Ordering rule. Lines of different types interleave in arrival order and need not
@@ -447,6 +448,8 @@ def read_getsensordata(
             t_gyr = s_gyr + ig["offset_s"]
         t, acc, gyr, merge = merge_clocks(t_acc, acc, t_gyr, gyr_raw, what=where)
         m["clock_merge"] = merge
+        if merge["warning"]:
+            warnings.append(merge["warning"])
     else:
         gsd["clock_rule"] = "ACCE only, moved onto the app clock by its offset"
         warnings.append(f"{where} has no GYRO lines: accelerometer only (PDR heading and gyroscope detectors need a gyroscope)")

@@ -17,8 +17,9 @@ motion capture in ``qualisys/<same name>.csv.gz``. What each platform logs:
   90-100 Hz, each sensor on its own clock ticks.
 
 The two sensors of a recording never share sample times: they are merged by
-:func:`gaitml.io._merge.merge_clocks` (overlap only, gyroscope linearly
-interpolated onto the accelerometer's times, reported in ``meta['clock_merge']``),
+:func:`gaitml.io._merge.merge_clocks` (every accelerometer sample kept, the gyroscope
+linearly interpolated onto its times and held at its edge samples where it did not run,
+reported in ``meta['clock_merge']`` and, past a few samples, one warning line),
 then made uniform by :meth:`gaitml.recording.Recording.from_timestamps` (at the
 accelerometer's median rate unless ``sampling_rate_hz`` is given).
 
@@ -308,6 +309,8 @@ def read_tyrex(
         m["acc_samples_in_gyr_gaps"] = int((~keep).sum())
     t, acc_m, gyr_m, info = merge_clocks(t_acc[keep], acc[keep], t_gyr, gyr, what=d.name)
     m["clock_merge"] = info
+    if info["warning"]:  # the gyroscope started late or stopped early: its edge samples held there, said once
+        m.setdefault("warnings", []).append(info["warning"])
     m["sensor_gaps"] = gaps
     m["n_acc_samples"] = int(len(t_acc))
     m["n_gyr_samples"] = int(len(t_gyr))

@@ -292,3 +292,15 @@ def test_real_manifest_lists_every_recording():
     assert (man["truth"] == "").sum() == 1
     assert man.groupby("subject").size().to_dict() == {"Guillaume": 42, "Jakob": 43, "Thibaud": 42}
     assert (man["mode"] == "run").sum() == 18
+
+
+@pytest.mark.parametrize("command", ["info", "split"])
+def test_unit_flags_are_refused_for_a_tyrex_folder(tmp_path, capsys, command):
+    """The tyrex units are documented (m/s^2, or g converted by the reader): --acc-unit would change nothing."""
+    from gaitml.cli import main
+
+    d = android_folder(tmp_path)
+    argv = [command, str(d), "--acc-unit", "g"] + (["--out", str(tmp_path / "segs")] if command == "split" else [])
+    assert main(argv) == 2
+    assert "drop --acc-unit" in capsys.readouterr().err
+    assert not (tmp_path / "segs").exists()

@@ -253,3 +253,23 @@ def test_an_unsorted_step_table_is_sorted_with_a_note():
     b = run_pdr(rec, steps=shuffled, modes="true", heading="gyro")
     assert np.allclose(a.trajectory[["x_m", "y_m"]], b.trajectory[["x_m", "y_m"]])
     assert any("not in time order" in n for n in b.info["notes"])
+
+
+def test_a_step_in_a_still_window_takes_the_models_own_answer():
+    """A detected step is gait: the still gate of its window gives way to the model's answer (mode_raw)."""
+    import pandas as pd
+
+    from gaitml.pdr.step_modes import modes_from_windows
+
+    windows = pd.DataFrame(
+        {
+            "t_start_s": [0.0, 1.0, 2.0],
+            "t_end_s": [1.5, 2.5, 3.5],
+            "mode": ["walk", "still", "backward"],
+            "mode_raw": ["walk", "side_left", "backward"],
+            "still": [False, True, False],
+        }
+    )
+    modes = modes_from_windows(windows, [0.5, 1.75, 2.9])
+    assert modes.tolist() == ["walk", "side_left", "backward"]
+    assert "still" not in modes_from_windows(windows.drop(columns="mode_raw").assign(mode=["walk", "walk", "run"]), [1.75])

@@ -38,6 +38,7 @@ COMMANDS = [
     ["pdr", "{inp}", "--out", "{tmp}/x.csv", "--plot", "{inp}"],
     ["segment", "{inp}", "--out", "{inp}"],
     ["label", "{inp}", "--intervals", "{iv}", "--out", "{iv}"],
+    ["pdr", "{inp}", "--truth", "{iv}", "--out", "{iv}"],
     ["label", "{inp}", "--intervals", "{iv}", "--out", "{inp}"],
     ["predict", "{model}", "{inp}", "--out", "{model}/model.json"],
     ["predict", "{model}", "{inp}", "--out", "{model}/new.csv"],

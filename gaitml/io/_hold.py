@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["HOLD_FRACTION", "dehold", "note_hold"]
+__all__ = ["HOLD_FRACTION", "dehold", "hold_pattern", "note_hold"]
 
 #: Fraction of rows repeating the previous row exactly above which a stream is sample-and-hold.
 HOLD_FRACTION = 0.3
@@ -59,9 +59,27 @@ def dehold(t: np.ndarray, x: np.ndarray, what: str, *, hold_fraction: float = HO
     if n < 10:
         return t, x, None
     same = np.r_[False, np.all(x[1:] == x[:-1], axis=1)]
+    info = hold_pattern(t, same, what, hold_fraction=hold_fraction)
+    if info is None:
+        return t, x, None
+    keep = ~same
+    return t[keep], x[keep], info
+
+
+def hold_pattern(t: np.ndarray, same: np.ndarray, what: str, *, hold_fraction: float = HOLD_FRACTION) -> dict | None:
+    """The decision of :func:`dehold` from the row times and the repeat mask (``same[i]``: row ``i``
+    equals row ``i - 1`` on every axis): its ``info`` for a sample-and-hold stream, else None.
+
+    The chunked reader's first pass builds the mask block by block and asks the same question.
+    """
+    t = np.asarray(t, dtype=float)
+    same = np.asarray(same, dtype=bool)
+    n = len(t)
+    if n < 10:
+        return None
     frac = float(same.mean())
     if frac < hold_fraction:
-        return t, x, None
+        return None
     keep = ~same
     dur = float(t[-1] - t[0])
     up = np.flatnonzero(keep)
@@ -71,7 +89,7 @@ def dehold(t: np.ndarray, x: np.ndarray, what: str, *, hold_fraction: float = HO
     short = runs[runs <= SHORT_RUN_ROWS]
     spread = (short - 1).sum() / max(1, int(same.sum()))  # share of the repeats in short holds
     if len(up) < MIN_UPDATES or spread < 0.5 or (t[up[-1]] - t[up[0]]) < 0.5 * dur:
-        return t, x, None
+        return None
     row_rate = (n - 1) / dur if dur > 0 else float("nan")
     n_up = int(keep.sum())
     up_rate = (n_up - 1) / float(t[keep][-1] - t[keep][0]) if n_up > 1 and t[keep][-1] > t[keep][0] else float("nan")
@@ -86,7 +104,7 @@ def dehold(t: np.ndarray, x: np.ndarray, what: str, *, hold_fraction: float = HO
         f"the {what} repeats its last value on {100 * frac:.0f} % of the rows (sample-and-hold: a row is written whenever any sensor "
         f"updates); read at its own update rate {up_rate:.1f} Hz ({n_up} updates), not the {row_rate:.1f} Hz row rate"
     )
-    return t[keep], x[keep], info
+    return info
 
 
 def note_hold(meta: dict, key: str, t: np.ndarray, x: np.ndarray, info: dict | None) -> tuple[np.ndarray, np.ndarray]:

@@ -39,6 +39,7 @@ import numpy as np
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._detect import detect_format, read_recording
+from gaitml.io._hold import hold_pattern
 from gaitml.io.gaitml_csv import Block, Columns, _read_table, check_columns, parse_block
 from gaitml.recording import Recording
 from gaitml.recording.container import finish_resampling_meta
@@ -185,6 +186,16 @@ class _Growing:
         return self.buf[: self.n]
 
 
+def _repeats(x: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
+    """Whether each row of ``x`` equals the row before it (the previous block's last row for the first)."""
+    out = np.zeros(len(x), dtype=bool)
+    if len(x) > 1:
+        out[1:] = np.all(x[1:] == x[:-1], axis=1)
+    if len(x) and previous is not None:
+        out[0] = bool(np.all(x[0] == previous))
+    return out
+
+
 def scan_gaitml_csv(
     path: str | os.PathLike,
     *,
@@ -210,6 +221,9 @@ def scan_gaitml_csv(
     tally = RangeTally(conv_meta)
     cap = max(1024, int(estimate_samples(p) * 1.05))
     ts, amag, gmag = _Growing(cap, np.float64), _Growing(cap, np.float32), _Growing(cap, np.float32)
+    # repeat masks (row equal to the previous row on every axis) for the sample-and-hold check of gaitml.io._hold
+    same_acc, same_gyr = _Growing(cap, np.bool_), _Growing(cap, np.bool_)
+    last_acc = last_gyr = None
     nan = Block(np.zeros(0), np.zeros((0, 3)), None, None)
     has_gyr = has_labels = False
     cols_ignored: list[str] = []
@@ -219,6 +233,11 @@ def scan_gaitml_csv(
         if block.nan_count:
             nan.nan_count += block.nan_count
             nan.nan_first_line = nan.nan_first_line or block.nan_first_line
+        same_acc.append(_repeats(block.acc, last_acc))
+        last_acc = block.acc[-1].copy() if len(block.acc) else last_acc
+        if block.gyr is not None:
+            same_gyr.append(_repeats(block.gyr, last_gyr))
+            last_gyr = block.gyr[-1].copy() if len(block.gyr) else last_gyr
         acc, gyr = convert_units(block.acc, block.gyr, acc_unit, gyr_unit)
         ts.append(block.t)
         amag.append(acc_magnitude(acc))
@@ -233,6 +252,14 @@ def scan_gaitml_csv(
     if len(t) < 2:
         raise InputError(f"need at least 2 timestamped samples to find the sampling rate, got {len(t)}; use a longer recording.")
     check_increasing(t)
+    for what, same in (("accelerometer", same_acc), ("gyroscope", same_gyr if has_gyr else None)):
+        info = None if same is None or (np.diff(t) <= 0).any() else hold_pattern(t, same.values(), what)
+        if info:  # a file read whole is re-timed at the updates; the chunked road keeps the row times: refuse, with the rates
+            raise InputError(
+                f"{p.name}: {info['warning'].replace('; read at', '; it would be read at')}; a file of {len(t)} rows is read in chunks, "
+                f"which keep the row times: cut it into files of fewer than {LARGE_INPUT_SAMPLES} rows, or export each sensor at its own rate."
+            )
+    del same_acc, same_gyr
     meta = {"source": str(p), "format": "gaitml-csv", "id": p.stem, "subject": p.stem, "session": p.stem, "chunked": True}
     if cols_ignored:
         meta["ignored_columns"] = cols_ignored

@@ -105,3 +105,31 @@ def test_chunked_long_gap_and_impossible_values_are_refused(tmp_path, monkeypatc
     with pytest.raises(InputError, match=r"gyr_y = 1e\+308 at sample 420 .*beyond any sensor's range"):
         list(ch.iter_chunks(p, chunk_s=2.0, margin_s=0.5))
     _same_refusal(p)
+
+
+def _held_csv(path, n=6000, fs=100.0, every=3):
+    """An accelerometer that updates every ``every`` rows and is held between (a multi-sensor logger's rows)."""
+    t = np.arange(n) / fs
+    k = (np.arange(n) // every) * every
+    acc = np.c_[np.sin(2 * np.pi * 1.8 * t[k]), 0.5 * np.cos(2 * np.pi * 1.8 * t[k]), 9.81 + 3 * np.sin(2 * np.pi * 1.8 * t[k])]
+    gyr = np.c_[0.1 * np.sin(t), 0.1 * np.cos(t), 0.05 * t]
+    cols = {"t": t, "acc_x": acc[:, 0], "acc_y": acc[:, 1], "acc_z": acc[:, 2], "gyr_x": gyr[:, 0], "gyr_y": gyr[:, 1], "gyr_z": gyr[:, 2]}
+    pd.DataFrame(cols).to_csv(path, index=False)
+    return path
+
+
+def test_a_held_stream_is_refused_on_the_chunked_road_with_its_rates(tmp_path, monkeypatch, capsys):
+    """A file read whole is re-timed at the held sensor's updates; the chunked road, which keeps the row times,
+    refuses it in one line naming the update and row rates and the fix (never reads it at the row rate)."""
+    from gaitml.cli import main
+
+    p = _held_csv(tmp_path / "held.csv")
+    whole = read_recording(p)
+    assert whole.meta["sample_and_hold"]["acc"]["update_rate_hz"] == pytest.approx(33.3, abs=0.2)
+    monkeypatch.setattr(ch, "LARGE_INPUT_SAMPLES", 100)
+    monkeypatch.setattr(ch, "_ROWS_PER_READ", 700)  # holds across read blocks
+    assert main(["steps", str(p)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "sample-and-hold" in err[0] and "33.3 Hz" in err[0] and "fewer than 100 rows" in err[0]
+    # a stream that does not hold is read on the chunked road as before
+    assert main(["steps", str(_write(tmp_path, 6000))]) == 0

@@ -216,32 +216,9 @@ def run(args) -> int:
     count_msg = count_warning(rec, res.n_steps, detector)
     if count_msg:
         log(f"gaitml: warning: {count_msg}")
-    if args.json:
-        obj = res.to_json_dict()
-        if count_msg:
-            obj["warnings"] = [count_msg]
-        if scored is not None:
-            obj["truth"] = _truth_json(truth_obj, scored)
-        emit_json(obj)
-        return 0
-    x, y = res.end_xy_m
-    lines = [
-        f"{rec.name}: {res.n_steps} steps, distance {res.distance_m:.1f} m, end point ({x:.2f}, {y:.2f}) m "
-        f"[heading {res.info['heading']}, modes {res.info['modes']}, update {res.info['update']}]"
-    ]
-    if res.info.get("out_of_domain_steps") is not None:
-        lines.append(
-            f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
-        )
-    lines.extend(_reference_lines(res, truth))
-    if scored is not None:
-        lines.extend(_truth_lines(truth_obj, scored))
-    if args.out:
-        lines.append(f"  trajectory written to {args.out}")
-    if args.plot:
-        lines.append(f"  plot written to {args.plot}")
-    print("\n".join(lines))
-    return 0
+    extra_json = {"truth": _truth_json(truth_obj, scored)} if scored is not None else {}
+    extra_lines = _truth_lines(truth_obj, scored) if scored is not None else []
+    return _report(args, res, rec.name, res.info["modes"], truth, count_msg, extra_json, extra_lines)
 
 
 def _run_long(args, model, step_length, notes: list[str]) -> int:
@@ -313,28 +290,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:
         log(f"gaitml: warning: {count_msg}")
-    if args.json:
-        obj = res.to_json_dict()
-        if count_msg:
-            obj["warnings"] = [count_msg]
-        emit_json(obj)
-        return 0
-    x, y = res.end_xy_m
-    lines = [
-        f"{name}: {res.n_steps} steps, distance {res.distance_m:.1f} m, end point ({x:.2f}, {y:.2f}) m "
-        f"[heading {res.info['heading']}, modes {modes}, update {res.info['update']}]"
-    ]
-    if res.info.get("out_of_domain_steps") is not None:
-        lines.append(
-            f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
-        )
-    lines.extend(_reference_lines(res, truth))
-    if args.out:
-        lines.append(f"  trajectory written to {args.out}")
-    if args.plot:
-        lines.append(f"  plot written to {args.plot}")
-    print("\n".join(lines))
-    return 0
+    return _report(args, res, name, modes, truth, count_msg)
 
 
 def _long_reference(args):
@@ -466,3 +422,31 @@ def _warn_out_of_domain(model, modes: str, steps) -> None:
     if warning:
         tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
         log(f"gaitml: warning: {warning}{tail}")
+
+
+def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extra_json: dict | None = None, extra_lines=()) -> int:
+    """The JSON object or the text summary of a PDR run (a file read whole or in chunks)."""
+    if args.json:
+        obj = res.to_json_dict()
+        if count_msg:
+            obj["warnings"] = [count_msg]
+        obj.update(extra_json or {})
+        emit_json(obj)
+        return 0
+    x, y = res.end_xy_m
+    lines = [
+        f"{name}: {res.n_steps} steps, distance {res.distance_m:.1f} m, end point ({x:.2f}, {y:.2f}) m "
+        f"[heading {res.info['heading']}, modes {modes}, update {res.info['update']}]"
+    ]
+    if res.info.get("out_of_domain_steps") is not None:
+        lines.append(
+            f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
+        )
+    lines.extend(_reference_lines(res, truth))
+    lines.extend(extra_lines)
+    if args.out:
+        lines.append(f"  trajectory written to {args.out}")
+    if args.plot:
+        lines.append(f"  plot written to {args.plot}")
+    print("\n".join(lines))
+    return 0

@@ -2,21 +2,39 @@
 
 A written boundary says that the motion mode changed near that time. Each detected
 step (or stride) is described by a few numbers that a change of mode moves: its
-duration (cadence), the spread of the acceleration magnitude (intensity), the
-spread of each accelerometer axis (which way the body accelerates: forward,
-sideways or backward in the phone's frame, which a turn of the body into a side
-step or a backward walk swaps) and, with a gyroscope, the mean rotation rate (the
-turn of the body into the new mode). The old mode is described by the steps just
-before the written boundary's search band (their median and robust spread); the
-mode change is placed at the end of the last step before the first step that
-departs from it. A change step that blends both modes (a turning step, the first
-step of a run) therefore belongs to the new mode, as the first step of it.
+duration (cadence), the spread of the acceleration magnitude (intensity) and the
+spread of each accelerometer axis (which way the body accelerates in the phone's
+frame: forward, sideways or backward, which a turn of the body into a side step
+or a backward walk swaps). Rotation is not used: the turn into a new mode spreads
+over the steps around the change and does not mark where it is. The old mode is
+described by the steps just before the written boundary's search band, the new
+one by the steps just after it (medians; the old mode's robust spread scales every
+feature). Each step is placed along the line from the old mode to the new one; the
+mode change is put at the end of the last step before the first step that departs
+from the old mode towards the new one (``CHANGE_Z`` spreads and ``CHANGE_SHARE`` of
+the way). A change step that blends both modes (a turning step, the first step of
+a run) therefore belongs to the new mode, as its first step.
 
-The boundary moves only when this evidence is clean (:func:`change_at`): enough
-steps of the old mode to describe it, the old mode steady up to the change, and
-the two steps after it both departing (a single odd step is a stumble or a
-detection error, not a mode change). Anything else leaves the boundary where it
-was written (status ``ambiguous``).
+No paper describes this; it is the labelling front end's own rule. The step
+boundary is the step event (the impact peak, DESIGN sec. 2), as in
+:mod:`gaitml.labels`. The boundary moves only when the evidence is clean
+(:func:`change_at`); otherwise it stays where it was written (status
+``ambiguous``):
+
+- each mode described by at least ``MIN_REFERENCE_STEPS`` steps outside the band,
+  none of them over ``MISSED_STEP_RATIO`` times their median or a median over
+  ``MAX_STEP_S`` (the detector missed steps there), and not strides (the two
+  halves of a step's |acc| correlate above ``STRIDE_HALF_CORR``: the detector
+  counts every other step and the change may lie inside one);
+- the two modes far enough apart (``CHANGE_Z / CHANGE_SHARE`` spreads) that a step
+  a quarter of the way is told from the old mode's own scatter;
+- the old mode steady up to the band, the last old step clearly old (at most
+  ``CLEAR_OLD_Z`` spreads towards the new mode, within ``CHANGE_Z`` in every
+  feature, its duration within ``CLEAR_OLD_Z`` spreads: a shorter one is half of
+  a step the detector split), the two steps after the change both departing (a
+  single odd step is a stumble or a detection error), and the first new step not
+  over ``MISSED_STEP_RATIO`` times the usual step of both modes (it may hide a
+  missed step, which may be the true boundary).
 """
 
 from __future__ import annotations
@@ -28,6 +46,7 @@ __all__ = [
     "CHANGE_SHARE",
     "CLEAR_OLD_Z",
     "MISSED_STEP_RATIO",
+    "MAX_STEP_S",
     "STRIDE_HALF_CORR",
     "REFERENCE_STEPS",
     "MIN_REFERENCE_STEPS",
@@ -36,18 +55,20 @@ __all__ = [
     "change_at",
 ]
 
-#: a step departs from the old mode when one of its features lies this many robust spreads from the old median
+#: a step departs from the old mode when it lies this many robust spreads towards the new mode...
 CHANGE_Z = 4.0
-#: old-mode steps (before the search band) that describe it
-REFERENCE_STEPS = 8
-#: fewer old-mode steps than this: no reference, the boundary stays
-MIN_REFERENCE_STEPS = 4
-#: ... and has come at least this share of the way from the old mode to the new one
+#: ... and at least this share of the way from the old mode to the new one
 CHANGE_SHARE = 0.25
+#: steps (outside the search band) that describe each mode
+REFERENCE_STEPS = 8
+#: fewer steps than this describe a mode: the boundary stays
+MIN_REFERENCE_STEPS = 4
 #: the last step before the change lies at most this many spreads towards the new mode
 CLEAR_OLD_Z = 2.0
 #: a step this many times the usual one hides a missed step
 MISSED_STEP_RATIO = 1.8
+#: the longest step (s): 0.5 steps/s, the low edge of the step band of the adaptive detector; a longer one holds missed steps
+MAX_STEP_S = 2.0
 #: steps whose two halves correlate above this (median) are strides (two steps each): a change may lie inside one
 STRIDE_HALF_CORR = 0.3
 #: smallest spread of a (log) feature: 0.1 = a 10 % change is within one spread
@@ -107,6 +128,10 @@ def change_at(features: np.ndarray, ends: np.ndarray, k: int, band: float, k_pre
     new = np.flatnonzero((starts > k + band) & (ends <= k_next - band))[:REFERENCE_STEPS]
     if len(old) < MIN_REFERENCE_STEPS or len(new) < MIN_REFERENCE_STEPS:
         return None, "ambiguous"
+    for ref in (old, new):
+        dur = np.exp(features[ref, 0])
+        if np.median(dur) > MAX_STEP_S or dur.max() > MISSED_STEP_RATIO * np.median(dur):
+            return None, "ambiguous"  # the detector missed steps there: the steps do not describe the mode
     halves = features[:, 5]
     for ref in (old, new):
         h = halves[ref][np.isfinite(halves[ref])]

@@ -118,7 +118,7 @@ class IntervalLabeller(BaseAlgorithm):
         must be clean (the last old step like the old mode, the two steps
         after it departing, no step hiding a missed one, the detector not
         counting strides), and a move shorter than the detector's timing
-        (``STEP_TIMING_TOLERANCE_S``) is not made (status ``kept``). Anything
+        (``STEP_TIMING_TOLERANCE_S``) is not made (status ``within timing``). Anything
         else stays where it was written (status ``ambiguous``). ``'nearest'``:
         the nearest candidate within ``max_snap_s`` (or the unique one within
         the stated noise); it moves more boundaries and can move one the
@@ -135,7 +135,7 @@ class IntervalLabeller(BaseAlgorithm):
     boundaries_ : DataFrame
         One row per distinct boundary: ``t_s`` (as written), ``snapped_t_s``,
         ``shift_s``, ``status`` (``snapped``, ``too far``, ``recording edge``,
-        ``no candidates``, ``collapsed``, ``ambiguous``, ``kept`` (rule change: within the
+        ``no candidates``, ``collapsed``, ``ambiguous``, ``within timing`` (rule change: within the
         detector's timing), ``not snapped`` for snap none).
     steps_ : DataFrame
         One row per detected step (or stride): ``t_s`` (the step event / stride
@@ -215,7 +215,7 @@ class IntervalLabeller(BaseAlgorithm):
                     k_next = float(b_k[i + 1]) if i + 1 < len(b_k) else float(n)
                     at, status[i] = change_at(feats, span_e, int(k), band, k_prev, k_next)
                     if at is not None and abs(at - k) < STEP_TIMING_TOLERANCE_S * fs:
-                        status[i] = "kept"  # within the detector's own timing: the move says nothing
+                        status[i] = "within timing"  # within the detector's own timing: the move says nothing
                     elif at is not None:
                         new_k[i] = at
         elif self.snap != "none":

@@ -62,7 +62,7 @@ def test_a_move_within_the_detector_timing_is_not_made():
     rec, t0 = _walk_then(0.33, 10.0)
     found = _boundary(rec, t0, t0 + 0.3)["snapped_t_s"]
     row = _boundary(rec, t0, found + 0.04)
-    assert row["status"] == "kept" and row["shift_s"] == 0.0
+    assert row["status"] == "within timing" and row["shift_s"] == 0.0
 
 
 def test_bad_rule():

@@ -73,7 +73,7 @@ def _stride_candidates(rec: Recording, detector: str) -> tuple[np.ndarray, pd.Da
     return np.unique(np.concatenate([s, e])), strides, s, e
 
 
-#: the step detector's own timing error (s) added to the stated noise when looking for candidate boundaries
+#: the step detector's own timing error (s): added to the stated noise for the search band; rule change makes no smaller move
 STEP_TIMING_TOLERANCE_S = 0.1
 #: a step interval over this many times its neighbour hides a missed step (a missed step doubles the interval)
 MISSED_STEP_RATIO = 1.8

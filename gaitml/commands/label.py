@@ -40,7 +40,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--boundary-noise-s",
         type=float,
-        help="the most a written boundary is off (s): snap only to the one step boundary within it, never guess (default: nearest)",
+        help="the most a written boundary is off (s): the search band for the mode change (default: --max-snap-s)",
+    )
+    p.add_argument(
+        "--snap-rule",
+        choices=("change", "nearest"),
+        default="change",
+        help="move a boundary only to evidence of the mode change (default; otherwise it stays, 'ambiguous') or to the nearest step",
     )
     p.add_argument("--unlabelled", default="unlabelled", help="label of samples outside every interval (default unlabelled)")
     p.add_argument("--out", metavar="OUT.csv", required=True, help="labelled gaitml-csv; OUT.step-labels.csv is written beside it")
@@ -81,6 +87,7 @@ def run(args) -> int:
         unlabelled=args.unlabelled,
         boundary=args.boundary,
         noise_s=args.boundary_noise_s,
+        rule=args.snap_rule,
     )
     side = step_labels_path(out)
     # the per-step table is moved into place only after the recording was written (atomically)
@@ -116,7 +123,8 @@ def run(args) -> int:
     if r["not_snapped"] and args.snap != "none":
         log(
             f"note: {len(r['not_snapped'])} boundaries had no {unit[:-1]} boundary within {r['max_snap_s']:g} s"
-            + (" or more than one within the stated noise" if r["noise_s"] is not None else "")
+            + (" or no clean evidence of the mode change there" if r["rule"] == "change" else "")
+            + (" or more than one within the stated noise" if r["noise_s"] is not None and r["rule"] == "nearest" else "")
             + " and stay where they were written."
         )
     return 0

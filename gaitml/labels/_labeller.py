@@ -10,10 +10,11 @@ import pandas as pd
 
 from gaitml._base import NON_NEGATIVE, POSITIVE, BaseAlgorithm, Options
 from gaitml.errors import InputError
+from gaitml.labels._evidence import change_at, step_character
 from gaitml.labels._intervals import check_intervals, read_intervals
 from gaitml.recording import Recording
 
-__all__ = ["BOUNDARY_KINDS", "SNAP_MODES", "UNLABELLED", "IntervalLabeller", "label_recording"]
+__all__ = ["BOUNDARY_KINDS", "SNAP_MODES", "SNAP_RULES", "UNLABELLED", "IntervalLabeller", "label_recording"]
 
 #: Values of ``snap``.
 SNAP_MODES = ("steps", "strides", "none")
@@ -21,6 +22,8 @@ SNAP_MODES = ("steps", "strides", "none")
 UNLABELLED = "unlabelled"
 #: Values of ``boundary`` (step snapping).
 BOUNDARY_KINDS = ("peak", "edges")
+#: Values of ``rule``: move a boundary to the evidence of the mode change, or to the nearest step boundary.
+SNAP_RULES = ("change", "nearest")
 
 
 def _to_sample(t_s: np.ndarray | float, fs: float) -> np.ndarray:
@@ -70,7 +73,7 @@ def _stride_candidates(rec: Recording, detector: str) -> tuple[np.ndarray, pd.Da
     return np.unique(np.concatenate([s, e])), strides, s, e
 
 
-#: the step detector's own timing error (s) added to the stated noise when looking for candidate boundaries
+#: the step detector's own timing error (s): added to the stated noise for the search band; rule change makes no smaller move
 STEP_TIMING_TOLERANCE_S = 0.1
 #: a step interval over this many times its neighbour hides a missed step (a missed step doubles the interval)
 MISSED_STEP_RATIO = 1.8
@@ -98,16 +101,28 @@ class IntervalLabeller(BaseAlgorithm):
         Step boundaries at the step events (default) or at the detector's step
         start/end samples.
     noise_s : float, optional
-        The most a written boundary is off (s). Given, a boundary is snapped
-        only when exactly one candidate lies within ``noise_s`` plus
-        ``STEP_TIMING_TOLERANCE_S`` (0.1 s) of it and the step intervals on
-        either side of that candidate are regular (neither over
+        The most a written boundary is off (s): the search band is ``noise_s``
+        plus ``STEP_TIMING_TOLERANCE_S`` (0.1 s), at most ``max_snap_s``.
+        Default: ``max_snap_s``. With ``rule='nearest'``, a boundary is snapped
+        only when exactly one candidate lies within the band and the step
+        intervals on either side of it are regular (neither over
         ``MISSED_STEP_RATIO`` = 1.8 times the other: a missed step may be the
-        true boundary); otherwise it stays where it was written (status
-        ``ambiguous``). The true boundary is a step boundary within the
-        noise, so a unique candidate is that boundary: snapping then cannot
-        make the boundary worse unless the detector misses or misplaces the
-        step there. Default: the nearest candidate within ``max_snap_s``.
+        true boundary); otherwise it stays (status ``ambiguous``).
+    rule : {'change', 'nearest'}
+        ``'change'`` (default): a boundary moves only to evidence of the mode
+        change itself (:mod:`gaitml.labels._evidence`): the end of the last
+        step of the old mode before the first step whose character (duration,
+        intensity, per-axis acceleration spread) departs from it towards the
+        new mode, found within the search band; the old and the new mode must
+        each be described by at least four steps outside the band, the change
+        must be clean (the last old step like the old mode, the two steps
+        after it departing, no step hiding a missed one, the detector not
+        counting strides), and a move shorter than the detector's timing
+        (``STEP_TIMING_TOLERANCE_S``) is not made (status ``within timing``). Anything
+        else stays where it was written (status ``ambiguous``). ``'nearest'``:
+        the nearest candidate within ``max_snap_s`` (or the unique one within
+        the stated noise); it moves more boundaries and can move one the
+        wrong way.
 
     Attributes
     ----------
@@ -120,7 +135,8 @@ class IntervalLabeller(BaseAlgorithm):
     boundaries_ : DataFrame
         One row per distinct boundary: ``t_s`` (as written), ``snapped_t_s``,
         ``shift_s``, ``status`` (``snapped``, ``too far``, ``recording edge``,
-        ``no candidates``, ``collapsed``, ``ambiguous`` (``noise_s``), ``not snapped`` for snap none).
+        ``no candidates``, ``collapsed``, ``ambiguous``, ``within timing`` (rule change: within the
+        detector's timing), ``not snapped`` for snap none).
     steps_ : DataFrame
         One row per detected step (or stride): ``t_s`` (the step event / stride
         start), ``span_start_s``, ``span_end_s`` (the samples the step covers,
@@ -131,7 +147,7 @@ class IntervalLabeller(BaseAlgorithm):
         ``not_snapped`` (list of ``[t_s, status]``), ``mean_abs_shift_s``,
         ``max_abs_shift_s``, ``n_unlabelled_samples``, ``n_steps``,
         ``n_mixed_steps`` (label_fraction < 1), ``snap``, ``detector``,
-        ``max_snap_s``, ``boundary``.
+        ``max_snap_s``, ``boundary``, ``noise_s``, ``rule``.
     """
 
     _action_method = "label"
@@ -140,6 +156,7 @@ class IntervalLabeller(BaseAlgorithm):
         "max_snap_s": [NON_NEGATIVE],
         "boundary": [Options(BOUNDARY_KINDS)],
         "noise_s": [None, POSITIVE],
+        "rule": [Options(SNAP_RULES)],
     }
 
     def __init__(
@@ -151,6 +168,7 @@ class IntervalLabeller(BaseAlgorithm):
         unlabelled: str = UNLABELLED,
         boundary: str = "peak",
         noise_s: float | None = None,
+        rule: str = "change",
     ):
         self.snap = snap
         self.detector = detector
@@ -158,6 +176,7 @@ class IntervalLabeller(BaseAlgorithm):
         self.unlabelled = unlabelled
         self.boundary = boundary
         self.noise_s = noise_s
+        self.rule = rule
 
     def label(self, recording: Recording, intervals: pd.DataFrame | str | os.PathLike) -> IntervalLabeller:
         """Label ``recording`` from ``intervals`` (a DataFrame or an intervals file); returns ``self``."""
@@ -182,7 +201,24 @@ class IntervalLabeller(BaseAlgorithm):
         b_k = np.clip(_to_sample(b_t, fs), 0, n)
         new_k = b_k.copy()
         status = np.array(["not snapped"] * len(b_t), dtype=object)
-        if self.snap != "none":
+        if self.snap != "none" and self.rule == "change":
+            max_k = self.max_snap_s * fs + 1e-6
+            band = max_k if self.noise_s is None else min(max_k, (self.noise_s + STEP_TIMING_TOLERANCE_S) * fs + 1e-6)
+            feats = step_character(rec.acc, span_s, span_e, fs)
+            for i, k in enumerate(b_k):
+                if k <= 0 or k >= n:
+                    status[i] = "recording edge"
+                elif len(span_e) == 0:
+                    status[i] = "no candidates"
+                else:
+                    k_prev = float(b_k[i - 1]) if i > 0 else 0.0
+                    k_next = float(b_k[i + 1]) if i + 1 < len(b_k) else float(n)
+                    at, status[i] = change_at(feats, span_e, int(k), band, k_prev, k_next)
+                    if at is not None and abs(at - k) < STEP_TIMING_TOLERANCE_S * fs:
+                        status[i] = "within timing"  # within the detector's own timing: the move says nothing
+                    elif at is not None:
+                        new_k[i] = at
+        elif self.snap != "none":
             max_k = self.max_snap_s * fs + 1e-6
             for i, k in enumerate(b_k):
                 if k <= 0 or k >= n:
@@ -215,6 +251,7 @@ class IntervalLabeller(BaseAlgorithm):
                     status[i] = "snapped"
                 else:
                     status[i] = "too far"
+        if self.snap != "none":
             # two boundaries onto one sample would empty an interval: keep both where written
             for i in range(1, len(new_k)):
                 if new_k[i] <= new_k[i - 1] and b_k[i] > b_k[i - 1]:
@@ -258,6 +295,7 @@ class IntervalLabeller(BaseAlgorithm):
             "boundary": self.boundary if self.snap != "strides" else "stride start",
             "max_snap_s": float(self.max_snap_s),
             "noise_s": None if self.noise_s is None else float(self.noise_s),
+            "rule": self.rule,
             "n_intervals": int(len(iv)),
             "n_boundaries": int(real.sum()),
             "n_snapped": int(snapped.sum()),

@@ -13,7 +13,7 @@ L6    models
 L7    pdr
 L8    evaluation
 L9    pipeline (config runner), demo, chunked_run, info
-L10   commands, cli
+L10   commands, cli, __main__
 ====  =========================================================
 
 Every ``import`` and ``from ... import`` is checked, at module level and inside
@@ -44,7 +44,7 @@ LAYERS: dict[str, int] = {
     "pdr": 7,
     "evaluation": 8,
     **dict.fromkeys(("pipeline", "demo", "chunked_run", "info"), 9),
-    **dict.fromkeys(("commands", "cli"), 10),
+    **dict.fromkeys(("commands", "cli", "__main__"), 10),
 }
 #: Top-level folders of the repository that the package must not import.
 OUTSIDE = ("benchmarks", "experiments", "tests")

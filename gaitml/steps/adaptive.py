@@ -377,21 +377,24 @@ def swing_correlation(gyr: np.ndarray, length: int, hop: int, n_windows: int, la
     proj = np.einsum("nlc,nc->nl", w, axis)
     rms = np.sqrt(np.mean(proj**2, axis=1))
     lags = np.asarray(lags, dtype=float)
-    corr = np.full(lags.shape, np.nan)
     L = proj.shape[1]
-
-    def at(x, k):
-        a, b = x[: L - k], x[k:]
-        den = np.sqrt(np.dot(a, a) * np.dot(b, b))
-        return float(np.dot(a, b) / den) if den > 0 else 0.0
-
-    for i in range(lags.shape[0]):
-        for j in range(lags.shape[1]):
-            k0 = int(np.floor(lags[i, j]))
-            if k0 < 1 or k0 + 1 > L - 2:
-                continue
-            f = lags[i, j] - k0
-            corr[i, j] = (1.0 - f) * at(proj[i], k0) + f * at(proj[i], k0 + 1)
+    k0 = np.floor(lags).astype(np.int64)
+    valid = (k0 >= 1) & (k0 + 1 <= L - 2)
+    corr = np.full(lags.shape, np.nan)
+    if not valid.any():
+        return rms, corr
+    kmax = int(k0[valid].max()) + 1
+    # each lag normalised by its own two segments, as window_autocorrelation; every window at every lag up to kmax
+    c = np.concatenate([np.zeros((proj.shape[0], 1)), np.cumsum(proj * proj, axis=1)], axis=1)
+    r = np.zeros((proj.shape[0], kmax + 1))
+    for k in range(1, kmax + 1):
+        num = np.einsum("ij,ij->i", proj[:, : L - k], proj[:, k:])
+        den = np.sqrt(c[:, L - k] * (c[:, L] - c[:, k]))
+        r[:, k] = np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+    rows = np.broadcast_to(np.arange(lags.shape[0])[:, None], lags.shape)
+    ka = np.where(valid, k0, 1)
+    f = lags - ka
+    corr = np.where(valid, (1.0 - f) * r[rows, ka] + f * r[rows, np.minimum(ka + 1, kmax)], np.nan)
     return rms, corr
 
 

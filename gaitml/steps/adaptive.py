@@ -572,7 +572,7 @@ def adaptive_steps(
     )
     if gyr_rads is not None:
         g = np.asarray(gyr_rads, dtype=float)
-        g = bandpass(g - np.median(g, axis=0), GYRO_BAND_HZ[0], min(GYRO_BAND_HZ[1], 0.45 * fs), fs, order=2)[::q]
+        g = bandpass(g - g.mean(axis=0), GYRO_BAND_HZ[0], min(GYRO_BAND_HZ[1], 0.45 * fs), fs, order=2)[::q]
         L = min(len(g), int(round(window_s * fs / q)))
         cad = gyro_stride_or_step(
             cad,

@@ -436,7 +436,8 @@ def gyro_stride_or_step(
     period stays within the human step range; the other windows keep the
     accelerometer's decision. Returns a copy of ``cadence`` with ``period_s``,
     ``stride`` and ``inferred`` corrected and ``gyro`` (+1: halved, -1:
-    doubled, 0: unchanged) and the swing's ``gyro_rms`` added.
+    doubled, 0: unchanged) and the swing's ``gyro_rms`` added (``step_correlation``
+    stays the accelerometer's autocorrelation at the period it chose).
     """
     fs = float(sampling_rate_hz)
     out = dict(cadence)

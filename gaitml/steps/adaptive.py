@@ -47,6 +47,15 @@ amplitude it uses is a noise floor. Five stages:
    one window.
    The peak correlation is the window's *periodicity*; the lag is refined to a
    fraction of a sample by a parabola through the peak.
+2b. **Gyroscope check** (where the recording has one; :func:`gyro_stride_or_step`).
+   Every rotation of the body that carries the phone (arm swing, thigh swing,
+   pelvis and trunk rotation) completes one cycle per stride and reverses
+   between the left and the right step, so the phone's swing rate (the
+   gyroscope on its principal axis) is in anti-phase one step later. A step
+   period at which the swing is in phase, with anti-phase at its half, is a
+   stride (a running arm or thigh); a period halved from a stride at which
+   the swing is not in anti-phase but is at twice it is a step (a swinging
+   hand's |acc| peaks at both ends of each swing, once per step).
 3. **Left/right fold.** With the local step period ``T`` each sample becomes
    ``(y(t - T) + 2 y(t) + y(t + T)) / 4``: a zero-phase comb that cancels the
    stride fundamental and its odd harmonics (the left/right asymmetry of a
@@ -115,7 +124,15 @@ from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, segment_argmax
 from gaitml.steps._table import make_step_table
 
-__all__ = ["AdaptiveStepDetector", "local_cadence", "adaptive_steps", "fold_steps", "window_autocorrelation"]
+__all__ = [
+    "AdaptiveStepDetector",
+    "local_cadence",
+    "adaptive_steps",
+    "fold_steps",
+    "window_autocorrelation",
+    "swing_correlation",
+    "gyro_stride_or_step",
+]
 
 #: gait band of the band-pass (Hz): below the slowest stride, above the fastest step
 BAND_HZ = (0.5, 4.0)
@@ -143,6 +160,17 @@ SLOW_STEP_MAX_HALF_CORRELATION = -0.5
 SLOW_STEP_CONTEXT = 3
 #: an autocorrelation above this at half the fundamental period makes that period a stride
 HALF_LAG_MIN_CORRELATION = 0.0
+#: band of the gyroscope's swing (Hz): from below the slowest stride (0.375 Hz, two steps at MIN_STEP_HZ) to above
+#: the fastest step
+GYRO_BAND_HZ = (0.3, 4.0)
+#: the gyroscope decides stride or step only where the phone turns more than this (rad/s RMS of the swing axis):
+#: phone gyroscope noise is under 0.01 rad/s over the gait band; the trunk's rotation (pelvis +-4-5 deg once per
+#: stride) turns a phone held in front by ~0.1-0.5 rad/s, an arm or thigh swing (+-20 deg) by 1-3.
+#: Chosen leave-one-person-out on the tyrex recordings from 0.05 / 0.2 / 0.5 / 1.0 (experiments/reports/tyrex-steps.md)
+GYRO_MIN_RMS_RADS = 0.2
+#: a correlation of the swing rate at least this deep (negative) or high (positive) counts as anti-phase or in
+#: phase. Chosen leave-one-person-out on the tyrex recordings from 0.3 / 0.5 / 0.7 (same report)
+GYRO_PHASE_CORRELATION = 0.7
 #: steps only where the window's periodicity reaches this
 MIN_PERIODICITY = 0.3
 #: sensor noise floor (m/s^2 RMS of the band-passed magnitude): phone accelerometers ~0.01-0.05, walking > 0.5
@@ -331,6 +359,105 @@ def local_cadence(
     }
 
 
+def swing_correlation(gyr: np.ndarray, length: int, hop: int, n_windows: int, lags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The phone's swing rate per cadence window and its normalised autocorrelation at fractional ``lags``.
+
+    In each window (``length`` samples from ``i * hop``) the band-passed
+    angular rate ``gyr`` (n, 3) is projected on its principal axis (the axis
+    the phone swings or rocks about most); ``rms`` is that projection's RMS
+    (rad/s) and ``corr[i, j]`` its autocorrelation at ``lags[i, j]`` samples
+    (each lag normalised by its own segments, as
+    :func:`window_autocorrelation`; linear between integer lags; NaN where a
+    lag leaves fewer than two samples).
+    """
+    w = sliding_windows(np.asarray(gyr, dtype=float), int(length), int(hop))[:n_windows]
+    w = w - w.mean(axis=1, keepdims=True)
+    cov = np.einsum("nlc,nld->ncd", w, w)
+    axis = np.linalg.eigh(cov)[1][:, :, -1]
+    proj = np.einsum("nlc,nc->nl", w, axis)
+    rms = np.sqrt(np.mean(proj**2, axis=1))
+    lags = np.asarray(lags, dtype=float)
+    L = proj.shape[1]
+    k0 = np.floor(lags).astype(np.int64)
+    valid = (k0 >= 1) & (k0 + 1 <= L - 2)
+    corr = np.full(lags.shape, np.nan)
+    if not valid.any():
+        return rms, corr
+    kmax = int(k0[valid].max()) + 1
+    # each lag normalised by its own two segments, as window_autocorrelation; every window at every lag up to kmax
+    c = np.concatenate([np.zeros((proj.shape[0], 1)), np.cumsum(proj * proj, axis=1)], axis=1)
+    r = np.zeros((proj.shape[0], kmax + 1))
+    for k in range(1, kmax + 1):
+        num = np.einsum("ij,ij->i", proj[:, : L - k], proj[:, k:])
+        den = np.sqrt(c[:, L - k] * (c[:, L] - c[:, k]))
+        r[:, k] = np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+    rows = np.broadcast_to(np.arange(lags.shape[0])[:, None], lags.shape)
+    ka = np.where(valid, k0, 1)
+    f = lags - ka
+    corr = np.where(valid, (1.0 - f) * r[rows, ka] + f * r[rows, np.minimum(ka + 1, kmax)], np.nan)
+    return rms, corr
+
+
+def gyro_stride_or_step(
+    cadence: dict[str, np.ndarray],
+    gyr: np.ndarray,
+    sampling_rate_hz: float,
+    length: int,
+    hop: int,
+    *,
+    min_step_hz: float = MIN_STEP_HZ,
+    max_step_hz: float = MAX_STEP_HZ,
+    min_rms_rads: float = GYRO_MIN_RMS_RADS,
+    phase_correlation: float = GYRO_PHASE_CORRELATION,
+) -> dict[str, np.ndarray]:
+    """Correct the stride-versus-step decision of :func:`local_cadence` with the gyroscope (module docstring, stage 2b).
+
+    Every rotation of the body that carries the phone completes one cycle per
+    stride and reverses between the left and the right step: the arm swing
+    (Meyns, Bruijn & Duysens, Gait Posture 38, 2013: one arm cycle per stride
+    in normal walking), the thigh swing that turns a trouser-pocket phone, and
+    the pelvis and trunk rotation and sway that rock a phone held in front of
+    the body (Perry & Burnfield, Gait Analysis, 2nd ed. 2010, ch. 10: one
+    rotation cycle per gait cycle). So the swing rate (the gyroscope on its
+    principal axis, :func:`swing_correlation`) is in anti-phase one step
+    later and in phase one stride later, whatever the phone's |acc| shows.
+    With the window's step period ``T``:
+
+    - ``T`` kept as read (no stride found) while the swing is in phase at
+      ``T`` and in anti-phase at ``T / 2`` (correlations beyond
+      +-``phase_correlation``): ``T`` is a stride, the step is ``T / 2``
+      (a running arm or thigh whose |acc| shows one event per stride);
+    - ``T`` halved from a stride while the swing is not in anti-phase at
+      ``T`` but is at ``2 T``: ``2 T`` is the step (a swinging hand's |acc|
+      peaks at both ends of each swing, once per step, with more motion
+      than the slow-step rule allows a slow walker).
+
+    Applied only where the swing's RMS reaches ``min_rms_rads`` and the new
+    period stays within the human step range; the other windows keep the
+    accelerometer's decision. Returns a copy of ``cadence`` with ``period_s``,
+    ``stride`` and ``inferred`` corrected and ``gyro`` (+1: halved, -1:
+    doubled, 0: unchanged) and the swing's ``gyro_rms`` added (``step_correlation``
+    stays the accelerometer's autocorrelation at the period it chose).
+    """
+    fs = float(sampling_rate_hz)
+    out = dict(cadence)
+    T = np.asarray(cadence["period_s"], dtype=float) * fs
+    n_win = len(T)
+    rms, c = swing_correlation(gyr, length, hop, n_win, np.column_stack([T / 2.0, T, 2.0 * T]))
+    c = np.nan_to_num(c, nan=0.0)
+    rho = float(phase_correlation)
+    moving = rms >= min_rms_rads
+    stride = np.asarray(cadence["stride"], dtype=bool)
+    halve = moving & ~stride & (c[:, 1] >= rho) & (c[:, 0] <= -rho) & (T / 2.0 >= fs / max_step_hz)
+    double = moving & stride & (c[:, 1] > -rho) & (c[:, 2] <= -rho) & (2.0 * T <= fs / min_step_hz)
+    out["period_s"] = np.where(halve, T / 2.0, np.where(double, 2.0 * T, T)) / fs
+    out["stride"] = (stride | halve) & ~double
+    out["inferred"] = np.asarray(cadence["inferred"], dtype=bool) & ~halve & ~double
+    out["gyro"] = halve.astype(np.int64) - double.astype(np.int64)
+    out["gyro_rms"] = rms
+    return out
+
+
 def fold_steps(y: np.ndarray, period_samples: np.ndarray) -> np.ndarray:
     """The left/right fold ``(y(t - T) + 2 y(t) + y(t + T)) / 4`` with a per-sample step period ``T`` (samples).
 
@@ -409,8 +536,14 @@ def adaptive_steps(
     short_bout_steps: int = SHORT_BOUT_STEPS,
     max_short_bout_cv: float = MAX_SHORT_BOUT_CV,
     min_confidence: float = 0.0,
+    gyr_rads: np.ndarray | None = None,
+    gyro_min_rms_rads: float = GYRO_MIN_RMS_RADS,
+    gyro_phase_correlation: float = GYRO_PHASE_CORRELATION,
 ) -> dict[str, np.ndarray]:
     """Detect steps in |acc| (m/s^2) with the five stages of the module docstring.
+
+    ``gyr_rads`` (n, 3), the angular rate on the same samples, turns on the
+    gyroscope's stride-versus-step check (stage 2b, :func:`gyro_stride_or_step`).
 
     Returns
     -------
@@ -438,6 +571,21 @@ def adaptive_steps(
         slow_step_max_rms_ms2=slow_step_max_rms_ms2,
         slow_step_max_half_correlation=slow_step_max_half_correlation,
     )
+    if gyr_rads is not None:
+        g = np.asarray(gyr_rads, dtype=float)
+        g = bandpass(g - g.mean(axis=0), GYRO_BAND_HZ[0], min(GYRO_BAND_HZ[1], 0.45 * fs), fs, order=2)[::q]
+        L = min(len(g), int(round(window_s * fs / q)))
+        cad = gyro_stride_or_step(
+            cad,
+            g,
+            fs / q,
+            L,
+            max(1, int(round(hop_s * fs / q))),
+            min_step_hz=min_step_hz,
+            max_step_hz=max_step_hz,
+            min_rms_rads=gyro_min_rms_rads,
+            phase_correlation=gyro_phase_correlation,
+        )
     centres = cad["centre"] * q
     cad["centre"] = centres
     period_n = np.interp(np.arange(n), centres, cad["period_s"]) * fs
@@ -573,6 +721,18 @@ class AdaptiveStepDetector(BaseStepDetector):
     min_confidence : float, default 0.0
         Drop steps whose confidence is below this (0: keep every step and let
         the caller filter on the ``confidence`` column).
+    use_gyroscope : bool, default True
+        Where the recording has a gyroscope, check the stride-versus-step
+        decision against the phone's swing (stage 2b,
+        :func:`gyro_stride_or_step`); ``False`` (or no gyroscope) uses the
+        accelerometer alone.
+    gyro_min_rms_rads : float, default 0.2
+        The gyroscope decides only where the swing axis turns at least this
+        much (rad/s RMS): above the sensor noise and the sway of a still
+        body, below the rotation of a walking trunk.
+    gyro_phase_correlation : float, default 0.7
+        Correlation of the swing rate that counts as in phase (>=) or in
+        anti-phase (<= its negative).
 
     Attributes
     ----------
@@ -585,8 +745,9 @@ class AdaptiveStepDetector(BaseStepDetector):
     cadence_ : DataFrame
         One row per cadence window: ``t_s`` (window centre), ``cadence_hz``
         (steps per second), ``period_s``, ``periodicity``, ``stride`` (the
-        dominant period was a stride) and ``inferred`` (from the cadence
-        range alone).
+        dominant period was a stride), ``inferred`` (from the cadence
+        range alone) and ``gyro`` (+1 where the gyroscope halved the
+        period, -1 where it doubled it, 0 elsewhere).
 
     Notes
     -----
@@ -624,6 +785,9 @@ class AdaptiveStepDetector(BaseStepDetector):
         "slow_step_max_half_correlation": [Interval(-1, 1, closed="both")],
         "short_bout_steps": [NON_NEGATIVE_INTEGER],
         "max_short_bout_cv": [NON_NEGATIVE],
+        "use_gyroscope": ["boolean"],
+        "gyro_min_rms_rads": [NON_NEGATIVE],
+        "gyro_phase_correlation": [Interval(0, 1, closed="both")],
     }
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
@@ -649,6 +813,9 @@ class AdaptiveStepDetector(BaseStepDetector):
         short_bout_steps: int = SHORT_BOUT_STEPS,
         max_short_bout_cv: float = MAX_SHORT_BOUT_CV,
         min_confidence: float = 0.0,
+        use_gyroscope: bool = True,
+        gyro_min_rms_rads: float = GYRO_MIN_RMS_RADS,
+        gyro_phase_correlation: float = GYRO_PHASE_CORRELATION,
     ):
         self.band_hz = band_hz
         self.window_s = window_s
@@ -668,6 +835,9 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.short_bout_steps = short_bout_steps
         self.max_short_bout_cv = max_short_bout_cv
         self.min_confidence = min_confidence
+        self.use_gyroscope = use_gyroscope
+        self.gyro_min_rms_rads = gyro_min_rms_rads
+        self.gyro_phase_correlation = gyro_phase_correlation
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
         """Detect steps in ``recording``; results in ``steps_`` and ``cadence_``."""
@@ -679,7 +849,8 @@ class AdaptiveStepDetector(BaseStepDetector):
             raise InputError(f"`band_hz` must be (low, high) with 0 < low < high < {fs / 2:g} Hz (half the rate), got {self.band_hz!r}.")
         if self.min_step_hz >= self.max_step_hz:
             raise InputError(f"`min_step_hz` ({self.min_step_hz}) must be below `max_step_hz` ({self.max_step_hz}).")
-        r = adaptive_steps(acc_magnitude(rec), fs, **params)
+        use_gyr = params.pop("use_gyroscope")
+        r = adaptive_steps(acc_magnitude(rec), fs, gyr_rads=rec.gyr if use_gyr and rec.has_gyr else None, **params)
         p = r["peak"]
         per = r["period_s"]
         half = np.rint(per * fs / 2).astype(np.int64)
@@ -705,6 +876,7 @@ class AdaptiveStepDetector(BaseStepDetector):
                 "periodicity": cad["periodicity"],
                 "stride": cad["stride"],
                 "inferred": cad["inferred"],
+                "gyro": cad.get("gyro", np.zeros(len(cad["period_s"]), dtype=np.int64)),
             }
         )
         return self

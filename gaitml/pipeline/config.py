@@ -34,6 +34,8 @@ Keys (defaults in brackets) of ``task = "classification"``::
     snap = "steps"                   # "steps" | "strides" | "none": boundaries snap to detected steps / strides
     detector = ""                    # the step (or, for strides, zero-velocity) detector; default single-peak / pseudo-std
     max_snap_s = 0.5
+    rule = "change"                  # "change": a boundary moves only to evidence of the mode change
+                                     # (gaitml.labels); "nearest": to the nearest step
     moving_speed_ms = 0.0            # "folder": > 0 labels every recording with a motion capture (tyrex)
                                      # per sample: its data.label value where the walker's body (the true path
                                      # low-passed at 0.5 Hz) moves faster than this, "still" elsewhere,
@@ -305,6 +307,8 @@ SCHEMA: dict[str, Any] = {
             "snap": _Leaf((str,), "steps", allowed=_snap_modes),
             "detector": _Leaf((str,), ""),
             "max_snap_s": _Leaf(_NUM, 0.5, check=_nonneg),
+            # where a boundary moves: to evidence of the mode change, or to the nearest step
+            "rule": _Leaf((str,), "change", allowed=("change", "nearest")),
             # label recordings with a motion capture by the walker's speed (0 = off)
             "moving_speed_ms": _Leaf(_NUM, 0.0, check=_nonneg),
         },
@@ -436,7 +440,11 @@ def _leaf_at(path: str):
 
 
 #: Keys written into :meth:`ExperimentConfig.resolved` only when they differ from their default.
-_WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {("data", "add_simulated"): False, ("data", "labelling", "moving_speed_ms"): 0.0}
+_WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
+    ("data", "add_simulated"): False,
+    ("data", "labelling", "moving_speed_ms"): 0.0,
+    ("data", "labelling", "rule"): "change",
+}
 
 
 @dataclasses.dataclass(frozen=True)

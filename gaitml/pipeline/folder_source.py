@@ -194,7 +194,7 @@ def read_manifest_folder(folder: Path, manifest: Path, *, label: str = "label", 
         det = lab_cfg.get("detector") or "default"
         notes.append(
             f"labels of {n_intervals} recordings from intervals files (gaitml.labels, snap {snap}, detector {det}, "
-            f"max_snap_s {lab_cfg.get('max_snap_s', 0.5)}); {n_unlabelled} samples outside every interval are 'unlabelled'"
+            f"max_snap_s {lab_cfg.get('max_snap_s', 0.5)}, rule {lab_cfg.get('rule', 'change')}); {n_unlabelled} samples outside every interval are 'unlabelled'"
         )
     return recs, notes
 

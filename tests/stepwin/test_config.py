@@ -52,7 +52,12 @@ def test_a_sweep_over_windows_by_is_checked():
 def test_labelling_keys(tmp_path):
     base = {"name": "x", "data": {"source": "folder", "path": str(tmp_path)}}
     cfg = parse_config(base)
-    assert cfg["data"]["labelling"] == {"snap": "steps", "detector": "", "max_snap_s": 0.5, "moving_speed_ms": 0.0}
+    assert cfg["data"]["labelling"] == {"snap": "steps", "detector": "", "max_snap_s": 0.5, "rule": "change", "moving_speed_ms": 0.0}
+    assert "rule" not in cfg.resolved()["data"]["labelling"]  # written only when set: older configs resolve as before
+    nearest = parse_config({**base, "data": {**base["data"], "labelling": {"rule": "nearest"}}})
+    assert nearest.resolved()["data"]["labelling"]["rule"] == "nearest"
+    with pytest.raises(ConfigError, match=r"data.labelling.rule = 'closest' is not allowed; allowed: 'change', 'nearest'"):
+        parse_config({**base, "data": {**base["data"], "labelling": {"rule": "closest"}}})
     assert cfg["data"]["manifest"] == ""
     with pytest.raises(ConfigError, match=r"data.labelling.snap = 'step' is not allowed; allowed: 'steps', 'strides', 'none'"):
         parse_config({**base, "data": {**base["data"], "labelling": {"snap": "step"}}})

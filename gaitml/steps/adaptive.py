@@ -113,6 +113,7 @@ from gaitml.recording import Recording
 from gaitml.signal import bandpass, sliding_windows
 from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, segment_argmax
+from gaitml.steps._gait_evidence import gait_check
 from gaitml.steps._table import make_step_table
 
 __all__ = ["AdaptiveStepDetector", "local_cadence", "adaptive_steps", "fold_steps", "window_autocorrelation"]
@@ -573,6 +574,11 @@ class AdaptiveStepDetector(BaseStepDetector):
     min_confidence : float, default 0.0
         Drop steps whose confidence is below this (0: keep every step and let
         the caller filter on the ``confidence`` column).
+    gait_check : bool, default True
+        Leave out the bouts whose phone rotates at the step frequency as no
+        walker's does (a gesturing hand; :mod:`gaitml.steps._gait_evidence`);
+        needs a gyroscope (without one nothing is tested). The account is in
+        ``steps_.attrs['gait_check']``.
 
     Attributes
     ----------
@@ -624,6 +630,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         "slow_step_max_half_correlation": [Interval(-1, 1, closed="both")],
         "short_bout_steps": [NON_NEGATIVE_INTEGER],
         "max_short_bout_cv": [NON_NEGATIVE],
+        "gait_check": ["boolean"],
     }
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
@@ -649,6 +656,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         short_bout_steps: int = SHORT_BOUT_STEPS,
         max_short_bout_cv: float = MAX_SHORT_BOUT_CV,
         min_confidence: float = 0.0,
+        gait_check: bool = True,
     ):
         self.band_hz = band_hz
         self.window_s = window_s
@@ -668,10 +676,12 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.short_bout_steps = short_bout_steps
         self.max_short_bout_cv = max_short_bout_cv
         self.min_confidence = min_confidence
+        self.gait_check = gait_check
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
         """Detect steps in ``recording``; results in ``steps_`` and ``cadence_``."""
         params = self._validate_params()
+        check = params.pop("gait_check")
         rec = as_recording(recording, "adaptive step detection", min_duration_s=2.0)
         fs = rec.sampling_rate_hz
         lo, hi = (float(v) for v in self.band_hz)
@@ -696,6 +706,8 @@ class AdaptiveStepDetector(BaseStepDetector):
             correlation=r["correlation"],
             confidence=r["confidence"],
         )
+        if check:  # bouts without gait evidence (a gesturing hand) are left out
+            self.steps_ = gait_check(self.steps_, rec.gyr, fs)
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(
             {

@@ -1,4 +1,12 @@
-"""`gaitml steps INPUT [--detector NAME] [--out FILE] [--json]` (DESIGN sec. 5)."""
+"""`gaitml steps INPUT [--detector NAME] [--out FILE] [--json] [--[no-]gait-check]` (DESIGN sec. 5).
+
+With ``--gait-check`` (the default for ``adaptive`` and ``single-peak``) the steps pass the
+gait-evidence test of :mod:`gaitml.steps._gait_evidence`: bouts whose phone
+rotates at the step rate as a gesturing hand does are left out (needs a
+gyroscope); the text, the JSON (``gait_check``) and one stderr line say how
+many steps were left out. Other detectors' steps are tested at ``adaptive``'s
+local cadence (its stride-versus-step decision).
+"""
 
 from __future__ import annotations
 
@@ -12,6 +20,11 @@ from gaitml.commands._util import emit_json, is_large_input, load_input, log, lo
 #: The command's one-line description in ``gaitml --help``.
 HELP = "detect steps"
 
+#: detectors whose steps pass the gait-evidence test unless ``--no-gait-check``: on the tyrex walks and runs of the
+#: two people the test was set on it cost them no steps; the FSM and autocorrelation detectors lost running steps
+#: (experiments/reports/nongait.md), so for them it is opt-in (``--gait-check``)
+GAIT_CHECK_BY_DEFAULT = ("adaptive", "single-peak")
+
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Declare the arguments of ``gaitml steps`` on its parser ``p``."""
@@ -21,6 +34,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--out", metavar="FILE", help="write the step table as CSV")
     p.add_argument("--json", action="store_true")
+    p.add_argument(
+        "--gait-check",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="leave out bouts of steps without gait evidence (a phone rotating at the step rate, as a gesturing hand "
+        "does; needs a gyroscope). Default: on for adaptive and single-peak, off for the other detectors",
+    )
     add_input_options(p)
 
 
@@ -59,18 +79,46 @@ def _json_cadence(det) -> list[dict] | None:
     ]
 
 
+def _gait_line(checked: dict | None) -> str | None:
+    """One line on the gait-evidence test (None when it was switched off)."""
+    if checked is None:
+        return None
+    if not checked["tested"]:
+        return "not run (the recording has no gyroscope); bouts without gait evidence cannot be told apart"
+    n, m = checked["n_steps_rejected"], checked["n_bouts_rejected"]
+    if not n:
+        return f"every bout of steps shows gait evidence ({checked['n_bouts']} bouts)"
+    return (
+        f"{n} steps in {m} of {checked['n_bouts']} bouts without gait evidence left out (the phone rotates at the step rate "
+        "as a gesturing hand does, not as a walker's); --no-gait-check keeps them"
+    )
+
+
 def run(args) -> int:
     """Detect steps, print a summary or the JSON contract, optionally write the table."""
     from gaitml.evaluation.steps import step_times
     from gaitml.io import write_csv
     from gaitml.steps import get_detector
+    from gaitml.steps._gait_evidence import gait_check_recording
     from gaitml.steps.crosscheck import count_warning
 
     if is_large_input(args):
         return _run_long(args)
     rec = load_input(args)
-    det = get_detector(args.detector).detect(rec)
-    steps = det.steps_
+    gait = getattr(args, "gait_check", None)
+    gait = args.detector in GAIT_CHECK_BY_DEFAULT if gait is None else gait
+    if args.detector == "adaptive":  # adaptive runs the test itself
+        det = get_detector(args.detector, gait_check=gait).detect(rec)
+        steps = det.steps_
+    else:
+        det = get_detector(args.detector).detect(rec)
+        steps = det.steps_
+        if gait:  # tested at adaptive's step frequency: a detector counting one step per stride would test its strides
+            steps = gait_check_recording(steps, rec)
+    checked = steps.attrs.get("gait_check") if gait else None
+    gait_line = _gait_line(checked)
+    if checked and checked["n_steps_rejected"]:
+        log(f"gaitml: note: {gait_line}")
     if args.out:
         write_csv(args.out, steps)
     ev = _evaluation(rec, steps)
@@ -87,6 +135,9 @@ def run(args) -> int:
         }
         if warning:
             obj["warnings"] = [warning]
+        if checked is not None:
+            obj["gait_check"] = {k: v for k, v in checked.items() if k != "rejected_t_s"}
+            obj["gait_check"]["rejected_t_s"] = [float(v) for v in checked["rejected_t_s"]]
         cadence = _json_cadence(det)
         if cadence is not None:
             obj["cadence"] = cadence
@@ -112,6 +163,8 @@ def run(args) -> int:
             lines.append(f"  step interval: median {interval:.3f} s = cadence {60.0 / interval:.1f} steps/min while stepping; {rate}")
         else:
             lines.append(f"  rate: {rate}")
+    if gait_line:
+        lines.append(f"  gait check: {gait_line}")
     if ev is not None:
         s = f"  reference: {ev['n_true']} steps, count accuracy {100 * ev['count_accuracy']:.2f} %"
         if "f1" in ev:

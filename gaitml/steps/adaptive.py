@@ -122,6 +122,7 @@ from gaitml.recording import Recording
 from gaitml.signal import bandpass, sliding_windows
 from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, segment_argmax
+from gaitml.steps._gait_evidence import gait_check
 from gaitml.steps._table import make_step_table
 
 __all__ = [
@@ -733,6 +734,11 @@ class AdaptiveStepDetector(BaseStepDetector):
     gyro_phase_correlation : float, default 0.7
         Correlation of the swing rate that counts as in phase (>=) or in
         anti-phase (<= its negative).
+    gait_check : bool, default True
+        Leave out the bouts whose phone rotates at the step frequency as no
+        walker's does (a gesturing hand; :mod:`gaitml.steps._gait_evidence`);
+        needs a gyroscope (without one nothing is tested). The account is in
+        ``steps_.attrs['gait_check']``.
 
     Attributes
     ----------
@@ -788,6 +794,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         "use_gyroscope": ["boolean"],
         "gyro_min_rms_rads": [NON_NEGATIVE],
         "gyro_phase_correlation": [Interval(0, 1, closed="both")],
+        "gait_check": ["boolean"],
     }
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
@@ -816,6 +823,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         use_gyroscope: bool = True,
         gyro_min_rms_rads: float = GYRO_MIN_RMS_RADS,
         gyro_phase_correlation: float = GYRO_PHASE_CORRELATION,
+        gait_check: bool = True,
     ):
         self.band_hz = band_hz
         self.window_s = window_s
@@ -838,10 +846,12 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.use_gyroscope = use_gyroscope
         self.gyro_min_rms_rads = gyro_min_rms_rads
         self.gyro_phase_correlation = gyro_phase_correlation
+        self.gait_check = gait_check
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
         """Detect steps in ``recording``; results in ``steps_`` and ``cadence_``."""
         params = self._validate_params()
+        check = params.pop("gait_check")
         rec = as_recording(recording, "adaptive step detection", min_duration_s=2.0)
         fs = rec.sampling_rate_hz
         lo, hi = (float(v) for v in self.band_hz)
@@ -867,6 +877,8 @@ class AdaptiveStepDetector(BaseStepDetector):
             correlation=r["correlation"],
             confidence=r["confidence"],
         )
+        if check:  # bouts without gait evidence (a gesturing hand) are left out
+            self.steps_ = gait_check(self.steps_, rec.gyr, fs)
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(
             {

@@ -68,11 +68,12 @@ def test_long_pdr_with_a_model_equals_whole_file(walk_file):
 
 
 def test_attitude_continued_from_a_carried_state_is_the_whole_integration():
-    """The attitude filter's state is the quaternion alone: continuing from sample k gives the same attitudes."""
+    """The attitude filter's state is the quaternion and the gyroscope bias: continuing from sample k gives the same attitudes."""
     rec = simulate_dataset(1, 60.0, sampling_rate_hz=50.0, seed=5)[0]
     whole = AttitudeEstimator().estimate(rec)
     k = 1234
-    cont = AttitudeEstimator().estimate_from(rec, k, whole.rotation_[k])
+    cont = AttitudeEstimator().estimate_from(rec, k, whole.rotation_[k], initial_bias_rads=whole.bias_rads_[k])
+    assert np.allclose(cont.bias_rads_, whole.bias_rads_[k:], atol=1e-12)
     d = np.angle(np.exp(1j * (cont.heading_rad_ - whole.heading_rad_[k:])))
     assert np.abs(d).max() < 1e-9
 
@@ -167,5 +168,5 @@ def test_pdr_cli_long_path_summary_is_the_whole_files(walk_file, monkeypatch, ca
     long = capsys.readouterr()
     assert "start heading 0.300 rad" in long.err and "start heading 0.300 rad" in short.err
     lines = long.out.strip().splitlines()
-    assert len(lines) == 2 and lines[1].startswith("  truth:")
+    assert len(lines) == 3 and lines[1].startswith("  gyroscope bias") and lines[2].startswith("  truth:")
     assert lines == short.out.strip().splitlines()

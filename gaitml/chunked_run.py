@@ -32,6 +32,7 @@ import numpy as np
 import pandas as pd
 from sklearn.base import clone
 
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.io.chunked import Chunk, iter_chunks, scan_input
 
 __all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pdr", "progress_chunks"]
@@ -74,7 +75,7 @@ def _shift_steps(table: pd.DataFrame, offset: int, fs: float) -> pd.DataFrame:
 
 def long_steps(
     path: str | os.PathLike,
-    detector: str = "single-peak",
+    detector: str = DEFAULT_STEP_DETECTOR,
     *,
     chunk_s: float = DEFAULT_CHUNK_S,
     margin_s: float = DEFAULT_MARGIN_S,
@@ -321,7 +322,7 @@ def long_pdr(
     path: str | os.PathLike,
     *,
     model=None,
-    detector: str = "single-peak",
+    detector: str = DEFAULT_STEP_DETECTOR,
     heading: str = "hde",
     modes: str | None = None,
     mode_boundaries: str = "auto",

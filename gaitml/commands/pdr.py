@@ -25,6 +25,7 @@ from gaitml.commands._args import (
     step_detectors,
 )
 from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 
 #: The command's one-line description in ``gaitml --help``.
@@ -57,7 +58,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--detector",
         **choices("pdr", "--detector", step_detectors),
         default=None,
-        help="step detector: %(choices)s (default single-peak, or a step-window model's own detector)",
+        help=f"step detector: %(choices)s (default {DEFAULT_STEP_DETECTOR}, or a step-window model's own detector; "
+        "single-peak is paper 003's)",
     )
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
     p.add_argument(
@@ -125,7 +127,7 @@ def _validate(args) -> None:
 
 
 def _detector(args, model, notes: list[str]) -> str:
-    """The step detector: --detector, else a step-window model's own detector, else single-peak.
+    """The step detector: --detector, else a step-window model's own detector, else :data:`gaitml.consts.DEFAULT_STEP_DETECTOR`.
 
     A model trained on step windows (model.json ``window.by = "steps"``) classifies the
     PDR's steps directly; by default they come from the detector it was trained with.
@@ -136,7 +138,7 @@ def _detector(args, model, notes: list[str]) -> str:
     if model is not None and model.window_by == "steps":
         notes.append(f"steps from the step-window model's detector {model.window_detector} (pass --detector to choose another)")
         return model.window_detector
-    return "single-peak"
+    return DEFAULT_STEP_DETECTOR
 
 
 def run(args) -> int:

@@ -2,7 +2,8 @@
 
 Paper 003 sec. 4 (with paper 002 sec. 3 as an alternative heading source), DESIGN sec. 4-5.
 
-- Steps: a registered step detector (``single-peak`` by default, paper 003 sec. 2.2), or a
+- Steps: a registered step detector (:data:`gaitml.consts.DEFAULT_STEP_DETECTOR` by default;
+  paper 003 sec. 2.2 uses ``single-peak``), or a
   step table given by the caller.
 - Mode per step: from a saved model's window predictions (the window containing the step
   time; with overlapping windows the one whose centre is nearest; then every mode change
@@ -25,6 +26,7 @@ import numpy as np
 import pandas as pd
 from sklearn.base import clone
 
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.pdr.attitude import AttitudeEstimator, wrap_angle
 from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading
@@ -235,7 +237,7 @@ def run_pdr(
     recording: Recording,
     *,
     model=None,
-    detector="single-peak",
+    detector=DEFAULT_STEP_DETECTOR,
     steps: pd.DataFrame | None = None,
     heading: str = "hde",
     modes: str = "model",
@@ -255,7 +257,8 @@ def run_pdr(
     ----------
     recording : Recording with acc and gyro.
     model : TrainedModel, optional (needed for ``modes='model'``).
-    detector : str or step detector object; default ``single-peak``.
+    detector : str or step detector object; default :data:`gaitml.consts.DEFAULT_STEP_DETECTOR`
+        (paper 003's ``single-peak`` is one argument away).
         A name is resolved by :data:`gaitml.steps.DETECTORS`; an object is cloned.
     steps : DataFrame, optional; a step table to use instead of running a detector.
     heading : {'hde', 'dwpca', 'gyro', 'dwpca-hde'} or heading source object

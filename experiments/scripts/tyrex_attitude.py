@@ -8,10 +8,11 @@ from the repository root (about 5 minutes). For every tyrex recording with motio
   rotation, estimated per recording from the gyroscope against the capture's angular rate
   (:func:`gaitml.io.tyrex.estimate_mount_rotation`; a fixed mechanical offset of a few degrees);
 - attitude sources (:class:`gaitml.pdr.attitude.AttitudeEstimator`): ``gaitml`` (the default,
-  gyroscope with a complementary pull toward the gravity low-passed at 0.3 Hz, gain 0.5 1/s),
-  ``paper003`` (``gravity_gain_hz=0``: pure quaternion integration from the first second's
-  tilt, paper 003 sec. 4.2), and ``gravity`` (the low-passed accelerometer direction alone: tilt
-  only, no gyroscope);
+  gyroscope with a complementary pull toward the gravity low-passed at 0.3 Hz, gain 0.5 1/s, the
+  gyroscope bias removed: ``gyro_bias='auto'``), ``gaitml-still`` (the bias from still stretches
+  only), ``gaitml-nobias`` (the bias as logged), ``paper003`` (``gravity_gain_hz=0``, bias as
+  logged: pure quaternion integration from the first second's tilt, paper 003 sec. 4.2), and
+  ``gravity`` (the low-passed accelerometer direction alone: tilt only, no gyroscope);
 - tilt error: angle between the estimated and the true "up" in the phone's axes, per sample
   (20 Hz), mean over the capture per recording;
 - heading drift of the attitude: the yaw of the error rotation ``R_est R_true^T`` (a rotation

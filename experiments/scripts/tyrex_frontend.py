@@ -1,11 +1,13 @@
 """Which PDR front end (step detector, step length, heading) serves real walkers: chosen on two tyrex people, scored on the third.
 
-``python -m experiments.scripts.tyrex_frontend [--data ../shared/data] [--csv FILE] [--out FILE]``
-from the repository root (about 6 minutes). For every tyrex recording with motion capture
+``python -m experiments.scripts.tyrex_frontend [--data ../shared/data] [--csv FILE] [--out FILE] [--cache FILE]``
+from the repository root (about 11 minutes under load; ``--cache`` keeps the per-recording step tables
+so a rerun only rescores). For every tyrex recording with motion capture
 (read as in :mod:`experiments.scripts.tyrex_pdr`) and every combination of
 
-- step detector: ``single-peak`` (the CLI default, paper 003), ``adaptive``, ``adfsm``;
-- heading: ``hde`` (the CLI default), ``gyro``;
+- step detector: ``single-peak`` (paper 003), ``adaptive`` (the CLI default);
+- heading: ``hde`` (the CLI default), ``gyro``, each with the gyroscope bias removed (the default) or
+  not (``-nobias``, paper 003);
 - step length: ``default`` (the uncalibrated :class:`gaitml.pdr.step_length.StepLengthModel`),
   ``linear`` (paper 003 eq. 12, ``A + B f + C var``, fitted by least squares on the training
   people's steps against the true body distance between consecutive steps), ``constant``
@@ -15,7 +17,8 @@ a forward-only trajectory is built from ``gaitml pdr``'s steps and headings and 
 :func:`gaitml.evaluation.trajectory.walk_scores`. Leave-one-person-out: for each person, the
 combination with the lowest mean (over the seven motions other than AR, which is mostly
 standing) of the per-motion median 10 s error on the *other two* people is chosen, and the
-left-out person's figures are reported for it, beside the CLI defaults.
+left-out person's figures are reported for it, beside the CLI defaults before issue 27
+(:data:`OLD_DEFAULTS`).
 """
 
 from __future__ import annotations
@@ -92,7 +95,9 @@ def _one(rec, table, det, head, source, bias, tt, body) -> dict:
         "heading": head,
         "t_step": t_step,
         "heading_rad": st["heading_rad"].to_numpy(float) if len(st) else np.zeros(0),
-        "features": st[list(FEATURES)].reset_index(drop=True).astype(float) if len(st) else pd.DataFrame({c: np.zeros(0) for c in FEATURES}),
+        "features": st[list(FEATURES)].reset_index(drop=True).astype(float)
+        if len(st)
+        else pd.DataFrame({c: np.zeros(0) for c in FEATURES}),
         "default_length": st["step_length_m"].to_numpy(float) if len(st) else np.zeros(0),
         "true_length": true_step_lengths(t_step, tt, body),
     }

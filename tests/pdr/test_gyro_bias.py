@@ -112,3 +112,24 @@ def test_run_pdr_and_cli_say_what_was_removed(tmp_path, capsys):
         capsys.readouterr()
         assert main(["pdr", str(path), "--gyro-bias", mode, "--json"]) == 0
         assert json.loads(capsys.readouterr().out)["gyro_bias"]["method"] == mode
+
+
+def test_one_default_step_detector_for_steps_pdr_label_segment():
+    """`gaitml steps`, `pdr`, `label` and `segment --by steps` (and the library calls) share one default."""
+    import argparse
+    import inspect
+
+    from gaitml.chunked_run import long_pdr, long_steps
+    from gaitml.cli import build_parser
+    from gaitml.commands.pdr import _detector
+    from gaitml.consts import DEFAULT_STEP_DETECTOR
+    from gaitml.segment import DEFAULT_DETECTORS
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    steps_opt = next(a for a in sub.choices["steps"]._actions if "--detector" in a.option_strings)
+    assert steps_opt.default == DEFAULT_STEP_DETECTOR
+    assert _detector(argparse.Namespace(detector=None), None, []) == DEFAULT_STEP_DETECTOR
+    assert DEFAULT_DETECTORS["steps"] == DEFAULT_STEP_DETECTOR
+    for fn in (run_pdr, long_pdr, long_steps):
+        assert inspect.signature(fn).parameters["detector"].default == DEFAULT_STEP_DETECTOR

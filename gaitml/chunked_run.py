@@ -32,6 +32,7 @@ import numpy as np
 import pandas as pd
 from sklearn.base import clone
 
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.io.chunked import Chunk, iter_chunks, scan_input
 
 __all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pdr", "progress_chunks"]
@@ -74,7 +75,7 @@ def _shift_steps(table: pd.DataFrame, offset: int, fs: float) -> pd.DataFrame:
 
 def long_steps(
     path: str | os.PathLike,
-    detector: str = "single-peak",
+    detector: str = DEFAULT_STEP_DETECTOR,
     *,
     chunk_s: float = DEFAULT_CHUNK_S,
     margin_s: float = DEFAULT_MARGIN_S,
@@ -321,7 +322,7 @@ def long_pdr(
     path: str | os.PathLike,
     *,
     model=None,
-    detector: str = "single-peak",
+    detector: str = DEFAULT_STEP_DETECTOR,
     heading: str = "hde",
     modes: str | None = None,
     mode_boundaries: str = "auto",
@@ -331,6 +332,7 @@ def long_pdr(
     margin_s: float | None = None,
     progress: bool = True,
     count_also: str | None = None,
+    gyro_bias="auto",
     **read_kwargs,
 ):
     """Dead-reckon a long recording chunk by chunk: :func:`gaitml.pdr.run_pdr` in bounded memory.
@@ -338,7 +340,9 @@ def long_pdr(
     One pass over the file's chunks detects the steps (those anchored in each chunk's core,
     as :func:`long_steps`), computes their step-length features and true-label modes on the
     chunk, and integrates the attitude (paper 003 sec. 4.2) across the chunks: each chunk
-    continues the integration from the attitude of the sample before its core
+    continues the integration from the attitude (and gyroscope bias, ``gyro_bias`` as
+    :class:`~gaitml.pdr.attitude.AttitudeEstimator`'s; found on the first chunk, then
+    carried) of the sample before its core
     (:meth:`~gaitml.pdr.attitude.AttitudeEstimator.estimate_from`), and the samples of its
     left margin keep the previous chunk's headings, so every sample's heading is that of one
     integration over the whole file (the complementary filter's zero-phase gravity low-pass
@@ -380,7 +384,7 @@ def long_pdr(
 
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
-    source = _heading_source(heading, attitude=None, hde=None, dwpca=None, initial_heading_rad=initial_heading_rad)
+    source = _heading_source(heading, attitude=None, hde=None, dwpca=None, initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias)
     modes, mode_boundaries, notes = check_long_pdr(path, source, model=model, modes=modes, mode_boundaries=mode_boundaries)
     slm, sl_source = _resolve_step_length(step_length)
     if slm is None:
@@ -392,11 +396,13 @@ def long_pdr(
     if modes == "model":
         windows = long_predict(model, path, correction=True, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
 
-    parts, feat_parts, gyro_parts, label_parts = [], [], [], []
+    parts, feat_parts, gyro_parts, label_parts, bias_parts = [], [], [], [], []
     also_counts: list[int] = []
     attrs: dict = {}
     fs = None
     carry = None  # attitude of the sample before the next chunk's core
+    carry_bias = None  # and the gyroscope bias there
+    first_bias = None  # the first chunk's bias record (what was removed at the start)
     prev_heading = None  # per-sample heading of the previous chunk, from global index prev_lo
     prev_lo = 0
     att = source.attitude
@@ -422,12 +428,15 @@ def long_pdr(
             run = clone(att).estimate(rec)
             heading_local = run.heading_rad_
             first = 0
+            first_bias = run.gyro_bias_
         else:
-            run = clone(att).estimate_from(rec, k - 1, carry)
+            run = clone(att).estimate_from(rec, k - 1, carry, initial_bias_rads=carry_bias)
             first = k - 1
             heading_local = np.concatenate([prev_heading[ch.offset - prev_lo : ch.offset - prev_lo + first], run.heading_rad_])
         last = ch.core_end - 1 - ch.offset  # local index of the core's last sample
         carry = run.rotation_[last - first]
+        carry_bias = run.bias_rads_[last - first]
+        bias_parts.append(run.bias_rads_[k - first : last - first + 1])
         prev_heading, prev_lo = heading_local, ch.offset
         # ---- steps anchored in the core
         table = get_detector(detector).detect(rec).steps_
@@ -500,11 +509,29 @@ def long_pdr(
             "update": update,
             "step_length": sl_source,
             "initial_heading_rad": float(initial_heading_rad),
+            "gyro_bias": None if first_bias is None else _bias_summary(first_bias, bias_parts, fs),
             "notes": notes,
         },
     )
     res.steps.attrs.update(steps.attrs)
     return res
+
+
+def _bias_summary(first, bias_parts, fs) -> dict:
+    """What the chunked attitude removed: the first chunk's start bias and, when tracked online,
+    the median of the tracked bias over the second half of the whole recording (as a whole-file run reports)."""
+    from gaitml.pdr.attitude import _online_summary
+
+    if first.method not in ("online", "still+online"):
+        return first.to_dict()
+    start = first.__class__(
+        np.asarray(first.params.get("start_bias_rads", np.zeros(3)), dtype=float),
+        "still" if first.method == "still+online" else "none",
+        still_s=first.still_s,
+        n_still_windows=first.n_still_windows,
+        params={k: v for k, v in first.params.items() if k != "start_bias_rads"},
+    )
+    return _online_summary(start, np.concatenate(bias_parts), fs).to_dict()
 
 
 def check_long_pdr(

@@ -14,6 +14,12 @@ ACC_COLS = ("acc_x", "acc_y", "acc_z")
 GYR_COLS = ("gyr_x", "gyr_y", "gyr_z")
 LABEL_COL = "label"
 
+#: The step detector of ``gaitml pdr``, ``steps``, ``label`` and ``segment --by steps`` (and of
+#: :func:`gaitml.pdr.run_pdr`, :func:`gaitml.segment.segment`, the labeller) when none is named:
+#: the one that served real walkers best held out (``experiments/reports/tyrex-pdr.md``).
+#: Paper 003's own detector is ``single-peak``, one option away.
+DEFAULT_STEP_DETECTOR = "adaptive"
+
 #: Columns of a step-event table (DESIGN sec. 2).
 STEP_COLUMNS = ("start", "peak", "end", "t_start_s", "t_peak_s", "t_end_s", "period_s")
 

@@ -3,7 +3,7 @@
 :func:`segment` cuts a recording into segments with one of three front ends:
 
 - ``by='steps'``: a step detector (:data:`gaitml.steps.DETECTORS`, default
-  ``single-peak``); one segment per detected step, ``[start, end)`` of the step
+  :data:`gaitml.consts.DEFAULT_STEP_DETECTOR`); one segment per detected step, ``[start, end)`` of the step
   table (the detector's own step segmentation, e.g. zero crossings or troughs
   around the peak; paper 002 sec. 2 for ``fsm-selflearn``).
 - ``by='strides'``: a zero-velocity detector (:data:`gaitml.zupt.DETECTORS`,
@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 
@@ -38,7 +39,7 @@ __all__ = ["BY", "SEGMENT_COLUMNS", "DEFAULT_DETECTORS", "segment", "resolve_det
 #: The front ends of :func:`segment`.
 BY = ("steps", "strides", "zupt")
 #: Default detector of each front end.
-DEFAULT_DETECTORS = {"steps": "single-peak", "strides": "pseudo-std", "zupt": "pseudo-std"}
+DEFAULT_DETECTORS = {"steps": DEFAULT_STEP_DETECTOR, "strides": "pseudo-std", "zupt": "pseudo-std"}
 #: Columns every segment table starts with.
 SEGMENT_COLUMNS = ("index", "kind", "start", "end", "start_s", "end_s", "duration_s", "confidence")
 _KIND = {"steps": "step", "strides": "stride", "zupt": "stance"}
@@ -119,7 +120,7 @@ def segment(recording: Recording, by: str = "steps", detector=None, *, max_strid
     detector : str or detector object, optional
         A registry name (step detectors for ``steps``; zero-velocity detectors for
         ``strides`` and ``zupt``) or a configured detector instance of that kind.
-        Default: ``single-peak`` (steps), ``pseudo-std`` (strides, zupt).
+        Default: :data:`gaitml.consts.DEFAULT_STEP_DETECTOR` (steps), ``pseudo-std`` (strides, zupt).
     max_stride_s : float, optional
         ``by='strides'`` only: drop strides longer than this (s), e.g. across a pause.
 

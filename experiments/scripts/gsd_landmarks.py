@@ -24,6 +24,7 @@ import argparse
 import contextlib
 import io
 import json
+import shlex
 import sys
 import time
 from pathlib import Path
@@ -147,7 +148,7 @@ def reading(out: Path, seed: int) -> pd.DataFrame:
     return pd.DataFrame([_reading_case(rec, out / f"read-{k}.txt", c, rng) for k, c in enumerate(cases)])
 
 
-def scoring(out: Path, routes: list[str], seeds: list[int], align: str) -> pd.DataFrame:
+def scoring(out: Path, routes: list[str], seeds: list[int], align: str, pdr_args: list[str] | None = None) -> pd.DataFrame:
     rows = []
     for route in routes:
         for seed in seeds:
@@ -175,6 +176,7 @@ def scoring(out: Path, routes: list[str], seeds: list[int], align: str) -> pd.Da
             ):
                 argv = ["pdr", str(inp), "--truth", str(truth), "--truth-align", align, "--json", "--initial-heading-rad", str(h0)]
                 argv += ["--modes", "forward"]  # walk-only routes; the log carries no labels
+                argv += list(pdr_args or [])
                 code, o, err = _cli(argv)
                 if code:
                     rows.append({"route": route, "seed": seed, "truth": name, "error": err.strip()[:200]})
@@ -255,6 +257,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--tyrex", metavar="DATA", help="score every tyrex recording instead (DATA: ../shared/data/tyrex-attitude)")
     p.add_argument("--detector", default="adaptive", help="step detector for --tyrex (default adaptive)")
     p.add_argument("--csv", metavar="FILE", help="with --tyrex: write the per-recording table")
+    p.add_argument("--pdr-args", default="", help="extra gaitml pdr options for the scoring, e.g. '--detector single-peak --gyro-bias off'")
+    p.add_argument("--no-reading", action="store_true", help="skip part 1 (reading the logs); score only")
     args = p.parse_args(argv)
     if args.tyrex:
         df = tyrex(Path(args.tyrex), args.detector)
@@ -287,13 +291,12 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    read = reading(out, args.seeds[0])
-    pd.set_option("display.width", 250)
-    pd.set_option("display.max_columns", 30)
-    print("## Reading GetSensorData logs (gaitml info --json against the raw lines)\n")
-    print(_md(read, "{:.4g}"))
-    score = scoring(out, args.routes, args.seeds, args.align)
-    print(f"\n## Scoring (gaitml pdr --truth, --truth-align {args.align}), one row per route/seed/truth\n")
+    if not args.no_reading:
+        read = reading(out, args.seeds[0])
+        print("## Reading GetSensorData logs (gaitml info --json against the raw lines)\n")
+        print(_md(read, "{:.4g}"))
+    score = scoring(out, args.routes, args.seeds, args.align, shlex.split(args.pdr_args))
+    print(f"\n## Scoring (gaitml pdr --truth, --truth-align {args.align} {args.pdr_args}), one row per route/seed/truth\n")
     print(_md(score))
     ok = score.dropna(subset=["mean_m"]) if "mean_m" in score else score
     if len(ok):

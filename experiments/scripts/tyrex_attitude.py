@@ -8,10 +8,11 @@ from the repository root (about 5 minutes). For every tyrex recording with motio
   rotation, estimated per recording from the gyroscope against the capture's angular rate
   (:func:`gaitml.io.tyrex.estimate_mount_rotation`; a fixed mechanical offset of a few degrees);
 - attitude sources (:class:`gaitml.pdr.attitude.AttitudeEstimator`): ``gaitml`` (the default,
-  gyroscope with a complementary pull toward the gravity low-passed at 0.3 Hz, gain 0.5 1/s),
-  ``paper003`` (``gravity_gain_hz=0``: pure quaternion integration from the first second's
-  tilt, paper 003 sec. 4.2), and ``gravity`` (the low-passed accelerometer direction alone: tilt
-  only, no gyroscope);
+  gyroscope with a complementary pull toward the gravity low-passed at 0.3 Hz, gain 0.5 1/s, the
+  gyroscope bias removed: ``gyro_bias='auto'``), ``gaitml-still`` (the bias from still stretches
+  only), ``gaitml-nobias`` (the bias as logged), ``paper003`` (``gravity_gain_hz=0``, bias as
+  logged: pure quaternion integration from the first second's tilt, paper 003 sec. 4.2), and
+  ``gravity`` (the low-passed accelerometer direction alone: tilt only, no gyroscope);
 - tilt error: angle between the estimated and the true "up" in the phone's axes, per sample
   (20 Hz), mean over the capture per recording;
 - heading drift of the attitude: the yaw of the error rotation ``R_est R_true^T`` (a rotation
@@ -39,6 +40,20 @@ from experiments.scripts.tyrex_pdr import MOTION_ORDER, load_tyrex, md
 __all__ = ["attitude_scores", "heading_source_drifts", "main"]
 
 EVAL_RATE_HZ = 20.0
+
+
+def _attitude_sources() -> dict:
+    from gaitml.pdr.attitude import AttitudeEstimator
+
+    return {
+        "gaitml": AttitudeEstimator(),  # the default: bias from still stretches, then tracked online
+        "gaitml-still": AttitudeEstimator(gyro_bias="still"),
+        "gaitml-nobias": AttitudeEstimator(gyro_bias="off"),
+        "paper003": AttitudeEstimator(gravity_gain_hz=0.0, gyro_bias="off"),
+    }
+
+
+ATTITUDE_SOURCES = _attitude_sources()
 HEADING_SOURCES = ("gyro", "hde", "dwpca", "dwpca-hde")
 
 
@@ -49,8 +64,9 @@ def _yaw_of(e: np.ndarray) -> np.ndarray:
 
 def attitude_scores(item) -> list[dict]:
     """Tilt error and attitude heading drift of each attitude source on one recording."""
+    from sklearn.base import clone
+
     from gaitml.io.tyrex import estimate_mount_rotation
-    from gaitml.pdr.attitude import AttitudeEstimator
     from gaitml.signal import gravity_direction
 
     rec, truth = item["recording"], item["truth"]
@@ -73,8 +89,8 @@ def attitude_scores(item) -> list[dict]:
         cos = np.sum(up_est * up_true, axis=1) / np.linalg.norm(up_est, axis=1)
         return np.degrees(np.arccos(np.clip(cos, -1, 1)))
 
-    for name, est in (("gaitml", AttitudeEstimator()), ("paper003", AttitudeEstimator(gravity_gain_hz=0.0))):
-        est.estimate(rec)
+    for name, est in ATTITUDE_SOURCES.items():
+        est = clone(est).estimate(rec)
         r_est = est.rotation_[idx].as_matrix()  # phone -> nav
         tilt = tilt_deg(r_est[:, 2, :])
         e = r_est @ np.transpose(r_true, (0, 2, 1))
@@ -89,6 +105,9 @@ def attitude_scores(item) -> list[dict]:
                 "tilt_p95_deg": float(np.percentile(tilt, 95)),
                 "heading_drift_deg_per_min": abs(slope),
                 "heading_change_deg": float(np.degrees(abs(yaw[-1] - yaw[0]))),
+                "bias_method": est.gyro_bias_.method,
+                "still_s": est.gyro_bias_.still_s,
+                **{f"bias_{ax}_rads": float(v) for ax, v in zip("xyz", est.gyro_bias_.bias_rads, strict=True)},
             }
         )
     up_g = gravity_direction(rec.acc, fs, cutoff_hz=0.3)[idx]
@@ -158,6 +177,21 @@ def main(argv: list[str] | None = None) -> int:
         piv = table.pivot_table(index="source", columns="motion", values=col, aggfunc="median").reindex(columns=cols)
         piv = piv.dropna(how="all")
         lines += [f"### {name}, median over recordings (all: 18 per walking motion, 9 running)", md(piv, "{:.1f}"), ""]
+    lines.append("### heading drift of the attitude before/after removing the gyroscope bias, per phone (deg/min, median)")
+    att = table[table["source"].isin(list(ATTITUDE_SOURCES))]
+    for phone, sub in att.groupby("phone"):
+        piv = sub.pivot_table(index="source", columns="motion", values="heading_drift_deg_per_min", aggfunc="median")
+        lines += [f"{phone}:", md(piv.reindex(columns=[c for c in cols if c in piv.columns]), "{:.1f}"), ""]
+    lines.append("### tilt error before/after removing the gyroscope bias, per phone (deg, median of the recording means)")
+    for phone, sub in att.groupby("phone"):
+        piv = sub.pivot_table(index="source", columns="motion", values="tilt_mean_deg", aggfunc="median")
+        lines += [f"{phone}:", md(piv.reindex(columns=[c for c in cols if c in piv.columns]), "{:.1f}"), ""]
+    dflt = att[att["source"] == "gaitml"]
+    lines.append("### the default's removed bias per phone (rad/s, median over recordings; method counts)")
+    for phone, sub in dflt.groupby("phone"):
+        b = sub[["bias_x_rads", "bias_y_rads", "bias_z_rads"]].median().to_numpy()
+        lines.append(f"- {phone}: ({b[0]:.3f}, {b[1]:.3f}, {b[2]:.3f}); {sub['bias_method'].value_counts().to_dict()}")
+    lines.append("")
     lines.append("### per person: median tilt error of the default attitude (deg) and heading drift of its steps' HDE (deg/min)")
     for src, col in (("gaitml", "tilt_mean_deg"), ("gaitml", "heading_drift_deg_per_min"), ("steps/hde", "heading_drift_deg_per_min")):
         sub = table[table["source"] == src]

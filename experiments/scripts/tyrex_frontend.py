@@ -1,11 +1,13 @@
 """Which PDR front end (step detector, step length, heading) serves real walkers: chosen on two tyrex people, scored on the third.
 
-``python -m experiments.scripts.tyrex_frontend [--data ../shared/data] [--csv FILE] [--out FILE]``
-from the repository root (about 6 minutes). For every tyrex recording with motion capture
+``python -m experiments.scripts.tyrex_frontend [--data ../shared/data] [--csv FILE] [--out FILE] [--cache FILE]``
+from the repository root (about 11 minutes under load; ``--cache`` keeps the per-recording step tables
+so a rerun only rescores). For every tyrex recording with motion capture
 (read as in :mod:`experiments.scripts.tyrex_pdr`) and every combination of
 
-- step detector: ``single-peak`` (the CLI default, paper 003), ``adaptive``, ``adfsm``;
-- heading: ``hde`` (the CLI default), ``gyro``;
+- step detector: ``single-peak`` (paper 003), ``adaptive`` (the CLI default);
+- heading: ``hde`` (the CLI default), ``gyro``, each with the gyroscope bias removed (the default) or
+  not (``-nobias``, paper 003);
 - step length: ``default`` (the uncalibrated :class:`gaitml.pdr.step_length.StepLengthModel`),
   ``linear`` (paper 003 eq. 12, ``A + B f + C var``, fitted by least squares on the training
   people's steps against the true body distance between consecutive steps), ``constant``
@@ -15,13 +17,15 @@ a forward-only trajectory is built from ``gaitml pdr``'s steps and headings and 
 :func:`gaitml.evaluation.trajectory.walk_scores`. Leave-one-person-out: for each person, the
 combination with the lowest mean (over the seven motions other than AR, which is mostly
 standing) of the per-motion median 10 s error on the *other two* people is chosen, and the
-left-out person's figures are reported for it, beside the CLI defaults.
+left-out person's figures are reported for it, beside the CLI defaults before issue 27
+(:data:`OLD_DEFAULTS`).
 """
 
 from __future__ import annotations
 
 import argparse
 import itertools
+import pickle
 import sys
 import time
 from pathlib import Path
@@ -33,8 +37,16 @@ from experiments.scripts.tyrex_pdr import MOTION_ORDER, load_tyrex, md
 
 __all__ = ["main", "step_tables", "true_step_lengths"]
 
-DETECTORS = ("single-peak", "adaptive", "adfsm")
-HEADINGS = ("hde", "gyro")
+DETECTORS = ("single-peak", "adaptive")
+#: heading name -> (run_pdr heading, gyro_bias); ``-nobias``: the gyroscope as logged (paper 003)
+HEADINGS = {
+    "hde": ("hde", "auto"),
+    "hde-nobias": ("hde", "off"),
+    "gyro": ("gyro", "auto"),
+    "gyro-nobias": ("gyro", "off"),
+}
+#: the CLI defaults before issue 27 (paper 003's front end, uncalibrated step length)
+OLD_DEFAULTS = ("single-peak", "hde-nobias", "default")
 LENGTHS = ("default", "linear", "constant")
 FEATURES = ("freq_hz", "var_ms2sq", "a_max_ms2", "a_min_ms2")
 SCORED_MOTIONS = tuple(m for m in MOTION_ORDER if m != "AR")
@@ -57,32 +69,38 @@ def true_step_lengths(t_step_s, true_t_s, body_xy) -> np.ndarray:
 def step_tables(item) -> list[dict]:
     """Per detector and heading: the step times, headings, step-length features and true lengths of one recording."""
     from gaitml.evaluation.trajectory import body_track
-    from gaitml.pdr import run_pdr
+    from gaitml.steps import get_detector
 
     rec, truth = item["recording"], item["truth"]
     tt = truth.t_s - rec.meta["t0_original_s"]
-    xy = truth.pos_m[:, :2]
-    body = body_track(tt, xy)
+    body = body_track(tt, truth.pos_m[:, :2])
     out = []
-    for det, head in itertools.product(DETECTORS, HEADINGS):
-        res = run_pdr(rec, detector=det, modes="forward", heading=head)
-        st = res.steps
-        event = st.attrs.get("event", "t_peak_s")
-        t_step = st[event].to_numpy(float) if len(st) else np.zeros(0)
-        out.append(
-            {
-                "detector": det,
-                "heading": head,
-                "t_step": t_step,
-                "heading_rad": st["heading_rad"].to_numpy(float) if len(st) else np.zeros(0),
-                "features": st[list(FEATURES)].reset_index(drop=True).astype(float)
-                if len(st)
-                else pd.DataFrame({c: np.zeros(0) for c in FEATURES}),
-                "default_length": st["step_length_m"].to_numpy(float) if len(st) else np.zeros(0),
-                "true_length": true_step_lengths(t_step, tt, body),
-            }
-        )
+    for det in DETECTORS:
+        table = get_detector(det).detect(rec).steps_  # detected once, shared by the heading variants
+        for head, (source, bias) in HEADINGS.items():
+            out.append(_one(rec, table, det, head, source, bias, tt, body))
     return out
+
+
+def _one(rec, table, det, head, source, bias, tt, body) -> dict:
+    """One detector's steps with one heading source: what :func:`score_all` needs."""
+    from gaitml.pdr import run_pdr
+
+    res = run_pdr(rec, steps=table, modes="forward", heading=source, gyro_bias=bias)
+    st = res.steps
+    event = st.attrs.get("event", "t_peak_s")
+    t_step = st[event].to_numpy(float) if len(st) else np.zeros(0)
+    return {
+        "detector": det,
+        "heading": head,
+        "t_step": t_step,
+        "heading_rad": st["heading_rad"].to_numpy(float) if len(st) else np.zeros(0),
+        "features": st[list(FEATURES)].reset_index(drop=True).astype(float)
+        if len(st)
+        else pd.DataFrame({c: np.zeros(0) for c in FEATURES}),
+        "default_length": st["step_length_m"].to_numpy(float) if len(st) else np.zeros(0),
+        "true_length": true_step_lengths(t_step, tt, body),
+    }
 
 
 def _trajectory(t_step, lengths, heading_rad, t_end):
@@ -112,6 +130,7 @@ def score_all(items, tables) -> pd.DataFrame:
 
     people = sorted({it["subject"] for it in items})
     rows = []
+    fold_free: dict = {}
     for person in people:
         for det, head in itertools.product(DETECTORS, HEADINGS):
             train = [
@@ -127,6 +146,10 @@ def score_all(items, tables) -> pd.DataFrame:
                 rec, truth = it["recording"], it["truth"]
                 tt = truth.t_s - rec.meta["t0_original_s"]
                 for length in LENGTHS:
+                    key = (it["file"], det, head)
+                    if length == "default" and key in fold_free:  # nothing fitted: the same scores in every fold
+                        rows.append({**fold_free[key], "fold": person, "held_out": it["subject"] == person})
+                        continue
                     if length == "default":
                         lengths = s["default_length"]
                     elif length == "linear":
@@ -148,6 +171,8 @@ def score_all(items, tables) -> pd.DataFrame:
                             **sc,
                         }
                     )
+                    if length == "default":
+                        fold_free[(it["file"], det, head)] = rows[-1]
     return pd.DataFrame(rows)
 
 
@@ -162,7 +187,7 @@ def choose(table: pd.DataFrame) -> pd.DataFrame:
             .mean()
         )
         best = per.idxmin()
-        default = per.loc[("single-peak", "hde", "default")]
+        default = per.loc[OLD_DEFAULTS]
         out.append(
             {"fold": fold, "detector": best[0], "heading": best[1], "length": best[2], "train_score": per.min(), "train_default": default}
         )
@@ -174,14 +199,22 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--data", default="../shared/data", help="the shared data folder (holds tyrex-attitude/)")
     p.add_argument("--csv", metavar="FILE", help="write the long table")
     p.add_argument("--out", metavar="FILE", help="write the printed tables to this markdown file too")
+    p.add_argument("--cache", metavar="FILE", help="pickle of the per-recording step tables: read if present, else written")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
     items = load_tyrex(Path(args.data))
-    tables = []
-    for i, it in enumerate(items):
-        tables.append(step_tables(it))
-        if (i + 1) % 20 == 0:
-            print(f"  {i + 1}/{len(items)} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    if args.cache and Path(args.cache).exists():
+        with open(args.cache, "rb") as fh:
+            tables = pickle.load(fh)
+    else:
+        tables = []
+        for i, it in enumerate(items):
+            tables.append(step_tables(it))
+            if (i + 1) % 20 == 0:
+                print(f"  {i + 1}/{len(items)} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+        if args.cache:
+            with open(args.cache, "wb") as fh:
+                pickle.dump(tables, fh)
     table = score_all(items, tables)
     if args.csv:
         table.to_csv(args.csv, index=False)
@@ -191,7 +224,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for _, c in chosen.iterrows():
         h = held[held["fold"] == c["fold"]]
-        for label, (d, hd, ln) in (("chosen", (c["detector"], c["heading"], c["length"])), ("defaults", ("single-peak", "hde", "default"))):
+        for label, (d, hd, ln) in (("chosen", (c["detector"], c["heading"], c["length"])), ("old defaults", OLD_DEFAULTS)):
             sub = h[(h["detector"] == d) & (h["heading"] == hd) & (h["length"] == ln)]
             for metric in ("error_10s_pct", "distance_ratio"):
                 rows.append(
@@ -206,10 +239,10 @@ def main(argv: list[str] | None = None) -> int:
     cols = ["held out", "front end", "metric", *[m for m in MOTION_ORDER if m in res.columns]]
     lines += ["### the left-out person, median per motion", md(res[cols].set_index("held out"), "{:.2f}"), ""]
     pooled = []
-    for label in ("chosen", "defaults"):
+    for label in ("chosen", "old defaults"):
         parts = []
         for _, c in chosen.iterrows():
-            d, hd, ln = (c["detector"], c["heading"], c["length"]) if label == "chosen" else ("single-peak", "hde", "default")
+            d, hd, ln = (c["detector"], c["heading"], c["length"]) if label == "chosen" else OLD_DEFAULTS
             parts.append(held[(held["fold"] == c["fold"]) & (held["detector"] == d) & (held["heading"] == hd) & (held["length"] == ln)])
         allp = pd.concat(parts)
         for metric in ("error_10s_pct", "distance_ratio"):

@@ -7,11 +7,12 @@ from the repository root (about 3 minutes). For every tyrex recording with motio
 on its stretch that overlaps the capture most), it runs:
 
 - ``gaitml``: :func:`gaitml.pdr.run_pdr` with the arguments ``gaitml pdr`` uses without
-  options (single-peak steps, HDE heading, forward-only update, uncalibrated step length,
-  start heading 0);
-- ``adaptive``: the same with ``--detector adaptive``;
-- ``model`` / ``model-adaptive``: ``--model models/demo`` (model modes, multi-state update),
-  with each detector;
+  options (its defaults: :data:`gaitml.consts.DEFAULT_STEP_DETECTOR`, the default heading
+  source and gyroscope-bias removal, forward-only update, uncalibrated step length, start
+  heading 0);
+- ``paper003``: the paper-faithful settings, ``--detector single-peak --heading hde
+  --gyro-bias off`` (the defaults before issue 27);
+- ``model``: the defaults with ``--model models/demo`` (model modes, multi-state update);
 - ``still``: a trajectory that never moves;
 - ``baseline``: a plain PDR written here for the comparison: peaks of the low-passed
   |acc| (:func:`baseline_steps`), one constant step length per gait (walk / run) fitted on
@@ -48,7 +49,10 @@ __all__ = [
 ]
 
 MOTION_ORDER = ("Texting", "AR", "Phoning", "Swinging", "FrontPocket", "BackPocket", "RunningHand", "RunningPocket")
-VARIANTS = ("gaitml", "adaptive", "model", "model-adaptive", "baseline", "bound", "still")
+VARIANTS = ("gaitml", "paper003", "model", "baseline", "bound", "still")
+#: ``gaitml pdr`` as paper 003 writes it (the CLI defaults before issue 27): single-peak steps,
+#: HDE heading, the gyroscope as logged
+PAPER003 = {"detector": "single-peak", "heading": "hde", "gyro_bias": "off"}
 
 #: Baseline step detection: |acc| low-passed at this cutoff (Hz) ...
 BASELINE_LOWPASS_HZ = 3.0
@@ -170,12 +174,12 @@ def score_recording(item, *, model=None, step_length_by_mode: dict | None = None
             t, exy = np.append(t, rec.t_s[-1]), np.vstack([exy, exy[-1:]])
         rows.append({**keys, "variant": variant, **walk_scores(t, exy, tt, xy), **extra})
 
-    runs = {"gaitml": ("single-peak", None), "adaptive": ("adaptive", None)}
+    runs = {"gaitml": ({}, None), "paper003": (PAPER003, None)}
     if model is not None:
-        runs.update({"model": ("single-peak", model), "model-adaptive": ("adaptive", model)})
+        runs["model"] = ({}, model)
     trajs = {}
-    for name, (det, mdl) in runs.items():
-        res = run_pdr(rec, detector=det, model=mdl, modes="model" if mdl is not None else "forward", heading="hde")
+    for name, (kw, mdl) in runs.items():
+        res = run_pdr(rec, model=mdl, modes="model" if mdl is not None else "forward", **kw)
         tj = res.trajectory
         trajs[name] = tj
         extra = {"n_steps": res.n_steps}
@@ -183,7 +187,7 @@ def score_recording(item, *, model=None, step_length_by_mode: dict | None = None
             ood = res.info.get("out_of_domain_steps")
             extra["out_of_domain_share"] = (ood / res.n_steps) if (ood is not None and res.n_steps) else float("nan")
             extra["non_walk_steps"] = int(np.sum(res.steps["mode"].to_numpy().astype(str) != "walk")) if res.n_steps else 0
-            fwd = trajs["gaitml" if det == "single-peak" else "adaptive"]
+            fwd = trajs["gaitml"]
             extra["same_as_forward"] = bool(
                 len(fwd) == len(tj) and np.allclose(fwd[["x_m", "y_m"]].to_numpy(), tj[["x_m", "y_m"]].to_numpy(), atol=1e-6)
             )
@@ -269,7 +273,7 @@ def main(argv: list[str] | None = None) -> int:
     walks = table[table["variant"] == "gaitml"]
     lines.append(f"steps found at the defaults, median per motion: {walks.groupby('motion')['n_steps'].median().to_dict()}")
     if model is not None:
-        m = table[table["variant"].isin(["model", "model-adaptive"])]
+        m = table[table["variant"].isin(["model"])]
         lines.append("")
         lines.append("### model modes against forward-only")
         lines.append(
@@ -284,14 +288,14 @@ def main(argv: list[str] | None = None) -> int:
         )
     lines.append("")
     lines.append("### per person (all recordings): median 10 s error % per motion")
-    for v in ("gaitml", "adaptive", "baseline", "bound", "still"):
+    for v in ("gaitml", "paper003", "baseline", "bound", "still"):
         sub = table[table["variant"] == v]
         piv = sub.pivot_table(index="subject", columns="motion", values="error_10s_pct", aggfunc="median")
         lines.append(f"{v}:")
         lines.append(md(piv.reindex(columns=[c for c in MOTION_ORDER if c in piv.columns]), "{:.1f}"))
         lines.append("")
     lines.append("### per person (all recordings): median distance ratio per motion")
-    for v in ("gaitml", "adaptive", "baseline"):
+    for v in ("gaitml", "paper003", "baseline"):
         sub = table[table["variant"] == v]
         piv = sub.pivot_table(index="subject", columns="motion", values="distance_ratio", aggfunc="median")
         lines.append(f"{v}:")

@@ -79,6 +79,12 @@ def heading_sources():
     return HEADING_SOURCES
 
 
+def gyro_bias_modes():
+    from gaitml.pdr.attitude import GYRO_BIAS_MODES
+
+    return GYRO_BIAS_MODES
+
+
 def mode_sources():
     from gaitml.pdr import MODE_SOURCES
 

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from gaitml.commands._args import add_input_options
 from gaitml.commands._util import emit_json, load_input, log
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 
 #: The command's one-line description in ``gaitml --help``.
@@ -28,7 +29,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--snap", choices=("steps", "strides", "none"), default="steps", help="move boundaries to step or stride boundaries (default steps)"
     )
     p.add_argument(
-        "--detector", help="step detector (steps/none; default single-peak) or zero-velocity detector (strides; default pseudo-std)"
+        "--detector",
+        help=f"step detector (steps/none; default {DEFAULT_STEP_DETECTOR}) or zero-velocity detector (strides; default pseudo-std)",
     )
     p.add_argument(
         "--boundary",

@@ -15,8 +15,17 @@ from pathlib import Path
 
 import numpy as np
 
-from gaitml.commands._args import add_input_options, choices, heading_sources, mode_assignments, mode_sources, step_detectors
+from gaitml.commands._args import (
+    add_input_options,
+    choices,
+    gyro_bias_modes,
+    heading_sources,
+    mode_assignments,
+    mode_sources,
+    step_detectors,
+)
 from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 
 #: The command's one-line description in ``gaitml --help``.
@@ -49,9 +58,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--detector",
         **choices("pdr", "--detector", step_detectors),
         default=None,
-        help="step detector: %(choices)s (default single-peak, or a step-window model's own detector)",
+        help=f"step detector: %(choices)s (default {DEFAULT_STEP_DETECTOR}, or a step-window model's own detector; "
+        "single-peak is paper 003's)",
     )
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
+    p.add_argument(
+        "--gyro-bias",
+        **choices("pdr", "--gyro-bias", gyro_bias_modes),
+        default="auto",
+        help="gyroscope bias removed before the heading: from still stretches, then tracked while the tilt is steady (auto, "
+        "default), from still stretches only (still), or none (off, paper 003 as written)",
+    )
     p.add_argument(
         "--initial-heading-rad",
         type=float,
@@ -110,7 +127,7 @@ def _validate(args) -> None:
 
 
 def _detector(args, model, notes: list[str]) -> str:
-    """The step detector: --detector, else a step-window model's own detector, else single-peak.
+    """The step detector: --detector, else a step-window model's own detector, else :data:`gaitml.consts.DEFAULT_STEP_DETECTOR`.
 
     A model trained on step windows (model.json ``window.by = "steps"``) classifies the
     PDR's steps directly; by default they come from the detector it was trained with.
@@ -121,7 +138,7 @@ def _detector(args, model, notes: list[str]) -> str:
     if model is not None and model.window_by == "steps":
         notes.append(f"steps from the step-window model's detector {model.window_detector} (pass --detector to choose another)")
         return model.window_detector
-    return "single-peak"
+    return DEFAULT_STEP_DETECTOR
 
 
 def run(args) -> int:
@@ -177,6 +194,7 @@ def run(args) -> int:
         mode_boundaries=getattr(args, "mode_boundaries", "auto"),
         step_length=step_length,
         initial_heading_rad=h0,
+        gyro_bias=getattr(args, "gyro_bias", "auto"),
     )
     notes += list(res.info["notes"])
     scored = _score(args, rec, res, truth_obj) if truth_obj is not None else None
@@ -266,6 +284,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
         initial_heading_rad=0.0 if h0 is None else h0,
         count_also=also,
         progress=True,
+        gyro_bias=getattr(args, "gyro_bias", "auto"),
         **long_read_kwargs(args),
     )
     modes = res.info["modes"]
@@ -442,6 +461,8 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         lines.append(
             f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
         )
+    if res.info.get("gyro_bias"):
+        lines.append(f"  {res.info['gyro_bias']['note']}")
     lines.extend(_reference_lines(res, truth))
     lines.extend(extra_lines)
     if args.out:

@@ -13,6 +13,7 @@ import math
 
 from gaitml.commands._args import add_input_options
 from gaitml.commands._util import emit_json, load_input, log
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 
 #: The command's one-line description in ``gaitml --help``.
 HELP = "cut a recording into steps, strides or zero-velocity intervals (a table of segments)"
@@ -24,7 +25,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--by", choices=("steps", "strides", "zupt"), default="steps", help="%(choices)s (default %(default)s)")
     p.add_argument(
         "--detector",
-        help="step detector for --by steps (default single-peak), zero-velocity detector for strides/zupt (default pseudo-std)",
+        help=f"step detector for --by steps (default {DEFAULT_STEP_DETECTOR}), zero-velocity detector for strides/zupt (default pseudo-std)",
     )
     p.add_argument(
         "--interval-rules",

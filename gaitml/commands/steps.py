@@ -16,6 +16,7 @@ import numpy as np
 
 from gaitml.commands._args import add_input_options, choices, step_detectors
 from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 
 #: The command's one-line description in ``gaitml --help``.
 HELP = "detect steps"
@@ -30,7 +31,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     """Declare the arguments of ``gaitml steps`` on its parser ``p``."""
     p.add_argument("input", metavar="INPUT")
     p.add_argument(
-        "--detector", **choices("steps", "--detector", step_detectors), default="single-peak", help="%(choices)s (default %(default)s)"
+        "--detector",
+        **choices("steps", "--detector", step_detectors),
+        default=DEFAULT_STEP_DETECTOR,
+        help="%(choices)s (default %(default)s; single-peak is paper 003's)",
     )
     p.add_argument("--out", metavar="FILE", help="write the step table as CSV")
     p.add_argument("--json", action="store_true")

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from gaitml._base import NON_NEGATIVE, POSITIVE, BaseAlgorithm, Options
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.labels._evidence import change_at, step_character
 from gaitml.labels._intervals import check_intervals, read_intervals
@@ -90,7 +91,7 @@ class IntervalLabeller(BaseAlgorithm):
     snap : {'steps', 'strides', 'none'}
         What boundaries move to (see the module doc).
     detector : str, optional
-        The step detector (``snap`` steps/none; default ``single-peak``) or the
+        The step detector (``snap`` steps/none; default :data:`gaitml.consts.DEFAULT_STEP_DETECTOR`) or the
         zero-velocity detector (``snap`` strides; default ``pseudo-std``).
     max_snap_s : float
         Largest move of a boundary in s (default 0.5 s, about one walking
@@ -193,7 +194,7 @@ class IntervalLabeller(BaseAlgorithm):
             det = self.detector or "pseudo-std"
             cand, units, span_s, span_e = _stride_candidates(rec, det)
         else:
-            det = self.detector or "single-peak"
+            det = self.detector or DEFAULT_STEP_DETECTOR
             cand, units, span_s, span_e = _step_candidates(rec, det, self.boundary)
 
         # distinct boundaries (touching intervals share one), in samples

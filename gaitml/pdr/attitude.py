@@ -34,6 +34,7 @@ from scipy.spatial.transform import Rotation
 from gaitml._base import NON_NEGATIVE, POSITIVE, BaseAlgorithm
 from gaitml.errors import InputError
 from gaitml.signal import gravity_direction
+from gaitml.signal._gyro_bias import GyroBias, estimate_gyro_bias, steady_tilt_mask
 
 __all__ = [
     "AttitudeEstimator",
@@ -132,8 +133,18 @@ def integrate_gyro(gyr_rads: np.ndarray, sampling_rate_hz: float, initial: Rotat
 
 
 def integrate_gyro_gravity(
-    gyr_rads: np.ndarray, up_body: np.ndarray, sampling_rate_hz: float, initial: Rotation, gain_hz: float
-) -> Rotation:
+    gyr_rads: np.ndarray,
+    up_body: np.ndarray,
+    sampling_rate_hz: float,
+    initial: Rotation,
+    gain_hz: float,
+    *,
+    bias_gain: float = 0.0,
+    initial_bias_rads=(0.0, 0.0, 0.0),
+    max_bias_rads: float = 0.3,
+    bias_update=None,
+    return_bias: bool = False,
+):
     """Quaternion integration with a complementary pull of the vertical toward ``up_body``.
 
     Parameters
@@ -141,6 +152,23 @@ def integrate_gyro_gravity(
     gyr_rads : (n, 3) body rates.
     up_body : (n, 3) measured unit up direction in the phone frame (low-passed acc).
     gain_hz : correction gain (1/s); the tilt error decays with time constant 1 / gain.
+    bias_gain : integral gain (1/s^2) of an online gyroscope-bias estimate, the explicit
+        complementary filter of Mahony, Hamel & Pflimlin (IEEE TAC 2008, eq. 32-33):
+        ``omega = gyr - b + gain * c`` and ``db/dt = -bias_gain * c`` with
+        ``c = up_measured x up_estimated``. 0 (default) keeps the bias fixed at
+        ``initial_bias_rads``. Only the bias components across the vertical are observed
+        at any instant; a phone whose orientation changes (swinging, pockets) reveals all
+        three over time.
+    initial_bias_rads : (3,) bias subtracted from the first sample on (rad/s).
+    max_bias_rads : each bias component is clipped to +-this (rad/s), so a long stretch of
+        acceleration that misreads the vertical cannot run the estimate away.
+    bias_update : (n,) bool, optional; the samples at which the bias estimate may move
+        (where the measured vertical is trusted, :func:`bias_update_mask`); all by default.
+    return_bias : also return the (n, 3) bias estimate per sample.
+
+    Returns
+    -------
+    Rotation of n body-to-nav attitudes, or ``(Rotation, bias (n, 3))`` with ``return_bias``.
 
     Notes
     -----
@@ -156,7 +184,13 @@ def integrate_gyro_gravity(
     mid = np.zeros_like(w)
     mid[1:] = 0.5 * (w[1:] + w[:-1]) * dt
     kdt = float(gain_hz) * dt
-    mx_l, my_l, mz_l = (up[:, j] * kdt for j in range(3))
+    kidt = float(bias_gain) * dt
+    bmax = float(max_bias_rads)
+    bx, by, bz = (float(v) for v in np.asarray(initial_bias_rads, dtype=float).reshape(3))
+    track = return_bias or kidt != 0.0
+    gate = [True] * n if bias_update is None else np.asarray(bias_update, dtype=bool).tolist()
+    bias_out = [(bx, by, bz)]
+    mx_l, my_l, mz_l = (up[:, j] for j in range(3))
     wx_l, wy_l, wz_l = (mid[:, j] for j in range(3))
     mx_l, my_l, mz_l, wx_l, wy_l, wz_l = (a.tolist() for a in (mx_l, my_l, mz_l, wx_l, wy_l, wz_l))
     x, y, z, s = (float(v) for v in initial.as_quat())
@@ -169,10 +203,20 @@ def integrate_gyro_gravity(
         ey = 2.0 * (y * z + s * x)
         ez = 1.0 - 2.0 * (x * x + y * y)
         mx, my, mz = mx_l[i], my_l[i], mz_l[i]
-        # rotation vector of this sample: (omega + k (measured x estimated)) dt
-        ox = wx_l[i] + (my * ez - mz * ey)
-        oy = wy_l[i] + (mz * ex - mx * ez)
-        oz = wz_l[i] + (mx * ey - my * ex)
+        # c = measured x estimated up
+        cx = my * ez - mz * ey
+        cy = mz * ex - mx * ez
+        cz = mx * ey - my * ex
+        # rotation vector of this sample: (omega - b + k c) dt
+        ox = wx_l[i] - bx * dt + kdt * cx
+        oy = wy_l[i] - by * dt + kdt * cy
+        oz = wz_l[i] - bz * dt + kdt * cz
+        if track and gate[i]:
+            bx = min(bmax, max(-bmax, bx - kidt * cx))
+            by = min(bmax, max(-bmax, by - kidt * cy))
+            bz = min(bmax, max(-bmax, bz - kidt * cz))
+        if track:
+            bias_out.append((bx, by, bz))
         ang = sqrt(ox * ox + oy * oy + oz * oz)
         if ang > 1e-12:
             sc = sin(0.5 * ang) / ang
@@ -189,7 +233,31 @@ def integrate_gyro_gravity(
         nrm = 1.0 / sqrt(x * x + y * y + z * z + s * s)
         x, y, z, s = x * nrm, y * nrm, z * nrm, s * nrm
         append((x, y, z, s))
-    return Rotation.from_quat(np.asarray(out))
+    rot = Rotation.from_quat(np.asarray(out))
+    if not return_bias:
+        return rot
+    bias = np.asarray(bias_out) if track else np.tile([bx, by, bz], (n, 1))
+    return rot, bias
+
+
+#: values of ``AttitudeEstimator(gyro_bias=...)`` given by name
+GYRO_BIAS_MODES = ("auto", "still", "off")
+
+
+def _online_summary(start: GyroBias, bias: np.ndarray, fs: float) -> GyroBias:
+    """The removed bias of an online run: the median of the tracked estimate over the second half."""
+    half = bias[len(bias) // 2 :]
+    med = np.median(half, axis=0) if len(half) else start.bias_rads
+    b = np.degrees(med)
+    how = f"from {start.still_s:.1f} s still, then" if start.method == "still" else "from zero (no still stretch), then"
+    return GyroBias(
+        med,
+        "still+online" if start.method == "still" else "online",
+        still_s=start.still_s,
+        n_still_windows=start.n_still_windows,
+        note=f"gyroscope bias removed, {how} tracked online: median ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s over the second half",
+        params={**start.params, "start_bias_rads": [float(v) for v in start.bias_rads]},
+    )
 
 
 def step_headings(heading_rad: np.ndarray, start: np.ndarray, end: np.ndarray) -> np.ndarray:
@@ -226,11 +294,26 @@ class AttitudeEstimator(BaseAlgorithm):
         Low-pass cutoff of the measured gravity direction.
     forward_axis_body : (3,) float
         Phone axis taken as forward (default the y axis).
+    gyro_bias : {'auto', 'still', 'off'} or (3,) float, default 'auto'
+        Gyroscope bias removed before integration. ``still``: the median rate over the
+        recording's still stretches (:func:`gaitml.signal.estimate_gyro_bias`); nothing is
+        removed when the phone never rests. ``auto``: the same start value, then tracked
+        online by the complementary filter's integral term (Mahony et al. 2008, gain
+        ``bias_gain``; needs ``gravity_gain_hz > 0``, else as ``still``), which also
+        serves recordings without a still stretch. ``off``: the rate as logged (paper 003
+        sec. 4.2 integrates it so). An array: that bias (rad/s), e.g. from a static
+        calibration recording.
+    bias_gain : float, default 0.05
+        Integral gain (1/s^2) of the online bias estimate of ``gyro_bias='auto'``: a tenth
+        of ``gravity_gain_hz``'s default, the proportional-to-integral ratio commonly used
+        with Mahony's filter (bias time constant of tens of seconds).
 
     Attributes
     ----------
     rotation_ : scipy Rotation, n body-to-navigation attitudes.
     heading_rad_ : (n,) compass heading of the projected forward axis, wrapped to [-pi, pi).
+    gyro_bias_ : :class:`gaitml.signal.GyroBias`, what was removed (``to_dict()`` for JSON).
+    bias_rads_ : (n, 3) the bias subtracted at every sample (constant unless tracked online).
     """
 
     _action_method = "estimate"
@@ -238,6 +321,7 @@ class AttitudeEstimator(BaseAlgorithm):
         "init_window_s": [POSITIVE],
         "gravity_cutoff_hz": [POSITIVE],
         "gravity_gain_hz": [NON_NEGATIVE],
+        "bias_gain": [NON_NEGATIVE],
     }
 
     def __init__(
@@ -248,33 +332,75 @@ class AttitudeEstimator(BaseAlgorithm):
         gravity_gain_hz: float = 0.5,
         gravity_cutoff_hz: float = 0.3,
         forward_axis_body=FORWARD_AXIS_BODY,
+        gyro_bias="auto",
+        bias_gain: float = 0.05,
     ):
         self.initial_heading_rad = initial_heading_rad
         self.init_window_s = init_window_s
         self.gravity_gain_hz = gravity_gain_hz
         self.gravity_cutoff_hz = gravity_cutoff_hz
         self.forward_axis_body = forward_axis_body
+        self.gyro_bias = gyro_bias
+        self.bias_gain = bias_gain
+
+    def _start_bias(self, recording) -> tuple[GyroBias, bool]:
+        """The bias removed from the start and whether it is tracked online afterwards."""
+        gb = self.gyro_bias
+        if isinstance(gb, str):
+            if gb not in GYRO_BIAS_MODES:
+                raise InputError(f"unknown gyro_bias {gb!r}; use one of {', '.join(GYRO_BIAS_MODES)} or a (3,) bias in rad/s.")
+            if gb == "off":
+                return GyroBias(np.zeros(3), "off", note="gyroscope bias removal turned off"), False
+            est = estimate_gyro_bias(recording.acc, recording.gyr, recording.sampling_rate_hz)
+            online = gb == "auto" and self.gravity_gain_hz > 0 and self.bias_gain > 0
+            return est, online
+        b = np.asarray(gb, dtype=float).reshape(-1)
+        if b.shape != (3,) or not np.isfinite(b).all():
+            raise InputError(f"`gyro_bias` as a bias must be 3 finite numbers (rad/s), got {gb!r}.")
+        return GyroBias(b, "given", note=f"gyroscope bias {np.round(np.degrees(b), 2).tolist()} deg/s given, removed"), False
+
+    def _integrate(self, gyr, acc_rec, fs, r0, start_bias: np.ndarray, online: bool, start: int = 0):
+        if self.gravity_gain_hz == 0:
+            rot = integrate_gyro(gyr[start:] - start_bias, fs, r0)
+            return rot, np.tile(start_bias, (len(gyr) - start, 1))
+        up = gravity_direction(acc_rec, fs, cutoff_hz=self.gravity_cutoff_hz)
+        gate = steady_tilt_mask(acc_rec, gyr, fs)[start:] if online else None
+        rot, bias = integrate_gyro_gravity(
+            gyr[start:],
+            up[start:],
+            fs,
+            r0,
+            self.gravity_gain_hz,
+            bias_gain=self.bias_gain if online else 0.0,
+            initial_bias_rads=start_bias,
+            bias_update=gate,
+            return_bias=True,
+        )
+        self.steady_s_ = float(np.count_nonzero(gate) / fs) if online else 0.0
+        return rot, bias
 
     def estimate(self, recording) -> AttitudeEstimator:
-        """Integrate the attitude over ``recording``; sets ``rotation_`` and ``heading_rad_``, returns ``self``."""
+        """Integrate the attitude over ``recording``; sets ``rotation_``, ``heading_rad_``, ``gyro_bias_`` and
+        ``bias_rads_``, returns ``self``."""
         self._validate_params()
         gyr = recording.require_gyr("gyro heading (attitude integration)")
         fs = recording.sampling_rate_hz
         recording.require_samples(2, "attitude integration")
+        gb, online = self._start_bias(recording)
         n0 = max(1, min(recording.n_samples, int(round(self.init_window_s * fs))))
         up0 = gravity_direction(recording.acc[:n0])
         r0 = initial_attitude(up0, heading_rad=self.initial_heading_rad, forward_axis_body=self.forward_axis_body)
-        if self.gravity_gain_hz == 0:
-            rot = integrate_gyro(gyr, fs, r0)
-        else:
-            up = gravity_direction(recording.acc, fs, cutoff_hz=self.gravity_cutoff_hz)
-            rot = integrate_gyro_gravity(gyr, up, fs, r0, self.gravity_gain_hz)
+        rot, bias = self._integrate(gyr, recording.acc, fs, r0, gb.bias_rads, online)
+        if online:
+            gb = _online_summary(gb, bias, fs)
         self.rotation_ = rot
+        self.bias_rads_ = bias
+        self.gyro_bias_ = gb
         fwd = rot.apply(np.asarray(self.forward_axis_body, dtype=float))
         self.heading_rad_ = compass_heading(fwd)
         return self
 
-    def estimate_from(self, recording, start: int, initial: Rotation) -> AttitudeEstimator:
+    def estimate_from(self, recording, start: int, initial: Rotation, initial_bias_rads=None) -> AttitudeEstimator:
         """Continue an integration: the attitudes of samples ``[start, n)`` of ``recording``, sample
         ``start`` having the attitude ``initial`` (from an earlier run over the samples before).
 
@@ -283,8 +409,11 @@ class AttitudeEstimator(BaseAlgorithm):
         attitude of the sample before a chunk's core continues the integration as a whole-file
         run would. The complementary correction's gravity direction (a zero-phase low-pass of
         the chunk's acc) differs from the whole file's only near the chunk's ends, which the
-        chunk margins keep away from the core. Sets ``rotation_`` and ``heading_rad_`` for the
-        ``n - start`` samples from ``start``; returns ``self``.
+        chunk margins keep away from the core. ``initial_bias_rads`` is the gyroscope bias at
+        sample ``start`` (the earlier run's ``bias_rads_``); without it the bias is found as
+        :meth:`estimate` finds it, from this recording. Sets ``rotation_``, ``heading_rad_``,
+        ``gyro_bias_`` and ``bias_rads_`` for the ``n - start`` samples from ``start``;
+        returns ``self``.
         """
         self._validate_params()
         gyr = recording.require_gyr("gyro heading (attitude integration)")
@@ -292,11 +421,16 @@ class AttitudeEstimator(BaseAlgorithm):
         start = int(start)
         if not 0 <= start < recording.n_samples:
             raise InputError(f"`start` must be a sample of the recording (0 to {recording.n_samples - 1}), got {start}.")
-        if self.gravity_gain_hz == 0:
-            rot = integrate_gyro(gyr[start:], fs, initial)
-        else:
-            up = gravity_direction(recording.acc, fs, cutoff_hz=self.gravity_cutoff_hz)
-            rot = integrate_gyro_gravity(gyr[start:], up[start:], fs, initial, self.gravity_gain_hz)
+        gb, online = self._start_bias(recording) if initial_bias_rads is None else (None, None)
+        if gb is None:
+            b0 = np.asarray(initial_bias_rads, dtype=float).reshape(3)
+            online = self.gyro_bias == "auto" and self.gravity_gain_hz > 0 and self.bias_gain > 0
+            gb = GyroBias(b0, "carried", note="gyroscope bias carried from the previous part")
+        rot, bias = self._integrate(gyr, recording.acc, fs, initial, gb.bias_rads, online, start=start)
+        if online:
+            gb = _online_summary(gb, bias, fs)
+        self.gyro_bias_ = gb
+        self.bias_rads_ = bias
         self.rotation_ = rot
         self.heading_rad_ = compass_heading(rot.apply(np.asarray(self.forward_axis_body, dtype=float)))
         return self

@@ -119,6 +119,7 @@ def main(argv: list[str] | None = None) -> int:
     import argparse
     import sys
 
+    from gaitml.consts import DEFAULT_STEP_DETECTOR
     from gaitml.errors import GaitmlError
     from gaitml.io import read_recording
 
@@ -126,7 +127,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("input", metavar="INPUT")
     p.add_argument("--out", metavar="JSON", required=True)
     p.add_argument("--distance-m", type=float, help="known distance of a walk (scale calibration)")
-    p.add_argument("--detector", default="single-peak")
+    p.add_argument(
+        "--detector",
+        default=DEFAULT_STEP_DETECTOR,
+        help=f"step detector (default {DEFAULT_STEP_DETECTOR}, as gaitml pdr's: calibrate with the detector you dead-reckon with)",
+    )
     args = p.parse_args(argv)
     try:
         rec = read_recording(args.input)

@@ -2,7 +2,8 @@
 
 Paper 003 sec. 4 (with paper 002 sec. 3 as an alternative heading source), DESIGN sec. 4-5.
 
-- Steps: a registered step detector (``single-peak`` by default, paper 003 sec. 2.2), or a
+- Steps: a registered step detector (:data:`gaitml.consts.DEFAULT_STEP_DETECTOR` by default;
+  paper 003 sec. 2.2 uses ``single-peak``), or a
   step table given by the caller.
 - Mode per step: from a saved model's window predictions (the window containing the step
   time; with overlapping windows the one whose centre is nearest; then every mode change
@@ -25,6 +26,7 @@ import numpy as np
 import pandas as pd
 from sklearn.base import clone
 
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.pdr.attitude import AttitudeEstimator, wrap_angle
 from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading
@@ -106,6 +108,8 @@ class PdrResult:
         }
         if self.info.get("modes") == "model":
             out["out_of_domain_steps"] = self.info.get("out_of_domain_steps")
+        if self.info.get("gyro_bias") is not None:
+            out["gyro_bias"] = self.info["gyro_bias"]
         return out
 
 
@@ -158,10 +162,10 @@ def _detect(recording: Recording, detector):
     return det.steps_, getattr(det, "segments_", None)
 
 
-def _heading_source(heading, *, attitude, hde, dwpca, initial_heading_rad: float) -> BaseHeadingSource:
+def _heading_source(heading, *, attitude, hde, dwpca, initial_heading_rad: float, gyro_bias="auto") -> BaseHeadingSource:
     """A new heading source: a registry name resolved with the optional ``hde`` / ``dwpca`` / ``attitude``
     objects, or a clone of the given source; without an attitude of its own it gets ``attitude`` or
-    ``AttitudeEstimator(initial_heading_rad)``. The caller's objects are never modified."""
+    ``AttitudeEstimator(initial_heading_rad, gyro_bias)``. The caller's objects are never modified."""
     if isinstance(heading, str):
         if heading not in HEADING_SOURCES:
             raise InputError(f"unknown heading source {heading!r}; use one of {', '.join(HEADING_SOURCES)}.")
@@ -183,7 +187,11 @@ def _heading_source(heading, *, attitude, hde, dwpca, initial_heading_rad: float
     else:
         raise InputError(f"`heading` must be a heading source name ({', '.join(HEADING_SOURCES)}) or object, got {type(heading).__name__}.")
     if src.attitude is None:
-        src.set_params(attitude=clone(attitude) if attitude is not None else AttitudeEstimator(initial_heading_rad=initial_heading_rad))
+        src.set_params(
+            attitude=clone(attitude)
+            if attitude is not None
+            else AttitudeEstimator(initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias)
+        )
     return src
 
 
@@ -229,7 +237,7 @@ def run_pdr(
     recording: Recording,
     *,
     model=None,
-    detector="single-peak",
+    detector=DEFAULT_STEP_DETECTOR,
     steps: pd.DataFrame | None = None,
     heading: str = "hde",
     modes: str = "model",
@@ -241,6 +249,7 @@ def run_pdr(
     attitude: AttitudeEstimator | None = None,
     hde: HeuristicDriftElimination | None = None,
     dwpca: DwPcaHeading | None = None,
+    gyro_bias="auto",
 ) -> PdrResult:
     """Dead-reckon a recording into a 2-D trajectory.
 
@@ -248,7 +257,8 @@ def run_pdr(
     ----------
     recording : Recording with acc and gyro.
     model : TrainedModel, optional (needed for ``modes='model'``).
-    detector : str or step detector object; default ``single-peak``.
+    detector : str or step detector object; default :data:`gaitml.consts.DEFAULT_STEP_DETECTOR`
+        (paper 003's ``single-peak`` is one argument away).
         A name is resolved by :data:`gaitml.steps.DETECTORS`; an object is cloned.
     steps : DataFrame, optional; a step table to use instead of running a detector.
     heading : {'hde', 'dwpca', 'gyro', 'dwpca-hde'} or heading source object
@@ -277,6 +287,11 @@ def run_pdr(
         otherwise: ``AttitudeEstimator(initial_heading_rad)``,
         ``HeuristicDriftElimination(reference_rad=initial_heading_rad)``, ``DwPcaHeading()``);
         cloned, never modified.
+    gyro_bias : {'auto', 'still', 'off'} or (3,) float, default 'auto'
+        Gyroscope bias removed before the attitude and heading (the default attitude's
+        ``gyro_bias``, :class:`~gaitml.pdr.attitude.AttitudeEstimator`; ignored when
+        ``attitude`` or the heading source brings its own). What was removed is in
+        ``info['gyro_bias']``.
 
     Returns
     -------
@@ -284,7 +299,7 @@ def run_pdr(
     """
     if not isinstance(recording, Recording):
         raise InputError(f"`recording` must be a gaitml Recording, got {type(recording).__name__}.")
-    source = _heading_source(heading, attitude=attitude, hde=hde, dwpca=dwpca, initial_heading_rad=initial_heading_rad)
+    source = _heading_source(heading, attitude=attitude, hde=hde, dwpca=dwpca, initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias)
     if modes not in MODE_SOURCES:
         raise InputError(f"unknown mode source {modes!r}; use one of {', '.join(MODE_SOURCES)}.")
     if mode_boundaries not in MODE_ASSIGNMENTS:
@@ -397,9 +412,17 @@ def run_pdr(
             "update": update,
             "step_length": sl_source,
             "initial_heading_rad": float(initial_heading_rad),
+            "gyro_bias": _bias_record(source),
             "notes": notes,
         },
     )
+
+
+def _bias_record(source) -> dict | None:
+    """What the heading source's attitude removed as gyroscope bias (JSON-ready), or None."""
+    att = getattr(source, "attitude_", None)
+    gb = getattr(att, "gyro_bias_", None)
+    return None if gb is None else gb.to_dict()
 
 
 def assemble_result(

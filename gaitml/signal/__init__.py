@@ -1,6 +1,7 @@
-"""Signal utilities: magnitude, smoothing, Butterworth filters, strided windows, gravity."""
+"""Signal utilities: magnitude, smoothing, Butterworth filters, strided windows, gravity, gyroscope bias."""
 
 from gaitml.signal._basic import bandpass, butter_filter, centered_window_sums, lowpass, magnitude, moving_average
+from gaitml.signal._gyro_bias import GyroBias, estimate_gyro_bias, remove_gyro_bias, steady_tilt_mask
 from gaitml.signal._orientation import gravity_components, gravity_direction, tilt_angles
 from gaitml.signal._windows import sliding_windows, window_params, window_starts
 
@@ -8,12 +9,16 @@ __all__ = [
     "bandpass",
     "butter_filter",
     "centered_window_sums",
+    "GyroBias",
+    "estimate_gyro_bias",
+    "remove_gyro_bias",
     "gravity_components",
     "gravity_direction",
     "lowpass",
     "magnitude",
     "moving_average",
     "sliding_windows",
+    "steady_tilt_mask",
     "tilt_angles",
     "window_params",
     "window_starts",

@@ -23,6 +23,7 @@ def _registries() -> dict:
     import gaitml.steps
     import gaitml.zupt
     from gaitml.features._catalogue import SUBSET_ALIASES
+    from gaitml.pdr.attitude import GYRO_BIAS_MODES
     from gaitml.pdr.step_modes import MODE_ASSIGNMENTS
 
     return {
@@ -32,6 +33,7 @@ def _registries() -> dict:
         ("pdr", "--heading"): tuple(gaitml.pdr.HEADING_SOURCES),
         ("pdr", "--modes"): tuple(gaitml.pdr.MODE_SOURCES),
         ("pdr", "--mode-boundaries"): tuple(MODE_ASSIGNMENTS),
+        ("pdr", "--gyro-bias"): tuple(GYRO_BIAS_MODES),
         ("features", "--subset"): (*gaitml.features.FEATURE_SETS, *SUBSET_ALIASES),
         ("features", "--frame"): tuple(gaitml.features.FEATURE_FRAMES),
         **{

@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 
 from gaitml.cli import main
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.io import read_dataset, read_recording, write_gaitml_csv
 from gaitml.labels import intervals_from_labels, perturb_intervals
 from gaitml.simulate import simulate_dataset
@@ -31,7 +32,7 @@ def test_label_writes_recording_step_table_and_report(files, tmp_path, capsys):
     out = tmp_path / "out" / "walk.labelled.csv"
     code = main(["label", str(d / "rec.csv"), "--intervals", str(d / "labels.txt"), "--out", str(out), "--report", str(tmp_path / "r.png")])
     text = capsys.readouterr().out
-    assert code == 0 and "snapped to steps of single-peak" in text
+    assert code == 0 and f"snapped to steps of {DEFAULT_STEP_DETECTOR}" in text
     lab = read_recording(out)
     assert lab.n_samples == rec.n_samples and np.mean(lab.labels == rec.labels) > 0.99
     np.testing.assert_array_equal(lab.acc, rec.acc)  # lossless writer

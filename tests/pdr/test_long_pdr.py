@@ -49,8 +49,10 @@ def _compare(whole, chunked):
 @pytest.mark.parametrize("modes", ["forward", "true"])
 def test_long_pdr_equals_whole_file(walk_file, heading, modes, monkeypatch):
     monkeypatch.setattr(ch, "_ROWS_PER_READ", 1234)  # read blocks that are not chunk boundaries
-    whole = run_pdr(read_recording(walk_file), heading=heading, modes=modes)
-    chunked = long_pdr(walk_file, heading=heading, modes=modes, chunk_s=30.0, margin_s=5.0, progress=False)
+    # single-peak: a detector whose state is local, so the 5 s margins of this test suffice (the adaptive
+    # default learns its thresholds again in every chunk's margin, 30 s by default)
+    whole = run_pdr(read_recording(walk_file), heading=heading, modes=modes, detector="single-peak")
+    chunked = long_pdr(walk_file, heading=heading, modes=modes, chunk_s=30.0, margin_s=5.0, progress=False, detector="single-peak")
     assert whole.n_steps > 250
     _compare(whole, chunked)
     assert set(chunked.info) == set(whole.info)
@@ -61,18 +63,20 @@ def test_long_pdr_with_a_model_equals_whole_file(walk_file):
     from tests.conftest import ROOT
 
     model = load_model(ROOT / "models" / "demo")
-    whole = run_pdr(read_recording(walk_file), model=model, modes="model", mode_boundaries="nearest")
-    chunked = long_pdr(walk_file, model=model, modes="model", mode_boundaries="nearest", chunk_s=30.0, margin_s=5.0, progress=False)
+    kw = {"model": model, "modes": "model", "mode_boundaries": "nearest", "detector": "single-peak"}
+    whole = run_pdr(read_recording(walk_file), **kw)
+    chunked = long_pdr(walk_file, **kw, chunk_s=30.0, margin_s=5.0, progress=False)
     _compare(whole, chunked)
     assert list(chunked.steps["in_domain"]) == list(whole.steps["in_domain"])
 
 
 def test_attitude_continued_from_a_carried_state_is_the_whole_integration():
-    """The attitude filter's state is the quaternion alone: continuing from sample k gives the same attitudes."""
+    """The attitude filter's state is the quaternion and the gyroscope bias: continuing from sample k gives the same attitudes."""
     rec = simulate_dataset(1, 60.0, sampling_rate_hz=50.0, seed=5)[0]
     whole = AttitudeEstimator().estimate(rec)
     k = 1234
-    cont = AttitudeEstimator().estimate_from(rec, k, whole.rotation_[k])
+    cont = AttitudeEstimator().estimate_from(rec, k, whole.rotation_[k], initial_bias_rads=whole.bias_rads_[k])
+    assert np.allclose(cont.bias_rads_, whole.bias_rads_[k:], atol=1e-12)
     d = np.angle(np.exp(1j * (cont.heading_rad_ - whole.heading_rad_[k:])))
     assert np.abs(d).max() < 1e-9
 
@@ -167,5 +171,5 @@ def test_pdr_cli_long_path_summary_is_the_whole_files(walk_file, monkeypatch, ca
     long = capsys.readouterr()
     assert "start heading 0.300 rad" in long.err and "start heading 0.300 rad" in short.err
     lines = long.out.strip().splitlines()
-    assert len(lines) == 2 and lines[1].startswith("  truth:")
+    assert len(lines) == 3 and lines[1].startswith("  gyroscope bias") and lines[2].startswith("  truth:")
     assert lines == short.out.strip().splitlines()

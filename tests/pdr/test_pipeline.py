@@ -25,12 +25,13 @@ def rec():
 
 @pytest.mark.parametrize("heading", ["gyro", "hde", "dwpca"])
 def test_multi_state_pdr_follows_the_truth_and_forward_only_does_not(rec, heading):
-    res = run_pdr(rec, heading=heading, modes="true", step_length="reference")
+    # the synthetic walk's 68 steps are paper 003 peaks; single-peak finds exactly them
+    res = run_pdr(rec, heading=heading, modes="true", step_length="reference", detector="single-peak")
     assert res.n_steps == 68
     truth_end = rec.reference["trajectory"][["x_m", "y_m"]].to_numpy()[-1]
     err_multi = np.linalg.norm(np.array(res.end_xy_m) - truth_end)
     assert err_multi < 1.0, res.end_xy_m
-    fwd = run_pdr(rec, heading="gyro", modes="forward", step_length="reference")
+    fwd = run_pdr(rec, heading="gyro", modes="forward", step_length="reference", detector="single-peak")
     assert np.linalg.norm(np.array(fwd.end_xy_m) - truth_end) > 10.0
     assert list(res.trajectory.columns) == ["t_s", "x_m", "y_m", "heading_rad", "mode", "step_length_m"]
     assert len(res.trajectory) == res.n_steps + 1 and res.trajectory["mode"].iloc[0] == "start"
@@ -72,10 +73,11 @@ def test_cli_json_plot_and_out(rec, tmp_path, capsys):
     path = tmp_path / "walk.csv"
     write_gaitml_csv(rec, path)
     png, out = tmp_path / "t.png", tmp_path / "t.csv"
-    assert main(["pdr", str(path), "--json", "--plot", str(png), "--out", str(out), "--heading", "gyro"]) == 0
+    argv = ["--detector", "single-peak"]  # the synthetic walk's 68 paper 003 peaks
+    assert main(["pdr", str(path), "--json", "--plot", str(png), "--out", str(out), "--heading", "gyro", *argv]) == 0
     cap = capsys.readouterr()
     obj = json.loads(cap.out)
-    assert set(obj) == {"n_steps", "distance_m", "end_xy_m", "trajectory"}
+    assert set(obj) == {"n_steps", "distance_m", "end_xy_m", "trajectory", "gyro_bias"}
     assert obj["n_steps"] == 68 and len(obj["trajectory"]) == 69
     assert set(obj["trajectory"][0]) == {"t_s", "x_m", "y_m", "heading_rad", "mode"}
     assert "labels" in cap.err  # it says where the modes came from
@@ -83,7 +85,7 @@ def test_cli_json_plot_and_out(rec, tmp_path, capsys):
     assert len(pd.read_csv(out)) == 69
     # without labels: forward-only, said on stderr
     write_gaitml_csv(rec.replace(labels=None), tmp_path / "nolab.csv")
-    assert main(["pdr", str(tmp_path / "nolab.csv"), "--json"]) == 0
+    assert main(["pdr", str(tmp_path / "nolab.csv"), "--json", *argv]) == 0
     cap = capsys.readouterr()
     assert "forward" in cap.err and json.loads(cap.out)["n_steps"] == 68
     assert main(["pdr", str(path), "--modes", "model"]) == 2
@@ -96,10 +98,12 @@ def test_calibration_from_reference_steps_fits_lengths_and_polarity():
     cal = calibrate_from_reference(rec)
     assert cal.n_matched == cal.n_detected == 60
     feats_modes = ["walk"] * 30 + ["backward"] * 30
-    res = run_pdr(rec, modes="true", heading="gyro", step_length=cal.step_length)
+    res = run_pdr(rec, modes="true", heading="gyro", step_length=cal.step_length, detector="single-peak")
     assert np.allclose(res.steps["step_length_m"], 0.62, atol=1e-6)
     assert cal.dwpca.polarity == {"backward": 1.0, "walk": 1.0}  # the learned polarity, as a parameter of the configured source
     assert res.steps["mode"].tolist() == feats_modes
     m = calibrate_walk_distance(synth_walk([("walk", 40, 0.0)]), 30.0)
-    assert run_pdr(synth_walk([("walk", 40, 0.0)]), modes="true", heading="gyro", step_length=m).distance_m == pytest.approx(30.0)
+    assert run_pdr(
+        synth_walk([("walk", 40, 0.0)]), modes="true", heading="gyro", step_length=m, detector="single-peak"
+    ).distance_m == pytest.approx(30.0)
     assert match_reference_steps([0.0, 1.0, 5.0], [0.05, 1.2]).tolist() == [0, -1, -1]

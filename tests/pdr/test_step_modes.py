@@ -152,14 +152,15 @@ def test_refinement_fixes_steps_at_mode_changes_of_a_simulated_walk():
 
     model = load_model(ROOT / "models" / "demo")
     rec = simulate_route("straight", seed=12, duration_s=240.0)
-    truth = run_pdr(rec, modes="true", heading="gyro").steps
+    truth = run_pdr(rec, modes="true", heading="gyro", detector="single-peak").steps
     true_modes, t = truth["mode"].to_numpy(), truth["t_peak_s"].to_numpy()
     labels = rec.labels.astype(str)
     changes = np.flatnonzero(labels[1:] != labels[:-1]) / rec.sampling_rate_hz
     at_change = np.min(np.abs(t[:, None] - changes[None, :]), axis=1) < 0.8
     # the model's own per-step modes (issue 12: `mode` moves out-of-domain steps forward, `mode_model` keeps the model's)
-    nearest = run_pdr(rec, model=model, modes="model", heading="gyro", mode_boundaries="nearest").steps["mode_model"].to_numpy()
-    refined = run_pdr(rec, model=model, modes="model", heading="gyro").steps["mode_model"].to_numpy()
+    kw = {"model": model, "modes": "model", "heading": "gyro", "detector": "single-peak"}  # the steps of `truth`
+    nearest = run_pdr(rec, **kw, mode_boundaries="nearest").steps["mode_model"].to_numpy()
+    refined = run_pdr(rec, **kw).steps["mode_model"].to_numpy()
     wrong_nearest, wrong_refined = nearest != true_modes, refined != true_modes
     assert wrong_refined[at_change].sum() <= wrong_nearest[at_change].sum() / 2, (
         wrong_nearest[at_change].sum(),

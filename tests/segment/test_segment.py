@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 
 from gaitml.cli import main
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.io import read_recording
 from gaitml.segment import BY, SEGMENT_COLUMNS, resolve_detector, segment
@@ -49,7 +50,7 @@ def test_by_steps_is_the_step_table(phone):
     np.testing.assert_allclose(t["event_s"], steps[steps.attrs["event"]])
     assert t["confidence"].isna().all()  # adfsm has no confidence
     assert (t["kind"] == "step").all() and t.attrs["by"] == "steps" and t.attrs["detector"] == "adfsm"
-    assert segment(phone).attrs["detector"] == "single-peak"  # the default
+    assert segment(phone).attrs["detector"] == DEFAULT_STEP_DETECTOR  # the default
 
 
 def test_step_confidence_is_passed_through(phone):
@@ -124,10 +125,11 @@ def test_cli_writes_the_table_and_one_json_object(by, tmp_path, capsys):
     table = pd.read_csv(out)
     assert tuple(table.columns[: len(SEGMENT_COLUMNS)]) == SEGMENT_COLUMNS
     assert obj["by"] == by and obj["n_segments"] == len(table) == len(obj["segments"])
-    assert obj["detector"] == ("single-peak" if by == "steps" else "pseudo-std")
+    assert obj["detector"] == (DEFAULT_STEP_DETECTOR if by == "steps" else "pseudo-std")
     if len(table):
         assert obj["segments"][0]["start_s"] == pytest.approx(table["start_s"].iloc[0])
-        assert obj["segments"][0]["confidence"] is None  # NaN -> null: valid JSON
+        conf = table["confidence"].iloc[0]
+        assert obj["segments"][0]["confidence"] == (None if pd.isna(conf) else pytest.approx(conf))  # NaN -> null: valid JSON
 
 
 def test_cli_summary_line(tmp_path, capsys):

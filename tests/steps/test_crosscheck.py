@@ -65,7 +65,7 @@ def test_steps_and_pdr_cli_print_one_warning_line_and_json_warnings(capsys):
     assert main(["steps", str(SAMPLE), "--detector", "adaptive", "--json"]) == 0
     out, err = capsys.readouterr()
     assert "warnings" not in json.loads(out) and "gaitml: warning:" not in err
-    assert main(["pdr", str(SAMPLE), "--json"]) == 0  # default single-peak
+    assert main(["pdr", str(SAMPLE), "--detector", "single-peak", "--json"]) == 0  # paper 003's fixed-threshold detector
     out, err = capsys.readouterr()
     assert len(json.loads(out)["warnings"]) == 1 and err.count("gaitml: warning:") == 1
     assert main(["pdr", str(SAMPLE), "--detector", "adaptive", "--json"]) == 0

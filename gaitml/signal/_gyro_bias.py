@@ -1,0 +1,254 @@
+"""Gyroscope bias from the still stretches of a recording.
+
+A gyroscope at rest reads its bias (a constant offset per axis plus noise). Phone logs that
+come uncalibrated (e.g. the raw iOS gyroscope) carry biases of the order of 0.01-0.1 rad/s,
+which integrate into a heading drift of 30-340 deg/min and tip the integrated vertical
+(the attitude of paper 003 sec. 4.2 integrates the rate as given). The classic remedy is to
+average the rate while the device is known to be at rest ("zero angular rate update",
+e.g. Foxlin 2005 for foot-mounted units; the static calibration recordings of the tyrex
+benchmark, Michel et al. PerCom 2017, measure exactly this).
+
+Rest is recognised per window of ``window_s`` seconds (half-overlapping) by three tests
+that all must pass:
+
+- the mean specific-force magnitude is within ``acc_magnitude_tol_ms2`` of g (not
+  accelerating, not in free fall);
+- the standard deviation of the specific-force magnitude is at most ``acc_std_max_ms2``
+  (no steps, no handling);
+- every gyroscope axis has a standard deviation of at most ``gyr_std_max_rads`` (no
+  rotation; a constant bias does not raise the standard deviation, so a biased gyroscope
+  is recognised at rest as well as a calibrated one);
+- the mean rate is at most ``max_bias_rads`` on every axis (0.2 rad/s, 11 deg/s, above the
+  biases of phone gyroscopes, of the order of 0.01-0.1 rad/s): a phone lying on a turntable
+  or a swivel chair turning evenly is not at rest. A turn slower than that and perfectly
+  even would still pass; the median over all still windows keeps it from dominating while
+  the true rest is longer.
+
+The bias is the median over the still windows of their mean rate, per axis (robust to a
+window that slipped through while the phone turned slowly). It is used only when the still
+windows cover at least ``min_still_s`` seconds together.
+
+Fallback without a still stretch: the bias is **not** removed (zero), and the result says
+so (``method='none'`` and a note). A bias estimated from a moving phone (e.g. the mean rate
+over a walk) would mix the walker's turns into it; a walk round a loop turns by 360 deg per
+lap, which is not a bias. So a recording that never rests is integrated as logged, and the
+caller can pass a bias measured elsewhere (a static calibration recording) instead.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gaitml.consts import GRAVITY_MS2
+from gaitml.errors import InputError
+
+__all__ = ["GyroBias", "estimate_gyro_bias", "remove_gyro_bias", "steady_tilt_mask"]
+
+#: Defaults of the still detector (see the module docstring); ``gaitml pdr --gyro-bias`` and
+#: :class:`gaitml.pdr.attitude.AttitudeEstimator` use them.
+STILL_WINDOW_S = 1.0
+STILL_ACC_MAGNITUDE_TOL_MS2 = 0.4
+STILL_ACC_STD_MAX_MS2 = 0.15
+STILL_GYR_STD_MAX_RADS = 0.03
+STILL_MIN_S = 2.0
+STILL_MAX_BIAS_RADS = 0.2
+#: Defaults of :func:`steady_tilt_mask` (where an online bias estimate may learn from gravity).
+STEADY_WINDOW_S = 1.0
+STEADY_GYR_STD_MAX_RADS = 0.25
+STEADY_ACC_MAGNITUDE_TOL_MS2 = 1.0
+
+
+@dataclass
+class GyroBias:
+    """A gyroscope bias estimate and how it was obtained.
+
+    Attributes
+    ----------
+    bias_rads : (3,) float, the bias per axis (rad/s) that is subtracted from the rate.
+    method : ``'still'`` (from still stretches), ``'none'`` (no still stretch: nothing
+        removed), ``'given'`` (passed by the caller) or ``'off'`` (turned off).
+    still_s : seconds of the recording recognised as still (0 unless ``method='still'`` or ``'none'``).
+    n_still_windows : number of still windows.
+    note : one line for the output, saying what was removed and why.
+    """
+
+    bias_rads: np.ndarray
+    method: str
+    still_s: float = 0.0
+    n_still_windows: int = 0
+    note: str = ""
+    params: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """JSON-ready summary (``gaitml pdr --json``'s ``gyro_bias``)."""
+        return {
+            "method": self.method,
+            "bias_rads": [float(v) for v in self.bias_rads],
+            "bias_deg_per_s": [float(np.degrees(v)) for v in self.bias_rads],
+            "still_s": float(self.still_s),
+            "n_still_windows": int(self.n_still_windows),
+            "note": self.note,
+        }
+
+
+def _window_stats(x: np.ndarray, win: int, hop: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Start indices, means and standard deviations of half-overlapping windows of a (n, k) array (cumulative sums)."""
+    n = len(x)
+    starts = np.arange(0, n - win + 1, hop)
+    c1 = np.vstack([np.zeros((1, x.shape[1])), np.cumsum(x, axis=0)])
+    c2 = np.vstack([np.zeros((1, x.shape[1])), np.cumsum(x * x, axis=0)])
+    s1 = c1[starts + win] - c1[starts]
+    s2 = c2[starts + win] - c2[starts]
+    mean = s1 / win
+    var = np.maximum(s2 / win - mean * mean, 0.0)
+    return starts, mean, np.sqrt(var)
+
+
+def estimate_gyro_bias(
+    acc_ms2,
+    gyr_rads,
+    sampling_rate_hz: float,
+    *,
+    window_s: float = STILL_WINDOW_S,
+    acc_magnitude_tol_ms2: float = STILL_ACC_MAGNITUDE_TOL_MS2,
+    acc_std_max_ms2: float = STILL_ACC_STD_MAX_MS2,
+    gyr_std_max_rads: float = STILL_GYR_STD_MAX_RADS,
+    min_still_s: float = STILL_MIN_S,
+    max_bias_rads: float = STILL_MAX_BIAS_RADS,
+) -> GyroBias:
+    """Gyroscope bias from the still stretches of a recording (module docstring).
+
+    Parameters
+    ----------
+    acc_ms2 : (n, 3) specific force including gravity, m/s^2.
+    gyr_rads : (n, 3) angular rate, rad/s.
+    sampling_rate_hz : sample rate of both.
+    window_s : length of the still-test windows (half-overlapping).
+    acc_magnitude_tol_ms2 : largest | mean |acc| - g | of a still window.
+    acc_std_max_ms2 : largest standard deviation of |acc| in a still window.
+    gyr_std_max_rads : largest standard deviation of any gyroscope axis in a still window.
+    min_still_s : still time needed for an estimate; with less, nothing is removed.
+    max_bias_rads : largest mean rate (any axis) of a still window.
+
+    Returns
+    -------
+    GyroBias (``method='still'`` or ``'none'``).
+    """
+    acc = np.asarray(acc_ms2, dtype=float)
+    gyr = np.asarray(gyr_rads, dtype=float)
+    if acc.ndim != 2 or acc.shape[1] != 3 or gyr.shape != acc.shape:
+        raise InputError(f"`acc_ms2` and `gyr_rads` must both have shape (n, 3), got {acc.shape} and {gyr.shape}.")
+    if not np.isfinite(sampling_rate_hz) or sampling_rate_hz <= 0:
+        raise InputError(f"`sampling_rate_hz` must be a positive number, got {sampling_rate_hz}.")
+    params = {
+        "window_s": window_s,
+        "acc_magnitude_tol_ms2": acc_magnitude_tol_ms2,
+        "acc_std_max_ms2": acc_std_max_ms2,
+        "gyr_std_max_rads": gyr_std_max_rads,
+        "min_still_s": min_still_s,
+        "max_bias_rads": max_bias_rads,
+    }
+    win = max(2, int(round(window_s * sampling_rate_hz)))
+    hop = max(1, win // 2)
+    none = GyroBias(
+        np.zeros(3),
+        "none",
+        note=f"no still stretch of >= {min_still_s:g} s: gyroscope bias not removed",
+        params=params,
+    )
+    if len(acc) < win:
+        return none
+    mag = np.linalg.norm(acc, axis=1)[:, None]
+    ok = np.isfinite(mag[:, 0]) & np.isfinite(gyr).all(axis=1)
+    if not ok.all():  # windows touching a non-finite sample never count as still
+        mag = np.where(ok[:, None], mag, 0.0)
+        gyr = np.where(ok[:, None], gyr, 0.0)
+    starts, m_mean, m_std = _window_stats(mag, win, hop)
+    _, g_mean, g_std = _window_stats(gyr, win, hop)
+    n_bad = np.concatenate([[0], np.cumsum(~ok)])
+    finite_win = (n_bad[starts + win] - n_bad[starts]) == 0
+    still = (
+        finite_win
+        & (np.abs(m_mean[:, 0] - GRAVITY_MS2) <= acc_magnitude_tol_ms2)
+        & (m_std[:, 0] <= acc_std_max_ms2)
+        & (g_std.max(axis=1) <= gyr_std_max_rads)
+        & (np.abs(g_mean).max(axis=1) <= max_bias_rads)
+    )
+    # seconds covered by the union of the still windows
+    cover = np.zeros(len(acc) + 1, dtype=np.int64)
+    np.add.at(cover, starts[still], 1)
+    np.add.at(cover, starts[still] + win, -1)
+    still_s = float(np.count_nonzero(np.cumsum(cover)[:-1] > 0) / sampling_rate_hz)
+    n_still = int(still.sum())
+    none.still_s, none.n_still_windows = still_s, n_still
+    if n_still == 0 or still_s < min_still_s:
+        none.note = f"still for {still_s:.1f} s (< {min_still_s:g} s needed): gyroscope bias not removed"
+        return none
+    bias = np.median(g_mean[still], axis=0)
+    b = np.degrees(bias)
+    return GyroBias(
+        bias,
+        "still",
+        still_s=still_s,
+        n_still_windows=n_still,
+        note=f"gyroscope bias ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s removed, estimated over {still_s:.1f} s still",
+        params=params,
+    )
+
+
+def remove_gyro_bias(gyr_rads, bias: GyroBias | np.ndarray) -> np.ndarray:
+    """The rate with the bias subtracted (a new array)."""
+    b = bias.bias_rads if isinstance(bias, GyroBias) else np.asarray(bias, dtype=float).reshape(3)
+    return np.asarray(gyr_rads, dtype=float) - b
+
+
+def _centered_stats(x: np.ndarray, win: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per-sample mean and standard deviation over a centred window of ``win`` samples (shortened at the ends)."""
+    n = len(x)
+    c1 = np.vstack([np.zeros((1, x.shape[1])), np.cumsum(x, axis=0)])
+    c2 = np.vstack([np.zeros((1, x.shape[1])), np.cumsum(x * x, axis=0)])
+    lo = np.clip(np.arange(n) - win // 2, 0, n)
+    hi = np.clip(np.arange(n) - win // 2 + win, 0, n)
+    cnt = (hi - lo)[:, None]
+    mean = (c1[hi] - c1[lo]) / cnt
+    var = np.maximum((c2[hi] - c2[lo]) / cnt - mean * mean, 0.0)
+    return mean, np.sqrt(var)
+
+
+def steady_tilt_mask(
+    acc_ms2,
+    gyr_rads,
+    sampling_rate_hz: float,
+    *,
+    window_s: float = STEADY_WINDOW_S,
+    gyr_std_max_rads: float = STEADY_GYR_STD_MAX_RADS,
+    acc_magnitude_tol_ms2: float = STEADY_ACC_MAGNITUDE_TOL_MS2,
+) -> np.ndarray:
+    """Samples around which the phone's tilt is steady, so the low-passed accelerometer is the vertical.
+
+    A sample is steady when, over the centred window of ``window_s``, every gyroscope axis
+    varies by at most ``gyr_std_max_rads`` (standard deviation: a bias does not count) and the
+    mean specific-force magnitude is within ``acc_magnitude_tol_ms2`` of g. A phone held in
+    front while walking passes; a phone swinging in the hand or in a trouser pocket does not
+    (its low-passed accelerometer is tipped by the centripetal and step accelerations, so a
+    bias learnt from it there would be wrong). Used to gate the online bias estimate of
+    :class:`gaitml.pdr.attitude.AttitudeEstimator`.
+
+    Returns
+    -------
+    (n,) bool.
+    """
+    acc = np.asarray(acc_ms2, dtype=float)
+    gyr = np.asarray(gyr_rads, dtype=float)
+    if acc.ndim != 2 or acc.shape[1] != 3 or gyr.shape != acc.shape:
+        raise InputError(f"`acc_ms2` and `gyr_rads` must both have shape (n, 3), got {acc.shape} and {gyr.shape}.")
+    if len(acc) == 0:
+        return np.zeros(0, dtype=bool)
+    win = max(2, int(round(window_s * sampling_rate_hz)))
+    mag = np.linalg.norm(acc, axis=1)[:, None]
+    m_mean, _ = _centered_stats(mag, win)
+    _, g_std = _centered_stats(gyr, win)
+    ok = (g_std.max(axis=1) <= gyr_std_max_rads) & (np.abs(m_mean[:, 0] - GRAVITY_MS2) <= acc_magnitude_tol_ms2)
+    return ok & np.isfinite(mag[:, 0]) & np.isfinite(gyr).all(axis=1)

@@ -54,6 +54,13 @@ __all__ = [
     "real_statistics",
     "simulated_statistics",
     "tyrex_table",
+    "fit_position",
+    "patched_ranges",
+    "oxford_check",
+    "summary",
+    "FIT_GRID",
+    "BAND_GRID",
+    "BEFORE",
     "SIM_POSITIONS",
     "STATS",
     "PEOPLE",
@@ -232,7 +239,7 @@ def simulated_statistics(position: str, mode: str, *, n: int = 8, seed: int = 0,
 FIT_STATS = ("gyr_horiz", "tilt_swing_deg")
 
 
-def _patched(position: str, value: float):
+def patched_ranges(position: str, value: float):
     """Context manager: the simulator's range for ``position``'s fitted parameter set from ``value``.
 
     - ``swinging-hand``: :data:`gaitml.simulate.positions.ARM_SWING_DEG_RANGE` scaled by ``value``
@@ -286,7 +293,7 @@ def _sim_cached(position: str, mode: str, value: float | None, n: int, seed: int
     if value is None:
         df = simulated_statistics(position, mode, n=n, seed=seed)
     else:
-        with _patched(position, value):
+        with patched_ranges(position, value):
             df = simulated_statistics(position, mode, n=n, seed=seed)
     df.to_csv(f, index=False)
     return df
@@ -361,9 +368,9 @@ def oxford_check(data: Path, fits: dict) -> pd.DataFrame:
 
     rows = []
     for pos in FIT_GRID:
-        with _patched(pos, BEFORE[pos]):
+        with patched_ranges(pos, BEFORE[pos]):
             _, v0 = position_table(data, positions=(pos,))
-        with _patched(pos, fits[pos]["all"]):
+        with patched_ranges(pos, fits[pos]["all"]):
             _, v1 = position_table(data, positions=(pos,))
         rows.append(v0.assign(simulator="before"))
         rows.append(v1.assign(simulator=f"fitted ({fits[pos]['all']})"))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from experiments.scripts.realism_tyrex import FIT_GRID, _patched, carried_statistics
+from experiments.scripts.realism_tyrex import FIT_GRID, carried_statistics, patched_ranges
 
 
 def _rocking_phone(fs=50.0, seconds=30.0, cadence=1.8, swing_deg=12.0, vert_ms2=2.0):
@@ -49,6 +49,6 @@ def test_patching_restores_the_simulator():
 
     arm, turn, band = pos_mod.ARM_SWING_DEG_RANGE, pos_mod.POCKET_TURN_DEG_RANGE, pos_mod.POCKET_TURN_BAND_HZ
     for pos, grid in FIT_GRID.items():
-        with _patched(pos, grid[-1]):
+        with patched_ranges(pos, grid[-1]):
             assert (pos_mod.ARM_SWING_DEG_RANGE, pos_mod.POCKET_TURN_DEG_RANGE, pos_mod.POCKET_TURN_BAND_HZ) != (arm, turn, band)
     assert (pos_mod.ARM_SWING_DEG_RANGE, pos_mod.POCKET_TURN_DEG_RANGE, pos_mod.POCKET_TURN_BAND_HZ) == (arm, turn, band)

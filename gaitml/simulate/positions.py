@@ -28,6 +28,14 @@ their realism are in ``experiments/reports/simulator-positions.md``.
   front pocket's) plus ``pelvis_share`` times the pelvis's (the belt's model
   below); a loose pocket also lets the phone turn in the screen's plane
   (``pocket_roll_deg``). Both are drawn over :data:`BACK_POCKET_RANGE`.
+  **Turning in the pocket** (``pocket_turn_deg``): the loose phone also turns
+  about itself, irregularly, while its carrier moves: a small rotation (band-
+  limited noise in :data:`POCKET_TURN_BAND_HZ`, standard deviation
+  ``pocket_turn_deg`` per axis, zero when standing) between the buttock's surface
+  and the phone. Real back-pocket phones (motion capture) turn several times more
+  than the pelvis does while their acceleration keeps the pelvis's step rhythm,
+  and their rotation is not locked to the stride or the step: an irregular
+  turning reproduces both (:data:`POCKET_TURN_DEG_RANGE`).
   **The one-sided step** (``stance_gate``): the gluteus maximus and medius of
   the carrying side are active from terminal swing through the loading response
   (Perry & Burnfield, *Gait Analysis: Normal and Pathological Function*, the
@@ -87,7 +95,7 @@ import scipy.signal
 
 from gaitml.consts import GRAVITY_MS2, MOTION_MODES
 from gaitml.errors import InputError
-from gaitml.simulate.sensor import body_rates, nav_to_phone, smooth_noise
+from gaitml.simulate.sensor import band_noise, body_rates, nav_to_phone, smooth_noise
 
 __all__ = [
     "POSITIONS",
@@ -96,6 +104,9 @@ __all__ = [
     "Placement",
     "VIGOUR_RANGE",
     "BACK_POCKET_RANGE",
+    "ARM_SWING_DEG_RANGE",
+    "POCKET_TURN_DEG_RANGE",
+    "POCKET_TURN_BAND_HZ",
     "STANCE_GATE_RANGE",
     "stance_gate",
     "check_positions",
@@ -150,6 +161,20 @@ STANCE_GATE_EDGE = 0.1
 #: The pelvis's rotation amplitudes (deg) drawn for the back pocket (the belt's ranges): transverse
 #: rotation, obliquity, anterior tilt.
 BACK_POCKET_PELVIS_DEG = {"yaw": (3.0, 6.0), "roll": (3.0, 6.0), "pitch": (1.0, 3.0)}
+#: Range (uniform, deg) of the back pocket's :attr:`Placement.pocket_turn_deg`, drawn after every
+#: other field of the back pocket: the loose phone turns in the pocket, irregularly, while its
+#: carrier moves (module docstring). Fitted to the phone's rotation in real back pockets (the rate
+#: about the horizontal and the swing of the tilt, motion capture, tyrex; each person held out in
+#: turn) by ``python -m experiments.scripts.realism_tyrex`` (``experiments/reports/simulator-tyrex.md``).
+POCKET_TURN_DEG_RANGE = (1.5, 4.5)
+#: The band (Hz) of that turning: the gait's band, from half the stride frequency to a few step
+#: harmonics. A slower turning (0.5-1.5 Hz) matches the real pockets' rotation a little better but
+#: moves the acceleration's power from the step to the stride frequency, against the step rhythm of
+#: real back pockets (``experiments/reports/simulator-tyrex.md``).
+POCKET_TURN_BAND_HZ = (0.5, 4.0)
+#: Range (uniform, deg) of the swinging hand's :attr:`Placement.arm_swing_deg`, the arm's pitch
+#: amplitude about the shoulder in walking.
+ARM_SWING_DEG_RANGE = (10.0, 25.0)
 
 
 def check_positions(positions) -> tuple[str, ...]:
@@ -267,6 +292,7 @@ class Placement:
     pelvis_share: float = 0.0  # back pocket: the buttock's rotation is (1 - share) x the thigh's + share x the pelvis's (BACK_POCKET_RANGE)
     pocket_roll_deg: float = 0.0  # back pocket: extra in-plane turn of the phone in the pocket, added to tilt_z_deg (BACK_POCKET_RANGE)
     stance_gate: float = 0.0  # back pocket: the trunk's acceleration at the phone is x1 in the carrying leg's step, x(1 - g) in the other's (STANCE_GATE_RANGE)
+    pocket_turn_deg: float = 0.0  # back pocket: the phone's turning in the pocket (std per axis; POCKET_TURN_DEG_RANGE)
 
     def __post_init__(self) -> None:
         if self.position not in CARRIED_POSITIONS:
@@ -277,6 +303,8 @@ class Placement:
             raise InputError(f"Placement.pelvis_share must be a fraction in 0-1, got {self.pelvis_share!r}.")
         if not 0.0 <= self.stance_gate <= 1.0:
             raise InputError(f"Placement.stance_gate must be a fraction in 0-1, got {self.stance_gate!r}.")
+        if not 0.0 <= self.pocket_turn_deg <= 30.0:
+            raise InputError(f"Placement.pocket_turn_deg must be an angle in 0-30 deg, got {self.pocket_turn_deg!r}.")
 
     @classmethod
     def random(cls, position: str, rng: np.random.Generator) -> Placement:
@@ -291,8 +319,9 @@ class Placement:
         depend on it. The back pocket then draws its pelvis share and extra
         in-pocket roll (uniform over :data:`BACK_POCKET_RANGE`) and its pelvis's
         rotation amplitudes (:data:`BACK_POCKET_PELVIS_DEG`), after the vigour
-        for the same reason, and last of all its stance gate (uniform over
-        :data:`STANCE_GATE_RANGE`: the one-sided step).
+        for the same reason, then its stance gate (uniform over
+        :data:`STANCE_GATE_RANGE`: the one-sided step) and last of all its turning in
+        the pocket (uniform over :data:`POCKET_TURN_DEG_RANGE`).
         """
         p = cls._random_placement(position, rng)
         if position in VIGOUR_RANGE:
@@ -305,8 +334,10 @@ class Placement:
         roll = float(rng.uniform(*BACK_POCKET_RANGE["pocket_roll_deg"]))
         pelvis = {f"pelvis_{k}_deg": float(rng.uniform(lo, hi)) for k, (lo, hi) in BACK_POCKET_PELVIS_DEG.items()}
         p = dataclasses.replace(p, pelvis_share=share, pocket_roll_deg=roll, **pelvis)
-        # the one-sided step, last of all: every other field of a seed's back pocket stays the same
-        return dataclasses.replace(p, stance_gate=float(rng.uniform(*STANCE_GATE_RANGE)))
+        # the one-sided step: every other field of a seed's back pocket stays the same
+        p = dataclasses.replace(p, stance_gate=float(rng.uniform(*STANCE_GATE_RANGE)))
+        # the turning in the pocket, last of all (the same reason)
+        return dataclasses.replace(p, pocket_turn_deg=float(rng.uniform(*POCKET_TURN_DEG_RANGE)))
 
     @classmethod
     def _random_placement(cls, position: str, rng: np.random.Generator) -> Placement:
@@ -342,7 +373,7 @@ class Placement:
             return cls(
                 position, side, screen_out=bool(u() < 0.5),
                 tilt_x_deg=u(-10, 10), tilt_y_deg=u(-10, 10), grip_deg=u(0, 360),
-                arm_swing_deg=u(10, 25), lever_m=u(0.4, 0.55),
+                arm_swing_deg=u(*ARM_SWING_DEG_RANGE), lever_m=u(0.4, 0.55),
                 vertical_gain=u(0.5, 0.8), impact_gain=u(0.2, 0.6), leg_asymmetry=u(0.3, 0.5), impact_cv=u(0.3, 0.5), vibration_ms2=u(0.2, 0.5), wander_deg=u(2.0, 5.0),
             )  # fmt: skip
         if position == "bag":
@@ -499,6 +530,18 @@ def _segment_angles(p: Placement, phi: np.ndarray, w: np.ndarray) -> tuple[np.nd
     return yaw, pitch, roll
 
 
+def _right_jacobian_times(v: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """``J_r(v) w`` per row for rotation vectors ``v`` (n, 3): the body rate of ``exp([v]x)`` when ``v``
+    changes at ``w``; ``J_r = I - (1 - cos t) / t^2 [v]x + (t - sin t) / t^3 [v]x^2`` (series near 0)."""
+    t = np.linalg.norm(v, axis=1)
+    small = t < 1e-4
+    ts = np.where(small, 1.0, t)
+    a = np.where(small, 0.5 - t**2 / 24.0, (1.0 - np.cos(ts)) / ts**2)
+    b = np.where(small, 1.0 / 6.0 - t**2 / 120.0, (ts - np.sin(ts)) / ts**3)
+    vw = np.cross(v, w)
+    return w - a[:, None] * vw + b[:, None] * np.cross(v, vw)
+
+
 def stance_gate(phi: np.ndarray, side: float, gate: float) -> np.ndarray:
     """The one-sided step's gain on the trunk's acceleration at a back-pocket phone, per sample.
 
@@ -602,4 +645,16 @@ def carried_signals(
     f[:, 2] += GRAVITY_MS2
     acc = nav_to_phone(f, yaw, pitch_s, roll_s) @ mount
     gyr = seg_rate @ mount
+    if p.pocket_turn_deg > 0:
+        # the loose phone turns about itself in the pocket while its carrier moves: a rotation vector
+        # delta (phone axes) of band-limited noise, T = exp([delta]x); the turned phone's attitude is
+        # att T, its specific force T^T f and its body rate T^T omega + J_r(delta) delta' (J_r the right
+        # Jacobian of SO(3), so that the gyroscope integrates to the attitude exactly)
+        from scipy.spatial.transform import Rotation
+
+        delta = band_noise(rng, n, fs, *POCKET_TURN_BAND_HZ, 3) * (p.pocket_turn_deg * _DEG * env)[:, None]
+        turn = Rotation.from_rotvec(delta).as_matrix()  # turned phone -> phone
+        acc = np.einsum("nji,nj->ni", turn, acc)
+        gyr = np.einsum("nji,nj->ni", turn, gyr) + _right_jacobian_times(delta, np.gradient(delta, dt, axis=0))
+        att = att @ turn
     return {"acc": acc, "gyr": gyr, "attitude": att, "segment_rate": seg_rate}

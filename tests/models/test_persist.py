@@ -80,18 +80,6 @@ def test_convert_keeps_predictions_and_weights(tmp_path):
         np.testing.assert_array_equal(getattr(new.estimator, name), getattr(old.estimator, name))
 
 
-def test_shipped_demo_was_trained_from_its_config():
-    """models/demo is an ordinary `gaitml train experiments/demo.toml` output (since the simulator's hand gain)."""
-    from gaitml.pipeline.config import load_config
-
-    model = load_model(DEMO)
-    assert model.info["training_config"] == json.loads(json.dumps(load_config(ROOT / "experiments" / "demo.toml").resolved()))
-    assert model.info["name"] == "demo" and model.feature_set == "all52+gyro" and model.frame == "phone"
-    assert model.info["training_data"]["n_windows"] == 12576
-    assert model.domain is not None and model.domain.gravity_check and model.domain.dynamics is None  # train.domain_dynamics = false
-    assert "converted_from" not in model.info
-
-
 @pytest.mark.realdata
 def test_converted_demo_predicts_like_the_pickle_on_a_real_recording(tmp_path):
     rec = _gaitmap_real()

@@ -274,8 +274,9 @@ def long_predict(
     1.5 s / 50 %).
     """
     from gaitml.models import predict_recording
+    from gaitml.models._predict import SIDE_MODES, side_direction_unsure
 
-    parts = []
+    parts, upright = [], []
     if read_kwargs.get("sampling_rate_hz") is None:
         # read at the model's rate, as predict_recording resamples a whole recording to it
         read_kwargs["sampling_rate_hz"] = model.sampling_rate_hz
@@ -307,6 +308,8 @@ def long_predict(
         table = predict_recording(model, rec, correction=False)
         gstart = table["start"].to_numpy() + ch.offset
         keep = (gstart >= ch.core_start) & (gstart < ch.core_end)
+        # the phone held upright in each window (a side step there has an unsure direction), for the corrected modes below
+        upright.append(side_direction_unsure(rec, table, np.full(len(table), SIDE_MODES[0]))[keep])
         parts.append(_globalise_windows(table[keep].reset_index(drop=True), ch.offset, rec.sampling_rate_hz))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     if correction and len(out):
@@ -315,6 +318,7 @@ def long_predict(
 
         corrected = np.asarray(adjacent_window_correction(out["mode_raw"].to_numpy())).astype(str)
         out["mode"] = np.where(out["still"].to_numpy(dtype=bool), STILL, corrected)
+        out["side_direction_unsure"] = np.concatenate(upright) & np.isin(out["mode"].to_numpy().astype(str), SIDE_MODES)
     return out
 
 

@@ -103,11 +103,22 @@ def moving_labels(t_s, truth_t_s, truth_xy, mode: str, *, min_speed_ms: float | 
 
 
 def score_windows(pred: pd.DataFrame, true_mode: str) -> dict:
-    """Right / flagged / silently wrong over the windows of ``pred`` whose label is ``true_mode`` (counts)."""
+    """Right / flagged / silently wrong over the windows of ``pred`` whose label is ``true_mode`` (counts).
+
+    ``as_still`` counts the silently wrong windows the still gate of ``gaitml predict`` answered
+    ``still`` (no step in the window) rather than one of the five modes.
+    """
     w = pred[(pred["label"].astype(str) == true_mode) & (pred["label_fraction"] >= 0.5)]
     flagged = w["in_domain"].map(lambda v: v is False or v == False).to_numpy(bool)  # noqa: E712 (object column of True/False)
     right = (~flagged) & (w["mode"].astype(str).to_numpy() == true_mode)
-    return {"n": len(w), "right": int(right.sum()), "flagged": int(flagged.sum()), "wrong": int((~flagged & ~right).sum())}
+    still = (~flagged) & (w["mode"].astype(str).to_numpy() == "still")
+    return {
+        "n": len(w),
+        "right": int(right.sum()),
+        "flagged": int(flagged.sum()),
+        "wrong": int((~flagged & ~right).sum()),
+        "as_still": int(still.sum()),
+    }
 
 
 def load_tyrex_labelled(data: Path, fs: float = 50.0) -> list[dict]:
@@ -135,6 +146,10 @@ def window_table(model, items: list[dict]) -> pd.DataFrame:
         s = score_windows(p, it["mode"])
         still = p[(p["label"].astype(str) == "still") & (p["label_fraction"] >= 0.5)]
         n_still_flagged = int(sum(v is False for v in still["in_domain"]))
+        # standing windows answered with one of the five modes (neither 'still' nor flagged)
+        n_still_moded = int(
+            sum((v is not False) and m != "still" for v, m in zip(still["in_domain"], still["mode"].astype(str), strict=True))
+        )
         rows.append(
             {
                 "subject": it["subject"],
@@ -143,6 +158,7 @@ def window_table(model, items: list[dict]) -> pd.DataFrame:
                 **s,
                 "n_still": len(still),
                 "still_flagged": n_still_flagged,
+                "still_moded": n_still_moded,
             }
         )
     return pd.DataFrame(rows)
@@ -157,6 +173,7 @@ def summarise(t: pd.DataFrame, by: str = "subject") -> pd.DataFrame:
             continue
         n = g["n"].sum()
         per = g.groupby(by)[["right", "n", "wrong", "flagged"]].sum()
+        ns = g["n_still"].sum()
         r_p = per["right"] / per["n"].where(per["n"] > 0)
         w_p = per["wrong"] / per["n"].where(per["n"] > 0)
         rows.append(
@@ -166,8 +183,11 @@ def summarise(t: pd.DataFrame, by: str = "subject") -> pd.DataFrame:
                 "right": g["right"].sum() / n,
                 "flagged": g["flagged"].sum() / n,
                 "silently wrong": g["wrong"].sum() / n,
+                "of which still": g["as_still"].sum() / n,
                 "right per left-out": f"{r_p.min():.2f}-{r_p.max():.2f}",
                 "wrong per left-out": f"{w_p.min():.2f}-{w_p.max():.2f}",
+                "standing windows": int(ns),
+                "standing read as a mode": g["still_moded"].sum() / ns if ns else float("nan"),
             }
         )
     return pd.DataFrame(rows)
@@ -349,13 +369,38 @@ def md(df: pd.DataFrame) -> str:
     return "\n".join(out)
 
 
+def simulated_part(cfg):
+    """The simulated part of ``cfg``: a shipped folder config (``data.add_simulated``, e.g. ``experiments/demo.toml``)
+    becomes its ``[data.simulated]`` subjects alone, so that the recipes train exactly the shipped settings;
+    a simulated config is returned as it is."""
+    if cfg["data"]["source"] == "simulated":
+        return cfg
+    if not cfg["data"]["add_simulated"]:
+        raise SystemExit(f"{cfg.name}: a folder config needs data.add_simulated = true (its simulated part is the recipes' simulator).")
+    return cfg.with_values(
+        {
+            "data.source": "simulated",
+            "data.path": "",
+            "data.label": "label",
+            "data.labels": [],
+            "data.add_simulated": False,
+            "data.labelling.moving_speed_ms": 0.0,
+        }
+    )
+
+
 def main(argv=None) -> int:
     from gaitml.models import load_model
     from gaitml.pipeline.config import load_config
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", type=Path, default=Path("../shared/data"))
-    ap.add_argument("--config", type=Path, default=Path("experiments/tyrex-modes.toml"))
+    ap.add_argument(
+        "--config",
+        type=Path,
+        default=Path("experiments/tyrex-modes.toml"),
+        help="the recipes' settings and simulated part: a simulated config, or a shipped folder config such as experiments/demo.toml",
+    )
     ap.add_argument("--features", default=None, help="override features.set (all52 for the accelerometer-only twin)")
     ap.add_argument("--recipes", default="sim,a,b,c")
     ap.add_argument("--holdout", choices=("person", "person-phone"), default="person", help="what each fold leaves out")
@@ -365,7 +410,7 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
     ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
     a = ap.parse_args(argv)
-    cfg = load_config(a.config)
+    cfg = simulated_part(load_config(a.config))
     over = {}
     if a.features:
         over["features.set"] = a.features
@@ -391,7 +436,9 @@ def main(argv=None) -> int:
         t = window_table(model, items)
         t["model"] = mdir
         rows_all.append(t)
-        emit(f"\n### shipped {mdir} (trained on the simulator only), all 3 people\n")
+        seen = sorted(set((model.info.get("training_data") or {}).get("groups") or []) & {it["subject"] for it in items})
+        how = f"in-sample: trained on {', '.join(seen)}" if seen else "trained on none of them"
+        emit(f"\n### {mdir} as it is, all 3 people ({how})\n")
         emit(md(summarise(t)))
     if a.positions and a.holdout == "person":
         emit(f"\n### position recognition ({cfg['features']['set']}, real tyrex moving windows only), each person left out in turn\n")

@@ -1,4 +1,4 @@
-"""experiments.scripts.domain_report --shipped: what the shipped hand-held models say in every carrying position."""
+"""experiments.scripts.domain_report --shipped: what the shipped default models say in every simulated carrying position."""
 
 from __future__ import annotations
 
@@ -10,31 +10,44 @@ from experiments.tests.conftest import ROOT, shared
 from gaitml.models import load_model
 from gaitml.simulate import POSITIONS
 
+#: the simulator's carrying positions the shipped models are trained in (beside the real tyrex motions)
+TRAINED = {"hand-flat", "hand-tilted", "swinging-hand", "front-pocket", "back-pocket"}
 
-def test_the_shipped_models_flag_every_position_they_were_not_trained_on():
-    """experiments/reports/model-domain.md: the left-out positions flagged on 99.9-100 % of their windows (here >= 90 % of one new subject's)."""
+
+def _positions_table():
     models = {name: load_model(ROOT / "models" / name) for name in ("demo", "demo-acc")}
-    t = shipped_positions_table(models, seed=77, subjects=1, duration_s=40.0)
+    return shipped_positions_table(models, seed=77, subjects=1, duration_s=40.0)
+
+
+def test_the_shipped_models_flag_the_bag_they_were_not_trained_on():
+    """experiments/reports/default-model.md: models/demo flags the simulated bag (held-out seeds); trained positions are not flagged."""
+    t = _positions_table()
     assert len(t) == 2 * len(POSITIONS)
-    assert set(t.loc[t["trained as"] == "trained", "data"]) == {"hand-flat", "hand-tilted"}
-    left = t[t["trained as"] == "left out"]
-    assert (left["flagged out of domain"] >= 0.9).all(), left
-    assert (left["silently wrong"] <= 0.05).all()
+    assert set(t.loc[t["trained as"] == "trained", "data"]) == TRAINED
+    demo = t[t["model"] == "demo"].set_index("data")
+    assert demo.loc["bag", "flagged out of domain"] >= 0.8
     trained = t[t["trained as"] == "trained"]
     assert (trained["flagged out of domain"] <= 0.3).all(), trained
     np.testing.assert_array_less(trained["silently wrong"], 0.5)
 
 
-def test_steps_the_demo_flags_move_forward_so_multi_state_pdr_equals_forward_only():
-    """Out-of-domain steps go along the facing heading: in a pocket the demo's multi-state PDR is forward-only PDR."""
+@pytest.mark.xfail(
+    strict=True, reason="known gap: the simulated belt moves with the pelvis like the trained back pocket (default-model.md)"
+)
+def test_the_shipped_demo_flags_the_belt():
+    demo = _positions_table().set_index(["model", "data"])
+    assert demo.loc[("demo", "belt"), "flagged out of domain"] >= 0.8
+
+
+def test_steps_the_demo_flags_move_forward_and_model_modes_beat_forward_only_in_the_hand():
+    """Out-of-domain steps go along the facing heading (most bag steps); in the hand multi-state PDR beats forward-only."""
     model = load_model(ROOT / "models" / "demo")
     t = positions_pdr_table(model, seeds=(0,), routes=("arc",), out_of_domain=True)
     t = t.set_index("data")
-    for pos in ("front-pocket", "bag"):
-        assert t.loc[pos, "steps moved forward as out of domain"] == 1.0
-        assert t.loc[pos, "multi-state arc end error (% dist)"] == t.loc[pos, "forward-only arc end error (% dist)"]
-    assert t.loc["hand-flat", "steps moved forward as out of domain"] < 0.1
-    assert t.loc["hand-flat", "multi-state arc end error (% dist)"] < t.loc["hand-flat", "forward-only arc end error (% dist)"]
+    assert t.loc["bag", "steps moved forward as out of domain"] >= 0.7
+    for pos in ("hand-flat", "hand-tilted"):
+        assert t.loc[pos, "steps moved forward as out of domain"] < 0.1
+        assert t.loc[pos, "multi-state arc end error (% dist)"] < t.loc[pos, "forward-only arc end error (% dist)"]
 
 
 @pytest.mark.realdata

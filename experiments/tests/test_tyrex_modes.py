@@ -35,14 +35,15 @@ def test_a_phone_swinging_in_a_still_hand_is_not_moving():
 def test_score_windows_splits_right_flagged_and_silently_wrong():
     pred = pd.DataFrame(
         {
-            "label": ["walk", "walk", "walk", "walk", "still", "walk"],
-            "label_fraction": [1.0, 1.0, 1.0, 1.0, 1.0, 0.4],
-            "mode": ["walk", "backward", "walk", "run", "walk", "walk"],
-            "in_domain": np.array([True, True, False, True, True, True], dtype=object),
+            "label": ["walk", "walk", "walk", "walk", "still", "walk", "walk"],
+            "label_fraction": [1.0, 1.0, 1.0, 1.0, 1.0, 0.4, 1.0],
+            "mode": ["walk", "backward", "walk", "run", "walk", "walk", "still"],
+            "in_domain": np.array([True, True, False, True, True, True, True], dtype=object),
         }
     )
     s = score_windows(pred, "walk")
-    assert s == {"n": 4, "right": 1, "flagged": 1, "wrong": 2}
+    # the moving window the still gate answered 'still' is silently wrong, and counted apart
+    assert s == {"n": 5, "right": 1, "flagged": 1, "wrong": 3, "as_still": 1}
 
 
 def test_summarise_pools_windows_and_gives_the_spread_over_people():
@@ -54,10 +55,15 @@ def test_summarise_pools_windows_and_gives_the_spread_over_people():
             "right": [10, 15],
             "flagged": [0, 15],
             "wrong": [0, 0],
+            "as_still": [0, 0],
+            "n_still": [4, 0],
+            "still_flagged": [1, 0],
+            "still_moded": [2, 0],
         }
     )
     row = summarise(t).iloc[0]
     assert row["right"] == pytest.approx(25 / 40)
+    assert row["standing windows"] == 4 and row["standing read as a mode"] == pytest.approx(0.5)
     assert row["right per left-out"] == "0.50-1.00"
 
 

@@ -58,6 +58,17 @@ def still_warning(n_still: int, n: int, unit: str) -> str:
     )
 
 
+def side_direction_warning(n_unsure: int, n: int, unit: str) -> str:
+    """One line: side steps read from an upright phone, whose left / right is unsure (gaitml.models._predict.side_direction_unsure)."""
+    from gaitml.models._predict import FACE_UP_MAX_DEG
+
+    return (
+        f"{n_unsure} of {n} {unit} are side steps read from a phone held upright (its screen more than {FACE_UP_MAX_DEG:g} deg "
+        "from facing up: a pocket, the swinging hand, the ear), where its placement can flip left and right; their direction "
+        "is unsure (side_direction_unsure): read them as a side step."
+    )
+
+
 def _report(args, model, table, unit: str, settings: dict) -> int:
     """Write / print the prediction table of windows (time-window model) or steps / strides (step-window model).
 
@@ -85,6 +96,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     n_still = int(table["still"].sum()) if "still" in table else 0
     if n_still:
         log(f"gaitml: warning: {still_warning(n_still, len(table), unit)}")
+    n_unsure = int(table["side_direction_unsure"].sum()) if "side_direction_unsure" in table else 0
+    if n_unsure:
+        log(f"gaitml: warning: {side_direction_warning(n_unsure, len(table), unit)}")
     by_steps = unit != "windows"
     if args.json:
         emit_json(
@@ -100,12 +114,14 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                         **({"t_event_s": float(r.t_event_s)} if by_steps else {}),
                         "mode": str(r.mode),
                         "in_domain": None if r.in_domain is None else bool(r.in_domain),
+                        "side_direction_unsure": bool(getattr(r, "side_direction_unsure", False)),
                     }
                     for r in table.itertuples()
                 ],
                 "counts": counts,
                 "out_of_domain_fraction": ood_fraction,
                 "still_fraction": n_still / len(table) if len(table) else None,
+                "side_direction_unsure_count": n_unsure,
             }
         )
     elif not args.out:

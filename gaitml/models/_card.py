@@ -81,7 +81,34 @@ def _training_lines(info: dict) -> list[str]:
         lines.append(f"- Training windows: {td['n_windows']}")
     for note in td.get("notes") or []:
         lines.append(f"- Note: {note}")
+    card = cfg.get("card") or {}
+    if card.get("licence"):
+        lines.append(f"- Licence of the training data: {card['licence']}")
+    lines += _source_lines(td.get("sources") or [], [str(x) for x in info.get("labels", [])])
+    if card.get("notes"):
+        lines += ["", *(f"- {n}" for n in card["notes"])]
     return lines
+
+
+def _source_lines(sources: list[dict], labels: list[str]) -> list[str]:
+    """Training windows per source (real / simulated), position and label: which modes were learnt from what."""
+    kinds = {s.get("kind") for s in sources}
+    if len(kinds) < 2:  # one kind of data: the lines above say it
+        return []
+    out = [
+        "",
+        "Training windows by source and carrying position (real recordings: the position is the recording's motion):",
+        "",
+        "| source | position | " + " | ".join(labels) + " |",
+        "|---|---|" + "---|" * len(labels),
+    ]
+    for s in sources:
+        w = s.get("windows") or {}
+        out.append(f"| {s.get('kind')} | {s.get('position')} | " + " | ".join(str(w.get(lab, 0)) for lab in labels) + " |")
+    for kind in sorted(kinds):
+        learnt = sorted({lab for s in sources if s.get("kind") == kind for lab, n in (s.get("windows") or {}).items() if n})
+        out.append(f"- {kind.capitalize()} windows teach: {', '.join(learnt)}")
+    return out
 
 
 def _cv_lines(info: dict) -> list[str]:

@@ -163,6 +163,7 @@ def input_spec(model) -> dict:
             "adjacent_correction": bool((info.get("postprocess") or {}).get("adjacent_correction", True)),
             **_CORRECTION,
             "still": _still_spec(),
+            "side_direction": _side_direction_spec(),
         },
     }
     if info["input_kind"] == "features":
@@ -183,6 +184,22 @@ def _still_spec() -> dict:
             "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2, at the model's rate) "
             f"has max - min < range_ms2 over its samples gets the label '{STILL}' (no step in it: paper 003 sec. 2.2's "
             "step peak rises 2 m/s^2 above gravity); the raw label is the classifier's."
+        ),
+    }
+
+
+def _side_direction_spec() -> dict:
+    """The side-direction flag (gaitml.models._predict.side_direction_unsure) as the JSON export states it."""
+    from gaitml.models._predict import FACE_UP_MAX_DEG, SIDE_MODES
+
+    return {
+        "modes": list(SIDE_MODES),
+        "face_up_max_deg": FACE_UP_MAX_DEG,
+        "rule": (
+            "After the still gate: a window whose label is one of 'modes' is marked side_direction_unsure when the unit mean "
+            "of its acceleration samples (gravity in the phone frame) is more than face_up_max_deg from the phone's +z axis "
+            "(mean_z / |mean| < cos(face_up_max_deg)): the phone is held upright (pocket, swinging hand, ear), where its "
+            "placement flips left and right; the label stays."
         ),
     }
 

@@ -8,7 +8,17 @@ import pandas as pd
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 
-__all__ = ["predict_recording", "model_inputs", "domain_columns", "still_windows", "STILL", "STILL_RANGE_MS2"]
+__all__ = [
+    "predict_recording",
+    "model_inputs",
+    "domain_columns",
+    "still_windows",
+    "side_direction_unsure",
+    "STILL",
+    "STILL_RANGE_MS2",
+    "SIDE_MODES",
+    "FACE_UP_MAX_DEG",
+]
 
 #: The mode reported for a window with no gait in it (a phone lying still, a person standing).
 STILL = "still"
@@ -18,6 +28,15 @@ STILL = "still"
 #: swing is smaller cannot hold one. The classifier was trained on walking, running and
 #: sideways or backward steps only and has no class for it.
 STILL_RANGE_MS2 = 2.0
+#: The side-step modes, whose name carries a direction (left / right of the walker).
+SIDE_MODES = ("side_left", "side_right")
+#: A side step's direction is read from the phone's own lateral axis (the phone-frame features
+#: of paper 003 sec. 3.2). It is tied to the walker's left and right only while the screen faces
+#: up towards a walker who holds the phone in front (the top pointing forward, x to the right):
+#: the window's gravity within this angle of the phone's +z axis. A phone held upright (in a
+#: trouser pocket, the swinging hand, at the ear) may face in or out and sit on either leg,
+#: which flips its lateral axis against the body, so its left / right is unsure there.
+FACE_UP_MAX_DEG = 60.0
 
 
 def still_windows(recording: Recording, windows: pd.DataFrame, range_ms2: float = STILL_RANGE_MS2) -> np.ndarray:
@@ -206,13 +225,36 @@ def predicted_modes(model, X: np.ndarray, correction: bool) -> tuple[np.ndarray,
     return pred, (np.asarray(adjacent_window_correction(pred)).astype(str) if correction else pred)
 
 
+def side_direction_unsure(recording: Recording, windows: pd.DataFrame, modes, max_deg: float = FACE_UP_MAX_DEG) -> np.ndarray:
+    """Whether each window is a side step whose direction is unsure (see :data:`FACE_UP_MAX_DEG`).
+
+    True where ``modes`` is ``side_left`` or ``side_right`` and the window's gravity direction
+    (the unit mean of its acceleration) is more than ``max_deg`` from the phone's +z axis.
+    """
+    modes = np.asarray(modes).astype(str)
+    n = len(windows)
+    out = np.zeros(n, dtype=bool)
+    side = np.isin(modes, SIDE_MODES)
+    if n == 0 or not side.any():
+        return out
+    acc = np.asarray(recording.acc, dtype=float)
+    start = windows["start"].to_numpy(dtype=np.int64)
+    end = np.minimum(windows["end"].to_numpy(dtype=np.int64), len(acc))
+    cum = np.vstack([np.zeros((1, 3)), np.cumsum(acc, axis=0)])
+    total = cum[end] - cum[start]
+    norm = np.linalg.norm(total, axis=1)
+    cos_z = np.divide(total[:, 2], norm, out=np.zeros(n), where=norm > 0)
+    return side & (cos_z < np.cos(np.radians(float(max_deg))))
+
+
 def finish_predictions(
     out: pd.DataFrame, windows: pd.DataFrame, domain: dict, model, recording: Recording, rec: Recording, correction: bool, **attrs
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
 
     A window with no step in it (:func:`still_windows`) gets the mode :data:`STILL`
-    and ``still = True``; ``mode_raw`` keeps the model's answer.
+    and ``still = True``; ``mode_raw`` keeps the model's answer. ``side_direction_unsure``
+    marks side steps read from an upright phone (:func:`side_direction_unsure`).
 
     ``rec`` is ``recording`` at the model's rate (``recording`` itself when no resampling was needed).
     ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz`` (``recording``'s rate,
@@ -223,6 +265,8 @@ def finish_predictions(
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
     out["still"] = still_windows(rec, windows)
     out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)
+    # a side step read from an upright phone: its left / right is not tied to the walker's
+    out["side_direction_unsure"] = side_direction_unsure(rec, windows, out["mode"].to_numpy())
     for c in ("label", "label_fraction"):
         if c in windows.columns:
             out[c] = windows[c].to_numpy()

@@ -72,6 +72,9 @@ Keys (defaults in brackets) of ``task = "classification"``::
     cross_validate = true            # record CV scores in model.json
     domain_dynamics = true           # all52+gyro models: record the orientation-dynamics part of the
                                      # training domain (gaitml.models.domain); false: features and gravity only
+    [card]                           # printed in the model card (MODEL.md) beside what training records
+    licence = ""                     # the training data's licence(s)
+    notes = []                       # lines for the card, e.g. where each mode's windows come from
     [sweep]
     "windows.length_s" = [0.5, 1.0]  # grid: every combination of the listed values
 
@@ -348,6 +351,11 @@ SCHEMA: dict[str, Any] = {
         "cross_validate": _Leaf((bool,), True),
         "domain_dynamics": _Leaf((bool,), True),
     },
+    # what the model card (MODEL.md) states beside the recorded facts: the training data's licence and notes
+    "card": {
+        "licence": _Leaf((str,), ""),
+        "notes": _Leaf((list,), [], item_type=str),
+    },
 }
 
 
@@ -444,6 +452,8 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "add_simulated"): False,
     ("data", "labelling", "moving_speed_ms"): 0.0,
     ("data", "labelling", "rule"): "change",
+    ("card", "licence"): "",
+    ("card", "notes"): [],
 }
 
 
@@ -507,6 +517,8 @@ class ExperimentConfig:
                 sec = sec.get(k, {})
             if key in sec and sec[key] == default:
                 del sec[key]
+        if d.get("card") == {}:
+            del d["card"]
         if self.data_path is not None:
             d["data"]["path_resolved"] = str(self.data_path)
         if self.sweep:

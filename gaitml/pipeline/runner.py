@@ -561,6 +561,25 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     )
 
 
+def window_sources(data: PreparedData, ds) -> list[dict]:
+    """Where the training windows come from: one entry per (real | simulated, position), windows per label.
+
+    A recording is simulated when its meta ``source`` is ``gaitml.simulate``, else real; its
+    position is the meta ``motion`` (a tyrex recording's carrying motion, e.g. ``FrontPocket``)
+    or else ``position`` (the simulator's carrying position). The model card prints the table
+    (which modes were learnt from real recordings and which from the simulator).
+    """
+    counts: dict[tuple[str, str], dict[str, int]] = {}
+    recs = data.recordings
+    for idx, lab in zip(ds.windows["recording"].to_numpy(), ds.windows["label"].astype(str).to_numpy(), strict=True):
+        meta = recs[int(idx)].meta
+        kind = "simulated" if meta.get("source") == "gaitml.simulate" else "real"
+        where = str(meta.get("motion") or meta.get("position") or "unknown")
+        row = counts.setdefault((kind, where), {})
+        row[lab] = row.get(lab, 0) + 1
+    return [{"kind": k, "position": w, "windows": dict(sorted(c.items()))} for (k, w), c in sorted(counts.items())]
+
+
 def attach_training_domain(cfg: ExperimentConfig, model_dir: str | Path, out_dir: str | Path | None = None):
     """Record the training domain of an existing model without refitting its classifier.
 
@@ -663,6 +682,7 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
             "n_recordings": len(data.recordings),
             "groups": sorted(set(data.groups)),
             "notes": data.notes,
+            "sources": window_sources(data, ds),
         },
         "fit_s": round(fit_s, 3),
         "cv_scores": cv_scores,

@@ -168,7 +168,10 @@ def test_predict_warns_once_on_a_phone_held_upside_down_and_scaled(phone_model, 
     js = json.loads(out)
     assert js["out_of_domain_fraction"] > 0.9
     warns = _warnings(err)
-    assert len(warns) == 1 and "outside the model's training domain" in warns[0] and "%" in warns[0]
+    # one domain warning; the only other line a screen-down phone may add is the side-step direction's (unsure there)
+    domain = [w for w in warns if "outside the model's training domain" in w]
+    assert len(domain) == 1 and "%" in domain[0]
+    assert all("direction is unsure" in w for w in warns if w not in domain) and len(warns) <= 2
 
 
 def test_gravity_frame_model_reads_a_rotated_phone_like_the_original(gravity_model, new_subject):

@@ -80,18 +80,6 @@ def test_convert_keeps_predictions_and_weights(tmp_path):
         np.testing.assert_array_equal(getattr(new.estimator, name), getattr(old.estimator, name))
 
 
-def test_shipped_demo_was_trained_from_its_config():
-    """models/demo is an ordinary `gaitml train experiments/demo.toml` output (since the simulator's hand gain)."""
-    from gaitml.pipeline.config import load_config
-
-    model = load_model(DEMO)
-    assert model.info["training_config"] == json.loads(json.dumps(load_config(ROOT / "experiments" / "demo.toml").resolved()))
-    assert model.info["name"] == "demo" and model.feature_set == "all52+gyro" and model.frame == "phone"
-    assert model.info["training_data"]["n_windows"] == 12576
-    assert model.domain is not None and model.domain.gravity_check and model.domain.dynamics is None  # train.domain_dynamics = false
-    assert "converted_from" not in model.info
-
-
 @pytest.mark.realdata
 def test_converted_demo_predicts_like_the_pickle_on_a_real_recording(tmp_path):
     rec = _gaitmap_real()
@@ -151,7 +139,7 @@ def _info(ds, kind="linear-ovo-svm", input_kind="features", fset="all52"):
 
 
 # ------------------------------------------------------------------ JSON export in plain numpy
-def _numpy_predict_from_json(spec: dict, acc: np.ndarray, gyr: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+def _numpy_predict_from_json(spec: dict, acc: np.ndarray, gyr: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Prediction from the exported JSON alone (features from gaitml.features, as the JSON specifies)."""
     from gaitml.features import features_from_arrays
 
@@ -184,7 +172,11 @@ def _numpy_predict_from_json(spec: dict, acc: np.ndarray, gyr: np.ndarray | None
     mag = np.linalg.norm(acc, axis=1)
     swing = np.array([np.ptp(mag[s : s + length]) for s in starts])
     out = [still["mode"] if sw < still["range_ms2"] else m for m, sw in zip(out, swing, strict=True)]
-    return np.array(raw), np.array(out)
+    side = spec["postprocess"]["side_direction"]  # the side-direction flag as the JSON states it
+    g = np.array([acc[s : s + length].mean(axis=0) for s in starts])
+    cos_z = g[:, 2] / np.linalg.norm(g, axis=1)
+    unsure = np.isin(out, side["modes"]) & (cos_z < np.cos(np.radians(side["face_up_max_deg"])))
+    return np.array(raw), np.array(out), unsure
 
 
 def _check_json_equals_predict(model, rec, tmp_path):
@@ -194,11 +186,12 @@ def _check_json_equals_predict(model, rec, tmp_path):
     assert main(["model", "export", str(model.path), "--format", "json", "--out", str(out)]) == 0
     spec = json.loads(out.read_text())
     rec = resample_recording(rec, spec["sampling_rate_hz"])  # the JSON's "resampling" step (a no-op at the model's rate)
-    raw, corrected = _numpy_predict_from_json(spec, rec.acc, rec.gyr)
+    raw, corrected, unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr)
     table = predict_recording(model, rec)
     assert len(raw) == len(table) > 20
     np.testing.assert_array_equal(raw, table["mode_raw"].to_numpy())
     np.testing.assert_array_equal(corrected, table["mode"].to_numpy())
+    np.testing.assert_array_equal(unsure, table["side_direction_unsure"].to_numpy(bool))
     return spec
 
 

@@ -244,25 +244,12 @@ def integrate_gyro_gravity(
 GYRO_BIAS_MODES = ("auto", "still", "off")
 
 
-#: below this many seconds of steady tilt the online bias estimate has hardly moved from its start
-MIN_STEADY_S = 10.0
-
-
-def _online_summary(start: GyroBias, bias: np.ndarray, fs: float, steady_s: float = float("inf")) -> GyroBias:
-    """The removed bias of an online run: the median of the tracked estimate over the second half.
-
-    ``steady_s`` (seconds of steady tilt in which the estimate could learn) goes into the note; under
-    :data:`MIN_STEADY_S` the note says the bias was barely observed.
-    """
+def _online_summary(start: GyroBias, bias: np.ndarray, fs: float) -> GyroBias:
+    """The removed bias of an online run: the median of the tracked estimate over the second half."""
     half = bias[len(bias) // 2 :]
     med = np.median(half, axis=0) if len(half) else start.bias_rads
     b = np.degrees(med)
     how = f"from {start.still_s:.1f} s still, then" if start.method == "still" else "from zero (no still stretch), then"
-    if np.isfinite(steady_s):
-        seen = f" ({steady_s:.1f} s of steady tilt to learn from)"
-        if steady_s < MIN_STEADY_S:
-            seen = f" (only {steady_s:.1f} s of steady tilt to learn from: barely observed, unreliable)"
-        how = how.replace(", then", f", then{seen}")
     return GyroBias(
         med,
         "still+online" if start.method == "still" else "online",
@@ -405,7 +392,7 @@ class AttitudeEstimator(BaseAlgorithm):
         r0 = initial_attitude(up0, heading_rad=self.initial_heading_rad, forward_axis_body=self.forward_axis_body)
         rot, bias = self._integrate(gyr, recording.acc, fs, r0, gb.bias_rads, online)
         if online:
-            gb = _online_summary(gb, bias, fs, self.steady_s_)
+            gb = _online_summary(gb, bias, fs)
         self.rotation_ = rot
         self.bias_rads_ = bias
         self.gyro_bias_ = gb
@@ -441,7 +428,7 @@ class AttitudeEstimator(BaseAlgorithm):
             gb = GyroBias(b0, "carried", note="gyroscope bias carried from the previous part")
         rot, bias = self._integrate(gyr, recording.acc, fs, initial, gb.bias_rads, online, start=start)
         if online:
-            gb = _online_summary(gb, bias, fs, self.steady_s_)
+            gb = _online_summary(gb, bias, fs)
         self.gyro_bias_ = gb
         self.bias_rads_ = bias
         self.rotation_ = rot

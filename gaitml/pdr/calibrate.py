@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.pdr.attitude import AttitudeEstimator
 from gaitml.pdr.dwpca import DwPcaHeading
@@ -55,14 +56,15 @@ def match_reference_steps(step_t_s, ref_t_s, *, tolerance_s: float = MATCH_TOLER
     return np.where(ok, order[pick], -1)
 
 
-def calibrate_from_reference(recording: Recording, *, detector="single-peak", min_steps: int = 5) -> Calibration:
+def calibrate_from_reference(recording: Recording, *, detector=DEFAULT_STEP_DETECTOR, min_steps: int = 5) -> Calibration:
     """Fit the step length model and the DW-PCA polarity on a recording with true steps.
 
     Parameters
     ----------
     recording : Recording with gyro and ``reference['steps']`` (``t_s``, ``mode``,
         ``step_length_m``, ``heading_rad``) and ``reference['trajectory']`` (for the initial heading).
-    detector : step detector name or object (the one the PDR will use).
+    detector : step detector name or object (the one the PDR will use; default the PDR's own default,
+        :data:`gaitml.consts.DEFAULT_STEP_DETECTOR`).
     """
     from gaitml.pdr.pipeline import _detect
 
@@ -93,7 +95,7 @@ def calibrate_from_reference(recording: Recording, *, detector="single-peak", mi
 
 
 def calibrate_walk_distance(
-    recording: Recording, distance_m: float, *, model: StepLengthModel | None = None, detector="single-peak", mode: str = "walk"
+    recording: Recording, distance_m: float, *, model: StepLengthModel | None = None, detector=DEFAULT_STEP_DETECTOR, mode: str = "walk"
 ) -> StepLengthModel:
     """Per-subject calibration from a walk of known distance (every step taken as ``mode``).
 

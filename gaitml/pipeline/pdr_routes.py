@@ -70,12 +70,16 @@ def evaluate_route(
     keep_results: bool = False,
     position: str | None = None,
     detector: str = "single-peak",
+    gyro_bias="off",
 ) -> list[dict]:
     """Run every variant on one simulated route; one dict per variant.
 
-    ``detector`` is the step detector of every variant (a registered name; default paper
-    003's ``single-peak``, whose fixed 2 m/s^2 peak height misses steps of the simulator's
-    calm hand-held walkers, hand gain below about 0.5: ``adaptive`` finds them).
+    ``detector`` is the step detector of every variant and of the calibration walk (a
+    registered name; default paper 003's ``single-peak``, whose fixed 2 m/s^2 peak height
+    misses steps of the simulator's calm hand-held walkers, hand gain below about 0.5:
+    ``adaptive`` finds them). ``gyro_bias`` is :func:`gaitml.pdr.run_pdr`'s (default
+    ``"off"``, paper 003's integration; a variant's own setting wins); the variant that
+    removes the simulator's true gyroscope bias always runs with ``"off"``.
 
     ``position`` (one of :data:`gaitml.simulate.POSITIONS`; None: the subject's hand pose,
     as before) carries the phone there on the route and on the calibration walk (the same
@@ -96,7 +100,7 @@ def evaluate_route(
         else:
             placement = Placement.random(position, prng)
     cal_rec = simulate_recording(subject, route="straight", duration_s=CALIBRATION_S, seed=(seed, 4242), placement=placement)
-    cal = calibrate_from_reference(cal_rec)
+    cal = calibrate_from_reference(cal_rec, detector=detector)
     truth = rec.reference["trajectory"]
     xy_true = truth[["x_m", "y_m"]].to_numpy(float)
     dist = path_length(xy_true)
@@ -108,11 +112,13 @@ def evaluate_route(
         kw = dict(kw)
         kw.setdefault("step_length", cal.step_length)
         kw.setdefault("detector", detector)
+        kw.setdefault("gyro_bias", gyro_bias)
         hde_kwargs = kw.pop("hde_kwargs", {})
         r = rec
         if kw.pop("remove_true_gyro_bias", False):
             bias = np.array([rec.meta.get(f"gyr_bias_{a}_rads", 0.0) for a in "xyz"], dtype=float)
             r = rec.replace(gyr=rec.gyr - bias)
+            kw["gyro_bias"] = "off"
         res = run_pdr(
             r, model=model, initial_heading_rad=h0, dwpca=cal.dwpca, hde=HeuristicDriftElimination(reference_rad=h0, **hde_kwargs), **kw
         )

@@ -146,15 +146,3 @@ def test_a_given_bias_array_continues_a_chunk_like_a_list():
         assert att.gyro_bias_.method == "carried"
         heads.append(att.heading_rad_)
     np.testing.assert_allclose(heads[0], heads[1])
-
-
-def test_the_online_note_says_how_long_the_bias_could_be_learnt():
-    n = int(30 * FS)
-    t = np.arange(n) / FS
-    acc = np.tile([0.0, 0.0, GRAVITY_MS2], (n, 1))
-    acc[:, 2] += 3.0 * np.sin(2 * np.pi * 1.8 * t)
-    gyr = BIAS + 2.0 * np.sin(2 * np.pi * 0.9 * t)[:, None]  # tumbling all the time: tilt never steady
-    att = AttitudeEstimator(gyro_bias="auto").estimate(Recording.from_arrays(acc, FS, gyr=gyr))
-    assert "of steady tilt to learn from" in att.gyro_bias_.note
-    if att.steady_s_ < 10.0:
-        assert "barely observed" in att.gyro_bias_.note

@@ -95,14 +95,14 @@ def test_calibration_from_reference_steps_fits_lengths_and_polarity():
     from gaitml.pdr.calibrate import calibrate_from_reference, calibrate_walk_distance, match_reference_steps
 
     rec = synth_walk([("walk", 30, np.pi / 2), ("backward", 30, 0.0)], step_length_m=0.62)
-    cal = calibrate_from_reference(rec)
+    cal = calibrate_from_reference(rec, detector="single-peak")  # the detector the PDR below uses
     assert cal.n_matched == cal.n_detected == 60
     feats_modes = ["walk"] * 30 + ["backward"] * 30
     res = run_pdr(rec, modes="true", heading="gyro", step_length=cal.step_length, detector="single-peak")
     assert np.allclose(res.steps["step_length_m"], 0.62, atol=1e-6)
     assert cal.dwpca.polarity == {"backward": 1.0, "walk": 1.0}  # the learned polarity, as a parameter of the configured source
     assert res.steps["mode"].tolist() == feats_modes
-    m = calibrate_walk_distance(synth_walk([("walk", 40, 0.0)]), 30.0)
+    m = calibrate_walk_distance(synth_walk([("walk", 40, 0.0)]), 30.0, detector="single-peak")
     assert run_pdr(
         synth_walk([("walk", 40, 0.0)]), modes="true", heading="gyro", step_length=m, detector="single-peak"
     ).distance_m == pytest.approx(30.0)

@@ -42,7 +42,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--boundary-noise-s",
         type=float,
-        help="the most a written boundary is off (s): the search band for the mode change (default: --max-snap-s)",
+        help="the most a written boundary is off (s): the search band for the mode change (rule change; default: "
+        "--max-snap-s); with --snap-rule nearest, snap only to a single step within it",
     )
     p.add_argument(
         "--snap-rule",

@@ -32,7 +32,8 @@ Keys (defaults in brackets) of ``task = "classification"``::
                                      # a name given here must exist). Columns: gaitml.pipeline.folder_source
     [data.labelling]                 # "folder": recordings with an intervals file are labelled by gaitml.labels
     snap = "steps"                   # "steps" | "strides" | "none": boundaries snap to detected steps / strides
-    detector = ""                    # the step (or, for strides, zero-velocity) detector; default single-peak / pseudo-std
+    detector = ""                    # the step (or, for strides, zero-velocity) detector; default adaptive
+                                     # (gaitml.consts.DEFAULT_STEP_DETECTOR) / pseudo-std
     max_snap_s = 0.5
     rule = "change"                  # "change": a boundary moves only to evidence of the mode change
                                      # (gaitml.labels); "nearest": to the nearest step

@@ -441,6 +441,14 @@ def _warn_out_of_domain(model, modes: str, steps) -> None:
     if warning:
         tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
         log(f"gaitml: warning: {warning}{tail}")
+    if "mode_model" in steps and "in_domain" in steps:
+        side = steps["mode_model"].astype(str).str.startswith("side_") & (steps["mode"].astype(str) == "walk")
+        n_unsure = int((side & steps["in_domain"].map(lambda v: v is True or v is np.True_)).sum())
+        if n_unsure:
+            log(
+                f"gaitml: warning: {n_unsure} side steps of unsure direction (the phone's placement in a pocket or a swinging "
+                "hand hides which way is left) were moved forward along the facing heading; use --modes true if you know them"
+            )
 
 
 def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extra_json: dict | None = None, extra_lines=()) -> int:
@@ -460,6 +468,10 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
     if res.info.get("out_of_domain_steps") is not None:
         lines.append(
             f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
+        )
+    if res.info.get("side_direction_unsure_steps"):
+        lines.append(
+            f"  side steps of unsure direction: {res.info['side_direction_unsure_steps']} (moved forward along the facing heading)"
         )
     if res.info.get("gyro_bias"):
         lines.append(f"  {res.info['gyro_bias']['note']}")

@@ -89,8 +89,9 @@ class PdrResult:
 
         With a model (``modes='model'``) every trajectory row also has ``in_domain``
         (None for the start row and for a model without a domain record) and the object
-        has ``out_of_domain_steps`` (None for a model without a domain record); without a
-        model both are absent.
+        has ``out_of_domain_steps`` and ``side_direction_unsure_steps`` (side steps moved
+        forward because the model cannot tell their direction; None for a model without a
+        domain record); without a model they are absent.
         """
         traj = self.trajectory
         rows = [
@@ -108,6 +109,7 @@ class PdrResult:
         }
         if self.info.get("modes") == "model":
             out["out_of_domain_steps"] = self.info.get("out_of_domain_steps")
+            out["side_direction_unsure_steps"] = self.info.get("side_direction_unsure_steps")
         if self.info.get("gyro_bias") is not None:
             out["gyro_bias"] = self.info["gyro_bias"]
         return out
@@ -128,9 +130,11 @@ def modes_from_labels(labels: np.ndarray, start, end) -> np.ndarray:
 
 
 def _out_of_domain_steps(model, windows: pd.DataFrame, t_look, step_modes) -> tuple:
-    """Per-step in-domain flags; out-of-domain steps move along the facing heading.
+    """Per-step in-domain flags; out-of-domain steps, and side steps of unsure direction, move along the facing heading.
 
-    A step takes the flag of the window nearest it (as its mode does). A step whose
+    A side step whose window the model marks ``side_direction_unsure`` (a carrying position
+    where the phone's placement flips the lateral axis, :mod:`gaitml.models`) also walks
+    forward: its direction is a guess. A step takes the flag of the window nearest it (as its mode does). A step whose
     window lies outside the model's training domain (:mod:`gaitml.models.domain`) gets
     the mode ``walk`` (forward along the facing heading, the traditional PDR update)
     instead of the model's mode, which is unreliable there; the model's mode is kept in
@@ -150,7 +154,13 @@ def _out_of_domain_steps(model, windows: pd.DataFrame, t_look, step_modes) -> tu
     if getattr(model, "domain", None) is None:
         return flags, model_modes, model_modes
     ood = np.array([v is False for v in flags])
-    return flags, np.where(ood, "walk", model_modes), model_modes
+    modes = np.where(ood, "walk", model_modes)
+    if "side_direction_unsure" in windows:
+        # a side step whose direction the model cannot tell (the phone's placement in a pocket or a
+        # swinging hand flips the lateral axis) has no trustworthy lateral update: forward, as out of domain
+        unsure = np.array([bool(v) for v in window_values_at_steps(windows, t_look, "side_direction_unsure")], dtype=bool)
+        modes = np.where(unsure & np.char.startswith(model_modes, "side_"), "walk", modes)
+    return flags, modes, model_modes
 
 
 def _detect(recording: Recording, detector):
@@ -476,7 +486,18 @@ def assemble_result(
         if step_in_domain is None or getattr(model, "domain", None) is None
         else int(sum(v is False or v is np.False_ for v in step_in_domain))
     )
-    info = {**info, "out_of_domain_steps": n_ood}
+    n_unsure = (
+        None
+        if n_ood is None
+        else int(
+            np.sum(
+                np.char.startswith(np.asarray(model_modes).astype(str), "side_")
+                & (np.asarray(step_modes).astype(str) == "walk")
+                & np.array([v is True or v is np.True_ for v in step_in_domain], dtype=bool)
+            )
+        )
+    )
+    info = {**info, "out_of_domain_steps": n_ood, "side_direction_unsure_steps": n_unsure}
     info = {k: info[k] for k in (*[k for k in info if k != "notes"], "notes")}
     return PdrResult(
         trajectory=traj,

@@ -300,3 +300,33 @@ def test_a_step_in_a_still_window_takes_the_models_own_answer():
     modes = modes_from_windows(windows, [0.5, 1.75, 2.9])
     assert modes.tolist() == ["walk", "side_left", "backward"]
     assert "still" not in modes_from_windows(windows.drop(columns="mode_raw").assign(mode=["walk", "walk", "run"]), [1.75])
+
+
+def test_side_steps_of_unsure_direction_walk_forward_and_are_counted(tmp_path, capsys):
+    """The default model cannot tell left from right in a pocket: such side steps move forward, counted and warned."""
+    import json
+    from pathlib import Path
+
+    from gaitml.cli import main
+    from gaitml.io.gaitml_csv import write_gaitml_csv
+    from gaitml.models import load_model
+    from gaitml.pdr import run_pdr
+    from gaitml.simulate import simulate_route
+
+    model_dir = Path(__file__).resolve().parents[2] / "models" / "demo"
+    model = load_model(model_dir)
+    pocket = simulate_route("rectangle", seed=3, position="back-pocket")
+    res = run_pdr(pocket, model=model, modes="model")
+    side = res.steps["mode_model"].str.startswith("side_")
+    assert side.sum() > 0 and res.info["side_direction_unsure_steps"] > 0
+    moved = side & (res.steps["mode"] == "walk") & res.steps["in_domain"].astype(bool)
+    assert res.info["side_direction_unsure_steps"] == int(moved.sum())
+    assert not (res.steps["mode"].str.startswith("side_") & ~res.steps["mode_model"].str.startswith("side_")).any()
+    hand = run_pdr(simulate_route("rectangle", seed=3, position="hand-flat"), model=model, modes="model")
+    assert hand.info["side_direction_unsure_steps"] == 0 and hand.steps["mode"].str.startswith("side_").any()
+
+    path = write_gaitml_csv(pocket, tmp_path / "pocket.csv")
+    assert main(["pdr", str(path), "--model", str(model_dir), "--json"]) == 0
+    cap = capsys.readouterr()
+    assert json.loads(cap.out)["side_direction_unsure_steps"] > 0
+    assert cap.err.count("side steps of unsure direction") == 1

@@ -5,8 +5,7 @@
 
 The shipped recipe (``experiments/demo-acc.toml``: the real tyrex walks and runs of the people
 trained on, plus its simulated subjects) with the Oxford step-counter walks added as ``walk``:
-only the samples inside a stretch of foot-switch steps (consecutive steps at most
-:data:`MAX_STEP_GAP_S` apart, padded by :data:`STEP_PAD_S`) are labelled ``walk``; the rest of a
+only the samples inside a stretch of foot-switch steps (:func:`gaitml.pipeline.runner.step_walking_labels`, the rule of a config's ``[data.walks]``) are labelled ``walk``; the rest of a
 recording (standing at its start and end) is ``unlabelled`` and gives no training window.
 
 Two sets of folds, every window through :func:`gaitml.models.predict_recording` (the path of
@@ -30,23 +29,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-MAX_STEP_GAP_S = 2.0
-STEP_PAD_S = 0.5
-
-
-def walking_labels(rec) -> np.ndarray:
-    """``walk`` on the samples inside a stretch of foot-switch steps, ``unlabelled`` elsewhere."""
-    steps = np.sort(np.asarray(rec.reference["steps_t_s"], dtype=float))
-    lab = np.full(rec.n_samples, "unlabelled", dtype=object)
-    if len(steps) < 2:
-        return lab
-    breaks = np.flatnonzero(np.diff(steps) > MAX_STEP_GAP_S)
-    starts = np.r_[steps[0], steps[breaks + 1]]
-    ends = np.r_[steps[breaks], steps[-1]]
-    for a, b in zip(starts, ends, strict=True):
-        if b > a:
-            lab[(rec.t_s >= a - STEP_PAD_S) & (rec.t_s <= b + STEP_PAD_S)] = "walk"
-    return lab
+from gaitml.pipeline.runner import WALK_MAX_STEP_GAP_S as MAX_STEP_GAP_S  # noqa: F401 (the study's rule is the pipeline's)
+from gaitml.pipeline.runner import WALK_STEP_PAD_S as STEP_PAD_S  # noqa: F401
+from gaitml.pipeline.runner import step_walking_labels as walking_labels
 
 
 def load_oxford_walks(data: Path, fs: float) -> list[dict]:

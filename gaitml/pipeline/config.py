@@ -41,6 +41,11 @@ Keys (defaults in brackets) of ``task = "classification"``::
                                      # per sample: its data.label value where the walker's body (the true path
                                      # low-passed at 0.5 Hz) moves faster than this, "still" elsewhere,
                                      # "unlabelled" outside the capture (gaitml.evaluation.trajectory.moving_samples)
+    [data.walks]                     # "folder": also read real walking with true step times (e.g. the Oxford
+    path = ""                        # step counter) from this folder, relative to the config: the samples inside
+                                     # stretches of true steps become data.label "walk", the rest is left out
+                                     # (gaitml.pipeline.runner.step_walking_labels); its data.group from the meta
+    weight = 1                       # each such recording counts this many times in training
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -315,6 +320,11 @@ SCHEMA: dict[str, Any] = {
             "rule": _Leaf((str,), "change", allowed=("change", "nearest")),
             # label recordings with a motion capture by the walker's speed (0 = off)
             "moving_speed_ms": _Leaf(_NUM, 0.0, check=_nonneg),
+        },
+        # a folder source plus real walking with true step times (labelled walk inside stretches of steps)
+        "walks": {
+            "path": _Leaf((str,), ""),
+            "weight": _Leaf((int,), 1, check=_pos),
         },
         # a folder source plus the simulated subjects of [data.simulated]
         "add_simulated": _Leaf((bool,), False),
@@ -651,6 +661,7 @@ def parse_config(
         for key, on in (
             ("data.add_simulated", d["add_simulated"]),
             ("data.labelling.moving_speed_ms", d["labelling"]["moving_speed_ms"] > 0),
+            ("data.walks.path", bool(d["walks"]["path"])),
         ):
             if on:
                 raise ConfigError(f"{key} applies to data.source = 'folder' (a real data set); remove it or read a folder.")
@@ -660,6 +671,11 @@ def parse_config(
         if check_paths and not cfg.data_path.exists():
             raise ConfigError(
                 f"data.path = {d['path']!r} does not exist (resolved to {cfg.data_path}); fix the path (it is relative to the config file)."
+            )
+        if check_paths and d["walks"]["path"] and not (cfg.base_dir / d["walks"]["path"]).is_dir():
+            raise ConfigError(
+                f"data.walks.path = {d['walks']['path']!r} is not a folder (resolved to {(cfg.base_dir / d['walks']['path']).resolve()}); "
+                "fix the path (it is relative to the config file) or remove [data.walks]."
             )
         if check_paths and d["manifest"] and not (cfg.data_path / d["manifest"]).is_file():
             raise ConfigError(

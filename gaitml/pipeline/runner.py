@@ -122,6 +122,67 @@ def _label_moving(recs, label: str, min_speed_ms: float):
     return out, note
 
 
+#: Consecutive true steps further apart than this (s) end a stretch of walking (:func:`step_walking_labels`).
+WALK_MAX_STEP_GAP_S = 2.0
+#: A stretch of walking extends this far (s) before its first and after its last true step.
+WALK_STEP_PAD_S = 0.5
+
+
+def step_walking_labels(rec, label: str = "walk", *, max_gap_s: float = WALK_MAX_STEP_GAP_S, pad_s: float = WALK_STEP_PAD_S) -> np.ndarray:
+    """Per-sample labels of a recording with true step times (``reference['steps_t_s']``, e.g. the Oxford foot switches).
+
+    ``label`` on the samples inside a stretch of steps (consecutive steps at most
+    ``max_gap_s`` apart, extended by ``pad_s`` before its first and after its last
+    step), ``unlabelled`` elsewhere (standing at the start and end of a recording,
+    pauses), so that only walking gives training windows.
+    """
+    from gaitml.labels import UNLABELLED
+
+    steps = np.sort(np.asarray(rec.reference.get("steps_t_s", ()), dtype=float))
+    out = np.full(rec.n_samples, UNLABELLED, dtype=object)
+    if len(steps) < 2:
+        return out
+    breaks = np.flatnonzero(np.diff(steps) > max_gap_s)
+    for a, b in zip(np.r_[steps[0], steps[breaks + 1]], np.r_[steps[breaks], steps[-1]], strict=True):
+        if b > a:
+            out[(rec.t_s >= a - pad_s) & (rec.t_s <= b + pad_s)] = label
+    return out
+
+
+def _walk_recordings(cfg: ExperimentConfig, fs: float):
+    """The ``[data.walks]`` recordings of ``cfg``: walking inside stretches of true steps, at ``fs``, repeated ``weight`` times."""
+    from gaitml.io import read_dataset
+    from gaitml.models import resample_recording
+
+    w = cfg["data"]["walks"]
+    folder = (cfg.base_dir / w["path"]).resolve()
+    try:
+        recs = read_dataset(folder)
+    except InputError as exc:
+        raise ConfigError(f"data.walks.path = {w['path']!r}: {exc}") from exc
+    out = []
+    for r in recs:
+        if "steps_t_s" not in r.reference:
+            raise ConfigError(
+                f"data.walks.path = {w['path']!r}: {r.name!r} has no true step times; [data.walks] takes recordings with them "
+                "(e.g. the Oxford step counter)."
+            )
+        r = resample_recording(r, fs)
+        lab = step_walking_labels(r)
+        pos = r.meta.get("position")
+        meta = {**r.meta, "labelled_from": "true steps"}
+        if pos:
+            meta["motion"] = f"{r.meta.get('format', 'walks')} {pos}"
+        out.append(r.replace(labels=lab, meta=meta, check_units=False))
+    n_walk = sum(int(np.sum(r.labels == "walk")) for r in out)
+    n_all = sum(r.n_samples for r in out)
+    note = (
+        f"added walking from {folder}: {len(out)} recordings, {n_walk / max(n_all, 1):.3f} of their samples inside stretches of "
+        f"true steps (labelled walk; the rest left out), each counted {w['weight']} time(s)"
+    )
+    return out * int(w["weight"]), note
+
+
 def _load_recordings(cfg: ExperimentConfig):
     d = cfg["data"]
     fs = float(d["resample_hz"])
@@ -162,6 +223,10 @@ def _load_recordings(cfg: ExperimentConfig):
     out = [resample_recording(r, fs) for r in recs]
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
+    if d["walks"]["path"]:
+        walks, note = _walk_recordings(cfg, fs)
+        out += walks
+        notes.append(note)
     if d["add_simulated"]:
         sim, sim_notes = _simulated_recordings(cfg)
         out += sim

@@ -32,8 +32,8 @@ def test_the_shipped_models_flag_the_bag_they_were_not_trained_on():
 
 @pytest.mark.xfail(
     strict=True,
-    reason="known gap (default-model.md): in the simulated back pocket (demo) and tilted hand (demo-acc) over half of the "
-    "windows are silently wrong: backward read as walk, side steps as run; the models learnt walking from calm real "
+    reason="known gap (default-model.md): in the simulated back pocket models/demo reads over half of the "
+    "windows silently wrong: backward read as walk, side steps as run; the models learnt walking from calm real "
     "tyrex walkers, the simulator's walkers are more vigorous (simulator-tyrex.md)",
 )
 def test_the_shipped_models_answer_most_simulated_windows_in_their_trained_positions():

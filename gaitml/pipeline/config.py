@@ -465,6 +465,8 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "labelling", "rule"): "change",
     ("card", "licence"): "",
     ("card", "notes"): [],
+    ("data", "walks", "path"): "",
+    ("data", "walks", "weight"): 1,
 }
 
 
@@ -530,6 +532,8 @@ class ExperimentConfig:
                 del sec[key]
         if d.get("card") == {}:
             del d["card"]
+        if d["data"].get("walks") == {}:
+            del d["data"]["walks"]
         if self.data_path is not None:
             d["data"]["path_resolved"] = str(self.data_path)
         if self.sweep:

@@ -40,7 +40,7 @@ TURN_DEG_S = 60.0
 SLOW_MS = 0.3
 
 
-def _body_state(truth) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def body_state(truth) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Time, speed (m/s) and turn rate (deg/s) of the trajectory low-passed at 0.3 Hz."""
     ok = truth.valid
     t = truth.t_s
@@ -92,7 +92,7 @@ def recording_row(folder: Path, plot_dir: Path | None = None) -> dict | None:
 
     covered = near(rt, ad, win)
     extra = ~near(ad, rt, win)
-    t, speed, turn = _body_state(truth)
+    t, speed, turn = body_state(truth)
     k = np.searchsorted(t, rt).clip(0, len(t) - 1)
     state = np.where(speed[k] < SLOW_MS, "slow", np.where(turn[k] > TURN_DEG_S, "turning", "straight"))
     miss = ~covered
@@ -168,7 +168,7 @@ def window_rows(folder: Path) -> list[dict]:
     truth = read_tyrex_truth(folder)
     ref = mocap_steps(truth, info["motion"])
     rt, per = ref["t_s"], ref["steps_per_event"]
-    t, speed, _ = _body_state(truth)
+    t, speed, _ = body_state(truth)
     rec = read_tyrex(folder, segments=True)
     rows = []
     for r in rec if isinstance(rec, list) else [rec]:
@@ -237,7 +237,7 @@ def reference_check(truth, motion: str) -> dict[str, int]:
     om = np.column_stack([np.interp(tg, tm, om[:, j]) for j in range(3)])
     sos = scipy.signal.butter(2, list(CHECK_BAND_HZ), btype="bandpass", fs=fs, output="sos")
     om = scipy.signal.sosfiltfilt(sos, om, axis=0)
-    t, speed, _ = _body_state(truth)
+    t, speed, _ = body_state(truth)
     rt = ref["t_s"]
     per = ref["steps_per_event"]
     counts = {"consistent": 0, "stride": 0, "unclear": 0}

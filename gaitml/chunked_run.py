@@ -35,7 +35,7 @@ from sklearn.base import clone
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.io.chunked import Chunk, iter_chunks, scan_input
 
-__all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pdr", "progress_chunks"]
+__all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pdr", "long_still_bias", "progress_chunks"]
 
 DEFAULT_CHUNK_S = 600.0
 DEFAULT_MARGIN_S = 30.0
@@ -345,8 +345,9 @@ def long_pdr(
     as :func:`long_steps`), computes their step-length features and true-label modes on the
     chunk, and integrates the attitude (paper 003 sec. 4.2) across the chunks: each chunk
     continues the integration from the attitude (and gyroscope bias, ``gyro_bias`` as
-    :class:`~gaitml.pdr.attitude.AttitudeEstimator`'s; found on the first chunk, then
-    carried) of the sample before its core
+    :class:`~gaitml.pdr.attitude.AttitudeEstimator`'s: with ``'still'`` or ``'auto'`` the first
+    chunk starts from the still-stretch bias of the whole file, found in a first pass by
+    :func:`long_still_bias`, then the bias is carried) of the sample before its core
     (:meth:`~gaitml.pdr.attitude.AttitudeEstimator.estimate_from`), and the samples of its
     left margin keep the previous chunk's headings, so every sample's heading is that of one
     integration over the whole file (the complementary filter's zero-phase gravity low-pass
@@ -400,6 +401,12 @@ def long_pdr(
     if modes == "model":
         windows = long_predict(model, path, correction=True, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
 
+    # the still-stretch gyroscope bias of the whole file (a first pass), as a whole-file run starts from
+    att = source.attitude
+    still_bias = None
+    if isinstance(att.gyro_bias, str) and att.gyro_bias in ("still", "auto"):
+        still_bias = long_still_bias(path, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
+
     parts, feat_parts, gyro_parts, label_parts, bias_parts = [], [], [], [], []
     also_counts: list[int] = []
     attrs: dict = {}
@@ -409,7 +416,6 @@ def long_pdr(
     first_bias = None  # the first chunk's bias record (what was removed at the start)
     prev_heading = None  # per-sample heading of the previous chunk, from global index prev_lo
     prev_lo = 0
-    att = source.attitude
     for ch in progress_chunks(iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"pdr ({detector})", enabled=progress):
         rec = ch.recording
         fs = rec.sampling_rate_hz
@@ -429,7 +435,7 @@ def long_pdr(
         # ---- attitude: continue the integration from the sample before this chunk's core
         k = ch.core_start - ch.offset
         if carry is None:
-            run = clone(att).estimate(rec)
+            run = clone(att).estimate(rec, still_bias=still_bias)
             heading_local = run.heading_rad_
             first = 0
             first_bias = run.gyro_bias_
@@ -513,7 +519,7 @@ def long_pdr(
             "update": update,
             "step_length": sl_source,
             "initial_heading_rad": float(initial_heading_rad),
-            "gyro_bias": None if first_bias is None else _bias_summary(first_bias, bias_parts, fs),
+            "gyro_bias": None if first_bias is None else _bias_summary(first_bias, still_bias, bias_parts, fs),
             "notes": notes,
         },
     )
@@ -521,13 +527,16 @@ def long_pdr(
     return res
 
 
-def _bias_summary(first, bias_parts, fs) -> dict:
-    """What the chunked attitude removed: the first chunk's start bias and, when tracked online,
-    the median of the tracked bias over the second half of the whole recording (as a whole-file run reports)."""
+def _bias_summary(first, still, bias_parts, fs) -> dict:
+    """What the chunked attitude removed, as a whole-file run reports it: the start bias (``still``, the
+    whole file's still-stretch estimate, when there is one; else the first chunk's) and, when tracked
+    online, the median of the tracked bias over the second half of the whole recording."""
     from gaitml.pdr.attitude import _online_summary
 
     if first.method not in ("online", "still+online"):
         return first.to_dict()
+    if still is not None:
+        return _online_summary(still, np.concatenate(bias_parts), fs).to_dict()
     start = first.__class__(
         np.asarray(first.params.get("start_bias_rads", np.zeros(3)), dtype=float),
         "still" if first.method == "still+online" else "none",
@@ -536,6 +545,34 @@ def _bias_summary(first, bias_parts, fs) -> dict:
         params={k: v for k, v in first.params.items() if k != "start_bias_rads"},
     )
     return _online_summary(start, np.concatenate(bias_parts), fs).to_dict()
+
+
+def long_still_bias(path: str | os.PathLike, *, chunk_s: float | None = None, progress: bool = True, **read_kwargs):
+    """The still-stretch gyroscope bias of a long recording read chunk by chunk: the same
+    :class:`~gaitml.signal.GyroBias` as :func:`gaitml.signal.estimate_gyro_bias` of the file read whole.
+
+    Each chunk gives the still test of the windows starting in its core
+    (:func:`gaitml.signal.still_windows` on the whole file's window grid; the chunk margins of two
+    still windows hold every core window whole), and one median runs over the windows of all
+    chunks (:func:`gaitml.signal.gyro_bias_from_windows`). Memory: a few tens of bytes per window
+    (half a still window, 0.5 s), e.g. 7 MB for a day.
+    """
+    from gaitml.signal import gyro_bias_from_windows, still_windows
+    from gaitml.signal._gyro_bias import STILL_WINDOW_S
+
+    chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
+    parts = []
+    for ch in progress_chunks(
+        iter_chunks(path, chunk_s=chunk_s, margin_s=2.0 * STILL_WINDOW_S, **read_kwargs), "gyro bias", enabled=progress
+    ):
+        rec = ch.recording
+        rec.require_gyr("PDR heading")
+        parts.append(still_windows(rec.acc, rec.gyr, rec.sampling_rate_hz, offset=ch.offset).select(ch.core_start, ch.core_end))
+    if not parts:
+        from gaitml.errors import InputError
+
+        raise InputError(f"{Path(path).name} has no samples.")
+    return gyro_bias_from_windows(parts)
 
 
 def check_long_pdr(

@@ -16,8 +16,12 @@ Equivalence with a whole-file run:
   every step) give the same steps away from chunk boundaries; detectors that
   learn thresholds (``fsm-selflearn``, ``adaptive``) restart learning in every
   chunk's left margin, which the 30 s margin covers;
-- dead reckoning (:func:`long_pdr`) carries the attitude across chunks and corrects
-  the heading over all steps: identical steps, positions within a millimetre.
+- the gait-evidence test of the steps (``adaptive``'s own, or ``gait_check`` of :func:`long_steps`)
+  runs on each chunk's steps, as on a whole recording, and its account is summed over the steps
+  anchored in the cores: equal to a whole-file run's for bouts shorter than the margin;
+- dead reckoning (:func:`long_pdr`) starts from the gyroscope bias of the whole file's still
+  stretches (a first pass, :func:`long_still_bias`), carries the attitude across chunks and
+  corrects the heading over all steps: identical steps, positions within a millimetre.
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ from sklearn.base import clone
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.io.chunked import Chunk, iter_chunks, scan_input
 
-__all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pdr", "progress_chunks"]
+__all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pdr", "long_still_bias", "progress_chunks"]
 
 DEFAULT_CHUNK_S = 600.0
 DEFAULT_MARGIN_S = 30.0
@@ -73,15 +77,86 @@ def _shift_steps(table: pd.DataFrame, offset: int, fs: float) -> pd.DataFrame:
     return t
 
 
+def _core_steps(rec, ch: Chunk, detector: str, detector_params: dict | None, gait_check: bool | None) -> tuple[pd.DataFrame, dict | None]:
+    """A chunk's steps anchored in its core (chunk-local indices) and, with the gait-evidence test, its
+    account over the core's steps (:func:`_gait_account`); None without the test.
+
+    The test runs on the chunk's whole step table, as on a whole recording: a detector with a
+    ``gait_check`` parameter (``adaptive``) runs without it and its steps pass
+    :func:`~gaitml.steps._gait_evidence.gait_check` as its own ``detect`` does; other detectors'
+    steps pass :func:`~gaitml.steps._gait_evidence.gait_check_recording` (tested at ``adaptive``'s
+    cadence, as ``gaitml steps --gait-check`` does). ``gait_check`` None: the detector's own default
+    (on for ``adaptive``, off for the others).
+    """
+    from gaitml.steps import get_detector
+    from gaitml.steps._gait_evidence import gait_check as check_steps
+    from gaitml.steps._gait_evidence import gait_check_recording
+
+    params = dict(detector_params or {})
+    det = get_detector(detector, **params)
+    own = "gait_check" in det.get_params()
+    gait = (bool(det.get_params()["gait_check"]) if own else False) if gait_check is None else bool(gait_check)
+    if own:
+        raw = det.set_params(gait_check=False).detect(rec).steps_
+        checked = check_steps(raw, rec.gyr, rec.sampling_rate_hz) if gait else raw
+    else:
+        raw = det.detect(rec).steps_
+        checked = gait_check_recording(raw, rec) if gait else raw
+    account = _gait_account(raw, checked, rec, ch) if gait else None
+    core = checked[_in_core(checked, ch)].reset_index(drop=True)
+    core.attrs = {k: v for k, v in checked.attrs.items() if k != "gait_check"}
+    return core, account
+
+
+def _gait_account(raw: pd.DataFrame, checked: pd.DataFrame, rec, ch: Chunk) -> dict:
+    """The gait-evidence account of one chunk over the steps anchored in its core.
+
+    Steps left out: the core's steps of ``raw`` missing from ``checked``. Bouts (grouped as
+    :func:`~gaitml.steps._gait_evidence.step_bouts` groups them) are counted in the chunk where
+    their first step is anchored in the core, so a bout that runs over a chunk edge counts once.
+    Times are those of the whole file.
+    """
+    from gaitml.steps._gait_evidence import step_bouts
+
+    account = {"tested": rec.gyr is not None, "n_bouts": 0, "n_bouts_rejected": 0, "n_steps_rejected": 0, "rejected_t_s": []}
+    if not len(raw):
+        return account
+    anchor = "end" if raw.attrs.get("event") == "t_end_s" else "peak"
+    event = raw.attrs.get("event", "t_peak_s")
+    kept = np.isin(raw[anchor].to_numpy(np.int64), checked[anchor].to_numpy(np.int64))
+    core = _in_core(raw, ch)
+    period = raw["period_s"].to_numpy(dtype=float) if "period_s" in raw.columns else None
+    bout = step_bouts(raw[event].to_numpy(dtype=float), period)
+    first = np.concatenate([[True], bout[1:] != bout[:-1]])
+    out = core & ~kept
+    account["n_bouts"] = int((first & core).sum())
+    account["n_bouts_rejected"] = int((first & core & ~kept).sum())
+    account["n_steps_rejected"] = int(out.sum())
+    account["rejected_t_s"] = (raw[event].to_numpy(dtype=float)[out] + ch.offset / rec.sampling_rate_hz).tolist()
+    return account
+
+
+def _sum_accounts(accounts: list[dict]) -> dict:
+    """The whole file's gait-evidence account from the chunks' (:func:`_gait_account`)."""
+    return {
+        "tested": all(a["tested"] for a in accounts) if accounts else True,
+        "n_bouts": sum(a["n_bouts"] for a in accounts),
+        "n_bouts_rejected": sum(a["n_bouts_rejected"] for a in accounts),
+        "n_steps_rejected": sum(a["n_steps_rejected"] for a in accounts),
+        "rejected_t_s": [t for a in accounts for t in a["rejected_t_s"]],
+    }
+
+
 def long_steps(
     path: str | os.PathLike,
     detector: str = DEFAULT_STEP_DETECTOR,
     *,
-    chunk_s: float = DEFAULT_CHUNK_S,
-    margin_s: float = DEFAULT_MARGIN_S,
+    chunk_s: float | None = None,
+    margin_s: float | None = None,
     progress: bool = True,
     detector_params: dict | None = None,
     count_also: str | None = None,
+    gait_check: bool | None = None,
     **read_kwargs,
 ) -> pd.DataFrame:
     """Detect steps in a long recording chunk by chunk; returns one global step table.
@@ -90,26 +165,45 @@ def long_steps(
     count cross-check of :mod:`gaitml.steps.crosscheck`). Only its step count is kept, in
     ``attrs["count_also"] = {"detector": name, "n_steps": total}``, counted like the main
     detector's steps (those anchored in each chunk's core), so memory stays bounded by the chunk.
+
+    ``gait_check``: leave out bouts of steps without gait evidence
+    (:mod:`gaitml.steps._gait_evidence`), per chunk before the core's steps are kept (see
+    :func:`_core_steps`; None: the detector's default, on for ``adaptive``). The account of the
+    whole file, summed over the chunks' core steps, is in ``attrs["gait_check"]`` (the keys of
+    :func:`~gaitml.steps._gait_evidence.gait_check`'s). A bout within a chunk margin of a chunk edge
+    is tested on the same steps as on the whole file; a bout longer than the margin is tested on
+    each chunk's part of it (a walk of minutes, whose gait evidence does not hang on its length).
+
+    ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
+    :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).
     """
     from gaitml.steps import get_detector
 
+    chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
+    margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
     parts = []
     fs = None
     attrs: dict = {}
     also_counts: list[int] = []
+    accounts: list[dict] = []
+    gait = None
     for ch in progress_chunks(
         iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"steps ({detector})", enabled=progress
     ):
         fs = ch.recording.sampling_rate_hz
-        det = get_detector(detector, **(detector_params or {})).detect(ch.recording)
-        table = det.steps_
+        table, account = _core_steps(ch.recording, ch, detector, detector_params, gait_check)
+        gait = account is not None
+        if gait:
+            accounts.append(account)
         attrs = dict(table.attrs)
-        parts.append(_shift_steps(table[_in_core(table, ch)], ch.offset, fs))
+        parts.append(_shift_steps(table, ch.offset, fs))
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(ch.recording).steps_, ch).sum()))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     out.attrs.update(attrs)
     out.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_s}
+    if gait:
+        out.attrs["gait_check"] = _sum_accounts(accounts)
     if count_also is not None:
         out.attrs["count_also"] = {"detector": count_also, "n_steps": int(sum(also_counts))}
     return out
@@ -345,8 +439,9 @@ def long_pdr(
     as :func:`long_steps`), computes their step-length features and true-label modes on the
     chunk, and integrates the attitude (paper 003 sec. 4.2) across the chunks: each chunk
     continues the integration from the attitude (and gyroscope bias, ``gyro_bias`` as
-    :class:`~gaitml.pdr.attitude.AttitudeEstimator`'s; found on the first chunk, then
-    carried) of the sample before its core
+    :class:`~gaitml.pdr.attitude.AttitudeEstimator`'s: with ``'still'`` or ``'auto'`` the first
+    chunk starts from the still-stretch bias of the whole file, found in a first pass by
+    :func:`long_still_bias`, then the bias is carried) of the sample before its core
     (:meth:`~gaitml.pdr.attitude.AttitudeEstimator.estimate_from`), and the samples of its
     left margin keep the previous chunk's headings, so every sample's heading is that of one
     integration over the whole file (the complementary filter's zero-phase gravity low-pass
@@ -385,6 +480,7 @@ def long_pdr(
     from gaitml.pdr.step_modes import modes_from_windows, next_step_times
     from gaitml.pdr.update import mode_offsets_rad
     from gaitml.steps import get_detector
+    from gaitml.steps._table import gait_check_record
 
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
@@ -400,8 +496,15 @@ def long_pdr(
     if modes == "model":
         windows = long_predict(model, path, correction=True, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
 
+    # the still-stretch gyroscope bias of the whole file (a first pass), as a whole-file run starts from
+    att = source.attitude
+    still_bias = None
+    if isinstance(att.gyro_bias, str) and att.gyro_bias in ("still", "auto"):
+        still_bias = long_still_bias(path, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
+
     parts, feat_parts, gyro_parts, label_parts, bias_parts = [], [], [], [], []
     also_counts: list[int] = []
+    accounts: list[dict] = []
     attrs: dict = {}
     fs = None
     carry = None  # attitude of the sample before the next chunk's core
@@ -409,7 +512,6 @@ def long_pdr(
     first_bias = None  # the first chunk's bias record (what was removed at the start)
     prev_heading = None  # per-sample heading of the previous chunk, from global index prev_lo
     prev_lo = 0
-    att = source.attitude
     for ch in progress_chunks(iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"pdr ({detector})", enabled=progress):
         rec = ch.recording
         fs = rec.sampling_rate_hz
@@ -429,7 +531,7 @@ def long_pdr(
         # ---- attitude: continue the integration from the sample before this chunk's core
         k = ch.core_start - ch.offset
         if carry is None:
-            run = clone(att).estimate(rec)
+            run = clone(att).estimate(rec, still_bias=still_bias)
             heading_local = run.heading_rad_
             first = 0
             first_bias = run.gyro_bias_
@@ -442,10 +544,11 @@ def long_pdr(
         carry_bias = run.bias_rads_[last - first]
         bias_parts.append(run.bias_rads_[k - first : last - first + 1])
         prev_heading, prev_lo = heading_local, ch.offset
-        # ---- steps anchored in the core
-        table = get_detector(detector).detect(rec).steps_
+        # ---- steps anchored in the core (the detector's own gait-evidence test, accounted over the cores)
+        table, account = _core_steps(rec, ch, detector, None, None)
+        if account is not None:
+            accounts.append(account)
         attrs.update(table.attrs)
-        table = table[_in_core(table, ch)].reset_index(drop=True)
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(rec).steps_, ch).sum()))
         start = table["start"].to_numpy(np.int64)
@@ -464,6 +567,9 @@ def long_pdr(
         event = "t_peak_s"
     steps.attrs["event"] = event
     steps.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_s}
+    gait = gait_check_record(_sum_accounts(accounts)) if accounts else None
+    if gait is not None:
+        steps.attrs["gait_check"] = gait
     if count_also is not None:
         steps.attrs["count_also"] = {"detector": count_also, "n_steps": int(sum(also_counts))}
     feats = pd.concat(feat_parts, ignore_index=True)
@@ -513,7 +619,8 @@ def long_pdr(
             "update": update,
             "step_length": sl_source,
             "initial_heading_rad": float(initial_heading_rad),
-            "gyro_bias": None if first_bias is None else _bias_summary(first_bias, bias_parts, fs),
+            "gyro_bias": None if first_bias is None else _bias_summary(first_bias, still_bias, bias_parts, fs),
+            "gait_check": gait,
             "notes": notes,
         },
     )
@@ -521,13 +628,16 @@ def long_pdr(
     return res
 
 
-def _bias_summary(first, bias_parts, fs) -> dict:
-    """What the chunked attitude removed: the first chunk's start bias and, when tracked online,
-    the median of the tracked bias over the second half of the whole recording (as a whole-file run reports)."""
+def _bias_summary(first, still, bias_parts, fs) -> dict:
+    """What the chunked attitude removed, as a whole-file run reports it: the start bias (``still``, the
+    whole file's still-stretch estimate, when there is one; else the first chunk's) and, when tracked
+    online, the median of the tracked bias over the second half of the whole recording."""
     from gaitml.pdr.attitude import _online_summary
 
     if first.method not in ("online", "still+online"):
         return first.to_dict()
+    if still is not None:
+        return _online_summary(still, np.concatenate(bias_parts), fs).to_dict()
     start = first.__class__(
         np.asarray(first.params.get("start_bias_rads", np.zeros(3)), dtype=float),
         "still" if first.method == "still+online" else "none",
@@ -536,6 +646,34 @@ def _bias_summary(first, bias_parts, fs) -> dict:
         params={k: v for k, v in first.params.items() if k != "start_bias_rads"},
     )
     return _online_summary(start, np.concatenate(bias_parts), fs).to_dict()
+
+
+def long_still_bias(path: str | os.PathLike, *, chunk_s: float | None = None, progress: bool = True, **read_kwargs):
+    """The still-stretch gyroscope bias of a long recording read chunk by chunk: the same
+    :class:`~gaitml.signal.GyroBias` as :func:`gaitml.signal.estimate_gyro_bias` of the file read whole.
+
+    Each chunk gives the still test of the windows starting in its core
+    (:func:`gaitml.signal.still_windows` on the whole file's window grid; the chunk margins of two
+    still windows hold every core window whole), and one median runs over the windows of all
+    chunks (:func:`gaitml.signal.gyro_bias_from_windows`). Memory: a few tens of bytes per window
+    (half a still window, 0.5 s), e.g. 7 MB for a day.
+    """
+    from gaitml.signal import gyro_bias_from_windows, still_windows
+    from gaitml.signal._gyro_bias import STILL_WINDOW_S
+
+    chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
+    parts = []
+    for ch in progress_chunks(
+        iter_chunks(path, chunk_s=chunk_s, margin_s=2.0 * STILL_WINDOW_S, **read_kwargs), "gyro bias", enabled=progress
+    ):
+        rec = ch.recording
+        rec.require_gyr("PDR heading")
+        parts.append(still_windows(rec.acc, rec.gyr, rec.sampling_rate_hz, offset=ch.offset).select(ch.core_start, ch.core_end))
+    if not parts:
+        from gaitml.errors import InputError
+
+        raise InputError(f"{Path(path).name} has no samples.")
+    return gyro_bias_from_windows(parts)
 
 
 def check_long_pdr(

@@ -19,7 +19,9 @@ detector's per-segment confidence in [0, 1] where its table has a
 ``confidence`` column, e.g. ``adaptive``'s steps; NaN otherwise), followed by
 a few columns of the front end: ``event_s`` (the step's time, ``attrs['event']``
 of the step table) for steps; ``stance_end_s`` and ``swing_end_s`` for strides.
-``attrs`` carry ``by``, ``detector`` and ``sampling_rate_hz``.
+``attrs`` carry ``by``, ``detector`` and ``sampling_rate_hz``, and for steps from a detector
+that tests gait evidence (``adaptive``, :mod:`gaitml.steps._gait_evidence`) ``gait_check``: how
+many steps it left out in bouts without gait evidence.
 
 >>> from gaitml.segment import segment
 >>> segment(recording, by="strides", detector="pseudo-std")   # doctest: +SKIP
@@ -33,6 +35,7 @@ import pandas as pd
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.recording import Recording
+from gaitml.steps._table import gait_check_record
 
 __all__ = ["BY", "SEGMENT_COLUMNS", "DEFAULT_DETECTORS", "segment", "resolve_detector"]
 
@@ -167,4 +170,6 @@ def segment(recording: Recording, by: str = "steps", detector=None, *, max_strid
                 {"stance_end_s": st["stance_end"].to_numpy() / fs, "swing_end_s": st["swing_end"].to_numpy() / fs},
             )
     out.attrs.update({"by": by, "detector": name, "sampling_rate_hz": fs})
+    if by == "steps" and steps.attrs.get("gait_check") is not None:  # steps left out in bouts without gait evidence
+        out.attrs["gait_check"] = gait_check_record(steps.attrs["gait_check"])
     return out

@@ -66,3 +66,15 @@ def read_kwargs(args) -> dict:
         "columns": getattr(args, "columns", None),
         "time_unit": getattr(args, "time_unit", "s"),
     }
+
+
+def gait_check_note(account: dict | None, detector: str) -> None:
+    """One stderr note when the step detector left out steps in bouts without gait evidence
+    (``steps.attrs['gait_check']``, :func:`gaitml.steps._gait_evidence.gait_check`); nothing otherwise."""
+    if not account or not account.get("n_steps_rejected"):
+        return
+    log(
+        f"gaitml: note: {account['n_steps_rejected']} steps in {account['n_bouts_rejected']} of {account['n_bouts']} bouts "
+        f"without gait evidence left out by {detector} (the phone rotates at the step rate as a gesturing hand does, not as "
+        "a walker's); a paper detector (e.g. --detector single-peak) keeps them"
+    )

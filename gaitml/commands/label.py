@@ -11,7 +11,7 @@ import argparse
 from pathlib import Path
 
 from gaitml.commands._args import add_input_options
-from gaitml.commands._util import emit_json, load_input, log
+from gaitml.commands._util import emit_json, gait_check_note, load_input, log
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 
@@ -100,6 +100,7 @@ def run(args) -> int:
     if args.report:
         plot_label_report(lab, args.report)
     r = lab.report_
+    gait_check_note(r.get("gait_check"), r["detector"])
     if args.json:
         emit_json(
             {"out": str(out), "step_labels": str(side), "report_png": args.report, "intervals": lab.intervals_.to_dict("records"), **r}

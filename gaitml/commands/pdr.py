@@ -24,7 +24,7 @@ from gaitml.commands._args import (
     mode_sources,
     step_detectors,
 )
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
+from gaitml.commands._util import emit_json, gait_check_note, is_large_input, load_input, log, long_read_kwargs
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 
@@ -226,6 +226,7 @@ def run(args) -> int:
             res.trajectory.to_csv(tmp_out, index=False)
     for note in notes:
         log(f"note: {note}")
+    gait_check_note(res.info.get("gait_check"), detector)
     _warn_out_of_domain(model, modes, res.steps)
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
@@ -305,6 +306,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
             res.trajectory.to_csv(tmp_out, index=False)
     for note in notes:
         log(f"note: {note}")
+    gait_check_note(res.info.get("gait_check"), detector)
     _warn_out_of_domain(model, modes, res.steps)
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:

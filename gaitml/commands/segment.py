@@ -12,7 +12,7 @@ import argparse
 import math
 
 from gaitml.commands._args import add_input_options
-from gaitml.commands._util import emit_json, load_input, log
+from gaitml.commands._util import emit_json, gait_check_note, load_input, log
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 
 #: The command's one-line description in ``gaitml --help``.
@@ -60,6 +60,8 @@ def run(args) -> int:
     table = segment(rec, by=args.by, detector=det)
     write_csv(args.out, table)
     name = table.attrs["detector"]
+    gait = table.attrs.get("gait_check")
+    gait_check_note(gait, name)
     if args.json:
         emit_json(
             {
@@ -72,6 +74,7 @@ def run(args) -> int:
                     {"start_s": float(a), "end_s": float(b), "duration_s": float(d), "confidence": _num(c)}
                     for a, b, d, c in zip(table["start_s"], table["end_s"], table["duration_s"], table["confidence"], strict=True)
                 ],
+                **({"gait_check": gait} if gait is not None else {}),
             }
         )
         return 0

@@ -193,7 +193,14 @@ def _run_long(args) -> int:
 
     # the count cross-check (gaitml.steps.crosscheck) on the whole input: adaptive counted on the same chunks
     also = CROSSCHECK_DETECTOR if args.detector in FIXED_THRESHOLD_DETECTORS else None
-    steps = long_steps(args.input, args.detector, progress=True, count_also=also, **long_read_kwargs(args))
+    gait = getattr(args, "gait_check", None)
+    gait = args.detector in GAIT_CHECK_BY_DEFAULT if gait is None else gait
+    # the gait-evidence test per chunk, its account summed over the chunks' core steps (gaitml.chunked_run)
+    steps = long_steps(args.input, args.detector, progress=True, count_also=also, gait_check=gait, **long_read_kwargs(args))
+    checked = steps.attrs.get("gait_check") if gait else None
+    gait_line = _gait_line(checked)
+    if checked and checked["n_steps_rejected"]:
+        log(f"gaitml: note: {gait_line}")
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
         write_csv(args.out, steps)
@@ -211,9 +218,14 @@ def _run_long(args) -> int:
         }
         if warning:
             obj["warnings"] = [warning]
+        if checked is not None:
+            obj["gait_check"] = {k: v for k, v in checked.items() if k != "rejected_t_s"}
+            obj["gait_check"]["rejected_t_s"] = [float(v) for v in checked["rejected_t_s"]]
         emit_json(obj)
         return 0
     print(f"{args.input}: {len(steps)} steps ({args.detector}), processed in chunks of 10 min (30 s margins) at {fs:g} Hz")
+    if gait_line:
+        print(f"  gait check: {gait_line}")
     if args.out:
         print(f"  step table written to {args.out}")
     return 0

@@ -14,6 +14,7 @@ from gaitml.errors import InputError
 from gaitml.labels._evidence import change_at, step_character
 from gaitml.labels._intervals import check_intervals, read_intervals
 from gaitml.recording import Recording
+from gaitml.steps._table import gait_check_record
 
 __all__ = ["BOUNDARY_KINDS", "SNAP_MODES", "SNAP_RULES", "UNLABELLED", "IntervalLabeller", "label_recording"]
 
@@ -148,7 +149,10 @@ class IntervalLabeller(BaseAlgorithm):
         ``not_snapped`` (list of ``[t_s, status]``), ``mean_abs_shift_s``,
         ``max_abs_shift_s``, ``n_unlabelled_samples``, ``n_steps``,
         ``n_mixed_steps`` (label_fraction < 1), ``snap``, ``detector``,
-        ``max_snap_s``, ``boundary``, ``noise_s``, ``rule``.
+        ``max_snap_s``, ``boundary``, ``noise_s``, ``rule``, and ``gait_check``: the step
+        detector's gait-evidence account (steps left out in bouts without gait evidence,
+        :func:`gaitml.steps._gait_evidence.gait_check`; None for strides and for a detector
+        that ran no such test).
     """
 
     _action_method = "label"
@@ -307,6 +311,7 @@ class IntervalLabeller(BaseAlgorithm):
             "n_steps": int(len(self.steps_)),
             "n_mixed_steps": int((self.steps_["label_fraction"] < 1.0).sum()) if len(self.steps_) else 0,
             "labels": {str(k): int(v) for k, v in zip(*np.unique(labels, return_counts=True), strict=True)},
+            "gait_check": gait_check_record(units.attrs.get("gait_check")) if self.snap != "strides" else None,
         }
         return self
 

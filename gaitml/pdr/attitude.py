@@ -343,15 +343,16 @@ class AttitudeEstimator(BaseAlgorithm):
         self.gyro_bias = gyro_bias
         self.bias_gain = bias_gain
 
-    def _start_bias(self, recording) -> tuple[GyroBias, bool]:
-        """The bias removed from the start and whether it is tracked online afterwards."""
+    def _start_bias(self, recording, still: GyroBias | None = None) -> tuple[GyroBias, bool]:
+        """The bias removed from the start and whether it is tracked online afterwards (``still``: the
+        still-stretch estimate made elsewhere, used in place of this recording's own)."""
         gb = self.gyro_bias
         if isinstance(gb, str):
             if gb not in GYRO_BIAS_MODES:
                 raise InputError(f"unknown gyro_bias {gb!r}; use one of {', '.join(GYRO_BIAS_MODES)} or a (3,) bias in rad/s.")
             if gb == "off":
                 return GyroBias(np.zeros(3), "off", note="gyroscope bias removal turned off"), False
-            est = estimate_gyro_bias(recording.acc, recording.gyr, recording.sampling_rate_hz)
+            est = estimate_gyro_bias(recording.acc, recording.gyr, recording.sampling_rate_hz) if still is None else still
             online = gb == "auto" and self.gravity_gain_hz > 0 and self.bias_gain > 0
             return est, online
         b = np.asarray(gb, dtype=float).reshape(-1)
@@ -379,14 +380,21 @@ class AttitudeEstimator(BaseAlgorithm):
         self.steady_s_ = float(np.count_nonzero(gate) / fs) if online else 0.0
         return rot, bias
 
-    def estimate(self, recording) -> AttitudeEstimator:
+    def estimate(self, recording, *, still_bias: GyroBias | None = None) -> AttitudeEstimator:
         """Integrate the attitude over ``recording``; sets ``rotation_``, ``heading_rad_``, ``gyro_bias_`` and
-        ``bias_rads_``, returns ``self``."""
+        ``bias_rads_``, returns ``self``.
+
+        ``still_bias``: with ``gyro_bias`` ``'still'`` or ``'auto'``, the still-stretch estimate to
+        start from in place of this recording's own (:func:`gaitml.signal.estimate_gyro_bias`): the
+        estimate over a whole file when ``recording`` is its first chunk
+        (:func:`gaitml.chunked_run.long_pdr`, from :func:`gaitml.signal.gyro_bias_from_windows`).
+        Ignored for ``'off'`` and a given bias.
+        """
         self._validate_params()
         gyr = recording.require_gyr("gyro heading (attitude integration)")
         fs = recording.sampling_rate_hz
         recording.require_samples(2, "attitude integration")
-        gb, online = self._start_bias(recording)
+        gb, online = self._start_bias(recording, still_bias)
         n0 = max(1, min(recording.n_samples, int(round(self.init_window_s * fs))))
         up0 = gravity_direction(recording.acc[:n0])
         r0 = initial_attitude(up0, heading_rad=self.initial_heading_rad, forward_axis_body=self.forward_axis_body)

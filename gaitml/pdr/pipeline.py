@@ -43,6 +43,7 @@ from gaitml.pdr.step_modes import (
 )
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
 from gaitml.recording import Recording
+from gaitml.steps._table import gait_check_record
 
 __all__ = ["HEADING_SOURCES", "MODE_SOURCES", "PdrResult", "modes_from_labels", "modes_from_windows", "run_pdr"]
 
@@ -91,7 +92,8 @@ class PdrResult:
         (None for the start row and for a model without a domain record) and the object
         has ``out_of_domain_steps`` and ``side_direction_unsure_steps`` (side steps moved
         forward because the model cannot tell their direction; None for a model without a
-        domain record); without a model they are absent.
+        domain record); without a model they are absent. ``gait_check``: the step detector's
+        gait-evidence account (steps left out in bouts without gait evidence), when it ran.
         """
         traj = self.trajectory
         rows = [
@@ -112,6 +114,8 @@ class PdrResult:
             out["side_direction_unsure_steps"] = self.info.get("side_direction_unsure_steps")
         if self.info.get("gyro_bias") is not None:
             out["gyro_bias"] = self.info["gyro_bias"]
+        if self.info.get("gait_check") is not None:
+            out["gait_check"] = self.info["gait_check"]
         return out
 
 
@@ -305,7 +309,9 @@ def run_pdr(
 
     Returns
     -------
-    PdrResult
+    PdrResult, with ``info['gait_check']`` the step table's gait-evidence account (the default
+    ``adaptive`` detector leaves out bouts of steps without gait evidence,
+    :mod:`gaitml.steps._gait_evidence`; None when the detector ran no such test).
     """
     if not isinstance(recording, Recording):
         raise InputError(f"`recording` must be a gaitml Recording, got {type(recording).__name__}.")
@@ -335,6 +341,7 @@ def run_pdr(
         notes.append(f"the step table was not in time order; sorted by {event}")
     steps = steps.reset_index(drop=True).copy()
     steps.attrs["event"] = event
+    gait = gait_check_record(steps.attrs.get("gait_check"))  # before the tables are joined (attrs do not survive)
     t_step = steps[event].to_numpy(float)
     start = steps["start"].to_numpy(np.int64)
     end = steps["end"].to_numpy(np.int64)
@@ -423,6 +430,7 @@ def run_pdr(
             "step_length": sl_source,
             "initial_heading_rad": float(initial_heading_rad),
             "gyro_bias": _bias_record(source),
+            "gait_check": gait,
             "notes": notes,
         },
     )

@@ -1,7 +1,15 @@
 """Signal utilities: magnitude, smoothing, Butterworth filters, strided windows, gravity, gyroscope bias."""
 
 from gaitml.signal._basic import bandpass, butter_filter, centered_window_sums, lowpass, magnitude, moving_average
-from gaitml.signal._gyro_bias import GyroBias, estimate_gyro_bias, remove_gyro_bias, steady_tilt_mask
+from gaitml.signal._gyro_bias import (
+    GyroBias,
+    StillWindows,
+    estimate_gyro_bias,
+    gyro_bias_from_windows,
+    remove_gyro_bias,
+    steady_tilt_mask,
+    still_windows,
+)
 from gaitml.signal._orientation import gravity_components, gravity_direction, tilt_angles
 from gaitml.signal._windows import sliding_windows, window_params, window_starts
 
@@ -10,7 +18,9 @@ __all__ = [
     "butter_filter",
     "centered_window_sums",
     "GyroBias",
+    "StillWindows",
     "estimate_gyro_bias",
+    "gyro_bias_from_windows",
     "remove_gyro_bias",
     "gravity_components",
     "gravity_direction",
@@ -19,6 +29,7 @@ __all__ = [
     "moving_average",
     "sliding_windows",
     "steady_tilt_mask",
+    "still_windows",
     "tilt_angles",
     "window_params",
     "window_starts",

@@ -44,7 +44,15 @@ import numpy as np
 from gaitml.consts import GRAVITY_MS2
 from gaitml.errors import InputError
 
-__all__ = ["GyroBias", "estimate_gyro_bias", "remove_gyro_bias", "steady_tilt_mask"]
+__all__ = [
+    "GyroBias",
+    "StillWindows",
+    "estimate_gyro_bias",
+    "gyro_bias_from_windows",
+    "remove_gyro_bias",
+    "steady_tilt_mask",
+    "still_windows",
+]
 
 #: Defaults of the still detector (see the module docstring); ``gaitml pdr --gyro-bias`` and
 #: :class:`gaitml.pdr.attitude.AttitudeEstimator` use them.
@@ -106,6 +114,139 @@ def _window_stats(x: np.ndarray, win: int, hop: int) -> tuple[np.ndarray, np.nda
     return starts, mean, np.sqrt(var)
 
 
+@dataclass
+class StillWindows:
+    """The still test of every window of a recording (or of part of one), before the median.
+
+    Attributes
+    ----------
+    start : (k,) int, the windows' first samples, counted from the start of the whole recording
+        (windows start at multiples of the hop, half a window, so the windows of parts cut out of
+        one recording are the whole recording's windows).
+    still : (k,) bool, the windows that pass all tests of the module docstring.
+    mean_rate_rads : (k, 3) each window's mean angular rate (rad/s).
+    window : window length in samples.
+    sampling_rate_hz : the sample rate.
+    params : the still detector's settings.
+    """
+
+    start: np.ndarray
+    still: np.ndarray
+    mean_rate_rads: np.ndarray
+    window: int
+    sampling_rate_hz: float
+    params: dict = field(default_factory=dict)
+
+    def select(self, lo: int, hi: int) -> StillWindows:
+        """The windows starting in samples ``[lo, hi)`` (e.g. a chunk's core)."""
+        k = (self.start >= lo) & (self.start < hi)
+        return StillWindows(self.start[k], self.still[k], self.mean_rate_rads[k], self.window, self.sampling_rate_hz, dict(self.params))
+
+
+def still_windows(
+    acc_ms2,
+    gyr_rads,
+    sampling_rate_hz: float,
+    *,
+    offset: int = 0,
+    window_s: float = STILL_WINDOW_S,
+    acc_magnitude_tol_ms2: float = STILL_ACC_MAGNITUDE_TOL_MS2,
+    acc_std_max_ms2: float = STILL_ACC_STD_MAX_MS2,
+    gyr_std_max_rads: float = STILL_GYR_STD_MAX_RADS,
+    max_bias_rads: float = STILL_MAX_BIAS_RADS,
+) -> StillWindows:
+    """The still test of every half-overlapping window (module docstring), without the median.
+
+    ``offset`` is the index of the first sample in the whole recording: the windows start at
+    the whole recording's multiples of the hop, so the windows of the parts of a recording
+    read in pieces (each piece holding a window beyond the part it stands for) are the windows
+    of the recording read whole, and :func:`gyro_bias_from_windows` over all of them gives
+    :func:`estimate_gyro_bias` of the whole recording. Other parameters as
+    :func:`estimate_gyro_bias`.
+    """
+    acc = np.asarray(acc_ms2, dtype=float)
+    gyr = np.asarray(gyr_rads, dtype=float)
+    if acc.ndim != 2 or acc.shape[1] != 3 or gyr.shape != acc.shape:
+        raise InputError(f"`acc_ms2` and `gyr_rads` must both have shape (n, 3), got {acc.shape} and {gyr.shape}.")
+    if not np.isfinite(sampling_rate_hz) or sampling_rate_hz <= 0:
+        raise InputError(f"`sampling_rate_hz` must be a positive number, got {sampling_rate_hz}.")
+    params = {
+        "window_s": window_s,
+        "acc_magnitude_tol_ms2": acc_magnitude_tol_ms2,
+        "acc_std_max_ms2": acc_std_max_ms2,
+        "gyr_std_max_rads": gyr_std_max_rads,
+        "max_bias_rads": max_bias_rads,
+    }
+    win = max(2, int(round(window_s * sampling_rate_hz)))
+    hop = max(1, win // 2)
+    first = (-int(offset)) % hop  # the first local sample on the whole recording's hop grid
+    n = len(acc)
+    if n - first < win:
+        return StillWindows(np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool), np.zeros((0, 3)), win, float(sampling_rate_hz), params)
+    mag = np.linalg.norm(acc, axis=1)[:, None]
+    ok = np.isfinite(mag[:, 0]) & np.isfinite(gyr).all(axis=1)
+    if not ok.all():  # windows touching a non-finite sample never count as still
+        mag = np.where(ok[:, None], mag, 0.0)
+        gyr = np.where(ok[:, None], gyr, 0.0)
+    starts, m_mean, m_std = _window_stats(mag[first:], win, hop)
+    _, g_mean, g_std = _window_stats(gyr[first:], win, hop)
+    starts = starts + first
+    n_bad = np.concatenate([[0], np.cumsum(~ok)])
+    finite_win = (n_bad[starts + win] - n_bad[starts]) == 0
+    still = (
+        finite_win
+        & (np.abs(m_mean[:, 0] - GRAVITY_MS2) <= acc_magnitude_tol_ms2)
+        & (m_std[:, 0] <= acc_std_max_ms2)
+        & (g_std.max(axis=1) <= gyr_std_max_rads)
+        & (np.abs(g_mean).max(axis=1) <= max_bias_rads)
+    )
+    return StillWindows(starts.astype(np.int64) + int(offset), still, g_mean, win, float(sampling_rate_hz), params)
+
+
+def gyro_bias_from_windows(windows: StillWindows | list[StillWindows], *, min_still_s: float = STILL_MIN_S) -> GyroBias:
+    """The bias of :func:`estimate_gyro_bias` from the still test of the windows (:func:`still_windows`).
+
+    ``windows`` may be a list of the windows of the parts of one recording (each window in one
+    part only, e.g. :meth:`StillWindows.select` of each chunk's core): the median and the still
+    time are those of the recording read whole.
+    """
+    parts = [windows] if isinstance(windows, StillWindows) else list(windows)
+    if not parts:
+        raise InputError("gyro_bias_from_windows needs the windows of at least one part of a recording.")
+    win, fs = parts[0].window, parts[0].sampling_rate_hz
+    params = {**parts[0].params, "min_still_s": min_still_s}
+    start = np.concatenate([w.start for w in parts])
+    still = np.concatenate([w.still for w in parts])
+    rate = np.concatenate([w.mean_rate_rads for w in parts])
+    none = GyroBias(
+        np.zeros(3),
+        "none",
+        note=f"no still stretch of >= {min_still_s:g} s: gyroscope bias not removed",
+        params=params,
+    )
+    if len(start) == 0:
+        return none
+    # seconds covered by the union of the still windows (each covers `win` samples from its start)
+    s = np.sort(start[still])
+    covered = int(np.minimum(np.diff(s), win).sum() + win) if len(s) else 0
+    still_s = float(covered / fs)
+    n_still = int(still.sum())
+    none.still_s, none.n_still_windows = still_s, n_still
+    if n_still == 0 or still_s < min_still_s:
+        none.note = f"still for {still_s:.1f} s (< {min_still_s:g} s needed): gyroscope bias not removed"
+        return none
+    bias = np.median(rate[still], axis=0)
+    b = np.degrees(bias)
+    return GyroBias(
+        bias,
+        "still",
+        still_s=still_s,
+        n_still_windows=n_still,
+        note=f"gyroscope bias ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s removed, estimated over {still_s:.1f} s still",
+        params=params,
+    )
+
+
 def estimate_gyro_bias(
     acc_ms2,
     gyr_rads,
@@ -134,68 +275,20 @@ def estimate_gyro_bias(
 
     Returns
     -------
-    GyroBias (``method='still'`` or ``'none'``).
+    GyroBias (``method='still'`` or ``'none'``). The same as :func:`gyro_bias_from_windows` of
+    :func:`still_windows`, which a recording read in parts uses.
     """
-    acc = np.asarray(acc_ms2, dtype=float)
-    gyr = np.asarray(gyr_rads, dtype=float)
-    if acc.ndim != 2 or acc.shape[1] != 3 or gyr.shape != acc.shape:
-        raise InputError(f"`acc_ms2` and `gyr_rads` must both have shape (n, 3), got {acc.shape} and {gyr.shape}.")
-    if not np.isfinite(sampling_rate_hz) or sampling_rate_hz <= 0:
-        raise InputError(f"`sampling_rate_hz` must be a positive number, got {sampling_rate_hz}.")
-    params = {
-        "window_s": window_s,
-        "acc_magnitude_tol_ms2": acc_magnitude_tol_ms2,
-        "acc_std_max_ms2": acc_std_max_ms2,
-        "gyr_std_max_rads": gyr_std_max_rads,
-        "min_still_s": min_still_s,
-        "max_bias_rads": max_bias_rads,
-    }
-    win = max(2, int(round(window_s * sampling_rate_hz)))
-    hop = max(1, win // 2)
-    none = GyroBias(
-        np.zeros(3),
-        "none",
-        note=f"no still stretch of >= {min_still_s:g} s: gyroscope bias not removed",
-        params=params,
+    windows = still_windows(
+        acc_ms2,
+        gyr_rads,
+        sampling_rate_hz,
+        window_s=window_s,
+        acc_magnitude_tol_ms2=acc_magnitude_tol_ms2,
+        acc_std_max_ms2=acc_std_max_ms2,
+        gyr_std_max_rads=gyr_std_max_rads,
+        max_bias_rads=max_bias_rads,
     )
-    if len(acc) < win:
-        return none
-    mag = np.linalg.norm(acc, axis=1)[:, None]
-    ok = np.isfinite(mag[:, 0]) & np.isfinite(gyr).all(axis=1)
-    if not ok.all():  # windows touching a non-finite sample never count as still
-        mag = np.where(ok[:, None], mag, 0.0)
-        gyr = np.where(ok[:, None], gyr, 0.0)
-    starts, m_mean, m_std = _window_stats(mag, win, hop)
-    _, g_mean, g_std = _window_stats(gyr, win, hop)
-    n_bad = np.concatenate([[0], np.cumsum(~ok)])
-    finite_win = (n_bad[starts + win] - n_bad[starts]) == 0
-    still = (
-        finite_win
-        & (np.abs(m_mean[:, 0] - GRAVITY_MS2) <= acc_magnitude_tol_ms2)
-        & (m_std[:, 0] <= acc_std_max_ms2)
-        & (g_std.max(axis=1) <= gyr_std_max_rads)
-        & (np.abs(g_mean).max(axis=1) <= max_bias_rads)
-    )
-    # seconds covered by the union of the still windows
-    cover = np.zeros(len(acc) + 1, dtype=np.int64)
-    np.add.at(cover, starts[still], 1)
-    np.add.at(cover, starts[still] + win, -1)
-    still_s = float(np.count_nonzero(np.cumsum(cover)[:-1] > 0) / sampling_rate_hz)
-    n_still = int(still.sum())
-    none.still_s, none.n_still_windows = still_s, n_still
-    if n_still == 0 or still_s < min_still_s:
-        none.note = f"still for {still_s:.1f} s (< {min_still_s:g} s needed): gyroscope bias not removed"
-        return none
-    bias = np.median(g_mean[still], axis=0)
-    b = np.degrees(bias)
-    return GyroBias(
-        bias,
-        "still",
-        still_s=still_s,
-        n_still_windows=n_still,
-        note=f"gyroscope bias ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s removed, estimated over {still_s:.1f} s still",
-        params=params,
-    )
+    return gyro_bias_from_windows(windows, min_still_s=min_still_s)
 
 
 def remove_gyro_bias(gyr_rads, bias: GyroBias | np.ndarray) -> np.ndarray:

@@ -7,7 +7,7 @@ import pandas as pd
 
 from gaitml.consts import STEP_COLUMNS
 
-__all__ = ["make_step_table", "empty_step_table"]
+__all__ = ["make_step_table", "empty_step_table", "gait_check_record"]
 
 
 def make_step_table(
@@ -67,3 +67,13 @@ def empty_step_table(sampling_rate_hz: float, *, event: str) -> pd.DataFrame:
 
 
 assert STEP_COLUMNS[:3] == ("start", "peak", "end")
+
+
+def gait_check_record(account: dict | None) -> dict | None:
+    """A step table's gait-evidence account (``steps.attrs['gait_check']``, from
+    :func:`gaitml.steps._gait_evidence.gait_check`) as a JSON-ready dict, or None when no test ran."""
+    if account is None:
+        return None
+    out = {k: v.item() if isinstance(v, np.generic) else v for k, v in account.items() if k != "rejected_t_s"}
+    out["rejected_t_s"] = [float(v) for v in account.get("rejected_t_s", [])]
+    return out

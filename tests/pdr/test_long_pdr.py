@@ -173,3 +173,76 @@ def test_pdr_cli_long_path_summary_is_the_whole_files(walk_file, monkeypatch, ca
     lines = long.out.strip().splitlines()
     assert len(lines) == 3 and lines[1].startswith("  gyroscope bias") and lines[2].startswith("  truth:")
     assert lines == short.out.strip().splitlines()
+
+
+@pytest.fixture(scope="module")
+def biased_file(tmp_path_factory):
+    """60 s of walking, 10 s still, 20 s of walking; a gyroscope bias (0.04, -0.03, 0.05) rad/s throughout.
+    The still stretch lies after the first 30 s chunk, so a bias found on the first chunk alone would be wrong."""
+    from gaitml.consts import GRAVITY_MS2
+    from gaitml.recording import Recording
+
+    fs = 50.0
+    a = simulate_dataset(1, 60.0, sampling_rate_hz=fs, seed=3, modes=("walk",))[0]
+    b = simulate_dataset(1, 20.0, sampling_rate_hz=fs, seed=4, modes=("walk",))[0]
+    rng = np.random.default_rng(0)
+    n = int(10 * fs)
+    up = a.acc[-int(fs) :].mean(axis=0)
+    acc_still = up / np.linalg.norm(up) * GRAVITY_MS2 + rng.normal(0, 0.02, (n, 3))
+    gyr_still = rng.normal(0, 0.003, (n, 3))
+    acc = np.vstack([a.acc, acc_still, b.acc])
+    gyr = np.vstack([a.gyr, gyr_still, b.gyr]) + np.array([0.04, -0.03, 0.05])
+    p = tmp_path_factory.mktemp("longpdr_bias") / "biased.csv"
+    write_gaitml_csv(Recording.from_arrays(acc, fs, gyr=gyr), p)
+    return p
+
+
+@pytest.mark.parametrize("gyro_bias", ["still", "auto"])
+def test_long_pdr_takes_the_gyro_bias_of_the_whole_file(biased_file, gyro_bias):
+    """The bias comes from the still stretches of the whole file, not of the first chunk: the trajectory and the
+    reported bias are the whole-file run's (a first-chunk bias left 45 m between them on this file)."""
+    kw = {"modes": "forward", "detector": "single-peak", "gyro_bias": gyro_bias}
+    whole = run_pdr(read_recording(biased_file), **kw)
+    chunked = long_pdr(biased_file, **kw, chunk_s=30.0, margin_s=5.0, progress=False)
+    assert whole.info["gyro_bias"]["method"] in ("still", "still+online")
+    _compare(whole, chunked)
+    a, b = whole.info["gyro_bias"], chunked.info["gyro_bias"]
+    assert b["method"] == a["method"] and b["n_still_windows"] == a["n_still_windows"]
+    assert b["still_s"] == pytest.approx(a["still_s"], abs=1e-9)
+    np.testing.assert_allclose(b["bias_rads"], a["bias_rads"], atol=1e-6)
+    assert chunked.to_json_dict()["gyro_bias"]["bias_rads"] == b["bias_rads"]
+
+
+def test_still_windows_of_the_chunks_give_the_whole_file_bias(biased_file):
+    """gyro_bias_from_windows over the windows of every chunk's core is estimate_gyro_bias of the whole recording."""
+    from gaitml.chunked_run import long_still_bias
+    from gaitml.signal import estimate_gyro_bias, gyro_bias_from_windows, still_windows
+
+    rec = read_recording(biased_file)
+    whole = estimate_gyro_bias(rec.acc, rec.gyr, rec.sampling_rate_hz)
+    assert whole.method == "still" and whole.still_s >= 8.0
+    chunked = long_still_bias(biased_file, chunk_s=7.3, progress=False)
+    assert chunked.n_still_windows == whole.n_still_windows
+    assert chunked.still_s == pytest.approx(whole.still_s, abs=1e-9)
+    np.testing.assert_allclose(chunked.bias_rads, whole.bias_rads, atol=1e-9)
+    np.testing.assert_allclose(chunked.bias_rads, [0.04, -0.03, 0.05], atol=0.005)
+    # parts cut anywhere (not on the window grid), each holding its windows whole: the same windows
+    cut = [0, 777, 2001, rec.n_samples]
+    parts = [
+        still_windows(rec.acc[lo : hi + 60], rec.gyr[lo : hi + 60], rec.sampling_rate_hz, offset=lo).select(lo, hi)
+        for lo, hi in zip(cut[:-1], cut[1:], strict=True)
+    ]
+    assert gyro_bias_from_windows(parts).bias_rads == pytest.approx(whole.bias_rads, abs=1e-9)
+
+
+def test_pdr_cli_long_path_reports_the_whole_file_bias(biased_file, monkeypatch, capsys):
+    argv = ["pdr", str(biased_file), "--json", "--gyro-bias", "still", "--modes", "forward", "--detector", "single-peak"]
+    assert main(argv) == 0
+    a = json.loads(capsys.readouterr().out)
+    _force_long(monkeypatch)
+    assert main(argv) == 0
+    b = json.loads(capsys.readouterr().out)
+    assert b["gyro_bias"]["method"] == a["gyro_bias"]["method"] == "still"
+    np.testing.assert_allclose(b["gyro_bias"]["bias_rads"], a["gyro_bias"]["bias_rads"], atol=1e-6)
+    assert b["n_steps"] == a["n_steps"]
+    assert np.abs(np.subtract(b["end_xy_m"], a["end_xy_m"])).max() < POSITION_TOL_M

@@ -14,14 +14,19 @@ Equivalence with a whole-file run:
   per-sample decision is identical;
 - step detectors whose state is local (peaks, zero crossings, FSMs that reset
   every step) give the same steps away from chunk boundaries; detectors that
-  learn thresholds (``fsm-selflearn``, ``adaptive``) restart learning in every
-  chunk's left margin, which the 30 s margin covers;
+  learn thresholds (``fsm-selflearn``) restart learning in every chunk's left
+  margin, which the 30 s margin covers; ``adaptive``'s bout rules (a bout's weak
+  edges judged against the bout, its size, a short bout's regularity) see only
+  the part of a bout inside the chunk, so on a walk longer than the margin a few
+  steps of a bout can differ from a whole-file run's (at most one chunk's bouts
+  per chunk edge; nothing else in it depends on the whole recording);
 - the gait-evidence test of the steps (``adaptive``'s own, or ``gait_check`` of :func:`long_steps`)
   runs on each chunk's steps, as on a whole recording, and its account is summed over the steps
   anchored in the cores: equal to a whole-file run's for bouts shorter than the margin;
 - dead reckoning (:func:`long_pdr`) starts from the gyroscope bias of the whole file's still
   stretches (a first pass, :func:`long_still_bias`), carries the attitude across chunks and
-  corrects the heading over all steps: identical steps, positions within a millimetre.
+  corrects the heading over all steps: the whole-file run's trajectory (within a millimetre)
+  wherever the step detector gives the same steps.
 """
 
 from __future__ import annotations

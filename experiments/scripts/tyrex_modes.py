@@ -1,7 +1,7 @@
 """Modes on real carried phones (issue 27): the shipped models and three training recipes, one tyrex person left out at a time.
 
 ``python -m experiments.scripts.tyrex_modes [--data ../shared/data] [--features all52+gyro|all52] [--recipes sim,a,b,c]
-[--holdout person|person-phone] [--out FILE] [--csv FILE]``
+[--holdout person|person-phone] [--still-rule std|range] [--still-threshold MS2] [--out FILE] [--csv FILE]``
 from the repository root.
 
 Moving windows (the speed rule): the phone's true path from the motion capture is
@@ -136,13 +136,17 @@ def load_tyrex_labelled(data: Path, fs: float = 50.0) -> list[dict]:
     return out
 
 
-def window_table(model, items: list[dict]) -> pd.DataFrame:
-    """Per recording: right / flagged / wrong counts over its moving windows, and its still windows flagged."""
+def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataFrame:
+    """Per recording: right / flagged / wrong counts over its moving windows, and its still windows flagged.
+
+    ``gate``: keyword arguments of :func:`gaitml.models.predict_recording` for its still gate
+    (``still_rule``, ``still_threshold_ms2``); None for its defaults.
+    """
     from gaitml.models import predict_recording
 
     rows = []
     for it in items:
-        p = predict_recording(model, it["recording"])
+        p = predict_recording(model, it["recording"], **(gate or {}))
         s = score_windows(p, it["mode"])
         still = p[(p["label"].astype(str) == "still") & (p["label_fraction"] >= 0.5)]
         n_still_flagged = int(sum(v is False for v in still["in_domain"]))
@@ -409,7 +413,10 @@ def main(argv=None) -> int:
     ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
     ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
+    ap.add_argument("--still-rule", choices=("std", "range"), default=None, help="the still gate's rule (default: gaitml's)")
+    ap.add_argument("--still-threshold", type=float, default=None, metavar="MS2", help="the still gate's threshold (default: the rule's)")
     a = ap.parse_args(argv)
+    gate = {k: v for k, v in (("still_rule", a.still_rule), ("still_threshold_ms2", a.still_threshold)) if v is not None}
     cfg = simulated_part(load_config(a.config))
     over = {}
     if a.features:
@@ -433,7 +440,7 @@ def main(argv=None) -> int:
     emit(f"moving samples (body speed > 0.3 m/s): {n_moving / n_in:.3f} of the captured samples")
     for mdir in [m for m in a.baseline.split(",") if m]:
         model = load_model(mdir)
-        t = window_table(model, items)
+        t = window_table(model, items, gate)
         t["model"] = mdir
         rows_all.append(t)
         seen = sorted(set((model.info.get("training_data") or {}).get("groups") or []) & {it["subject"] for it in items})
@@ -459,7 +466,7 @@ def main(argv=None) -> int:
             person = person if phone is None else f"{person}/{phone}"
             with tempfile.TemporaryDirectory() as tmp:
                 model, n_win = train_recipe(cfg, sim_train, train, recipe, Path(tmp) / "m")
-            t = window_table(model, test)
+            t = window_table(model, test, gate)
             t["model"], t["left_out"] = f"recipe {recipe} ({cfg['features']['set']})", person
             tabs.append(t)
             s = sim_side_table(model, [r for r in sim_test if r.meta["position"] in positions])

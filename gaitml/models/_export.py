@@ -174,16 +174,23 @@ def input_spec(model) -> dict:
 
 
 def _still_spec() -> dict:
-    """The still gate (gaitml.models._predict.still_windows) as the JSON export states it."""
-    from gaitml.models._predict import STILL, STILL_RANGE_MS2
+    """The still gate (gaitml.models._predict.still_windows, default rule) as the JSON export states it."""
+    from gaitml.models._predict import STILL, STILL_RANGE_MS2, STILL_RULE, STILL_THRESHOLDS_MS2
 
+    what = {
+        "std": "the standard deviation of |acc| over its samples (population form: divided by the number of samples)",
+        "range": "max - min of |acc| over its samples",
+    }[STILL_RULE]
     return {
         "mode": STILL,
-        "range_ms2": STILL_RANGE_MS2,
+        "statistic": STILL_RULE,
+        "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE],
+        # the earlier gate's threshold on max - min, for readers of format_version 1 exports that name it
+        "range_ms2": STILL_RANGE_MS2 if STILL_RULE == "range" else None,
         "rule": (
-            "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2, at the model's rate) "
-            f"has max - min < range_ms2 over its samples gets the label '{STILL}' (no step in it: paper 003 sec. 2.2's "
-            "step peak rises 2 m/s^2 above gravity); the raw label is the classifier's."
+            "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2, at the model's rate) has "
+            f"{what} below threshold_ms2 gets the label '{STILL}' (no gait in it: a phone lying still or a person standing; "
+            "a walker's steps keep |acc| oscillating at the step rate, paper 003 sec. 2.2); the raw label is the classifier's."
         ),
     }
 

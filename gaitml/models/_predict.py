@@ -14,20 +14,43 @@ __all__ = [
     "domain_columns",
     "still_windows",
     "side_direction_unsure",
+    "still_statistic",
+    "describe_still_gate",
     "STILL",
+    "STILL_RULE",
+    "STILL_RULES",
+    "STILL_STD_MS2",
     "STILL_RANGE_MS2",
+    "STILL_THRESHOLDS_MS2",
     "SIDE_MODES",
     "FACE_UP_MAX_DEG",
 ]
 
 #: The mode reported for a window with no gait in it (a phone lying still, a person standing).
 STILL = "still"
-#: A window whose |acc| swings by less than this (m/s^2) from its lowest to its highest sample
-#: holds no step: paper 003 sec. 2.2 counts a step only at a peak rising sigma1 = 2 m/s^2 above
-#: gravity (:data:`gaitml.steps.single_peak.PEAK_THRESHOLD_MS2`), so a window whose whole
-#: swing is smaller cannot hold one. The classifier was trained on walking, running and
-#: sideways or backward steps only and has no class for it.
+#: The statistics the still gate can read from a window's |acc| (see :func:`still_statistic`).
+STILL_RULES = ("std", "range")
+#: The default still gate: the standard deviation of |acc| over the window (:data:`STILL_STD_MS2`).
+STILL_RULE = "std"
+#: Rule ``"std"``: a window whose |acc| has a standard deviation below this (m/s^2) holds no
+#: walking. A walker's steps make the acceleration magnitude oscillate at the step rate for the
+#: whole window (the vertical bounce of paper 003 sec. 2.2: a peak above gravity and a valley
+#: below it at every step), so its standard deviation measures the sustained stepping energy;
+#: a standing walker's hand tremor and the single jolt of a tap, a shuffle or a phone put down
+#: move few samples and leave it small. (A sinusoidal bounce of amplitude A has a standard
+#: deviation of A / sqrt(2) and a max - min of 2 A: 0.41 m/s^2 is the standard deviation of a
+#: bounce swinging 1.16 m/s^2, about half of :data:`STILL_RANGE_MS2`.) The value is the one at
+#: which the standing windows of real hand-held and pocket phones are read still as often as
+#: with the ``"range"`` rule, chosen on recordings of real walkers (experiments/reports/still-gate.md).
+STILL_STD_MS2 = 0.41
+#: Rule ``"range"`` (the gate before the ``"std"`` rule): a window whose |acc| swings by less than
+#: this (m/s^2) from its lowest to its highest sample holds no step: paper 003 sec. 2.2 counts a
+#: step only at a peak rising sigma1 = 2 m/s^2 above gravity
+#: (:data:`gaitml.steps.single_peak.PEAK_THRESHOLD_MS2`), so a window whose whole swing is smaller
+#: cannot hold one. Two extreme samples set it, so one jolt of a standing hand lifts it over the gate.
 STILL_RANGE_MS2 = 2.0
+#: The threshold (m/s^2) of each rule of the still gate.
+STILL_THRESHOLDS_MS2 = {"std": STILL_STD_MS2, "range": STILL_RANGE_MS2}
 #: The side-step modes, whose name carries a direction (left / right of the walker).
 SIDE_MODES = ("side_left", "side_right")
 #: A side step's direction is read from the phone's own lateral axis (the phone-frame features
@@ -39,24 +62,50 @@ SIDE_MODES = ("side_left", "side_right")
 FACE_UP_MAX_DEG = 60.0
 
 
-def still_windows(recording: Recording, windows: pd.DataFrame, range_ms2: float = STILL_RANGE_MS2) -> np.ndarray:
-    """Whether each window (``start``, ``end`` samples of ``recording``) holds no step (see :data:`STILL_RANGE_MS2`)."""
+def still_statistic(recording: Recording, windows: pd.DataFrame, rule: str = STILL_RULE) -> np.ndarray:
+    """The still gate's statistic of each window (``start``, ``end`` samples of ``recording``), m/s^2.
+
+    ``rule`` ``"std"``: the standard deviation of |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2)) over
+    the window's samples (population form, divided by the number of samples); ``"range"``: its
+    max - min. An empty window gives 0. Only the window's own samples are read, so a recording
+    cut into chunks gives every window the same value.
+    """
+    if rule not in STILL_RULES:
+        raise InputError(f"unknown still rule {rule!r}; choose one of {', '.join(STILL_RULES)}.")
     n = len(windows)
+    out = np.zeros(n)
     if n == 0:
-        return np.zeros(0, dtype=bool)
+        return out
     mag = np.sqrt(np.sum(np.square(recording.acc), axis=1))
     start = windows["start"].to_numpy(dtype=np.int64)
     end = np.minimum(windows["end"].to_numpy(dtype=np.int64), len(mag))
     lengths = end - start
-    swing = np.zeros(n)
-    if n and (lengths == lengths[0]).all() and lengths[0] > 0:
-        view = np.lib.stride_tricks.sliding_window_view(mag, int(lengths[0]))
-        sub = view[start]
-        swing = sub.max(axis=1) - sub.min(axis=1)
-    else:
-        for i, (a, b) in enumerate(zip(start, end, strict=True)):
-            swing[i] = float(np.ptp(mag[a:b])) if b > a else 0.0
-    return swing < float(range_ms2)
+    if (lengths == lengths[0]).all() and lengths[0] > 0:
+        sub = np.lib.stride_tricks.sliding_window_view(mag, int(lengths[0]))[start]
+        return sub.std(axis=1) if rule == "std" else sub.max(axis=1) - sub.min(axis=1)
+    for i, (a, b) in enumerate(zip(start, end, strict=True)):
+        if b > a:
+            out[i] = float(np.std(mag[a:b])) if rule == "std" else float(np.ptp(mag[a:b]))
+    return out
+
+
+def still_windows(recording: Recording, windows: pd.DataFrame, rule: str = STILL_RULE, threshold_ms2: float | None = None) -> np.ndarray:
+    """Whether each window (``start``, ``end`` samples of ``recording``) holds no gait.
+
+    True where :func:`still_statistic` of ``rule`` is below ``threshold_ms2`` (None: the rule's
+    default, :data:`STILL_STD_MS2` for ``"std"``, :data:`STILL_RANGE_MS2` for ``"range"``).
+    """
+    thr = STILL_THRESHOLDS_MS2.get(rule) if threshold_ms2 is None else float(threshold_ms2)
+    return still_statistic(recording, windows, rule) < thr
+
+
+def describe_still_gate(rule: str = STILL_RULE, threshold_ms2: float | None = None) -> str:
+    """The still gate in words, for messages: e.g. ``"the standard deviation of |acc| is under 0.41 m/s^2"``."""
+    thr = STILL_THRESHOLDS_MS2.get(rule) if threshold_ms2 is None else float(threshold_ms2)
+    if rule not in STILL_RULES:
+        raise InputError(f"unknown still rule {rule!r}; choose one of {', '.join(STILL_RULES)}.")
+    what = "the standard deviation of |acc| is" if rule == "std" else "|acc| swings by"
+    return f"{what} under {thr:g} m/s^2"
 
 
 def _windows_for(recording: Recording, length_s: float, overlap: float) -> pd.DataFrame:
@@ -165,7 +214,9 @@ def checked_domain_columns(dom, X: np.ndarray, gravity: np.ndarray | None, dynam
     return out
 
 
-def predict_recording(model, recording: Recording, correction: bool = True) -> pd.DataFrame:
+def predict_recording(
+    model, recording: Recording, correction: bool = True, *, still_rule: str = STILL_RULE, still_threshold_ms2: float | None = None
+) -> pd.DataFrame:
     """Predict the motion mode of every window of ``recording``.
 
     Applies the model's saved window length, overlap and sampling rate
@@ -178,6 +229,9 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     model : TrainedModel (from :func:`gaitml.models.load_model`)
     recording : Recording
     correction : bool, default True
+    still_rule, still_threshold_ms2 : the still gate (:func:`still_windows`): ``"std"`` (the
+        default, :data:`STILL_STD_MS2`) or ``"range"`` (the earlier gate, :data:`STILL_RANGE_MS2`),
+        and its threshold (None: the rule's default).
 
     Returns
     -------
@@ -185,7 +239,7 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
         One row per window: ``start``, ``end`` (samples at the model's rate),
         ``t_start_s``, ``t_end_s``, ``mode_raw`` (model output), ``mode`` (after
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
-        step in it, :func:`still_windows`), ``still``, ``in_domain`` (True/False from
+        gait in it, :func:`still_windows`), ``still``, ``in_domain`` (True/False from
         the model's domain record, :mod:`gaitml.models.domain`; None when the model
         has none), ``domain_distance``, ``gravity_angle_deg`` (NaN when not
         checked), plus ``label`` and ``label_fraction`` when the recording has
@@ -214,7 +268,18 @@ def predict_recording(model, recording: Recording, correction: bool = True) -> p
     out["mode_raw"], out["mode"] = predicted_modes(model, X, correction)
     # ---- out-of-domain check (gaitml.models.domain)
     domain = domain_columns(model, rec, w, X if model.input_kind == "features" else None)
-    return finish_predictions(out, w, domain, model, recording, rec, correction, has_domain=getattr(model, "domain", None) is not None)
+    return finish_predictions(
+        out,
+        w,
+        domain,
+        model,
+        recording,
+        rec,
+        correction,
+        still_rule=still_rule,
+        still_threshold_ms2=still_threshold_ms2,
+        has_domain=getattr(model, "domain", None) is not None,
+    )
 
 
 def predicted_modes(model, X: np.ndarray, correction: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -248,11 +313,21 @@ def side_direction_unsure(recording: Recording, windows: pd.DataFrame, modes, ma
 
 
 def finish_predictions(
-    out: pd.DataFrame, windows: pd.DataFrame, domain: dict, model, recording: Recording, rec: Recording, correction: bool, **attrs
+    out: pd.DataFrame,
+    windows: pd.DataFrame,
+    domain: dict,
+    model,
+    recording: Recording,
+    rec: Recording,
+    correction: bool,
+    *,
+    still_rule: str = STILL_RULE,
+    still_threshold_ms2: float | None = None,
+    **attrs,
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
 
-    A window with no step in it (:func:`still_windows`) gets the mode :data:`STILL`
+    A window with no gait in it (:func:`still_windows` with ``still_rule``, ``still_threshold_ms2``) gets the mode :data:`STILL`
     and ``still = True``; ``mode_raw`` keeps the model's answer. ``side_direction_unsure``
     marks side steps read from an upright phone (:func:`side_direction_unsure`).
 
@@ -263,7 +338,7 @@ def finish_predictions(
     for c, v in domain.items():
         out[c] = v
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
-    out["still"] = still_windows(rec, windows)
+    out["still"] = still_windows(rec, windows, still_rule, still_threshold_ms2)
     out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)
     # a side step read from an upright phone: its left / right is not tied to the walker's
     out["side_direction_unsure"] = side_direction_unsure(rec, windows, out["mode"].to_numpy())

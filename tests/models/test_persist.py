@@ -168,10 +168,11 @@ def _numpy_predict_from_json(spec: dict, acc: np.ndarray, gyr: np.ndarray | None
             out[k] = w2
         elif w2 == w4 and w2 != w3:
             out[k] = w2
-    still = spec["postprocess"]["still"]  # the still gate as the JSON states it (issue 28)
+    still = spec["postprocess"]["still"]  # the still gate as the JSON states it
     mag = np.linalg.norm(acc, axis=1)
-    swing = np.array([np.ptp(mag[s : s + length]) for s in starts])
-    out = [still["mode"] if sw < still["range_ms2"] else m for m, sw in zip(out, swing, strict=True)]
+    stat = {"std": np.std, "range": np.ptp}[still["statistic"]]
+    value = np.array([stat(mag[s : s + length]) for s in starts])
+    out = [still["mode"] if v < still["threshold_ms2"] else m for m, v in zip(out, value, strict=True)]
     side = spec["postprocess"]["side_direction"]  # the side-direction flag as the JSON states it
     g = np.array([acc[s : s + length].mean(axis=0) for s in starts])
     cos_z = g[:, 2] / np.linalg.norm(g, axis=1)

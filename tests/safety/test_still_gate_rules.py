@@ -1,0 +1,85 @@
+"""The still gate's two rules: |acc| standard deviation (default) and |acc| max - min (the earlier gate)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from gaitml.errors import InputError
+from gaitml.models import load_model, predict_recording
+from gaitml.models._predict import STILL_RANGE_MS2, STILL_RULE, STILL_STD_MS2, describe_still_gate, still_statistic, still_windows
+from gaitml.recording import Recording
+from tests.conftest import ROOT
+
+G = 9.80665
+FS = 50.0
+
+
+def _rec(mag_extra: np.ndarray, seed: int = 0) -> Recording:
+    """A phone whose |acc| is gravity plus ``mag_extra`` (along z), a little sensor noise, a quiet gyroscope."""
+    rng = np.random.default_rng(seed)
+    n = len(mag_extra)
+    acc = np.column_stack([np.zeros(n), np.zeros(n), G + mag_extra]) + rng.normal(0, 0.02, (n, 3))
+    return Recording(acc=acc, gyr=rng.normal(0, 0.002, (n, 3)), sampling_rate_hz=FS)
+
+
+def _windows(n: int, length: int = 75, hop: int = 37) -> pd.DataFrame:
+    starts = np.arange(0, n - length + 1, hop)
+    return pd.DataFrame({"start": starts, "end": starts + length})
+
+
+def test_statistics_are_the_std_and_range_of_the_magnitude_in_each_window():
+    rng = np.random.default_rng(1)
+    rec = _rec(rng.normal(0, 0.5, 600))
+    mag = np.linalg.norm(rec.acc, axis=1)
+    w = _windows(600)
+    want_std = [np.std(mag[a:b]) for a, b in zip(w["start"], w["end"], strict=True)]
+    want_rng = [np.ptp(mag[a:b]) for a, b in zip(w["start"], w["end"], strict=True)]
+    np.testing.assert_allclose(still_statistic(rec, w, "std"), want_std, rtol=1e-9)
+    np.testing.assert_allclose(still_statistic(rec, w, "range"), want_rng, rtol=1e-9)
+    # windows of unequal length take the per-window path and agree with it
+    w2 = pd.DataFrame({"start": [0, 100, 300], "end": [75, 160, 390]})
+    np.testing.assert_allclose(still_statistic(rec, w2, "std"), [np.std(mag[a:b]) for a, b in zip(w2["start"], w2["end"], strict=True)])
+    assert STILL_RULE == "std"
+    with pytest.raises(InputError, match="still rule"):
+        still_windows(rec, w, "peak")
+
+
+def test_a_slow_walkers_bounce_is_gait_and_a_standing_jolt_is_not():
+    t = np.arange(1500) / FS
+    # a slow hand-held walker: |acc| bounces 0.7 m/s^2 each way at 1.6 steps/s (max - min 1.4 < 2 m/s^2)
+    walker = _rec(0.7 * np.sin(2 * np.pi * 1.6 * t))
+    # a standing walker's phone: tremor, and one 3 m/s^2 jolt of one sample (20 ms) every 3 s (a tap, a shuffle)
+    jolts = np.zeros(len(t))
+    jolts[20::150] = 3.0
+    standing = _rec(0.05 * np.sin(2 * np.pi * 0.7 * t) + jolts, seed=2)
+    w = _windows(len(t))
+    assert not still_windows(walker, w).any()  # std 0.49 > 0.41
+    assert still_windows(walker, w, "range").all()  # the earlier gate reads the walker as still
+    assert still_windows(standing, w).all()  # std about 0.35 with one jolt in a window, under 0.41
+    jolted = (still_statistic(standing, w, "range") >= STILL_RANGE_MS2).mean()
+    assert jolted > 0.3 and (~still_windows(standing, w, "range")).mean() == jolted  # the earlier gate reads the jolts as gait
+
+
+def test_predict_takes_the_rule_and_threshold():
+    model = load_model(ROOT / "models" / "demo")
+    t = np.arange(1500) / FS
+    rec = _rec(0.35 * np.sqrt(2) * np.sin(2 * np.pi * 1.6 * t))  # std 0.35 (under 0.41), max - min 0.99 (under 2)
+    default = predict_recording(model, rec)
+    assert default["still"].all() and (default["mode"] == "still").all()
+    off = predict_recording(model, rec, still_threshold_ms2=0.0)
+    assert not off["still"].any() and (off["mode"] != "still").all()
+    lower = predict_recording(model, rec, still_threshold_ms2=0.3)
+    assert not lower["still"].any()
+    old = predict_recording(model, rec, still_rule="range")
+    assert old["still"].all()
+    pd.testing.assert_series_equal(default["mode_raw"], off["mode_raw"])
+    assert STILL_STD_MS2 < STILL_RANGE_MS2 / np.sqrt(8)  # the std gate passes a sinusoidal bounce the range gate reads still
+
+
+def test_the_gate_in_words_names_the_rule_and_threshold():
+    assert describe_still_gate() == f"the standard deviation of |acc| is under {STILL_STD_MS2:g} m/s^2"
+    assert describe_still_gate("range") == "|acc| swings by under 2 m/s^2"
+    with pytest.raises(InputError, match="still rule"):
+        describe_still_gate("peak")

@@ -50,10 +50,10 @@ def run(args) -> int:
 
 def still_warning(n_still: int, n: int, unit: str) -> str:
     """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows)."""
-    from gaitml.models._predict import STILL_RANGE_MS2
+    from gaitml.models._predict import describe_still_gate
 
     return (
-        f"{n_still} of {n} {unit} hold no step (|acc| swings by less than {STILL_RANGE_MS2:g} m/s^2: lying still or standing); "
+        f"{n_still} of {n} {unit} hold no step ({describe_still_gate()}: lying still or standing); "
         "they are reported as 'still', not as one of the model's motion modes (mode_raw keeps the model's answer)."
     )
 

@@ -83,3 +83,11 @@ def test_the_gate_in_words_names_the_rule_and_threshold():
     assert describe_still_gate("range") == "|acc| swings by under 2 m/s^2"
     with pytest.raises(InputError, match="still rule"):
         describe_still_gate("peak")
+
+
+def test_the_predict_warning_states_the_gate_in_force():
+    from gaitml.commands.predict import still_warning
+    from gaitml.models._predict import describe_still_gate
+
+    line = still_warning(3, 10, "windows")
+    assert describe_still_gate() in line and line.startswith("3 of 10 windows")

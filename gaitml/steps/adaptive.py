@@ -37,7 +37,12 @@ amplitude it uses is a noise floor. Five stages:
    ``slow_step_max_rms_ms2``): a slow step, 0.75-1.2 Hz, shows as a deep
    anti-phase at its half (the half-period rule does not take it for a
    stride) and a gentle signal; a one-leg stride of normal walking at the
-   same period shows several m/s^2. A slow step must also be in
+   same period shows several m/s^2. That alternative needs a phone on a
+   swinging thigh or arm (the hip flexes and extends through 30-40 deg per
+   stride, Perry & Burnfield, *Gait Analysis*, 2010): where the gyroscope
+   shows the phone does not swing (swing RMS below ``gyro_min_rms_rads``,
+   stage 2b) the ceiling does not apply, so a phone held steady by a slow
+   walker with a strong bounce keeps its slow steps. A slow step must also be in
    deep anti-phase at its half (autocorrelation there at most
    ``slow_step_max_half_correlation``, -0.5): a one-leg stride of a gentle
    walk (a trouser pocket) has no such anti-phase, both heel strikes reach
@@ -150,7 +155,8 @@ SLOW_STEP_HZ = 1.2
 #: a window whose band-passed |acc| RMS exceeds this (m/s^2) cannot hold steps slower than SLOW_STEP_HZ: the
 #: trunk's vertical acceleration is about (2 pi f)^2 times half its vertical excursion, at most ~0.85 m/s^2
 #: amplitude (0.6 RMS) at 1.2 steps/s with the ~3 cm excursion of slow walking (Orendurff et al., J. Rehabil.
-#: Res. Dev. 41, 2004); the ceiling allows 2.5 times that for the phone's own motion. A period there is a stride.
+#: Res. Dev. 41, 2004); the ceiling allows 2.5 times that for the phone's own motion. A period there is a stride,
+#: except where the gyroscope shows a phone that does not swing (no thigh or arm to make a one-leg stride)
 SLOW_STEP_MAX_RMS_MS2 = 1.5
 #: a slow step is in deep anti-phase at half its period: a period longer than 1 / SLOW_STEP_HZ whose
 #: autocorrelation at its half is above this is a stride (a step period gives -0.55 to -0.98 at its half on every
@@ -239,6 +245,7 @@ def local_cadence(
     slow_step_hz: float = SLOW_STEP_HZ,
     slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
     slow_step_max_half_correlation: float = SLOW_STEP_MAX_HALF_CORRELATION,
+    still: np.ndarray | None = None,
 ) -> dict[str, np.ndarray]:
     """Step period per sliding window, with the stride-versus-step decision (module docstring, stage 2).
 
@@ -250,6 +257,11 @@ def local_cadence(
     window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation, slow_step_hz, slow_step_max_rms_ms2,
     slow_step_max_half_correlation
         As :class:`AdaptiveStepDetector`.
+    still : bool array (one per window), optional
+        Windows where the gyroscope shows the phone does not swing (swing RMS
+        below ``GYRO_MIN_RMS_RADS``): the motion ceiling
+        ``slow_step_max_rms_ms2`` does not apply there (module docstring,
+        stage 2). None (no gyroscope): it applies everywhere.
 
     Returns
     -------
@@ -336,7 +348,12 @@ def local_cadence(
     half_correlation = r_at(lag / 2.0)
     # not in deep anti-phase at its half: a one-leg stride
     slower = lag > fs / slow_step_hz
-    inferred = (lag > fs / min_step_hz) | (slower & ((rms > slow_step_max_rms_ms2) | (half_correlation > slow_step_max_half_correlation)))
+    # the motion ceiling stands for a one-leg stride of normal walking, whose phone swings with the thigh or arm:
+    # where the gyroscope shows a phone that does not swing, that alternative is gone and the ceiling is lifted
+    ceiling = rms > slow_step_max_rms_ms2
+    if still is not None:
+        ceiling &= ~np.asarray(still, dtype=bool)[:n_win]
+    inferred = (lag > fs / min_step_hz) | (slower & (ceiling | (half_correlation > slow_step_max_half_correlation)))
     # a slow step must persist: a slow reading among windows of twice that cadence (within SLOW_STEP_CONTEXT
     # windows either side) is a stride of the same walk (cadence does not halve for a window)
     slow = (lag > fs / slow_step_hz) & ~inferred & ~stride
@@ -560,6 +577,15 @@ def adaptive_steps(
     y = bandpass(x - np.median(x), band_hz[0], band_hz[1], fs, order=2)
     # the cadence estimate runs on the band-limited signal decimated to about CADENCE_RATE_HZ
     q = max(1, int(fs // CADENCE_RATE_HZ))
+    still = None
+    if gyr_rads is not None:
+        g = np.asarray(gyr_rads, dtype=float)
+        g = bandpass(g - g.mean(axis=0), GYRO_BAND_HZ[0], min(GYRO_BAND_HZ[1], 0.45 * fs), fs, order=2)[::q]
+        L = min(len(g), int(round(window_s * fs / q)))
+        H = max(1, int(round(hop_s * fs / q)))
+        n_win = (len(g) - L) // H + 1
+        # the phone's swing per cadence window: below gyro_min_rms_rads it rides no swinging thigh or arm
+        still = swing_correlation(g, L, H, n_win, np.ones((n_win, 1)))[0] < gyro_min_rms_rads
     cad = local_cadence(
         y[::q],
         fs / q,
@@ -571,11 +597,9 @@ def adaptive_steps(
         slow_step_hz=slow_step_hz,
         slow_step_max_rms_ms2=slow_step_max_rms_ms2,
         slow_step_max_half_correlation=slow_step_max_half_correlation,
+        still=still,
     )
     if gyr_rads is not None:
-        g = np.asarray(gyr_rads, dtype=float)
-        g = bandpass(g - g.mean(axis=0), GYRO_BAND_HZ[0], min(GYRO_BAND_HZ[1], 0.45 * fs), fs, order=2)[::q]
-        L = min(len(g), int(round(window_s * fs / q)))
         cad = gyro_stride_or_step(
             cad,
             g,
@@ -682,6 +706,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         The most motion a walker slower than ``slow_step_hz`` makes at the
         phone (m/s^2 RMS): the trunk's vertical acceleration at 1.2 steps/s and
         a ~3 cm excursion (Orendurff et al. 2004) is ~0.6 RMS; 2.5 times that.
+        Not applied where the gyroscope shows the phone does not swing (swing
+        RMS below ``gyro_min_rms_rads``).
     slow_step_max_half_correlation : float, default -0.5
         A period longer than ``1 / slow_step_hz`` is a slow step only where the
         autocorrelation at its half is at most this (a step is in deep

@@ -388,19 +388,29 @@ def swing_correlation(gyr: np.ndarray, length: int, hop: int, n_windows: int, la
     :func:`window_autocorrelation`; linear between integer lags; NaN where a
     lag leaves fewer than two samples).
     """
+    proj, rms = swing_projection(gyr, length, hop, n_windows)
+    return rms, projection_correlation(proj, lags)
+
+
+def swing_projection(gyr: np.ndarray, length: int, hop: int, n_windows: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per window: the band-passed angular rate projected on its principal axis (n_windows, length) and its RMS."""
     w = sliding_windows(np.asarray(gyr, dtype=float), int(length), int(hop))[:n_windows]
     w = w - w.mean(axis=1, keepdims=True)
     cov = np.einsum("nlc,nld->ncd", w, w)
     axis = np.linalg.eigh(cov)[1][:, :, -1]
     proj = np.einsum("nlc,nc->nl", w, axis)
-    rms = np.sqrt(np.mean(proj**2, axis=1))
+    return proj, np.sqrt(np.mean(proj**2, axis=1))
+
+
+def projection_correlation(proj: np.ndarray, lags: np.ndarray) -> np.ndarray:
+    """Normalised autocorrelation of each window's projection at fractional ``lags`` (see :func:`swing_correlation`)."""
     lags = np.asarray(lags, dtype=float)
     L = proj.shape[1]
     k0 = np.floor(lags).astype(np.int64)
     valid = (k0 >= 1) & (k0 + 1 <= L - 2)
     corr = np.full(lags.shape, np.nan)
     if not valid.any():
-        return rms, corr
+        return corr
     kmax = int(k0[valid].max()) + 1
     # each lag normalised by its own two segments, as window_autocorrelation; every window at every lag up to kmax
     c = np.concatenate([np.zeros((proj.shape[0], 1)), np.cumsum(proj * proj, axis=1)], axis=1)
@@ -413,7 +423,7 @@ def swing_correlation(gyr: np.ndarray, length: int, hop: int, n_windows: int, la
     ka = np.where(valid, k0, 1)
     f = lags - ka
     corr = np.where(valid, (1.0 - f) * r[rows, ka] + f * r[rows, np.minimum(ka + 1, kmax)], np.nan)
-    return rms, corr
+    return corr
 
 
 def gyro_stride_or_step(
@@ -427,6 +437,7 @@ def gyro_stride_or_step(
     max_step_hz: float = MAX_STEP_HZ,
     min_rms_rads: float = GYRO_MIN_RMS_RADS,
     phase_correlation: float = GYRO_PHASE_CORRELATION,
+    projection: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> dict[str, np.ndarray]:
     """Correct the stride-versus-step decision of :func:`local_cadence` with the gyroscope (module docstring, stage 2b).
 
@@ -452,7 +463,8 @@ def gyro_stride_or_step(
 
     Applied only where the swing's RMS reaches ``min_rms_rads`` and the new
     period stays within the human step range; the other windows keep the
-    accelerometer's decision. Returns a copy of ``cadence`` with ``period_s``,
+    accelerometer's decision. ``projection``: :func:`swing_projection` of
+    ``gyr`` on the same windows, if already computed. Returns a copy of ``cadence`` with ``period_s``,
     ``stride`` and ``inferred`` corrected and ``gyro`` (+1: halved, -1:
     doubled, 0: unchanged) and the swing's ``gyro_rms`` added (``step_correlation``
     stays the accelerometer's autocorrelation at the period it chose).
@@ -461,7 +473,11 @@ def gyro_stride_or_step(
     out = dict(cadence)
     T = np.asarray(cadence["period_s"], dtype=float) * fs
     n_win = len(T)
-    rms, c = swing_correlation(gyr, length, hop, n_win, np.column_stack([T / 2.0, T, 2.0 * T]))
+    lags = np.column_stack([T / 2.0, T, 2.0 * T])
+    if projection is None:  # (proj, rms) of swing_projection on the same windows, when the caller has it
+        projection = swing_projection(gyr, length, hop, n_win)
+    proj, rms = projection
+    c = projection_correlation(proj, lags)
     c = np.nan_to_num(c, nan=0.0)
     rho = float(phase_correlation)
     moving = rms >= min_rms_rads
@@ -585,7 +601,8 @@ def adaptive_steps(
         H = max(1, int(round(hop_s * fs / q)))
         n_win = (len(g) - L) // H + 1
         # the phone's swing per cadence window: below gyro_min_rms_rads it rides no swinging thigh or arm
-        still = swing_correlation(g, L, H, n_win, np.ones((n_win, 1)))[0] < gyro_min_rms_rads
+        swing = swing_projection(g, L, H, n_win)
+        still = swing[1] < gyro_min_rms_rads
     cad = local_cadence(
         y[::q],
         fs / q,
@@ -605,11 +622,12 @@ def adaptive_steps(
             g,
             fs / q,
             L,
-            max(1, int(round(hop_s * fs / q))),
+            H,
             min_step_hz=min_step_hz,
             max_step_hz=max_step_hz,
             min_rms_rads=gyro_min_rms_rads,
             phase_correlation=gyro_phase_correlation,
+            projection=swing,
         )
     centres = cad["centre"] * q
     cad["centre"] = centres

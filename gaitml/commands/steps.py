@@ -203,7 +203,10 @@ def run(args) -> int:
         lines.append(f"  step period (period_s, the detector's step span): median {np.median(period):.3f} s, mean {np.mean(period):.3f} s")
         if "confidence" in steps.columns:
             conf = steps["confidence"].to_numpy(dtype=float)
-            lines.append(f"  step confidence: median {np.median(conf):.2f}; {int((conf < 0.5).sum())} steps below 0.5")
+            lines.append(
+                f"  step confidence: median {np.median(conf):.2f}, 10th percentile {np.quantile(conf, 0.1):.2f} "
+                "(periodicity x timing regularity: ranks steps, no verdict)"
+            )
         rate = f"{len(steps) / rec.duration_s * 60:.1f} steps/min averaged over the whole {rec.duration_s:.1f} s (pauses included)"
         if len(steps) >= 2:
             interval = float(np.median(np.diff(t)))

@@ -32,7 +32,7 @@ unsure. Real walking recordings should not raise it; non-gait ones should.
 
     python -m experiments.scripts.step_confidence [--data ../shared/data] [--cache /tmp/unsure] [--threshold X]
 
-About 3 minutes the first time (cached per source under ``--cache`` afterwards; delete the cache after changing
+Under a minute the first time (cached per source under ``--cache`` afterwards; delete the cache after changing
 ``adaptive``).
 """
 

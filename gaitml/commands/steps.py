@@ -6,6 +6,14 @@ rotates at the step rate as a gesturing hand does are left out (needs a
 gyroscope); the text, the JSON (``gait_check``) and one stderr line say how
 many steps were left out. Other detectors' steps are tested at ``adaptive``'s
 local cadence (its stride-versus-step decision).
+
+For a detector that rates its steps (``adaptive``) the summary also says whether
+its steps are confident gait (:func:`gaitml.steps.gait_confidence`: a bout of
+at least ten regular steps within 60 s) or unsure: the text line "N steps, M
+confident, K unsure", the JSON keys ``n_confident``, ``n_unsure``,
+``gait_confidence`` and ``confident`` per step, and one stderr note when most
+steps are unsure ("no confident gait found" when none is confident). Nothing is
+dropped. (Whole-file path only; long inputs run in chunks.)
 """
 
 from __future__ import annotations
@@ -98,6 +106,26 @@ def _gait_line(checked: dict | None) -> str | None:
     )
 
 
+def _confidence(steps) -> tuple[dict | None, np.ndarray | None]:
+    """The confident / unsure verdict (:func:`gaitml.steps.gait_confidence`) and the per-step flags, for detectors
+    that rate their steps (a ``confidence`` column: ``adaptive``, where it was measured); (None, None) otherwise."""
+    from gaitml.steps import confident_steps, gait_confidence
+
+    if "confidence" not in steps.columns:
+        return None, None
+    return gait_confidence(steps), confident_steps(steps)[0]
+
+
+def _unsure_note(sure: dict) -> str:
+    """The stderr note when most steps are unsure."""
+    head = "no confident gait found" if not sure["n_confident"] else "most steps are unsure"
+    return (
+        f"{head}: {sure['n_unsure']} of {sure['n_confident'] + sure['n_unsure']} steps have no bout of >= "
+        f"{sure['min_bout_steps']} regular steps within {sure['window_s']:g} s (longest bout {sure['longest_bout_steps']}); "
+        "they are kept in the count. A phone handled or gestured with, not carried by a walker, gives such steps"
+    )
+
+
 def run(args) -> int:
     """Detect steps, print a summary or the JSON contract, optionally write the table."""
     from gaitml.evaluation.steps import step_times
@@ -123,6 +151,9 @@ def run(args) -> int:
     gait_line = _gait_line(checked)
     if checked and checked["n_steps_rejected"]:
         log(f"gaitml: note: {gait_line}")
+    sure, confident = _confidence(steps)
+    if sure is not None and sure["n_unsure"] > len(steps) / 2:
+        log(f"gaitml: note: {_unsure_note(sure)}")
     if args.out:
         write_csv(args.out, steps)
     ev = _evaluation(rec, steps)
@@ -137,8 +168,14 @@ def run(args) -> int:
             "n_steps": int(len(steps)),
             "steps": _json_steps(steps, t),
         }
+        if confident is not None:
+            for step, ok in zip(obj["steps"], confident, strict=True):
+                step["confident"] = bool(ok)
         if warning:
             obj["warnings"] = [warning]
+        if sure is not None:
+            obj["n_confident"], obj["n_unsure"] = sure["n_confident"], sure["n_unsure"]
+            obj["gait_confidence"] = sure
         if checked is not None:
             obj["gait_check"] = {k: v for k, v in checked.items() if k != "rejected_t_s"}
             obj["gait_check"]["rejected_t_s"] = [float(v) for v in checked["rejected_t_s"]]
@@ -154,13 +191,22 @@ def run(args) -> int:
     lines = [
         f"{rec.name}: {len(steps)} steps ({args.detector}, event {steps.attrs.get('event')}) in {rec.duration_s:.1f} s at {rec.sampling_rate_hz:g} Hz",
     ]
+    if sure is not None and len(steps):
+        lines.append(
+            f"  {len(steps)} steps, {sure['n_confident']} confident, {sure['n_unsure']} unsure (confident: within "
+            f"{sure['window_s']:g} s of a bout of >= {sure['min_bout_steps']} regular steps; longest bout here "
+            f"{sure['longest_bout_steps']})"
+        )
     if len(steps):
         # period_s is the span the detector gives each step; cadence comes from the
         # intervals between step times, and the overall rate includes pauses
         lines.append(f"  step period (period_s, the detector's step span): median {np.median(period):.3f} s, mean {np.mean(period):.3f} s")
         if "confidence" in steps.columns:
             conf = steps["confidence"].to_numpy(dtype=float)
-            lines.append(f"  step confidence: median {np.median(conf):.2f}; {int((conf < 0.5).sum())} steps below 0.5")
+            lines.append(
+                f"  step confidence: median {np.median(conf):.2f}, 10th percentile {np.quantile(conf, 0.1):.2f} "
+                "(periodicity x timing regularity: ranks steps, no verdict)"
+            )
         rate = f"{len(steps) / rec.duration_s * 60:.1f} steps/min averaged over the whole {rec.duration_s:.1f} s (pauses included)"
         if len(steps) >= 2:
             interval = float(np.median(np.diff(t)))

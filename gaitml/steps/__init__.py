@@ -8,6 +8,7 @@ DESIGN step table in ``steps_``.
 from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._registry import DETECTORS, detect_steps, detector_names, get_detector
 from gaitml.steps._table import empty_step_table, make_step_table
+from gaitml.steps._unsure import CONFIDENT_BOUT_STEPS, CONFIDENT_WINDOW_S, confident_steps, gait_confidence
 from gaitml.steps.adaptive import AdaptiveStepDetector
 from gaitml.steps.adfsm import ADFSMStepDetector
 from gaitml.steps.autocorr import AutocorrStepDetector
@@ -17,6 +18,8 @@ from gaitml.steps.single_peak import SinglePeakStepDetector
 from gaitml.steps.zupt_magnitude import ZuptMagnitudeStepDetector
 
 __all__ = [
+    "CONFIDENT_BOUT_STEPS",
+    "CONFIDENT_WINDOW_S",
     "DETECTORS",
     "ADFSMStepDetector",
     "AdaptiveStepDetector",
@@ -27,9 +30,11 @@ __all__ = [
     "SelfLearningFSMStepDetector",
     "SinglePeakStepDetector",
     "ZuptMagnitudeStepDetector",
+    "confident_steps",
     "detect_steps",
     "detector_names",
     "empty_step_table",
+    "gait_confidence",
     "get_detector",
     "make_step_table",
 ]

@@ -37,7 +37,12 @@ amplitude it uses is a noise floor. Five stages:
    ``slow_step_max_rms_ms2``): a slow step, 0.75-1.2 Hz, shows as a deep
    anti-phase at its half (the half-period rule does not take it for a
    stride) and a gentle signal; a one-leg stride of normal walking at the
-   same period shows several m/s^2. A slow step must also be in
+   same period shows several m/s^2. That alternative needs a phone on a
+   swinging thigh or arm (the hip flexes and extends through 30-40 deg per
+   stride, Perry & Burnfield, *Gait Analysis*, 2010): where the gyroscope
+   shows the phone does not swing (swing RMS below ``gyro_min_rms_rads``,
+   stage 2b) the ceiling does not apply, so a phone held steady by a slow
+   walker with a strong bounce keeps its slow steps. A slow step must also be in
    deep anti-phase at its half (autocorrelation there at most
    ``slow_step_max_half_correlation``, -0.5): a one-leg stride of a gentle
    walk (a trouser pocket) has no such anti-phase, both heel strikes reach
@@ -150,7 +155,8 @@ SLOW_STEP_HZ = 1.2
 #: a window whose band-passed |acc| RMS exceeds this (m/s^2) cannot hold steps slower than SLOW_STEP_HZ: the
 #: trunk's vertical acceleration is about (2 pi f)^2 times half its vertical excursion, at most ~0.85 m/s^2
 #: amplitude (0.6 RMS) at 1.2 steps/s with the ~3 cm excursion of slow walking (Orendurff et al., J. Rehabil.
-#: Res. Dev. 41, 2004); the ceiling allows 2.5 times that for the phone's own motion. A period there is a stride.
+#: Res. Dev. 41, 2004); the ceiling allows 2.5 times that for the phone's own motion. A period there is a stride,
+#: except where the gyroscope shows a phone that does not swing (no thigh or arm to make a one-leg stride)
 SLOW_STEP_MAX_RMS_MS2 = 1.5
 #: a slow step is in deep anti-phase at half its period: a period longer than 1 / SLOW_STEP_HZ whose
 #: autocorrelation at its half is above this is a stride (a step period gives -0.55 to -0.98 at its half on every
@@ -239,6 +245,7 @@ def local_cadence(
     slow_step_hz: float = SLOW_STEP_HZ,
     slow_step_max_rms_ms2: float = SLOW_STEP_MAX_RMS_MS2,
     slow_step_max_half_correlation: float = SLOW_STEP_MAX_HALF_CORRELATION,
+    still: np.ndarray | None = None,
 ) -> dict[str, np.ndarray]:
     """Step period per sliding window, with the stride-versus-step decision (module docstring, stage 2).
 
@@ -250,6 +257,11 @@ def local_cadence(
     window_s, hop_s, min_step_hz, max_step_hz, half_lag_min_correlation, slow_step_hz, slow_step_max_rms_ms2,
     slow_step_max_half_correlation
         As :class:`AdaptiveStepDetector`.
+    still : bool array (one per window), optional
+        Windows where the gyroscope shows the phone does not swing (swing RMS
+        below ``GYRO_MIN_RMS_RADS``): the motion ceiling
+        ``slow_step_max_rms_ms2`` does not apply there (module docstring,
+        stage 2). None (no gyroscope): it applies everywhere.
 
     Returns
     -------
@@ -336,7 +348,12 @@ def local_cadence(
     half_correlation = r_at(lag / 2.0)
     # not in deep anti-phase at its half: a one-leg stride
     slower = lag > fs / slow_step_hz
-    inferred = (lag > fs / min_step_hz) | (slower & ((rms > slow_step_max_rms_ms2) | (half_correlation > slow_step_max_half_correlation)))
+    # the motion ceiling stands for a one-leg stride of normal walking, whose phone swings with the thigh or arm:
+    # where the gyroscope shows a phone that does not swing, that alternative is gone and the ceiling is lifted
+    ceiling = rms > slow_step_max_rms_ms2
+    if still is not None:
+        ceiling &= ~np.asarray(still, dtype=bool)[:n_win]
+    inferred = (lag > fs / min_step_hz) | (slower & (ceiling | (half_correlation > slow_step_max_half_correlation)))
     # a slow step must persist: a slow reading among windows of twice that cadence (within SLOW_STEP_CONTEXT
     # windows either side) is a stride of the same walk (cadence does not halve for a window)
     slow = (lag > fs / slow_step_hz) & ~inferred & ~stride
@@ -371,19 +388,29 @@ def swing_correlation(gyr: np.ndarray, length: int, hop: int, n_windows: int, la
     :func:`window_autocorrelation`; linear between integer lags; NaN where a
     lag leaves fewer than two samples).
     """
+    proj, rms = swing_projection(gyr, length, hop, n_windows)
+    return rms, projection_correlation(proj, lags)
+
+
+def swing_projection(gyr: np.ndarray, length: int, hop: int, n_windows: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per window: the band-passed angular rate projected on its principal axis (n_windows, length) and its RMS."""
     w = sliding_windows(np.asarray(gyr, dtype=float), int(length), int(hop))[:n_windows]
     w = w - w.mean(axis=1, keepdims=True)
     cov = np.einsum("nlc,nld->ncd", w, w)
     axis = np.linalg.eigh(cov)[1][:, :, -1]
     proj = np.einsum("nlc,nc->nl", w, axis)
-    rms = np.sqrt(np.mean(proj**2, axis=1))
+    return proj, np.sqrt(np.mean(proj**2, axis=1))
+
+
+def projection_correlation(proj: np.ndarray, lags: np.ndarray) -> np.ndarray:
+    """Normalised autocorrelation of each window's projection at fractional ``lags`` (see :func:`swing_correlation`)."""
     lags = np.asarray(lags, dtype=float)
     L = proj.shape[1]
     k0 = np.floor(lags).astype(np.int64)
     valid = (k0 >= 1) & (k0 + 1 <= L - 2)
     corr = np.full(lags.shape, np.nan)
     if not valid.any():
-        return rms, corr
+        return corr
     kmax = int(k0[valid].max()) + 1
     # each lag normalised by its own two segments, as window_autocorrelation; every window at every lag up to kmax
     c = np.concatenate([np.zeros((proj.shape[0], 1)), np.cumsum(proj * proj, axis=1)], axis=1)
@@ -396,7 +423,7 @@ def swing_correlation(gyr: np.ndarray, length: int, hop: int, n_windows: int, la
     ka = np.where(valid, k0, 1)
     f = lags - ka
     corr = np.where(valid, (1.0 - f) * r[rows, ka] + f * r[rows, np.minimum(ka + 1, kmax)], np.nan)
-    return rms, corr
+    return corr
 
 
 def gyro_stride_or_step(
@@ -410,6 +437,7 @@ def gyro_stride_or_step(
     max_step_hz: float = MAX_STEP_HZ,
     min_rms_rads: float = GYRO_MIN_RMS_RADS,
     phase_correlation: float = GYRO_PHASE_CORRELATION,
+    projection: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> dict[str, np.ndarray]:
     """Correct the stride-versus-step decision of :func:`local_cadence` with the gyroscope (module docstring, stage 2b).
 
@@ -435,7 +463,8 @@ def gyro_stride_or_step(
 
     Applied only where the swing's RMS reaches ``min_rms_rads`` and the new
     period stays within the human step range; the other windows keep the
-    accelerometer's decision. Returns a copy of ``cadence`` with ``period_s``,
+    accelerometer's decision. ``projection``: :func:`swing_projection` of
+    ``gyr`` on the same windows, if already computed. Returns a copy of ``cadence`` with ``period_s``,
     ``stride`` and ``inferred`` corrected and ``gyro`` (+1: halved, -1:
     doubled, 0: unchanged) and the swing's ``gyro_rms`` added (``step_correlation``
     stays the accelerometer's autocorrelation at the period it chose).
@@ -444,7 +473,11 @@ def gyro_stride_or_step(
     out = dict(cadence)
     T = np.asarray(cadence["period_s"], dtype=float) * fs
     n_win = len(T)
-    rms, c = swing_correlation(gyr, length, hop, n_win, np.column_stack([T / 2.0, T, 2.0 * T]))
+    lags = np.column_stack([T / 2.0, T, 2.0 * T])
+    if projection is None:  # (proj, rms) of swing_projection on the same windows, when the caller has it
+        projection = swing_projection(gyr, length, hop, n_win)
+    proj, rms = projection
+    c = projection_correlation(proj, lags)
     c = np.nan_to_num(c, nan=0.0)
     rho = float(phase_correlation)
     moving = rms >= min_rms_rads
@@ -560,6 +593,16 @@ def adaptive_steps(
     y = bandpass(x - np.median(x), band_hz[0], band_hz[1], fs, order=2)
     # the cadence estimate runs on the band-limited signal decimated to about CADENCE_RATE_HZ
     q = max(1, int(fs // CADENCE_RATE_HZ))
+    still = None
+    if gyr_rads is not None:
+        g = np.asarray(gyr_rads, dtype=float)
+        g = bandpass(g - g.mean(axis=0), GYRO_BAND_HZ[0], min(GYRO_BAND_HZ[1], 0.45 * fs), fs, order=2)[::q]
+        L = min(len(g), int(round(window_s * fs / q)))
+        H = max(1, int(round(hop_s * fs / q)))
+        n_win = (len(g) - L) // H + 1
+        # the phone's swing per cadence window: below gyro_min_rms_rads it rides no swinging thigh or arm
+        swing = swing_projection(g, L, H, n_win)
+        still = swing[1] < gyro_min_rms_rads
     cad = local_cadence(
         y[::q],
         fs / q,
@@ -571,21 +614,20 @@ def adaptive_steps(
         slow_step_hz=slow_step_hz,
         slow_step_max_rms_ms2=slow_step_max_rms_ms2,
         slow_step_max_half_correlation=slow_step_max_half_correlation,
+        still=still,
     )
     if gyr_rads is not None:
-        g = np.asarray(gyr_rads, dtype=float)
-        g = bandpass(g - g.mean(axis=0), GYRO_BAND_HZ[0], min(GYRO_BAND_HZ[1], 0.45 * fs), fs, order=2)[::q]
-        L = min(len(g), int(round(window_s * fs / q)))
         cad = gyro_stride_or_step(
             cad,
             g,
             fs / q,
             L,
-            max(1, int(round(hop_s * fs / q))),
+            H,
             min_step_hz=min_step_hz,
             max_step_hz=max_step_hz,
             min_rms_rads=gyro_min_rms_rads,
             phase_correlation=gyro_phase_correlation,
+            projection=swing,
         )
     centres = cad["centre"] * q
     cad["centre"] = centres
@@ -682,6 +724,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         The most motion a walker slower than ``slow_step_hz`` makes at the
         phone (m/s^2 RMS): the trunk's vertical acceleration at 1.2 steps/s and
         a ~3 cm excursion (Orendurff et al. 2004) is ~0.6 RMS; 2.5 times that.
+        Not applied where the gyroscope shows the phone does not swing (swing
+        RMS below ``gyro_min_rms_rads``).
     slow_step_max_half_correlation : float, default -0.5
         A period longer than ``1 / slow_step_hz`` is a slow step only where the
         autocorrelation at its half is at most this (a step is in deep

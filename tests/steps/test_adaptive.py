@@ -207,7 +207,7 @@ def test_steps_json_carries_cadence_and_confidence(tmp_path):
     assert rc == 0, err
     obj = json.loads(out)
     assert abs(obj["n_steps"] - 30) <= 1
-    assert set(obj["steps"][0]) == {"t_s", "period_s", "cadence_hz", "confidence"}
+    assert set(obj["steps"][0]) == {"t_s", "period_s", "cadence_hz", "confidence", "confident"}
     assert all(0 <= s["confidence"] <= 1 for s in obj["steps"])
     assert obj["cadence"] and set(obj["cadence"][0]) == {"t_s", "cadence_hz", "periodicity", "stride"}
     # a paper detector keeps the old contract

@@ -65,12 +65,16 @@ def test_a_running_thigh_is_counted_per_step_with_the_gyroscope():
     assert len(alone) < 0.6 * n_true
 
 
-def test_a_still_gyroscope_leaves_the_accelerometer_decision():
-    rec, _ = _swinging_hand(swing_amp_rads=0.05)  # under gyro_min_rms_rads: no verdict
+def test_a_still_gyroscope_gives_no_verdict_but_lifts_the_motion_ceiling():
+    # a vigorous 0.9 s |acc| cycle on a phone that does not turn (under gyro_min_rms_rads): no swing verdict, and no
+    # swinging thigh or arm either, so the period is a slow step whatever the motion (the accelerometer alone, above
+    # slow_step_max_rms_ms2, takes it for a stride)
+    rec, n_true = _swinging_hand(swing_amp_rads=0.05)
     with_gyr = get_detector("adaptive").detect(rec)
     alone = get_detector("adaptive", use_gyroscope=False).detect(rec)
     assert (with_gyr.cadence_["gyro"] == 0).all()
-    assert len(with_gyr.steps_) == len(alone.steps_)
+    assert abs(len(with_gyr.steps_) - n_true) <= max(2, 0.03 * n_true)
+    assert len(alone.steps_) > 1.5 * n_true
 
 
 @pytest.mark.parametrize("bad", [{"gyro_min_rms_rads": -0.1}, {"gyro_phase_correlation": 1.5}, {"use_gyroscope": "yes"}])

@@ -116,6 +116,15 @@ def _confidence(steps) -> tuple[dict | None, np.ndarray | None]:
     return gait_confidence(steps), confident_steps(steps)[0]
 
 
+def _confidence_line(sure: dict, n: int) -> str:
+    """The summary line of the confident / unsure verdict."""
+    return (
+        f"  {n} steps, {sure['n_confident']} confident, {sure['n_unsure']} unsure (confident: within "
+        f"{sure['window_s']:g} s of a bout of >= {sure['min_bout_steps']} regular steps; longest bout here "
+        f"{sure['longest_bout_steps']})"
+    )
+
+
 def _unsure_note(sure: dict) -> str:
     """The stderr note when most steps are unsure."""
     head = "no confident gait found" if not sure["n_confident"] else "most steps are unsure"
@@ -192,11 +201,7 @@ def run(args) -> int:
         f"{rec.name}: {len(steps)} steps ({args.detector}, event {steps.attrs.get('event')}) in {rec.duration_s:.1f} s at {rec.sampling_rate_hz:g} Hz",
     ]
     if sure is not None and len(steps):
-        lines.append(
-            f"  {len(steps)} steps, {sure['n_confident']} confident, {sure['n_unsure']} unsure (confident: within "
-            f"{sure['window_s']:g} s of a bout of >= {sure['min_bout_steps']} regular steps; longest bout here "
-            f"{sure['longest_bout_steps']})"
-        )
+        lines.append(_confidence_line(sure, len(steps)))
     if len(steps):
         # period_s is the span the detector gives each step; cadence comes from the
         # intervals between step times, and the overall rate includes pauses
@@ -247,6 +252,10 @@ def _run_long(args) -> int:
     gait_line = _gait_line(checked)
     if checked and checked["n_steps_rejected"]:
         log(f"gaitml: note: {gait_line}")
+    # the verdict reads only the global step table (times and periods), so it is the whole file's
+    sure, confident = _confidence(steps) if len(steps) else (None, None)
+    if sure is not None and sure["n_unsure"] > len(steps) / 2:
+        log(f"gaitml: note: {_unsure_note(sure)}")
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
         write_csv(args.out, steps)
@@ -262,14 +271,22 @@ def _run_long(args) -> int:
             "steps": _json_steps(steps, t) if len(steps) else [],
             "chunked": steps.attrs.get("chunked"),
         }
+        if confident is not None:
+            for step, ok in zip(obj["steps"], confident, strict=True):
+                step["confident"] = bool(ok)
         if warning:
             obj["warnings"] = [warning]
+        if sure is not None:
+            obj["n_confident"], obj["n_unsure"] = sure["n_confident"], sure["n_unsure"]
+            obj["gait_confidence"] = sure
         if checked is not None:
             obj["gait_check"] = {k: v for k, v in checked.items() if k != "rejected_t_s"}
             obj["gait_check"]["rejected_t_s"] = [float(v) for v in checked["rejected_t_s"]]
         emit_json(obj)
         return 0
     print(f"{args.input}: {len(steps)} steps ({args.detector}), processed in chunks of 10 min (30 s margins) at {fs:g} Hz")
+    if sure is not None:
+        print(_confidence_line(sure, len(steps)))
     if gait_line:
         print(f"  gait check: {gait_line}")
     if args.out:

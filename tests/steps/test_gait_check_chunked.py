@@ -103,10 +103,17 @@ def test_steps_cli_long_path_says_what_the_whole_file_path_says(files, monkeypat
     if "gait_check" in a:
         assert {k: b["gait_check"][k] for k in ACCOUNT_COUNTS} == {k: a["gait_check"][k] for k in ACCOUNT_COUNTS}
         assert len(notes) == 1 and f"{a['gait_check']['n_steps_rejected']} steps" in notes[0]
+    # the confident / unsure verdict reads the global step table: the whole file's
+    assert ("gait_confidence" in b) == ("gait_confidence" in a)
+    if "gait_confidence" in a:
+        assert (b["n_confident"], b["n_unsure"]) == (a["n_confident"], a["n_unsure"])
+        assert [s["confident"] for s in b["steps"]] == [s["confident"] for s in a["steps"]]
+        unsure = [line for line in a_err.splitlines() if "unsure" in line or "no confident gait" in line]
+        assert unsure == [line for line in b_err.splitlines() if "unsure" in line or "no confident gait" in line]
     assert main(["steps", path, *extra]) == 0
     b_text = capsys.readouterr().out
-    gait_lines = [line for line in a_text.splitlines() if "gait check:" in line]
-    assert gait_lines == [line for line in b_text.splitlines() if "gait check:" in line]
+    for key in ("gait check:", " confident, "):
+        assert [line for line in a_text.splitlines() if key in line] == [line for line in b_text.splitlines() if key in line]
 
 
 def _gait_notes(err: str) -> list[str]:

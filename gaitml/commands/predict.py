@@ -48,6 +48,13 @@ def run(args) -> int:
     return _report(args, model, table, "windows", {"window_s": model.length_s, "overlap": model.overlap})
 
 
+def default_still_gate() -> dict:
+    """The still gate in force when a table does not carry its own (``statistic``, ``threshold_ms2``)."""
+    from gaitml.models._predict import STILL_RULE, STILL_THRESHOLDS_MS2
+
+    return {"statistic": STILL_RULE, "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE]}
+
+
 def still_warning(n_still: int, n: int, unit: str) -> str:
     """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows)."""
     from gaitml.models._predict import describe_still_gate
@@ -121,6 +128,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 "counts": counts,
                 "out_of_domain_fraction": ood_fraction,
                 "still_fraction": n_still / len(table) if len(table) else None,
+                "still_gate": table.attrs.get("still_gate", default_still_gate()),
                 "side_direction_unsure_count": n_unsure,
             }
         )

@@ -17,7 +17,15 @@ from gaitml.models._dataset import WindowDataset, build_window_dataset, raw_wind
 from gaitml.models._export import export_json, export_onnx
 from gaitml.models._legacy import convert_model
 from gaitml.models._persist import TrainedModel, library_versions, load_model, read_model_json, save_model, sha256_file
-from gaitml.models._predict import model_inputs, predict_recording
+from gaitml.models._predict import (
+    STILL_RULE,
+    STILL_RULES,
+    STILL_THRESHOLDS_MS2,
+    describe_still_gate,
+    model_inputs,
+    predict_recording,
+    still_windows,
+)
 from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS, make_model, model_class, model_param_names
 from gaitml.models._step_windows import build_step_window_dataset, is_step_model, predict_step_windows, window_by, window_detector
 from gaitml.models._svm import LinearOVOSVM, ovo_vote
@@ -25,6 +33,9 @@ from gaitml.models._torch import TorchCNN1DClassifier, TorchMLPClassifier, requi
 
 __all__ = [
     "MODEL_KINDS",
+    "STILL_RULE",
+    "STILL_RULES",
+    "STILL_THRESHOLDS_MS2",
     "TORCH_KINDS",
     "LinearOVOSVM",
     "TorchCNN1DClassifier",
@@ -34,6 +45,7 @@ __all__ = [
     "build_step_window_dataset",
     "build_window_dataset",
     "convert_model",
+    "describe_still_gate",
     "export_json",
     "export_onnx",
     "is_step_model",
@@ -54,6 +66,7 @@ __all__ = [
     "resample_recording",
     "save_model",
     "sha256_file",
+    "still_windows",
     "torch_available",
     "window_by",
     "window_detector",

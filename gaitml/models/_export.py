@@ -15,6 +15,11 @@ through :func:`torch.onnx.export` with the standardisation in front and the
 softmax behind. The feature extraction stays outside the graph and is specified
 in the model's metadata (``metadata_props['gaitml']``: the JSON export without
 the weights).
+
+``format_version`` 2 states the still gate by its statistic (``postprocess.still``:
+``statistic``, ``threshold_ms2``); version 1 named only ``range_ms2`` (max - min of |acc|),
+which is null in version 2 unless the range rule is in force. A reader of version 1 must
+not read a version 2 export.
 """
 
 from __future__ import annotations
@@ -27,9 +32,11 @@ import numpy as np
 
 from gaitml.errors import ModelError
 
-__all__ = ["export_json", "export_onnx", "input_spec", "PORTABLE_FORMAT"]
+__all__ = ["export_json", "export_onnx", "input_spec", "PORTABLE_FORMAT", "PORTABLE_FORMAT_VERSION"]
 
 PORTABLE_FORMAT = "gaitml-portable-model"
+#: Version of the portable layout (see the module docstring for what changed in 2).
+PORTABLE_FORMAT_VERSION = 2
 ONNX_HINT = "install the optional extra: pip install 'gaitml[onnx]'"
 
 _VOTING = {
@@ -147,7 +154,7 @@ def input_spec(model) -> dict:
     info = model.info
     out = {
         "format": PORTABLE_FORMAT,
-        "format_version": 1,
+        "format_version": PORTABLE_FORMAT_VERSION,
         "model_kind": info["model_kind"],
         "name": info.get("name"),
         "labels": [str(c) for c in model.estimator.classes_],
@@ -185,7 +192,7 @@ def _still_spec() -> dict:
         "mode": STILL,
         "statistic": STILL_RULE,
         "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE],
-        # the earlier gate's threshold on max - min, for readers of format_version 1 exports that name it
+        # the earlier gate's threshold on max - min (format_version 1 named only this): null unless that rule is in force
         "range_ms2": STILL_RANGE_MS2 if STILL_RULE == "range" else None,
         "rule": (
             "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2, at the model's rate) has "

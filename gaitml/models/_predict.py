@@ -95,15 +95,27 @@ def still_windows(recording: Recording, windows: pd.DataFrame, rule: str = STILL
     True where :func:`still_statistic` of ``rule`` is below ``threshold_ms2`` (None: the rule's
     default, :data:`STILL_STD_MS2` for ``"std"``, :data:`STILL_RANGE_MS2` for ``"range"``).
     """
-    thr = STILL_THRESHOLDS_MS2.get(rule) if threshold_ms2 is None else float(threshold_ms2)
-    return still_statistic(recording, windows, rule) < thr
+    return still_statistic(recording, windows, rule) < _still_threshold(rule, threshold_ms2)
+
+
+def _still_threshold(rule: str, threshold_ms2) -> float:
+    """The gate's threshold (m/s^2): the rule's default for None, else a finite number >= 0 (0 turns the gate off)."""
+    if rule not in STILL_RULES:
+        raise InputError(f"unknown still rule {rule!r}; choose one of {', '.join(STILL_RULES)}.")
+    if threshold_ms2 is None:
+        return STILL_THRESHOLDS_MS2[rule]
+    try:
+        thr = float(threshold_ms2)
+    except (TypeError, ValueError):
+        thr = float("nan")
+    if not np.isfinite(thr) or thr < 0:
+        raise InputError(f"still gate threshold {threshold_ms2!r} m/s^2 is not a finite number >= 0; give one (0 turns the gate off).")
+    return thr
 
 
 def describe_still_gate(rule: str = STILL_RULE, threshold_ms2: float | None = None) -> str:
     """The still gate in words, for messages: e.g. ``"the standard deviation of |acc| is under 0.41 m/s^2"``."""
-    thr = STILL_THRESHOLDS_MS2.get(rule) if threshold_ms2 is None else float(threshold_ms2)
-    if rule not in STILL_RULES:
-        raise InputError(f"unknown still rule {rule!r}; choose one of {', '.join(STILL_RULES)}.")
+    thr = _still_threshold(rule, threshold_ms2)
     what = "the standard deviation of |acc| is" if rule == "std" else "|acc| swings by"
     return f"{what} under {thr:g} m/s^2"
 
@@ -333,7 +345,7 @@ def finish_predictions(
 
     ``rec`` is ``recording`` at the model's rate (``recording`` itself when no resampling was needed).
     ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz`` (``recording``'s rate,
-    or None), ``correction`` and then the caller's own ``attrs``.
+    or None), ``correction``, ``still_gate`` (``statistic``, ``threshold_ms2``) and then the caller's own ``attrs``.
     """
     for c, v in domain.items():
         out[c] = v
@@ -349,6 +361,7 @@ def finish_predictions(
         sampling_rate_hz=model.sampling_rate_hz,
         resampled_from_hz=None if rec is recording else recording.sampling_rate_hz,
         correction=bool(correction),
+        still_gate={"statistic": still_rule, "threshold_ms2": _still_threshold(still_rule, still_threshold_ms2)},
         **attrs,
     )
     return out

@@ -91,3 +91,36 @@ def test_the_predict_warning_states_the_gate_in_force():
 
     line = still_warning(3, 10, "windows")
     assert describe_still_gate() in line and line.startswith("3 of 10 windows")
+
+
+@pytest.mark.parametrize("bad", [float("nan"), -0.1, "a lot", float("inf")])
+def test_a_threshold_that_is_no_finite_number_at_least_zero_is_refused(bad):
+    rec = _rec(np.zeros(200))
+    with pytest.raises(InputError, match="finite number >= 0"):
+        still_windows(rec, _windows(200), threshold_ms2=bad)
+
+
+def test_the_portable_export_states_the_gate_under_a_new_format_version():
+    """A version-1 reader knew only range_ms2 (max - min); the std gate is version 2's."""
+    from gaitml.models._export import PORTABLE_FORMAT_VERSION, input_spec
+
+    spec = input_spec(load_model(ROOT / "models" / "demo"))
+    still = spec["postprocess"]["still"]
+    assert spec["format_version"] == PORTABLE_FORMAT_VERSION >= 2
+    assert (still["statistic"], still["threshold_ms2"]) == (STILL_RULE, STILL_STD_MS2)
+    assert still["range_ms2"] is None if STILL_RULE != "range" else still["range_ms2"] == STILL_RANGE_MS2
+
+
+def test_predict_json_says_which_gate_ran(tmp_path, capsys):
+    import json
+
+    from gaitml.cli import main
+    from gaitml.io import write_gaitml_csv
+
+    t = np.arange(1500) / FS
+    path = tmp_path / "bounce.csv"
+    write_gaitml_csv(_rec(0.35 * np.sqrt(2) * np.sin(2 * np.pi * 1.6 * t)), path)
+    assert main(["predict", str(ROOT / "models" / "demo"), str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["still_gate"] == {"statistic": STILL_RULE, "threshold_ms2": STILL_STD_MS2}
+    assert out["still_fraction"] == 1.0

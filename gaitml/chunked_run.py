@@ -658,12 +658,12 @@ def long_still_bias(path: str | os.PathLike, *, chunk_s: float | None = None, pr
     :class:`~gaitml.signal.GyroBias` as :func:`gaitml.signal.estimate_gyro_bias` of the file read whole.
 
     Each chunk gives the still test of the windows starting in its core
-    (:func:`gaitml.signal.still_windows` on the whole file's window grid; the chunk margins of two
+    (:func:`gaitml.signal.gyro_still_windows` on the whole file's window grid; the chunk margins of two
     still windows hold every core window whole), and one median runs over the windows of all
     chunks (:func:`gaitml.signal.gyro_bias_from_windows`). Memory: a few tens of bytes per window
     (half a still window, 0.5 s), e.g. 7 MB for a day.
     """
-    from gaitml.signal import gyro_bias_from_windows, still_windows
+    from gaitml.signal import gyro_bias_from_windows, gyro_still_windows
     from gaitml.signal._gyro_bias import STILL_WINDOW_S
 
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
@@ -673,7 +673,7 @@ def long_still_bias(path: str | os.PathLike, *, chunk_s: float | None = None, pr
     ):
         rec = ch.recording
         rec.require_gyr("PDR heading")
-        parts.append(still_windows(rec.acc, rec.gyr, rec.sampling_rate_hz, offset=ch.offset).select(ch.core_start, ch.core_end))
+        parts.append(gyro_still_windows(rec.acc, rec.gyr, rec.sampling_rate_hz, offset=ch.offset).select(ch.core_start, ch.core_end))
     if not parts:
         from gaitml.errors import InputError
 

@@ -6,9 +6,9 @@ from gaitml.signal._gyro_bias import (
     StillWindows,
     estimate_gyro_bias,
     gyro_bias_from_windows,
+    gyro_still_windows,
     remove_gyro_bias,
     steady_tilt_mask,
-    still_windows,
 )
 from gaitml.signal._orientation import gravity_components, gravity_direction, tilt_angles
 from gaitml.signal._windows import sliding_windows, window_params, window_starts
@@ -29,7 +29,7 @@ __all__ = [
     "moving_average",
     "sliding_windows",
     "steady_tilt_mask",
-    "still_windows",
+    "gyro_still_windows",
     "tilt_angles",
     "window_params",
     "window_starts",

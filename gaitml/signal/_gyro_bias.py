@@ -51,7 +51,7 @@ __all__ = [
     "gyro_bias_from_windows",
     "remove_gyro_bias",
     "steady_tilt_mask",
-    "still_windows",
+    "gyro_still_windows",
 ]
 
 #: Defaults of the still detector (see the module docstring); ``gaitml pdr --gyro-bias`` and
@@ -143,7 +143,7 @@ class StillWindows:
         return StillWindows(self.start[k], self.still[k], self.mean_rate_rads[k], self.window, self.sampling_rate_hz, dict(self.params))
 
 
-def still_windows(
+def gyro_still_windows(
     acc_ms2,
     gyr_rads,
     sampling_rate_hz: float,
@@ -204,7 +204,7 @@ def still_windows(
 
 
 def gyro_bias_from_windows(windows: StillWindows | list[StillWindows], *, min_still_s: float = STILL_MIN_S) -> GyroBias:
-    """The bias of :func:`estimate_gyro_bias` from the still test of the windows (:func:`still_windows`).
+    """The bias of :func:`estimate_gyro_bias` from the still test of the windows (:func:`gyro_still_windows`).
 
     ``windows`` may be a list of the windows of the parts of one recording (each window in one
     part only, e.g. :meth:`StillWindows.select` of each chunk's core): the median and the still
@@ -276,9 +276,9 @@ def estimate_gyro_bias(
     Returns
     -------
     GyroBias (``method='still'`` or ``'none'``). The same as :func:`gyro_bias_from_windows` of
-    :func:`still_windows`, which a recording read in parts uses.
+    :func:`gyro_still_windows`, which a recording read in parts uses.
     """
-    windows = still_windows(
+    windows = gyro_still_windows(
         acc_ms2,
         gyr_rads,
         sampling_rate_hz,

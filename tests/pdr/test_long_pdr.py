@@ -216,7 +216,7 @@ def test_long_pdr_takes_the_gyro_bias_of_the_whole_file(biased_file, gyro_bias):
 def test_still_windows_of_the_chunks_give_the_whole_file_bias(biased_file):
     """gyro_bias_from_windows over the windows of every chunk's core is estimate_gyro_bias of the whole recording."""
     from gaitml.chunked_run import long_still_bias
-    from gaitml.signal import estimate_gyro_bias, gyro_bias_from_windows, still_windows
+    from gaitml.signal import estimate_gyro_bias, gyro_bias_from_windows, gyro_still_windows
 
     rec = read_recording(biased_file)
     whole = estimate_gyro_bias(rec.acc, rec.gyr, rec.sampling_rate_hz)
@@ -229,7 +229,7 @@ def test_still_windows_of_the_chunks_give_the_whole_file_bias(biased_file):
     # parts cut anywhere (not on the window grid), each holding its windows whole: the same windows
     cut = [0, 777, 2001, rec.n_samples]
     parts = [
-        still_windows(rec.acc[lo : hi + 60], rec.gyr[lo : hi + 60], rec.sampling_rate_hz, offset=lo).select(lo, hi)
+        gyro_still_windows(rec.acc[lo : hi + 60], rec.gyr[lo : hi + 60], rec.sampling_rate_hz, offset=lo).select(lo, hi)
         for lo, hi in zip(cut[:-1], cut[1:], strict=True)
     ]
     assert gyro_bias_from_windows(parts).bias_rads == pytest.approx(whole.bias_rads, abs=1e-9)

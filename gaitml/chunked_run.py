@@ -178,6 +178,9 @@ def long_steps(
     :func:`~gaitml.steps._gait_evidence.gait_check`'s). A bout within a chunk margin of a chunk edge
     is tested on the same steps as on the whole file; a bout longer than the margin is tested on
     each chunk's part of it (a walk of minutes, whose gait evidence does not hang on its length).
+    Bouts are counted (``n_bouts``, ``n_bouts_rejected``) in the chunk that holds their first step;
+    such a long bout kept in one chunk and rejected in the next adds its rejected steps to
+    ``n_steps_rejected`` but no rejected bout.
 
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).

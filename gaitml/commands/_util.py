@@ -70,7 +70,11 @@ def read_kwargs(args) -> dict:
 
 def gait_check_note(account: dict | None, detector: str) -> None:
     """One stderr note when the step detector left out steps in bouts without gait evidence
-    (``steps.attrs['gait_check']``, :func:`gaitml.steps._gait_evidence.gait_check`); nothing otherwise."""
+    (``steps.attrs['gait_check']``, :func:`gaitml.steps._gait_evidence.gait_check`), or when it could not test them
+    (no gyroscope); nothing otherwise."""
+    if account and not account.get("tested", True):
+        log(f"gaitml: note: the gait check of {detector} did not run (the recording has no gyroscope): steps are counted without it")
+        return
     if not account or not account.get("n_steps_rejected"):
         return
     log(

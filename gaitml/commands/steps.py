@@ -13,7 +13,8 @@ at least ten regular steps within 60 s) or unsure: the text line "N steps, M
 confident, K unsure", the JSON keys ``n_confident``, ``n_unsure``,
 ``gait_confidence`` and ``confident`` per step, and one stderr note when most
 steps are unsure ("no confident gait found" when none is confident). Nothing is
-dropped. (Whole-file path only; long inputs run in chunks.)
+dropped; the written step table gets a ``confident`` column. A long input read in
+chunks gets the same verdict: it reads only the global step table.
 """
 
 from __future__ import annotations
@@ -125,14 +126,26 @@ def _confidence_line(sure: dict, n: int) -> str:
     )
 
 
-def _unsure_note(sure: dict) -> str:
-    """The stderr note when most steps are unsure."""
+def _unsure_note(sure: dict, duration_s: float | None = None, period_s: float | None = None) -> str:
+    """The stderr note when most steps are unsure: a recording too short to confirm a walk, or short bursts of steps."""
+    n = sure["n_confident"] + sure["n_unsure"]
+    # a recording shorter than 1.5 x the time a confirming bout takes at its own step period cannot confirm one
+    if duration_s is not None and period_s and duration_s < 1.5 * sure["min_bout_steps"] * period_s:
+        return (
+            f"the recording ({duration_s:.1f} s) is too short to confirm gait: a walk is confirmed by a bout of "
+            f"{sure['min_bout_steps']} regular steps; its {n} steps are kept in the count and marked unsure"
+        )
     head = "no confident gait found" if not sure["n_confident"] else "most steps are unsure"
     return (
-        f"{head}: {sure['n_unsure']} of {sure['n_confident'] + sure['n_unsure']} steps have no bout of >= "
+        f"{head}: {sure['n_unsure']} of {n} steps have no bout of >= "
         f"{sure['min_bout_steps']} regular steps within {sure['window_s']:g} s (longest bout {sure['longest_bout_steps']}); "
-        "they are kept in the count. A phone handled or gestured with, not carried by a walker, gives such steps"
+        "they are kept in the count and marked unsure. A phone handled or gestured with, not carried by a walker, gives such steps"
     )
+
+
+def _with_confident(steps, confident):
+    """The step table to write: with a ``confident`` column where the detector's steps got a verdict."""
+    return steps if confident is None else steps.assign(confident=np.asarray(confident, dtype=bool))
 
 
 def run(args) -> int:
@@ -162,9 +175,9 @@ def run(args) -> int:
         log(f"gaitml: note: {gait_line}")
     sure, confident = _confidence(steps)
     if sure is not None and sure["n_unsure"] > len(steps) / 2:
-        log(f"gaitml: note: {_unsure_note(sure)}")
+        log(f"gaitml: note: {_unsure_note(sure, rec.duration_s, float(np.median(steps['period_s'])))}")
     if args.out:
-        write_csv(args.out, steps)
+        write_csv(args.out, _with_confident(steps, confident))
     ev = _evaluation(rec, steps)
     t = step_times(steps)
     warning = count_warning(rec, len(steps), args.detector)
@@ -253,12 +266,12 @@ def _run_long(args) -> int:
     if checked and checked["n_steps_rejected"]:
         log(f"gaitml: note: {gait_line}")
     # the verdict reads only the global step table (times and periods), so it is the whole file's
-    sure, confident = _confidence(steps) if len(steps) else (None, None)
+    sure, confident = _confidence(steps)
     if sure is not None and sure["n_unsure"] > len(steps) / 2:
         log(f"gaitml: note: {_unsure_note(sure)}")
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
-        write_csv(args.out, steps)
+        write_csv(args.out, _with_confident(steps, confident))
     t = step_times(steps) if len(steps) else np.zeros(0)
     warning = compare_counts(len(steps), steps.attrs["count_also"]["n_steps"], args.detector) if also else None
     if warning:
@@ -284,7 +297,11 @@ def _run_long(args) -> int:
             obj["gait_check"]["rejected_t_s"] = [float(v) for v in checked["rejected_t_s"]]
         emit_json(obj)
         return 0
-    print(f"{args.input}: {len(steps)} steps ({args.detector}), processed in chunks of 10 min (30 s margins) at {fs:g} Hz")
+    chunked = steps.attrs.get("chunked") or {}
+    print(
+        f"{args.input}: {len(steps)} steps ({args.detector}), processed in chunks of {chunked.get('chunk_s', 0) / 60:g} min "
+        f"({chunked.get('margin_s', 0):g} s margins) at {fs:g} Hz"
+    )
     if sure is not None:
         print(_confidence_line(sure, len(steps)))
     if gait_line:

@@ -51,7 +51,8 @@ __all__ = ["CONFIDENT_BOUT_STEPS", "CONFIDENT_WINDOW_S", "confident_steps", "gai
 #: al. 1996; adaptive's SHORT_BOUT_STEPS)
 CONFIDENT_BOUT_STEPS = SHORT_BOUT_STEPS
 #: a step is confident when a step of a bout of CONFIDENT_BOUT_STEPS lies within this many seconds of it: the
-#: pauses, turns and restarts of a walk stay part of it (chosen on real walks, leave-one-person-out)
+#: pauses, turns and restarts of a walk stay part of it (chosen on the real tyrex walks of all three people: with one
+#: person left out the choice is not stable, see the lab's step-confidence report)
 CONFIDENT_WINDOW_S = 60.0
 
 

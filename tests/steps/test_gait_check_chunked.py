@@ -169,3 +169,38 @@ def test_pdr_long_path_sums_the_account_over_the_chunks(files, monkeypatch, caps
     assert {k: b["gait_check"][k] for k in ACCOUNT_COUNTS} == {k: a["gait_check"][k] for k in ACCOUNT_COUNTS}
     np.testing.assert_allclose(b["gait_check"]["rejected_t_s"], a["gait_check"]["rejected_t_s"], atol=1e-9)
     assert len(_gait_notes(cap.err)) == 1
+
+
+def test_the_long_path_verdict_is_the_whole_files_when_it_is_mixed(tmp_path, monkeypatch, capsys):
+    """A walk, then gestures (gait check off, so their steps stay): the verdict is mixed and equal on both paths."""
+    from gaitml.recording import Recording
+
+    walk = simulate_dataset(1, 120.0, sampling_rate_hz=50.0, seed=3)[0]
+    gest = simulate_nongait("gestures", duration_s=180.0, sampling_rate_hz=50.0, seed=106)
+    rec = Recording.from_arrays(np.vstack([walk.acc, gest.acc]), 50.0, gyr=np.vstack([walk.gyr, gest.gyr]))
+    path = tmp_path / "walk-then-gestures.csv"
+    write_gaitml_csv(rec, path)
+    assert main(["steps", str(path), "--json", "--no-gait-check"]) == 0
+    a = json.loads(capsys.readouterr().out)
+    _force_long(monkeypatch)
+    assert main(["steps", str(path), "--json", "--no-gait-check"]) == 0
+    b = json.loads(capsys.readouterr().out)
+    assert b["chunked"]
+    flags = [s["confident"] for s in a["steps"]]
+    assert any(flags) and not all(flags)  # mixed: the test has something to compare
+    assert [s["confident"] for s in b["steps"]] == flags
+    assert (b["n_confident"], b["n_unsure"]) == (a["n_confident"], a["n_unsure"])
+
+
+@pytest.mark.parametrize("cmd", ["label", "segment"])
+def test_commands_say_when_the_gait_check_could_not_run(files, tmp_path, capsys, cmd):
+    """No gyroscope: the account says tested false and one note says the check did not run."""
+    from gaitml.recording import Recording
+
+    rec = read_recording(files["walk"])
+    path = tmp_path / "acc-only.csv"
+    write_gaitml_csv(Recording.from_arrays(rec.acc, rec.sampling_rate_hz), path)
+    assert main([*_command(cmd, path, tmp_path), "--json"]) == 0
+    cap = capsys.readouterr()
+    assert json.loads(cap.out)["gait_check"]["tested"] is False
+    assert cap.err.count("gait check of adaptive did not run") == 1

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from gaitml.simulate import Placement, Subject, simulate_recording
@@ -111,3 +112,20 @@ def test_detectors_without_a_confidence_get_no_verdict(tmp_path, capsys):
     assert main(["steps", str(path), "--detector", "single-peak", "--json"]) == 0
     cap = capsys.readouterr()
     assert "n_unsure" not in json.loads(cap.out) and "no confident gait" not in cap.err
+
+
+def test_a_walk_too_short_to_confirm_says_so_and_the_written_table_carries_the_verdict(tmp_path, capsys):
+    from gaitml.cli import main
+    from gaitml.io.gaitml_csv import write_gaitml_csv
+
+    rng = np.random.default_rng(11)
+    rec = simulate_recording(Subject.random(rng, subject="W"), modes=["walk"], duration_s=4, seed=11)
+    obj, err, _, _ = _cli_json(tmp_path, rec, capsys)
+    assert 0 < obj["n_steps"] < CONFIDENT_BOUT_STEPS and obj["n_unsure"] == obj["n_steps"]
+    assert "too short to confirm gait" in err and "handled" not in err
+    path = write_gaitml_csv(rec, tmp_path / "short.csv")
+    out = tmp_path / "steps.csv"
+    assert main(["steps", str(path), "--out", str(out)]) == 0
+    capsys.readouterr()
+    table = pd.read_csv(out)
+    assert "confident" in table.columns and len(table) == obj["n_steps"] and not table["confident"].any()

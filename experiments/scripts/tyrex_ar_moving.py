@@ -1,6 +1,6 @@
 """What the tyrex "moving" windows are: walking, or turning on the spot with the phone held out (motion capture only).
 
-``python -m experiments.scripts.tyrex_ar_moving [--data ../shared/data] [--plots DIR] [--out FILE]`` from the
+``python -m experiments.scripts.tyrex_ar_moving [--data ../shared/data] [--cache FILE] [--axes] [--plots DIR] [--out FILE]`` from the
 repository root.
 
 The speed rule of the modes study (:func:`experiments.scripts.tyrex_modes.moving_labels`) calls a
@@ -47,6 +47,8 @@ import pandas as pd
 __all__ = [
     "BOUNCE_BAND_HZ",
     "BOUNCE_MIN_CM",
+    "BOUNCE_VARIANTS_CM",
+    "axis_table",
     "LEVER_ARM_M",
     "NOT_WALKING",
     "FORWARD_AXIS",
@@ -76,8 +78,8 @@ BOUNCE_MIN_CM = 1.0
 NOT_WALKING = "not-walking"
 #: the phone's forward axis (holder axes) per motion where a lever arm applies: the direction the
 #: walker faces. Texting: the phone lies nearly flat (the room's up within 15 deg of +z), top away
-#: (+y). AR: the phone is upright in landscape (up along -x or +x); in the motion capture the walking
-#: direction lies along +z (median cosine 0.93-1.00 in 13 of the 14 AR recordings with walking).
+#: (+y). AR: the phone is upright in landscape (up along -x or +x) and the walking direction lies
+#: along +z (:func:`axis_table` measures both).
 FORWARD_AXIS = {"Texting": np.array([0.0, 1.0, 0.0]), "AR": np.array([0.0, 0.0, 1.0])}
 #: the forward axis where no motion-specific one is known
 DEFAULT_FORWARD_AXIS = np.array([0.0, 1.0, 0.0])
@@ -254,10 +256,47 @@ def window_signals(rec, sig: pd.DataFrame, truth_t_rec: np.ndarray, length_s: fl
     return pd.concat([w[["start", "end", "t_start_s", "label", "label_fraction"]], pd.DataFrame(rows)], axis=1)
 
 
-def _lever_variants(motion: str) -> dict[str, float]:
-    """The arm lengths reported for a motion: its own, and 0 / 0.3 / 0.5 m where the phone is held in front."""
+#: bounce thresholds (cm) reported beside the rule's, for the sensitivity tables (motion capture only)
+BOUNCE_VARIANTS_CM = {"_b07": 0.7, "_b15": 1.5}
+
+
+def _variants(motion: str) -> dict[str, tuple[float, float]]:
+    """(arm length, bounce threshold) per reported variant: the rule's, 0 / 0.3 / 0.5 m where the phone is held in
+    front, and the bounce thresholds of :data:`BOUNCE_VARIANTS_CM`."""
     own = LEVER_ARM_M[motion]
-    return {"": own, **({"_l0": 0.0, "_l03": 0.3, "_l05": 0.5} if own > 0 else {})}
+    out = {"": (own, BOUNCE_MIN_CM)}
+    if own > 0:
+        out.update({"_l0": (0.0, BOUNCE_MIN_CM), "_l03": (0.3, BOUNCE_MIN_CM), "_l05": (0.5, BOUNCE_MIN_CM)})
+    out.update({k: (own, v) for k, v in BOUNCE_VARIANTS_CM.items()})
+    return out
+
+
+def axis_table(items: list[dict], min_speed_ms: float = 0.5) -> pd.DataFrame:
+    """Per Texting / AR recording: the room's up in the phone's axes and the cosine of each phone axis's horizontal
+    part with the walking direction (the 0.5 Hz path where it goes faster than ``min_speed_ms``), medians."""
+    from gaitml.evaluation.trajectory import body_track
+
+    rows = []
+    for it in items:
+        if it["motion"] not in FORWARD_AXIS:
+            continue
+        tr = it["truth"]
+        t = tr.t_s
+        ok = np.isfinite(tr.pos_m).all(axis=1)
+        xy = np.column_stack([np.interp(t, t[ok], tr.pos_m[ok, j]) for j in range(2)])
+        r = _fill_rot(tr.rot)
+        v = np.gradient(body_track(t, xy), t, axis=0)
+        sp = np.linalg.norm(v, axis=1)
+        m = sp > min_speed_ms
+        row = {"recording": Path(str(it["file"])).name, "up in phone axes": np.array2string(np.median(r[:, 2, :], axis=0), precision=2)}
+        row["walking samples"] = int(m.sum())
+        for name, ax in (("+x", 0), ("+y", 1), ("+z", 2)):
+            f = r[m][:, :2, ax]
+            n = np.linalg.norm(f, axis=1)
+            c = np.sum(f * v[m], axis=1) / np.maximum(n * sp[m], 1e-9)
+            row[f"cos {name}"] = float(np.median(c)) if m.any() else float("nan")
+        rows.append(row)
+    return pd.DataFrame(rows)
 
 
 def window_table(items: list[dict], *, progress: bool = True) -> pd.DataFrame:
@@ -267,11 +306,11 @@ def window_table(items: list[dict], *, progress: bool = True) -> pd.DataFrame:
         rec, truth = it["recording"], it["truth"]
         tt = truth.t_s - rec.meta["t0_original_s"]
         base = None
-        for suffix, lever in _lever_variants(it["motion"]).items():
+        for suffix, (lever, bounce) in _variants(it["motion"]).items():
             fa = FORWARD_AXIS.get(it["motion"])
             sig = mocap_signals(tt, truth.pos_m, truth.rot, lever_m=lever, forward_axis=fa)
             w = window_signals(rec, sig, tt)
-            wl = walking_labels(rec.t_s, tt, truth.pos_m, truth.rot, it["mode"], lever_m=lever, forward_axis=fa)
+            wl = walking_labels(rec.t_s, tt, truth.pos_m, truth.rot, it["mode"], lever_m=lever, forward_axis=fa, min_bounce_cm=bounce)
             wr = window_signals(rec.replace(labels=wl, check_units=False), sig, tt)
             if base is None:
                 base = w.rename(columns={"label": "label_speed", "label_fraction": "fraction_speed"})
@@ -411,6 +450,7 @@ def main(argv=None) -> int:
     ap.add_argument("--cache", type=Path, default=None, help="per-window table (pickle): read when it exists, written otherwise")
     ap.add_argument("--plots", type=Path, default=None, help="write time-series plots of the AR recordings here")
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
+    ap.add_argument("--axes", action="store_true", help="also print the forward-axis check of Texting and AR")
     a = ap.parse_args(argv)
     items = None
     if a.cache is not None and a.cache.exists():
@@ -433,6 +473,9 @@ def main(argv=None) -> int:
         emit(f"\n### the same with the arm length {name} (Texting and AR)\n")
         t = change_table(w, suffix)
         emit(md(t[t["motion"].isin(["Texting", "AR"])]))
+    for suffix, cm in BOUNCE_VARIANTS_CM.items():
+        emit(f"\n### the same with the bounce threshold {cm:g} cm (sensitivity; motion capture only)\n")
+        emit(md(change_table(w, suffix)))
     emit("\n### motion-capture summaries per motion (medians over the windows)\n")
     emit(md(signal_table(w)))
     emit("\n### AR recordings: speed-rule moving windows, kept as walking / turned not-walking\n")
@@ -446,6 +489,11 @@ def main(argv=None) -> int:
         .reset_index()
     )
     emit(md(per))
+    if a.axes:
+        if items is None:
+            items = load_tyrex_labelled(a.data)
+        emit("\n### the forward axis: room up in the phone's axes, cosine of each axis with the walking direction (medians)\n")
+        emit(md(axis_table(items)))
     if a.plots is not None:
         a.plots.mkdir(parents=True, exist_ok=True)
         if items is None:

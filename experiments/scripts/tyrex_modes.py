@@ -153,6 +153,7 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
     ``gate``: keyword arguments of :func:`gaitml.models.predict_recording` for its still gate
     (``still_rule``, ``still_threshold_ms2``); None for its defaults.
     """
+    from experiments.scripts.tyrex_ar_moving import NOT_WALKING
     from gaitml.models import predict_recording
 
     rows = []
@@ -165,6 +166,9 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
         n_still_moded = int(
             sum((v is not False) and m != "still" for v, m in zip(still["in_domain"], still["mode"].astype(str), strict=True))
         )
+        # moving by speed but not walking (the walking rule's third class): how they were answered
+        nw = p[(p["label"].astype(str) == NOT_WALKING) & (p["label_fraction"] >= 0.5)]
+        nw_in = nw["in_domain"].map(lambda v: v is not False).to_numpy(bool)
         rows.append(
             {
                 "subject": it["subject"],
@@ -174,6 +178,9 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
                 "n_still": len(still),
                 "still_flagged": n_still_flagged,
                 "still_moded": n_still_moded,
+                "n_notwalk": len(nw),
+                "notwalk_mode": int(np.sum(nw_in & (nw["mode"].astype(str).to_numpy() == it["mode"]))),
+                "notwalk_still": int(np.sum(nw_in & (nw["mode"].astype(str).to_numpy() == "still"))),
             }
         )
     return pd.DataFrame(rows)
@@ -205,6 +212,12 @@ def summarise(t: pd.DataFrame, by: str = "subject") -> pd.DataFrame:
                 "standing read as a mode": g["still_moded"].sum() / ns if ns else float("nan"),
             }
         )
+        nw = int(g["n_notwalk"].sum()) if "n_notwalk" in g else 0
+        if "n_notwalk" in t and t["n_notwalk"].sum() > 0:
+            rows[-1]["not-walking windows"] = nw
+            rows[-1]["not-walking read as the mode / still"] = (
+                f"{g['notwalk_mode'].sum() / nw:.2f} / {g['notwalk_still'].sum() / nw:.2f}" if nw else "-"
+            )
     return pd.DataFrame(rows)
 
 

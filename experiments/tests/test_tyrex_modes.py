@@ -116,3 +116,6 @@ def test_the_walking_rule_changes_what_is_scored_not_the_answers(monkeypatch):
     assert by_speed["as_still"] > 0.4 * by_speed["n"]  # over the speed rule the first half is silently 'still'
     assert by_walking["as_still"] <= 1  # at most the window straddling the change
     assert abs(by_walking["right"] - by_speed["right"]) <= 1  # the same answers: the right windows stay right
+    # the windows that left are counted apart, with what they were answered ('still' here)
+    assert by_walking["n_notwalk"] >= by_speed["n"] - by_walking["n"] - 1 and by_speed["n_notwalk"] == 0
+    assert by_walking["notwalk_still"] >= by_walking["n_notwalk"] - 1 and by_walking["notwalk_mode"] <= 1

@@ -1,7 +1,8 @@
 """Modes on real carried phones (issue 27): the shipped models and three training recipes, one tyrex person left out at a time.
 
 ``python -m experiments.scripts.tyrex_modes [--data ../shared/data] [--features all52+gyro|all52] [--recipes sim,a,b,c]
-[--holdout person|person-phone] [--still-rule std|range] [--still-threshold MS2] [--out FILE] [--csv FILE]``
+[--holdout person|person-phone] [--still-rule std|range] [--still-threshold MS2] [--moving-rule speed|walking]
+[--out FILE] [--csv FILE]``
 from the repository root.
 
 Moving windows (the speed rule): the phone's true path from the motion capture is
@@ -13,6 +14,13 @@ recording's mode (``walk``, or ``run`` for RunningHand / RunningPocket), the oth
 of its samples when that majority is at least half the window (``min_label_fraction``),
 so a *moving window* is one in which the body moves faster than 0.3 m/s for more than
 half of the 1.5 s. Standing windows are neither walk nor any other mode and are not scored.
+
+``--moving-rule walking`` scores over the windows of the walking rule instead
+(:func:`experiments.scripts.tyrex_ar_moving.walking_labels`: the speed of a body point corrected
+for the phone's lever arm above 0.3 m/s AND a vertical bounce of at least 1 cm peak-to-peak in the
+step band); windows the speed rule calls moving and the walking rule does not are scored neither
+as moving nor as standing. The rule changes only what is scored (the denominator): the recipes
+are trained on the speed rule's windows under either rule, so the models are the same.
 
 Scores per motion over the moving windows (``gaitml predict``'s own path,
 :func:`gaitml.models.predict_recording`, adjacent-window correction on): *right* (in
@@ -139,14 +147,18 @@ def load_tyrex_labelled(data: Path, fs: float = 50.0) -> list[dict]:
 def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataFrame:
     """Per recording: right / flagged / wrong counts over its moving windows, and its still windows flagged.
 
+    The windows are labelled from ``item["score_recording"]`` when present (the walking rule),
+    else from ``item["recording"]`` (the speed rule).
+
     ``gate``: keyword arguments of :func:`gaitml.models.predict_recording` for its still gate
     (``still_rule``, ``still_threshold_ms2``); None for its defaults.
     """
+    from experiments.scripts.tyrex_ar_moving import NOT_WALKING
     from gaitml.models import predict_recording
 
     rows = []
     for it in items:
-        p = predict_recording(model, it["recording"], **(gate or {}))
+        p = predict_recording(model, it.get("score_recording", it["recording"]), **(gate or {}))
         s = score_windows(p, it["mode"])
         still = p[(p["label"].astype(str) == "still") & (p["label_fraction"] >= 0.5)]
         n_still_flagged = int(sum(v is False for v in still["in_domain"]))
@@ -154,6 +166,9 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
         n_still_moded = int(
             sum((v is not False) and m != "still" for v, m in zip(still["in_domain"], still["mode"].astype(str), strict=True))
         )
+        # moving by speed but not walking (the walking rule's third class): how they were answered
+        nw = p[(p["label"].astype(str) == NOT_WALKING) & (p["label_fraction"] >= 0.5)]
+        nw_in = nw["in_domain"].map(lambda v: v is not False).to_numpy(bool)
         rows.append(
             {
                 "subject": it["subject"],
@@ -163,6 +178,9 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
                 "n_still": len(still),
                 "still_flagged": n_still_flagged,
                 "still_moded": n_still_moded,
+                "n_notwalk": len(nw),
+                "notwalk_mode": int(np.sum(nw_in & (nw["mode"].astype(str).to_numpy() == it["mode"]))),
+                "notwalk_still": int(np.sum(nw_in & (nw["mode"].astype(str).to_numpy() == "still"))),
             }
         )
     return pd.DataFrame(rows)
@@ -194,6 +212,12 @@ def summarise(t: pd.DataFrame, by: str = "subject") -> pd.DataFrame:
                 "standing read as a mode": g["still_moded"].sum() / ns if ns else float("nan"),
             }
         )
+        nw = int(g["n_notwalk"].sum()) if "n_notwalk" in g else 0
+        if "n_notwalk" in t and t["n_notwalk"].sum() > 0:
+            rows[-1]["not-walking windows"] = nw
+            rows[-1]["not-walking read as the mode / still"] = (
+                f"{g['notwalk_mode'].sum() / nw:.2f} / {g['notwalk_still'].sum() / nw:.2f}" if nw else "-"
+            )
     return pd.DataFrame(rows)
 
 
@@ -415,6 +439,13 @@ def main(argv=None) -> int:
     ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
     ap.add_argument("--still-rule", choices=("std", "range"), default=None, help="the still gate's rule (default: gaitml's)")
     ap.add_argument("--still-threshold", type=float, default=None, metavar="MS2", help="the still gate's threshold (default: the rule's)")
+    ap.add_argument(
+        "--moving-rule",
+        choices=("speed", "walking"),
+        default="speed",
+        help="which windows are scored as moving: the body speed rule (default) or the walking rule (speed of the "
+        "lever-corrected body point and step-band bounce); training uses the speed rule either way",
+    )
     a = ap.parse_args(argv)
     gate = {k: v for k, v in (("still_rule", a.still_rule), ("still_threshold_ms2", a.still_threshold)) if v is not None}
     cfg = simulated_part(load_config(a.config))
@@ -428,6 +459,11 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     items = load_tyrex_labelled(a.data, cfg["data"]["resample_hz"])
     print(f"[tyrex_modes] {len(items)} tyrex recordings read ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    if a.moving_rule == "walking":
+        from experiments.scripts.tyrex_ar_moving import item_walking_labels
+
+        for it in items:
+            it["score_recording"] = it["recording"].replace(labels=item_walking_labels(it), check_units=False)
     text: list[str] = []
     rows_all = []
 
@@ -438,6 +474,12 @@ def main(argv=None) -> int:
     n_moving = sum(int(np.sum(it["recording"].labels.astype(str) == it["mode"])) for it in items)
     n_in = sum(int(np.sum(it["recording"].labels.astype(str) != "unlabelled")) for it in items)
     emit(f"moving samples (body speed > 0.3 m/s): {n_moving / n_in:.3f} of the captured samples")
+    if a.moving_rule == "walking":
+        n_walk = sum(int(np.sum(it["score_recording"].labels.astype(str) == it["mode"])) for it in items)
+        emit(
+            f"scored: the walking rule's windows (lever-corrected speed > 0.3 m/s and step-band bounce >= 1 cm): walking samples "
+            f"{n_walk / n_in:.3f} of the captured samples; the models are trained on the speed rule's windows as before"
+        )
     for mdir in [m for m in a.baseline.split(",") if m]:
         model = load_model(mdir)
         t = window_table(model, items, gate)
@@ -445,7 +487,7 @@ def main(argv=None) -> int:
         rows_all.append(t)
         seen = sorted(set((model.info.get("training_data") or {}).get("groups") or []) & {it["subject"] for it in items})
         how = f"in-sample: trained on {', '.join(seen)}" if seen else "trained on none of them"
-        emit(f"\n### {mdir} as it is, all 3 people ({how})\n")
+        emit(f"\n### {mdir} as it is, all 3 people ({how}){' (windows by the walking rule)' if a.moving_rule == 'walking' else ''}\n")
         emit(md(summarise(t)))
     if a.positions and a.holdout == "person":
         emit(f"\n### position recognition ({cfg['features']['set']}, real tyrex moving windows only), each person left out in turn\n")
@@ -458,7 +500,7 @@ def main(argv=None) -> int:
     else:  # another person AND another phone: train on the other two people's other two phones
         folds = sorted({(it["subject"], it["phone"]) for it in items})
     for recipe in [r for r in a.recipes.split(",") if r]:
-        tabs, sides, untr = [], [], []
+        tabs, sides, untr, tabs_speed = [], [], [], []
         for person, phone in folds:
             t1 = time.perf_counter()
             train = [it for it in items if it["subject"] != person and (phone is None or it["phone"] != phone)]
@@ -469,6 +511,10 @@ def main(argv=None) -> int:
             t = window_table(model, test, gate)
             t["model"], t["left_out"] = f"recipe {recipe} ({cfg['features']['set']})", person
             tabs.append(t)
+            if a.moving_rule == "walking":  # the same model scored over the speed rule's windows, side by side
+                ts = window_table(model, [{k: v for k, v in it.items() if k != "score_recording"} for it in test], gate)
+                ts["model"], ts["left_out"] = f"recipe {recipe} ({cfg['features']['set']}), speed rule", person
+                tabs_speed.append(ts)
             s = sim_side_table(model, [r for r in sim_test if r.meta["position"] in positions])
             s["left_out"] = person
             sides.append(s)
@@ -485,8 +531,14 @@ def main(argv=None) -> int:
             if a.holdout == "person"
             else "each person x phone left out (trained on the other people's other phones)"
         )
-        emit(f"\n### recipe {recipe} ({cfg['features']['set']}), {what}\n")
+        rule = " (windows by the walking rule)" if a.moving_rule == "walking" else ""
+        emit(f"\n### recipe {recipe} ({cfg['features']['set']}), {what}{rule}\n")
         emit(md(summarise(t, by="left_out")))
+        if tabs_speed:
+            ts = pd.concat(tabs_speed, ignore_index=True)
+            rows_all.append(ts)
+            emit(f"\n### the same models over the speed rule's windows (recipe {recipe}, {what})\n")
+            emit(md(summarise(ts, by="left_out")))
         ns, nf = t["n_still"].sum(), t["still_flagged"].sum()
         emit(f"\nstill windows of the left-out people flagged: {nf / max(ns, 1):.2f} of {ns}")
         s = pd.concat(sides, ignore_index=True)

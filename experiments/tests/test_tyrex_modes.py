@@ -83,3 +83,39 @@ def test_recipe_b_keeps_only_the_simulated_side_steps_and_backward():
     rec = Recording.from_arrays(acc, 50.0, labels=labels)
     kept = keep_modes(rec, RECIPES["b"][0]).labels.astype(str)
     assert list(kept) == ["unlabelled", "unlabelled", "side_left", "side_right", "backward", "unlabelled", "backward", "unlabelled"]
+
+
+def test_the_walking_rule_changes_what_is_scored_not_the_answers(monkeypatch):
+    """window_table scores over ``score_recording``'s labels when an item has one: the same answers, another denominator."""
+    import gaitml.models
+    from experiments.scripts.tyrex_ar_moving import NOT_WALKING
+    from experiments.scripts.tyrex_modes import window_table
+    from gaitml.features import make_windows
+    from gaitml.recording import Recording
+
+    fs = 50.0
+    n = int(30 * fs)
+    rng = np.random.default_rng(0)
+    acc = rng.normal(0, 0.1, (n, 3)) + [0, 0, 9.81]
+    speed_lab = np.array(["walk"] * n, dtype=object)
+    walk_lab = speed_lab.copy()
+    walk_lab[: n // 2] = NOT_WALKING  # the first 15 s: moving by speed, not walking
+    rec = Recording(acc=acc, sampling_rate_hz=fs, labels=speed_lab, meta={"id": "x"}, check_units=False)
+
+    def fake_predict(model, recording, **kw):  # answers 'still' in the first half, 'walk' after, whatever the labels
+        w = make_windows(recording, 1.5, 0.5, min_label_fraction=0.0).reset_index(drop=True)
+        w["mode"] = np.where(w["end"] <= n // 2, "still", "walk")
+        w["in_domain"] = np.array([True] * len(w), dtype=object)
+        return w
+
+    monkeypatch.setattr(gaitml.models, "predict_recording", fake_predict)
+    item = {"subject": "A", "phone": "P", "motion": "AR", "mode": "walk", "recording": rec}
+    by_speed = window_table(None, [item]).iloc[0]
+    by_walking = window_table(None, [{**item, "score_recording": rec.replace(labels=walk_lab, check_units=False)}]).iloc[0]
+    assert by_walking["n"] < 0.6 * by_speed["n"]  # the not-walking half left the denominator
+    assert by_speed["as_still"] > 0.4 * by_speed["n"]  # over the speed rule the first half is silently 'still'
+    assert by_walking["as_still"] <= 1  # at most the window straddling the change
+    assert abs(by_walking["right"] - by_speed["right"]) <= 1  # the same answers: the right windows stay right
+    # the windows that left are counted apart, with what they were answered ('still' here)
+    assert by_walking["n_notwalk"] >= by_speed["n"] - by_walking["n"] - 1 and by_speed["n_notwalk"] == 0
+    assert by_walking["notwalk_still"] >= by_walking["n_notwalk"] - 1 and by_walking["notwalk_mode"] <= 1

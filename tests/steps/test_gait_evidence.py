@@ -103,6 +103,18 @@ def test_a_walk_with_the_phone_in_a_bag_keeps_its_steps(seed):
     assert len(gait_check_recording(sp, rec)) >= 0.9 * min(len(sp), n_true)
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="known gap: a bag walk shorter than LONG_BOUT_STEPS (15 s, ~27 steps) rotates like a gesture burst at the "
+    "step rate and loses its steps to the rotation test (experiments/reports/nongait.md, bag section)",
+)
+def test_a_short_walk_with_the_phone_in_a_bag_keeps_its_steps():
+    rng = np.random.default_rng(0)
+    placement = Placement.random("bag", rng)
+    rec = simulate_recording(Subject.random(rng, subject="W"), modes=["walk"], duration_s=15, seed=0, placement=placement)
+    assert len(get_detector("adaptive").detect(rec).steps_) >= 0.9 * rec.reference["n_steps_true"]
+
+
 def test_without_a_gyroscope_nothing_is_tested_and_nothing_is_lost():
     rec = _beating_phone(rotation_deg=20.0)
     no_gyr = Recording.from_arrays(rec.acc, rec.sampling_rate_hz)

@@ -779,8 +779,9 @@ class AdaptiveStepDetector(BaseStepDetector):
         Correlation of the swing rate that counts as in phase (>=) or in
         anti-phase (<= its negative).
     gait_check : bool, default True
-        Leave out the bouts whose phone rotates at the step frequency as no
-        walker's does (a gesturing hand; :mod:`gaitml.steps._gait_evidence`);
+        Leave out the bouts of fewer than 30 steps whose phone rotates at the
+        step frequency as no walker's does (a gesturing hand; a longer bout is
+        gait whatever its rotation; :mod:`gaitml.steps._gait_evidence`);
         needs a gyroscope (without one nothing is tested). The account is in
         ``steps_.attrs['gait_check']``.
 

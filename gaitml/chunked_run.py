@@ -177,7 +177,11 @@ def long_steps(
     whole file, summed over the chunks' core steps, is in ``attrs["gait_check"]`` (the keys of
     :func:`~gaitml.steps._gait_evidence.gait_check`'s). A bout within a chunk margin of a chunk edge
     is tested on the same steps as on the whole file; a bout longer than the margin is tested on
-    each chunk's part of it (a walk of minutes, whose gait evidence does not hang on its length).
+    each chunk's part of it. That part spans at least one margin, so it holds the
+    :data:`~gaitml.steps._gait_evidence.LONG_BOUT_STEPS` steps that make a bout gait whatever its
+    rotation when the cadence is at least ``LONG_BOUT_STEPS / margin_s`` (1 step/s with the 30 s
+    margin); a slower bout that turns with its steps can lose the few core steps near a chunk edge
+    that a whole-file run keeps.
     Bouts are counted (``n_bouts``, ``n_bouts_rejected``) in the chunk that holds their first step;
     such a long bout kept in one chunk and rejected in the next adds its rejected steps to
     ``n_steps_rejected`` but no rejected bout.

@@ -27,6 +27,8 @@ from gaitml.commands._args import add_input_options, choices, step_detectors
 from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 
+#: The stderr note of a recording in which the detector found no step.
+NO_STEPS_NOTE = "note: no steps found; check the recording contains walking and the detector suits the sensor position."
 #: The command's one-line description in ``gaitml --help``.
 HELP = "detect steps"
 
@@ -129,8 +131,8 @@ def _confidence_line(sure: dict, n: int) -> str:
 def _unsure_note(sure: dict, duration_s: float | None = None, period_s: float | None = None) -> str:
     """The stderr note when most steps are unsure: a recording too short to confirm a walk, or short bursts of steps."""
     n = sure["n_confident"] + sure["n_unsure"]
-    # a recording shorter than 1.5 x the time a confirming bout takes at its own step period cannot confirm one
-    if duration_s is not None and period_s and duration_s < 1.5 * sure["min_bout_steps"] * period_s:
+    # fewer steps than a confirming bout, in a recording shorter than 1.5 x the time one takes at its step period
+    if n < sure["min_bout_steps"] and duration_s is not None and period_s and duration_s < 1.5 * sure["min_bout_steps"] * period_s:
         return (
             f"the recording ({duration_s:.1f} s) is too short to confirm gait: a walk is confirmed by a bout of "
             f"{sure['min_bout_steps']} regular steps; its {n} steps are kept in the count and marked unsure"
@@ -171,7 +173,9 @@ def run(args) -> int:
             steps = gait_check_recording(steps, rec)
     checked = steps.attrs.get("gait_check") if gait else None
     gait_line = _gait_line(checked)
-    if checked and checked["n_steps_rejected"]:
+    if checked and not checked.get("tested", True):
+        log(f"gaitml: note: gait check {gait_line}")
+    elif checked and checked["n_steps_rejected"]:
         log(f"gaitml: note: {gait_line}")
     sure, confident = _confidence(steps)
     if sure is not None and sure["n_unsure"] > len(steps) / 2:
@@ -244,7 +248,7 @@ def run(args) -> int:
         lines.append(f"  step table written to {args.out}")
     print("\n".join(lines))
     if not len(steps):
-        log("note: no steps found; check the recording contains walking and the detector suits the sensor position.")
+        log(NO_STEPS_NOTE)
     return 0
 
 
@@ -263,7 +267,9 @@ def _run_long(args) -> int:
     steps = long_steps(args.input, args.detector, progress=True, count_also=also, gait_check=gait, **long_read_kwargs(args))
     checked = steps.attrs.get("gait_check") if gait else None
     gait_line = _gait_line(checked)
-    if checked and checked["n_steps_rejected"]:
+    if checked and not checked.get("tested", True):
+        log(f"gaitml: note: gait check {gait_line}")
+    elif checked and checked["n_steps_rejected"]:
         log(f"gaitml: note: {gait_line}")
     # the verdict reads only the global step table (times and periods), so it is the whole file's
     sure, confident = _confidence(steps)
@@ -302,10 +308,12 @@ def _run_long(args) -> int:
         f"{args.input}: {len(steps)} steps ({args.detector}), processed in chunks of {chunked.get('chunk_s', 0) / 60:g} min "
         f"({chunked.get('margin_s', 0):g} s margins) at {fs:g} Hz"
     )
-    if sure is not None:
+    if sure is not None and len(steps):
         print(_confidence_line(sure, len(steps)))
     if gait_line:
         print(f"  gait check: {gait_line}")
     if args.out:
         print(f"  step table written to {args.out}")
+    if not len(steps):
+        log(NO_STEPS_NOTE)
     return 0

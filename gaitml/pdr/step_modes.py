@@ -83,8 +83,8 @@ def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:
     With overlapping windows a step lies in two; the window whose centre is nearest to
     the step time is used (it sees the step best). Steps before the first or after the
     last window take the nearest window. A detected step is gait: where its window was
-    reported ``still`` (no step in the window's |acc| swing,
-    :func:`gaitml.models._predict.still_windows`) the step takes the model's own answer
+    reported ``still`` (no gait in the window's |acc| by the still gate,
+    :func:`gaitml.models.still_windows`) the step takes the model's own answer
     (``mode_raw``).
     """
     modes = window_values_at_steps(windows, step_t_s, "mode").astype(str)

@@ -91,7 +91,8 @@ FIT_RATE_HZ = 25.0
 STEP_OVER_STRIDE_RATIO = 1.0
 #: a bout of at least this many regular steps is gait whatever its rotation (a bag swinging on its strap turns once
 #: per step; a burst of beats lasts 0.5-4 s, McNeill 1992): three times the pedometers' ten-step confirmation
-#: (Bassett et al. 1996), 15 s at 2 steps/s
+#: (Bassett et al. 1996), 15 s at 2 steps/s. The limit of this rule: a phone waved or shaken in a steady rhythm
+#: for that long is counted as steps (and as confident gait); only shorter bursts are left out
 LONG_BOUT_STEPS = 30
 
 

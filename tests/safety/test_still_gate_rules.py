@@ -8,7 +8,15 @@ import pytest
 
 from gaitml.errors import InputError
 from gaitml.models import load_model, predict_recording
-from gaitml.models._predict import STILL_RANGE_MS2, STILL_RULE, STILL_STD_MS2, describe_still_gate, still_statistic, still_windows
+from gaitml.models._predict import (
+    STILL_RANGE_MS2,
+    STILL_RULE,
+    STILL_STD_MS2,
+    STILL_THRESHOLDS_MS2,
+    describe_still_gate,
+    still_statistic,
+    still_windows,
+)
 from gaitml.recording import Recording
 from tests.conftest import ROOT
 
@@ -107,7 +115,7 @@ def test_the_portable_export_states_the_gate_under_a_new_format_version():
     spec = input_spec(load_model(ROOT / "models" / "demo"))
     still = spec["postprocess"]["still"]
     assert spec["format_version"] == PORTABLE_FORMAT_VERSION >= 2
-    assert (still["statistic"], still["threshold_ms2"]) == (STILL_RULE, STILL_STD_MS2)
+    assert (still["statistic"], still["threshold_ms2"]) == (STILL_RULE, STILL_THRESHOLDS_MS2[STILL_RULE])
     assert still["range_ms2"] is None if STILL_RULE != "range" else still["range_ms2"] == STILL_RANGE_MS2
 
 
@@ -122,5 +130,5 @@ def test_predict_json_says_which_gate_ran(tmp_path, capsys):
     write_gaitml_csv(_rec(0.35 * np.sqrt(2) * np.sin(2 * np.pi * 1.6 * t)), path)
     assert main(["predict", str(ROOT / "models" / "demo"), str(path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["still_gate"] == {"statistic": STILL_RULE, "threshold_ms2": STILL_STD_MS2}
+    assert out["still_gate"] == {"statistic": STILL_RULE, "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE]}
     assert out["still_fraction"] == 1.0

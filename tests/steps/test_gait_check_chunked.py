@@ -204,3 +204,15 @@ def test_commands_say_when_the_gait_check_could_not_run(files, tmp_path, capsys,
     cap = capsys.readouterr()
     assert json.loads(cap.out)["gait_check"]["tested"] is False
     assert cap.err.count("gait check of adaptive did not run") == 1
+
+
+def test_steps_notes_when_the_gait_check_could_not_run(files, tmp_path, capsys):
+    from gaitml.recording import Recording
+
+    rec = read_recording(files["walk"])
+    path = tmp_path / "acc-only.csv"
+    write_gaitml_csv(Recording.from_arrays(rec.acc, rec.sampling_rate_hz), path)
+    assert main(["steps", str(path), "--json"]) == 0
+    cap = capsys.readouterr()
+    assert json.loads(cap.out)["gait_check"]["tested"] is False
+    assert cap.err.count("gaitml: note: gait check not run") == 1

@@ -134,6 +134,13 @@ def test_a_walk_too_short_to_confirm_says_so_and_the_written_table_carries_the_v
 def test_ten_irregular_steps_in_a_short_recording_are_not_called_too_short():
     from gaitml.commands.steps import _unsure_note
 
-    sure = {"n_confident": 0, "n_unsure": 13, "min_bout_steps": CONFIDENT_BOUT_STEPS, "window_s": 60.0, "longest_bout_steps": 6, "n_bouts": 3}
+    sure = {
+        "n_confident": 0,
+        "n_unsure": 13,
+        "min_bout_steps": CONFIDENT_BOUT_STEPS,
+        "window_s": 60.0,
+        "longest_bout_steps": 6,
+        "n_bouts": 3,
+    }
     assert "too short" not in _unsure_note(sure, 7.0, 0.5)
     assert "too short" in _unsure_note({**sure, "n_unsure": 8, "n_bouts": 1, "longest_bout_steps": 8}, 4.0, 0.5)

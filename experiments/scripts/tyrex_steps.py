@@ -56,8 +56,9 @@ SPEED_LOWPASS_HZ = 0.3
 #: whose 8-degree swing is itself evidence of a step (steps while turning on the spot are real steps), higher on the
 #: trunk, whose few-millimetre bounce is also made by a standing body's sway
 MIN_SPEED_MS = {"stride": 0.05, "step": 0.15}
-#: adaptive's steps with at least this confidence are also counted apart
-CONFIDENT = 0.5
+#: adaptive's steps with at least this per-step confidence are also counted apart (column "adaptive_conf>=0.5");
+#: not gaitml's confident / unsure verdict (gaitml.steps.gait_confidence), which a per-step threshold does not make
+CONFIDENCE_SHOWN = 0.5
 DETECTORS = ("adaptive", "adfsm", "single-peak", "ifsm", "autocorr", "fsm-selflearn")
 
 
@@ -157,9 +158,9 @@ def table(data: str | Path, detectors=DETECTORS, plot_dir: str | None = None) ->
                 inside = (tt >= ref["t_first_s"]) & (tt <= ref["t_last_s"])
                 n += int(np.sum(inside))
                 if d == "adaptive":
-                    n_conf += int(np.sum(inside & (st["confidence"].to_numpy() >= CONFIDENT)))
+                    n_conf += int(np.sum(inside & (st["confidence"].to_numpy() >= CONFIDENCE_SHOWN)))
             row[d] = n
-        row["adaptive_confident"] = n_conf
+        row["adaptive_conf>=0.5"] = n_conf
         rows.append(row)
         if plot_dir is not None:
             _plot(ref, folder.name, Path(plot_dir))
@@ -226,7 +227,7 @@ def main(argv: list[str] | None = None) -> int:
     df = table(a.data, plot_dir=a.plot)
     if a.csv:
         df.to_csv(a.csv, index=False)
-    dets = [*DETECTORS, "adaptive_confident"]
+    dets = [*DETECTORS, "adaptive_conf>=0.5"]
     spread = df.assign(lo=df["mocap_gate03"] / df["mocap_steps"] - 1, hi=df["mocap_gate0"] / df["mocap_steps"] - 1)
     print("Reference sensitivity: median change of the motion-capture count with the speed gate at 0.3 m/s / at 0:\n")
     for motion, g in spread.groupby("motion"):

@@ -150,6 +150,36 @@ def _with_confident(steps, confident):
     return steps if confident is None else steps.assign(confident=np.asarray(confident, dtype=bool))
 
 
+def _notes(steps, checked: dict | None, duration_s: float | None = None) -> tuple[str | None, dict | None, np.ndarray | None]:
+    """The stderr notes on the gait check and the confident / unsure verdict; returns (the gait line, verdict, flags).
+
+    ``duration_s`` (the whole recording's) lets a recording too short to confirm a walk be told so.
+    """
+    gait_line = _gait_line(checked)
+    if checked and not checked.get("tested", True):
+        log(f"gaitml: note: gait check {gait_line}")
+    elif checked and checked["n_steps_rejected"]:
+        log(f"gaitml: note: {gait_line}")
+    sure, confident = _confidence(steps)
+    if sure is not None and sure["n_unsure"] > len(steps) / 2:
+        period = float(np.median(steps["period_s"])) if duration_s is not None else None
+        log(f"gaitml: note: {_unsure_note(sure, duration_s, period)}")
+    return gait_line, sure, confident
+
+
+def _json_verdicts(obj: dict, checked: dict | None, sure: dict | None, confident: np.ndarray | None) -> None:
+    """Add the per-step ``confident`` flags, the verdict keys and the gait-check account to the JSON object."""
+    if confident is not None:
+        for step, ok in zip(obj["steps"], confident, strict=True):
+            step["confident"] = bool(ok)
+    if sure is not None:
+        obj["n_confident"], obj["n_unsure"] = sure["n_confident"], sure["n_unsure"]
+        obj["gait_confidence"] = sure
+    if checked is not None:
+        obj["gait_check"] = {k: v for k, v in checked.items() if k != "rejected_t_s"}
+        obj["gait_check"]["rejected_t_s"] = [float(v) for v in checked["rejected_t_s"]]
+
+
 def run(args) -> int:
     """Detect steps, print a summary or the JSON contract, optionally write the table."""
     from gaitml.evaluation.steps import step_times
@@ -172,14 +202,7 @@ def run(args) -> int:
         if gait:  # tested at adaptive's step frequency: a detector counting one step per stride would test its strides
             steps = gait_check_recording(steps, rec)
     checked = steps.attrs.get("gait_check") if gait else None
-    gait_line = _gait_line(checked)
-    if checked and not checked.get("tested", True):
-        log(f"gaitml: note: gait check {gait_line}")
-    elif checked and checked["n_steps_rejected"]:
-        log(f"gaitml: note: {gait_line}")
-    sure, confident = _confidence(steps)
-    if sure is not None and sure["n_unsure"] > len(steps) / 2:
-        log(f"gaitml: note: {_unsure_note(sure, rec.duration_s, float(np.median(steps['period_s'])))}")
+    gait_line, sure, confident = _notes(steps, checked, rec.duration_s)
     if args.out:
         write_csv(args.out, _with_confident(steps, confident))
     ev = _evaluation(rec, steps)
@@ -194,17 +217,9 @@ def run(args) -> int:
             "n_steps": int(len(steps)),
             "steps": _json_steps(steps, t),
         }
-        if confident is not None:
-            for step, ok in zip(obj["steps"], confident, strict=True):
-                step["confident"] = bool(ok)
         if warning:
             obj["warnings"] = [warning]
-        if sure is not None:
-            obj["n_confident"], obj["n_unsure"] = sure["n_confident"], sure["n_unsure"]
-            obj["gait_confidence"] = sure
-        if checked is not None:
-            obj["gait_check"] = {k: v for k, v in checked.items() if k != "rejected_t_s"}
-            obj["gait_check"]["rejected_t_s"] = [float(v) for v in checked["rejected_t_s"]]
+        _json_verdicts(obj, checked, sure, confident)
         cadence = _json_cadence(det)
         if cadence is not None:
             obj["cadence"] = cadence
@@ -266,15 +281,8 @@ def _run_long(args) -> int:
     # the gait-evidence test per chunk, its account summed over the chunks' core steps (gaitml.chunked_run)
     steps = long_steps(args.input, args.detector, progress=True, count_also=also, gait_check=gait, **long_read_kwargs(args))
     checked = steps.attrs.get("gait_check") if gait else None
-    gait_line = _gait_line(checked)
-    if checked and not checked.get("tested", True):
-        log(f"gaitml: note: gait check {gait_line}")
-    elif checked and checked["n_steps_rejected"]:
-        log(f"gaitml: note: {gait_line}")
     # the verdict reads only the global step table (times and periods), so it is the whole file's
-    sure, confident = _confidence(steps)
-    if sure is not None and sure["n_unsure"] > len(steps) / 2:
-        log(f"gaitml: note: {_unsure_note(sure)}")
+    gait_line, sure, confident = _notes(steps, checked)
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
         write_csv(args.out, _with_confident(steps, confident))
@@ -290,17 +298,9 @@ def _run_long(args) -> int:
             "steps": _json_steps(steps, t) if len(steps) else [],
             "chunked": steps.attrs.get("chunked"),
         }
-        if confident is not None:
-            for step, ok in zip(obj["steps"], confident, strict=True):
-                step["confident"] = bool(ok)
         if warning:
             obj["warnings"] = [warning]
-        if sure is not None:
-            obj["n_confident"], obj["n_unsure"] = sure["n_confident"], sure["n_unsure"]
-            obj["gait_confidence"] = sure
-        if checked is not None:
-            obj["gait_check"] = {k: v for k, v in checked.items() if k != "rejected_t_s"}
-            obj["gait_check"]["rejected_t_s"] = [float(v) for v in checked["rejected_t_s"]]
+        _json_verdicts(obj, checked, sure, confident)
         emit_json(obj)
         return 0
     chunked = steps.attrs.get("chunked") or {}

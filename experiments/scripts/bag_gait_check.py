@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from experiments.scripts.nongait import md_table
 from gaitml.simulate import Placement, Subject, simulate_recording
 from gaitml.simulate.nongait import simulate_nongait
 from gaitml.steps import get_detector
@@ -172,29 +173,17 @@ def nongait_tables(seeds, cache: Path | None) -> tuple[pd.DataFrame, pd.DataFram
 
 def tyrex_table(data: Path, cache: Path | None) -> pd.DataFrame:
     """Steps of adaptive within the motion-capture span per rule, summed per person and motion."""
-    from experiments.scripts.tyrex_steps import mocap_steps
-    from gaitml.io.tyrex import list_tyrex_folders, parse_tyrex_name, read_tyrex, read_tyrex_truth
+    from experiments.scripts.tyrex_steps import in_reference_span, tyrex_walks
 
     f = cache / "tyrex.pkl" if cache else None
     if f is not None and f.exists():
         return pickle.loads(f.read_bytes())
     rows = []
-    for folder in list_tyrex_folders(data / "tyrex-attitude"):
-        info = parse_tyrex_name(folder.name)
-        if info is None or info.get("take"):
-            continue
-        try:
-            truth = read_tyrex_truth(folder)
-            rec = read_tyrex(folder, segments=True)
-        except Exception as exc:  # noqa: BLE001 - a recording the reader refuses is reported, not fatal
-            print(f"skip {folder.name}: {exc}", file=sys.stderr)
-            continue
-        ref = mocap_steps(truth, info["motion"])
-        row = {"person": info["person"], "motion": info["motion"], "mocap": ref["n_steps"], "off": 0, "before": 0, "now": 0}
+    for walk in tyrex_walks(data):
+        ref = walk["ref"]
+        row = {"person": walk["person"], "motion": walk["motion"], "mocap": ref["n_steps"], "off": 0, "before": 0, "now": 0}
         row["long_bouts_rotating"] = 0
-        for r in rec if isinstance(rec, list) else [rec]:
-            if r.duration_s < 10.0:
-                continue
+        for r in walk["recs"]:
             fs = r.sampling_rate_hz
             raw = get_detector("adaptive", gait_check=False).detect(r).steps_
             t0 = float(r.meta.get("t0_original_s", 0.0))
@@ -203,8 +192,7 @@ def tyrex_table(data: Path, cache: Path | None) -> pd.DataFrame:
                 ("before", gait_check(raw, r.gyr, fs, long_bout_steps=NEVER)),
                 ("now", gait_check(raw, r.gyr, fs)),
             ):
-                tt = t0 + st["t_peak_s"].to_numpy()
-                row[k] += int(np.sum((tt >= ref["t_first_s"]) & (tt <= ref["t_last_s"])))
+                row[k] += int(np.sum(in_reference_span(t0 + st["t_peak_s"].to_numpy(), ref)))
             ev = gait_evidence(r.gyr, fs, raw, long_bout_steps=NEVER)
             row["long_bouts_rotating"] += int(((~ev["gait"].astype(bool)) & (ev["n_steps"] >= LONG_BOUT_STEPS)).sum())
         rows.append(row)
@@ -213,14 +201,6 @@ def tyrex_table(data: Path, cache: Path | None) -> pd.DataFrame:
     if f is not None:
         f.write_bytes(pickle.dumps(out))
     return out
-
-
-def _md(df: pd.DataFrame) -> str:
-    cols = list(df.columns)
-    out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    for r in df.itertuples(index=False):
-        out.append("| " + " | ".join(f"{v:.3f}" if isinstance(v, float) else str(v) for v in r) + " |")
-    return "\n".join(out)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -237,11 +217,11 @@ def main(argv: list[str] | None = None) -> int:
     for name, seeds in (("selection seeds 0-39", SELECTION_SEEDS), ("held-out seeds 100-129", HELDOUT_SEEDS)):
         tab, _ = walks_table(seeds, cache)
         print(f"## Simulated walks, 60 s, {name}\n")
-        print(_md(tab) + "\n")
+        print(md_table(tab) + "\n")
     for name, seeds in (("selection seeds 0-39", SELECTION_SEEDS), ("held-out seeds 100-129", HELDOUT_SEEDS)):
         tab, bouts = nongait_tables(seeds, cache)
         print(f"## Non-gait, steps per minute, {name}\n")
-        print(_md(tab) + "\n")
+        print(md_table(tab) + "\n")
         for kind, g in bouts.groupby("kind", sort=False):
             rej = g[g.rejected_before]
             print(
@@ -252,9 +232,9 @@ def main(argv: list[str] | None = None) -> int:
     if not args.skip_tyrex:
         tab = tyrex_table(Path(args.data), cache)
         print("## tyrex, adaptive's steps within the motion-capture span per rule\n")
-        print(_md(tab) + "\n")
+        print(md_table(tab) + "\n")
         per = tab.groupby("person")[["mocap", "off", "before", "now", "long_bouts_rotating"]].sum().reset_index()
-        print(_md(per) + "\n")
+        print(md_table(per) + "\n")
     return 0
 
 

@@ -103,39 +103,24 @@ def slow_table(seeds) -> pd.DataFrame:
 
 def tyrex_rows(data: Path) -> pd.DataFrame:
     """One row per tyrex recording: motion, person, mocap count, and each detector's count with the test off / on."""
-    from experiments.scripts.tyrex_steps import mocap_steps
-    from gaitml.io.tyrex import list_tyrex_folders, parse_tyrex_name, read_tyrex, read_tyrex_truth
+    from experiments.scripts.tyrex_steps import in_reference_span, truth_clock_s, tyrex_walks
 
     rows = []
-    for folder in list_tyrex_folders(data / "tyrex-attitude"):
-        info = parse_tyrex_name(folder.name)
-        if info is None or info.get("take"):
-            continue
-        try:
-            truth = read_tyrex_truth(folder)
-            rec = read_tyrex(folder, segments=True)
-        except Exception as exc:  # noqa: BLE001 - a recording the reader refuses is reported, not fatal
-            print(f"skip {folder.name}: {exc}", file=sys.stderr)
-            continue
-        recs = rec if isinstance(rec, list) else [rec]
-        ref = mocap_steps(truth, info["motion"])
-        row = {"recording": folder.name, "motion": info["motion"], "person": info["person"], "mocap_steps": ref["n_steps"]}
+    for walk in tyrex_walks(data):
+        ref = walk["ref"]
+        row = {"recording": walk["name"], "motion": walk["motion"], "person": walk["person"], "mocap_steps": ref["n_steps"]}
         for d in DETECTORS:
             n_off = n_on = 0
-            for r in recs:
-                if r.duration_s < 10.0:
-                    continue
+            for r in walk["recs"]:
                 for st, which in zip(count_both(d, r), ("off", "on"), strict=True):
-                    ev = st.attrs.get("event", "t_peak_s")
-                    tt = float(r.meta.get("t0_original_s", 0.0)) + st[ev].to_numpy()
-                    k = int(np.sum((tt >= ref["t_first_s"]) & (tt <= ref["t_last_s"])))
+                    k = int(np.sum(in_reference_span(truth_clock_s(st, r), ref)))
                     if which == "off":
                         n_off += k
                     else:
                         n_on += k
             row[f"{d}_off"], row[f"{d}_on"] = n_off, n_on
         rows.append(row)
-        print(f"tyrex {folder.name}", file=sys.stderr, flush=True)
+        print(f"tyrex {walk['name']}", file=sys.stderr, flush=True)
     return pd.DataFrame(rows)
 
 
@@ -184,7 +169,8 @@ def throughput(repeats: int = 5) -> dict:
     return {w: rec.n_samples / s for w, s in best.items()} | {"n_samples": rec.n_samples}
 
 
-def _md(df: pd.DataFrame) -> str:
+def md_table(df: pd.DataFrame) -> str:
+    """A markdown table of ``df``; floats with three decimals."""
     cols = list(df.columns)
     out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     for r in df.itertuples(index=False):
@@ -206,10 +192,10 @@ def main(argv: list[str] | None = None) -> int:
     print(f"gait check off {tp['off'] / 1e6:.2f} M samples/s, on {tp['on'] / 1e6:.2f} M samples/s")
     for name, seeds in (("selection seeds 0-39", SELECTION_SEEDS), ("held-out seeds 100-119", HELDOUT_SEEDS)):
         print(f"\nNo gait, steps per minute, {name} (gait check off / on)\n")
-        print(_md(nongait_table(seeds)))
+        print(md_table(nongait_table(seeds)))
     for name, seeds in (("selection seeds 0-7", tuple(range(8))), ("held-out seeds 100-119", HELDOUT_SEEDS)):
         print(f"\nSlow walkers, adaptive count accuracy, {name} (gait check off / on)\n")
-        print(_md(slow_table(seeds)))
+        print(md_table(slow_table(seeds)))
     if not a.skip_oxford:
         ox = oxford_check(data)
         print(
@@ -221,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
         if a.tyrex_csv:
             ty.to_csv(a.tyrex_csv, index=False)
         print("\ntyrex, count accuracy against the motion-capture count, mean over recordings (gait check off / on)\n")
-        print(_md(tyrex_summary(ty)))
+        print(md_table(tyrex_summary(ty)))
     return 0
 
 

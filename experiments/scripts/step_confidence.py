@@ -91,25 +91,13 @@ def _near(a: np.ndarray, b: np.ndarray, w: float) -> np.ndarray:
 
 def tyrex_steps(data: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     """adaptive's steps on every tyrex recording over the motion-capture span: (steps, recordings)."""
-    from experiments.scripts.tyrex_steps import mocap_steps
-    from gaitml.io.tyrex import list_tyrex_folders, parse_tyrex_name, read_tyrex, read_tyrex_truth
+    from experiments.scripts.tyrex_steps import in_reference_span, tyrex_walks
 
     steps, recs_out = [], []
-    for folder in list_tyrex_folders(data / "tyrex-attitude"):
-        info = parse_tyrex_name(folder.name)
-        if info is None or info.get("take"):
-            continue
-        try:
-            truth = read_tyrex_truth(folder)
-            rec = read_tyrex(folder, segments=True)
-        except Exception as exc:  # noqa: BLE001 - a recording the reader refuses is reported, not fatal
-            print(f"skip {folder.name}: {exc}", file=sys.stderr)
-            continue
-        ref = mocap_steps(truth, info["motion"])
+    for walk in tyrex_walks(data):
+        ref, name, motion = walk["ref"], walk["name"], walk["motion"]
         tt, cc, bb = [], [], []
-        for r in rec if isinstance(rec, list) else [rec]:
-            if r.duration_s < 10.0:
-                continue
+        for r in walk["recs"]:
             t, c, b = _steps(r)
             tt.append(float(r.meta.get("t0_original_s", 0.0)) + t)
             cc.append(c)
@@ -117,16 +105,14 @@ def tyrex_steps(data: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
         t = np.concatenate(tt) if tt else np.zeros(0)
         c = np.concatenate(cc) if cc else np.zeros(0)
         b = np.concatenate(bb) if bb else np.zeros(0, dtype=np.int64)
-        ok = (t >= ref["t_first_s"]) & (t <= ref["t_last_s"])
+        ok = in_reference_span(t, ref)
         t, c, b = t[ok], c[ok], b[ok]
-        w = COVER_S * (2 if info["motion"] in STRIDE_MOTIONS else 1)
+        w = COVER_S * (2 if motion in STRIDE_MOTIONS else 1)
         matched = _near(t, np.asarray(ref["t_s"], dtype=float), w)
         minutes = (ref["t_last_s"] - ref["t_first_s"]) / 60.0
-        steps.append(pd.DataFrame({"recording": folder.name, "t": t, "confidence": c, "bout": b, "matched": matched}))
-        recs_out.append(
-            {"recording": folder.name, "source": "tyrex", "group": info["motion"], "person": info["person"], "minutes": minutes}
-        )
-        print(f"tyrex {folder.name}: {len(t)} steps", file=sys.stderr, flush=True)
+        steps.append(pd.DataFrame({"recording": name, "t": t, "confidence": c, "bout": b, "matched": matched}))
+        recs_out.append({"recording": name, "source": "tyrex", "group": motion, "person": walk["person"], "minutes": minutes})
+        print(f"tyrex {name}: {len(t)} steps", file=sys.stderr, flush=True)
     return pd.concat(steps, ignore_index=True), pd.DataFrame(recs_out)
 
 

@@ -60,6 +60,61 @@ MIN_SPEED_MS = {"stride": 0.05, "step": 0.15}
 #: not gaitml's confident / unsure verdict (gaitml.steps.gait_confidence), which a per-step threshold does not make
 CONFIDENCE_SHOWN = 0.5
 DETECTORS = ("adaptive", "adfsm", "single-peak", "ifsm", "autocorr", "fsm-selflearn")
+#: a phone segment (between two sensor gaps) shorter than this is a scrap, too short for any cadence estimate
+MIN_SEGMENT_S = 10.0
+
+
+def _skipped(info: dict | None, motions) -> bool:
+    """An unparsable name, an extra take, or a motion not asked for."""
+    return info is None or bool(info.get("take")) or (motions is not None and info["motion"] not in motions)
+
+
+def _walk(name: str, info: dict, truth, rec) -> dict:
+    recs = [r for r in (rec if isinstance(rec, list) else [rec]) if r.duration_s >= MIN_SEGMENT_S]
+    ref = mocap_steps(truth, info["motion"])
+    return {"name": name, "motion": info["motion"], "person": info["person"], "truth": truth, "ref": ref, "recs": recs}
+
+
+def read_tyrex_walk(folder: Path, motions=None) -> dict | None:
+    """One tyrex recording with its motion-capture step reference, or None for an extra take or a motion not in ``motions``.
+
+    Returns ``name``, ``motion``, ``person``, ``truth`` (:func:`gaitml.io.tyrex.read_tyrex_truth`), ``ref``
+    (:func:`mocap_steps`) and ``recs``: the phone recording's segments of at least :data:`MIN_SEGMENT_S`.
+    Raises what the readers raise.
+    """
+    from gaitml.io.tyrex import parse_tyrex_name, read_tyrex, read_tyrex_truth
+
+    info = parse_tyrex_name(folder.name)
+    if _skipped(info, motions):
+        return None
+    return _walk(folder.name, info, read_tyrex_truth(folder), read_tyrex(folder, segments=True))
+
+
+def tyrex_walks(data: str | Path, motions=None):
+    """:func:`read_tyrex_walk` of every recording under ``data/tyrex-attitude``; one the readers refuse is reported on stderr and skipped."""
+    from gaitml.io.tyrex import list_tyrex_folders, parse_tyrex_name, read_tyrex, read_tyrex_truth
+
+    for folder in list_tyrex_folders(Path(data) / "tyrex-attitude"):
+        info = parse_tyrex_name(folder.name)
+        if _skipped(info, motions):
+            continue
+        try:
+            truth = read_tyrex_truth(folder)
+            rec = read_tyrex(folder, segments=True)
+        except Exception as exc:  # noqa: BLE001 - a recording the reader refuses is reported, not fatal
+            print(f"skip {folder.name}: {exc}", file=sys.stderr)
+            continue
+        yield _walk(folder.name, info, truth, rec)
+
+
+def truth_clock_s(steps: pd.DataFrame, rec) -> np.ndarray:
+    """The step times of ``steps`` (detected on segment ``rec``) on the motion capture's clock (s)."""
+    return float(rec.meta.get("t0_original_s", 0.0)) + steps[steps.attrs.get("event", "t_peak_s")].to_numpy()
+
+
+def in_reference_span(t_s: np.ndarray, ref: dict) -> np.ndarray:
+    """Which times lie within the reference's first and last motion-capture frame."""
+    return (t_s >= ref["t_first_s"]) & (t_s <= ref["t_last_s"])
 
 
 def _lowpass(x: np.ndarray, fs: float, hz: float) -> np.ndarray:
@@ -126,36 +181,21 @@ def mocap_steps(truth, motion: str, min_speed_ms: float | None = None) -> dict:
 
 def table(data: str | Path, detectors=DETECTORS, plot_dir: str | None = None) -> pd.DataFrame:
     """One row per recording: motion, person, the motion-capture count and each detector's count over the same span."""
-    from gaitml.io.tyrex import list_tyrex_folders, parse_tyrex_name, read_tyrex, read_tyrex_truth
     from gaitml.steps import get_detector
 
     rows = []
-    for folder in list_tyrex_folders(Path(data) / "tyrex-attitude"):
-        info = parse_tyrex_name(folder.name)
-        if info is None or info.get("take"):
-            continue
-        try:
-            truth = read_tyrex_truth(folder)
-            rec = read_tyrex(folder, segments=True)
-        except Exception as exc:  # noqa: BLE001 - a recording the reader refuses is reported, not fatal
-            print(f"skip {folder.name}: {exc}", file=sys.stderr)
-            continue
-        recs = rec if isinstance(rec, list) else [rec]
-        ref = mocap_steps(truth, info["motion"])
-        row = {"recording": folder.name, "motion": info["motion"], "person": info["person"], "mocap_steps": ref["n_steps"]}
+    for walk in tyrex_walks(data):
+        ref, truth, motion = walk["ref"], walk["truth"], walk["motion"]
+        row = {"recording": walk["name"], "motion": motion, "person": walk["person"], "mocap_steps": ref["n_steps"]}
         # the reference's own sensitivity: the same rule with the speed gate at 0 and at 0.3 m/s
-        row["mocap_gate0"] = mocap_steps(truth, info["motion"], 0.0)["n_steps"]
-        row["mocap_gate03"] = mocap_steps(truth, info["motion"], 0.3)["n_steps"]
+        row["mocap_gate0"] = mocap_steps(truth, motion, 0.0)["n_steps"]
+        row["mocap_gate03"] = mocap_steps(truth, motion, 0.3)["n_steps"]
         n_conf = 0
         for d in detectors:
             n = 0
-            for r in recs:
-                if r.duration_s < 10.0:  # a scrap between two sensor gaps: too short for any cadence estimate
-                    continue
+            for r in walk["recs"]:
                 st = get_detector(d).detect(r).steps_
-                ev = st.attrs.get("event", "t_peak_s")
-                tt = float(r.meta.get("t0_original_s", 0.0)) + st[ev].to_numpy()
-                inside = (tt >= ref["t_first_s"]) & (tt <= ref["t_last_s"])
+                inside = in_reference_span(truth_clock_s(st, r), ref)
                 n += int(np.sum(inside))
                 if d == "adaptive":
                     n_conf += int(np.sum(inside & (st["confidence"].to_numpy() >= CONFIDENCE_SHOWN)))
@@ -163,7 +203,7 @@ def table(data: str | Path, detectors=DETECTORS, plot_dir: str | None = None) ->
         row["adaptive_conf>=0.5"] = n_conf
         rows.append(row)
         if plot_dir is not None:
-            _plot(ref, folder.name, Path(plot_dir))
+            _plot(ref, walk["name"], Path(plot_dir))
     return pd.DataFrame(rows)
 
 

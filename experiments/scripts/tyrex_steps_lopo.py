@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from experiments.scripts.tyrex_steps import mocap_steps
+from experiments.scripts.tyrex_steps import tyrex_walks
 
 MIN_RMS_GRID = (0.05, 0.2, 0.5, 1.0)
 PHASE_GRID = (0.3, 0.5, 0.7)
@@ -29,23 +29,7 @@ PEOPLE = ("Guillaume", "Jakob", "Thibaud")
 
 
 def _load(data: str | Path) -> list[dict]:
-    from gaitml.io.tyrex import list_tyrex_folders, parse_tyrex_name, read_tyrex, read_tyrex_truth
-
-    items = []
-    for folder in list_tyrex_folders(Path(data) / "tyrex-attitude"):
-        info = parse_tyrex_name(folder.name)
-        if info is None or info.get("take") or info["motion"] not in SCORED:
-            continue
-        try:
-            truth = read_tyrex_truth(folder)
-            rec = read_tyrex(folder, segments=True)
-        except Exception as exc:  # noqa: BLE001 - a recording the reader refuses is reported, not fatal
-            print(f"skip {folder.name}: {exc}", file=sys.stderr)
-            continue
-        ref = mocap_steps(truth, info["motion"])
-        recs = [r for r in (rec if isinstance(rec, list) else [rec]) if r.duration_s >= 10.0]
-        items.append({"name": folder.name, "motion": info["motion"], "person": info["person"], "ref": ref, "recs": recs})
-    return items
+    return list(tyrex_walks(data, SCORED))
 
 
 def _counts(items: list[dict], **params) -> pd.DataFrame:

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from experiments.scripts.tyrex_steps import _filled, _lowpass, mocap_steps
+from experiments.scripts.tyrex_steps import _filled, _lowpass, mocap_steps, read_tyrex_walk
 
 WALK_MOTIONS = ("Texting", "Phoning", "FrontPocket", "BackPocket", "Swinging")
 #: adaptive's cadence window (s) and periodicity floor (its defaults)
@@ -56,21 +56,15 @@ def body_state(truth) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def recording_row(folder: Path, plot_dir: Path | None = None) -> dict | None:
-    from gaitml.io.tyrex import parse_tyrex_name, read_tyrex, read_tyrex_truth
     from gaitml.steps import get_detector
 
-    info = parse_tyrex_name(folder.name)
-    if info is None or info.get("take") or info["motion"] not in WALK_MOTIONS:
+    walk = read_tyrex_walk(folder, WALK_MOTIONS)
+    if walk is None:
         return None
-    truth = read_tyrex_truth(folder)
-    rec = read_tyrex(folder, segments=True)
-    recs = rec if isinstance(rec, list) else [rec]
-    ref = mocap_steps(truth, info["motion"])
+    truth, ref = walk["truth"], walk["ref"]
     per = ref["steps_per_event"]
     tp, cad_t, cad_p = [], [], []
-    for r in recs:
-        if r.duration_s < 10.0:
-            continue
+    for r in walk["recs"]:
         det = get_detector("adaptive").detect(r)
         t0 = float(r.meta.get("t0_original_s", 0.0))
         tp.append(t0 + det.steps_["t_peak_s"].to_numpy())
@@ -99,8 +93,8 @@ def recording_row(folder: Path, plot_dir: Path | None = None) -> dict | None:
     period_at = np.interp(rt, cad_t, cad_p) if len(cad_t) else np.full(len(rt), np.nan)
     row = {
         "recording": folder.name,
-        "motion": info["motion"],
-        "person": info["person"],
+        "motion": walk["motion"],
+        "person": walk["person"],
         "ref": ref["n_steps"],
         "adaptive": len(ad),
         "missed_ref": per * int(miss.sum()),
@@ -131,19 +125,16 @@ ABLATIONS = {
 
 def ablation_row(folder: Path) -> dict | None:
     """Reference count and adaptive's count over the reference span with each of :data:`ABLATIONS`."""
-    from gaitml.io.tyrex import parse_tyrex_name, read_tyrex, read_tyrex_truth
     from gaitml.steps import get_detector
 
-    info = parse_tyrex_name(folder.name)
-    if info is None or info.get("take") or info["motion"] not in WALK_MOTIONS:
+    walk = read_tyrex_walk(folder, WALK_MOTIONS)
+    if walk is None:
         return None
-    ref = mocap_steps(read_tyrex_truth(folder), info["motion"])
-    rec = read_tyrex(folder, segments=True)
-    recs = [r for r in (rec if isinstance(rec, list) else [rec]) if r.duration_s >= 10.0]
-    row = {"recording": folder.name, "motion": info["motion"], "person": info["person"], "ref": ref["n_steps"]}
+    ref = walk["ref"]
+    row = {"recording": folder.name, "motion": walk["motion"], "person": walk["person"], "ref": ref["n_steps"]}
     for name, kw in ABLATIONS.items():
         n = 0
-        for r in recs:
+        for r in walk["recs"]:
             tt = float(r.meta.get("t0_original_s", 0.0)) + get_detector("adaptive", **kw).detect(r).steps_["t_peak_s"].to_numpy()
             n += int(np.sum((tt >= ref["t_first_s"]) & (tt <= ref["t_last_s"])))
         row[name] = n
@@ -159,21 +150,16 @@ def window_rows(folder: Path) -> list[dict]:
     ``slow:`` where the body's median speed is below ``SLOW_MS``. ``n_ref`` / ``n_ad`` are the reference's and
     adaptive's steps inside the window (windows overlap: use the ratios, not the sums, as counts).
     """
-    from gaitml.io.tyrex import parse_tyrex_name, read_tyrex, read_tyrex_truth
     from gaitml.steps import get_detector
 
-    info = parse_tyrex_name(folder.name)
-    if info is None or info.get("take") or info["motion"] not in WALK_MOTIONS:
+    walk = read_tyrex_walk(folder, WALK_MOTIONS)
+    if walk is None:
         return []
-    truth = read_tyrex_truth(folder)
-    ref = mocap_steps(truth, info["motion"])
+    ref = walk["ref"]
     rt, per = ref["t_s"], ref["steps_per_event"]
-    t, speed, _ = body_state(truth)
-    rec = read_tyrex(folder, segments=True)
+    t, speed, _ = body_state(walk["truth"])
     rows = []
-    for r in rec if isinstance(rec, list) else [rec]:
-        if r.duration_s < 10.0:
-            continue
+    for r in walk["recs"]:
         t0 = float(r.meta.get("t0_original_s", 0.0))
         det = get_detector("adaptive").detect(r)
         ad = t0 + det.steps_["t_peak_s"].to_numpy()
@@ -200,8 +186,8 @@ def window_rows(folder: Path) -> list[dict]:
             rows.append(
                 {
                     "recording": folder.name,
-                    "motion": info["motion"],
-                    "person": info["person"],
+                    "motion": walk["motion"],
+                    "person": walk["person"],
                     "cat": cat,
                     "n_ref": per * len(k),
                     "n_ad": n_ad,

@@ -194,8 +194,8 @@ GYRO_MIN_RMS_RADS = 0.2
 GYRO_PHASE_CORRELATION = 0.7
 #: stage 2c (off by default, 0): where |acc|'s periodicity is below MIN_PERIODICITY, a swing whose autocorrelation at
 #: its stride period reaches this sets the step period and periodicity. 0.3 (|acc|'s own floor) turns it on: the choice
-#: of every leave-one-person-out fold on the tyrex recordings when the simulated non-gait is not weighed
-#: (experiments/reports/tyrex-steps.md, where it is not adopted as the default: it adds steps to gestures)
+#: of two of the three leave-one-person-out folds on the tyrex recordings (0.2 on the third) when the simulated non-gait
+#: is not weighed (experiments/reports/tyrex-steps.md, where it is not adopted as the default: it adds steps to gestures)
 GYRO_SWING_MIN_PERIODICITY = 0.0
 #: stage 2c: the swing's autocorrelation at half its stride period must be at most minus this (0: negative; the swing
 #: reverses between the left and the right step)
@@ -589,8 +589,9 @@ def gyro_swing_cadence(
     steps still repeat in |acc|, however weakly).
 
     ``swing_min_periodicity`` 0 disables the rule. Returns a copy of
-    ``cadence`` with ``period_s``, ``periodicity`` and ``inferred`` updated
-    and ``swing`` added (True where the swing set the window).
+    ``cadence`` with ``period_s``, ``periodicity``, ``stride`` (True where
+    the swing set the window: its period was a stride) and ``inferred``
+    updated and ``swing`` added (True where the swing set the window).
     """
     fs = float(sampling_rate_hz)
     out = dict(cadence)
@@ -712,7 +713,10 @@ def adaptive_steps(
     """Detect steps in |acc| (m/s^2) with the five stages of the module docstring.
 
     ``gyr_rads`` (n, 3), the angular rate on the same samples, turns on the
-    gyroscope's stride-versus-step check (stage 2b, :func:`gyro_stride_or_step`).
+    gyroscope's stride-versus-step check (stage 2b, :func:`gyro_stride_or_step`)
+    and, with ``gyro_swing_min_periodicity`` > 0, the swing where |acc| is weak
+    (stage 2c, :func:`gyro_swing_cadence`; the ``gyro_swing_*`` settings as
+    :class:`AdaptiveStepDetector`).
 
     Returns
     -------

@@ -61,6 +61,18 @@ amplitude it uses is a noise floor. Five stages:
    stride (a running arm or thigh); a period halved from a stride at which
    the swing is not in anti-phase but is at twice it is a step (a swinging
    hand's |acc| peaks at both ends of each swing, once per step).
+2c. **Swing where |acc| is weak** (opt-in, with a gyroscope; :func:`gyro_swing_cadence`).
+   A slow walker's trunk barely bounces, so |acc|'s periodicity can fall
+   below ``min_periodicity`` while the phone still swings once per stride.
+   With ``gyro_swing_min_periodicity`` > 0, where the swing is regular there
+   (its stride period ``P``, the fundamental of its autocorrelation over two
+   steps of the human range, correlates at least ``gyro_swing_min_periodicity``
+   and the swing is in anti-phase at ``P / 2``, at most
+   ``-gyro_swing_half_correlation``: it reverses between the left and the
+   right step), the window's step period is ``P / 2`` and its periodicity the
+   swing's. The steps themselves are still peaks of |acc| (stages 3-5). Off
+   by default: a gesturing hand also turns the phone regularly, and with the
+   swing as evidence more of its bursts pass as steps.
 3. **Left/right fold.** With the local step period ``T`` each sample becomes
    ``(y(t - T) + 2 y(t) + y(t + T)) / 4``: a zero-phase comb that cancels the
    stride fundamental and its odd harmonics (the left/right asymmetry of a
@@ -138,6 +150,8 @@ __all__ = [
     "window_autocorrelation",
     "swing_correlation",
     "gyro_stride_or_step",
+    "gyro_swing_cadence",
+    "swing_stride",
 ]
 
 #: gait band of the band-pass (Hz): below the slowest stride, above the fastest step
@@ -178,6 +192,20 @@ GYRO_MIN_RMS_RADS = 0.2
 #: a correlation of the swing rate at least this deep (negative) or high (positive) counts as anti-phase or in
 #: phase. Chosen leave-one-person-out on the tyrex recordings from 0.3 / 0.5 / 0.7 (same report)
 GYRO_PHASE_CORRELATION = 0.7
+#: stage 2c (off by default, 0): where |acc|'s periodicity is below MIN_PERIODICITY, a swing whose autocorrelation at
+#: its stride period reaches this sets the step period and periodicity. 0.3 (|acc|'s own floor) turns it on: the choice
+#: of two of the three leave-one-person-out folds on the tyrex recordings (0.2 on the third) when the simulated non-gait
+#: is not weighed (experiments/reports/tyrex-steps.md, where it is not adopted as the default: it adds steps to gestures)
+GYRO_SWING_MIN_PERIODICITY = 0.0
+#: stage 2c: the swing's autocorrelation at half its stride period must be at most minus this (0: negative; the swing
+#: reverses between the left and the right step)
+GYRO_SWING_HALF_CORRELATION = 0.0
+#: stage 2c: |acc|'s autocorrelation at the swing's step period must reach this (the steps still repeat in |acc|,
+#: however weakly); -1 is no test
+GYRO_SWING_ACC_CORRELATION = -1.0
+#: stage 2c: a walking bout with a step from a swing-set window counts only from this many steps (the pedometers'
+#: ten-step confirmation, Bassett et al. 1996); 0 (or at most min_bout_steps) is no extra confirmation
+GYRO_SWING_MIN_BOUT_STEPS = 0
 #: steps only where the window's periodicity reaches this
 MIN_PERIODICITY = 0.3
 #: sensor noise floor (m/s^2 RMS of the band-passed magnitude): phone accelerometers ~0.01-0.05, walking > 0.5
@@ -492,6 +520,110 @@ def gyro_stride_or_step(
     return out
 
 
+def swing_stride(proj: np.ndarray, sampling_rate_hz: float, *, min_step_hz: float = MIN_STEP_HZ, max_step_hz: float = MAX_STEP_HZ):
+    """The swing's stride period per window: ``(period samples, correlation there, correlation at its half)``.
+
+    Over the stride lags ``2 / max_step_hz`` .. ``2 / min_step_hz`` (two steps
+    of the human range) the shortest autocorrelation peak of the swing
+    projection (:func:`swing_projection`) within ``OCTAVE_TOLERANCE`` of the
+    strongest one, as stage 2 picks |acc|'s fundamental. NaN period where no
+    peak lies inside the range.
+    """
+    fs = float(sampling_rate_hz)
+    n_win, L = proj.shape
+    lo, hi = int(np.floor(2.0 * fs / max_step_hz)), int(np.ceil(2.0 * fs / min_step_hz))
+    lags = np.arange(max(lo - 1, 1), min(hi + 2, L - 2))
+    if len(lags) < 3 or n_win == 0:
+        nan = np.full(n_win, np.nan)
+        return nan, nan.copy(), nan.copy()
+    r = np.nan_to_num(projection_correlation(proj, np.broadcast_to(lags.astype(float), (n_win, len(lags)))), nan=-1.0)
+    inner = np.arange(1, len(lags) - 1)
+    is_max = np.zeros_like(r, dtype=bool)
+    is_max[:, inner] = (r[:, inner] >= r[:, inner - 1]) & (r[:, inner] > r[:, inner + 1])
+    peaks = np.where(is_max, r, -np.inf)
+    best = peaks.max(axis=1)
+    near = is_max & (peaks >= OCTAVE_TOLERANCE * best[:, None])
+    j = np.argmax(near, axis=1)
+    ok = np.isfinite(best)
+    period = np.where(ok, lags[j].astype(float), np.nan)
+    corr = np.where(ok, r[np.arange(n_win), j], np.nan)
+    half = projection_correlation(proj, np.where(ok, period / 2.0, 2.0)[:, None])[:, 0]
+    return period, corr, np.where(ok, half, np.nan)
+
+
+def gyro_swing_cadence(
+    cadence: dict[str, np.ndarray],
+    projection: tuple[np.ndarray, np.ndarray],
+    sampling_rate_hz: float,
+    acc_windows: np.ndarray | None = None,
+    *,
+    min_step_hz: float = MIN_STEP_HZ,
+    max_step_hz: float = MAX_STEP_HZ,
+    min_rms_rads: float = GYRO_MIN_RMS_RADS,
+    swing_min_periodicity: float = GYRO_SWING_MIN_PERIODICITY,
+    swing_half_correlation: float = GYRO_SWING_HALF_CORRELATION,
+    acc_step_correlation: float = GYRO_SWING_ACC_CORRELATION,
+    min_periodicity: float = MIN_PERIODICITY,
+) -> dict[str, np.ndarray]:
+    """The phone's swing as the periodicity evidence where |acc|'s is weak (module docstring, stage 2c).
+
+    A slow walker's trunk barely bounces: the vertical excursion of the
+    centre of mass shrinks with the speed (Orendurff et al., J. Rehabil. Res.
+    Dev. 41, 2004), so |acc|'s periodicity can fall below ``min_periodicity``
+    and stage 4 finds no step, while the body that carries the phone still
+    rotates once per stride and reverses between the left and the right step
+    (arm and thigh swing, pelvis and trunk rotation; Perry & Burnfield, Gait
+    Analysis, 2nd ed. 2010, ch. 10; Meyns, Bruijn & Duysens, Gait Posture 38,
+    2013). Where |acc|'s periodicity is below ``min_periodicity`` and the
+    swing (:func:`swing_projection`, RMS at least ``min_rms_rads``) is
+    *regular*: its stride period ``P`` (:func:`swing_stride`) correlates at
+    least ``swing_min_periodicity`` and the swing is in anti-phase at ``P /
+    2`` (correlation at most ``-swing_half_correlation``), the window's step
+    period becomes ``P / 2`` and its periodicity the swing's correlation at
+    ``P``. Steps are still the peaks of the folded |acc| above the noise floor
+    (stages 3-4) and pass the bout rules (stage 5).
+
+    ``acc_windows`` (the band-passed |acc| of the same cadence windows,
+    ``(n_windows, length)``), if given, adds one test: |acc|'s own
+    autocorrelation at ``P / 2`` must reach ``acc_step_correlation`` (the
+    steps still repeat in |acc|, however weakly).
+
+    ``swing_min_periodicity`` 0 disables the rule. Returns a copy of
+    ``cadence`` with ``period_s``, ``periodicity``, ``stride`` (True where
+    the swing set the window: its period was a stride) and ``inferred``
+    updated and ``swing`` added (True where the swing set the window).
+    """
+    fs = float(sampling_rate_hz)
+    out = dict(cadence)
+    T = np.asarray(cadence["period_s"], dtype=float) * fs
+    n_win = len(T)
+    periodicity = np.asarray(cadence["periodicity"], dtype=float)
+    weak = np.zeros(n_win, dtype=bool)
+    if swing_min_periodicity > 0 and n_win:
+        proj, rms = projection
+        weak = (periodicity < min_periodicity) & (rms[:n_win] >= min_rms_rads)
+        if weak.any():
+            idx = np.flatnonzero(weak)
+            P, corr, half = swing_stride(proj[idx], fs, min_step_hz=min_step_hz, max_step_hz=max_step_hz)
+            ok = np.isfinite(P) & (np.nan_to_num(corr) >= swing_min_periodicity) & (np.nan_to_num(half, nan=1.0) <= -swing_half_correlation)
+            ok &= (P / 2.0 >= fs / max_step_hz) & (P / 2.0 <= fs / min_step_hz)
+            if acc_windows is not None:
+                w = acc_windows[idx] - acc_windows[idx].mean(axis=1, keepdims=True)
+                acc_step = np.nan_to_num(projection_correlation(w, np.where(np.isfinite(P), P / 2.0, 2.0)[:, None])[:, 0], nan=-1.0)
+                ok &= acc_step >= acc_step_correlation
+            weak[idx[~ok]] = False
+            T = T.copy()
+            T[idx[ok]] = P[ok] / 2.0
+            periodicity = periodicity.copy()
+            periodicity[idx[ok]] = corr[ok]
+    out["period_s"] = T / fs
+    out["periodicity"] = periodicity
+    out["stride"] = np.asarray(cadence["stride"], dtype=bool) | weak
+    out["inferred"] = np.asarray(cadence["inferred"], dtype=bool) & ~weak
+    out["swing"] = weak
+    return out
+
+
 def fold_steps(y: np.ndarray, period_samples: np.ndarray) -> np.ndarray:
     """The left/right fold ``(y(t - T) + 2 y(t) + y(t + T)) / 4`` with a per-sample step period ``T`` (samples).
 
@@ -573,11 +705,18 @@ def adaptive_steps(
     gyr_rads: np.ndarray | None = None,
     gyro_min_rms_rads: float = GYRO_MIN_RMS_RADS,
     gyro_phase_correlation: float = GYRO_PHASE_CORRELATION,
+    gyro_swing_half_correlation: float = GYRO_SWING_HALF_CORRELATION,
+    gyro_swing_min_periodicity: float = GYRO_SWING_MIN_PERIODICITY,
+    gyro_swing_acc_correlation: float = GYRO_SWING_ACC_CORRELATION,
+    gyro_swing_min_bout_steps: int = GYRO_SWING_MIN_BOUT_STEPS,
 ) -> dict[str, np.ndarray]:
     """Detect steps in |acc| (m/s^2) with the five stages of the module docstring.
 
     ``gyr_rads`` (n, 3), the angular rate on the same samples, turns on the
-    gyroscope's stride-versus-step check (stage 2b, :func:`gyro_stride_or_step`).
+    gyroscope's stride-versus-step check (stage 2b, :func:`gyro_stride_or_step`)
+    and, with ``gyro_swing_min_periodicity`` > 0, the swing where |acc| is weak
+    (stage 2c, :func:`gyro_swing_cadence`; the ``gyro_swing_*`` settings as
+    :class:`AdaptiveStepDetector`).
 
     Returns
     -------
@@ -629,6 +768,20 @@ def adaptive_steps(
             phase_correlation=gyro_phase_correlation,
             projection=swing,
         )
+        if gyro_swing_min_periodicity > 0:
+            cad = gyro_swing_cadence(
+                cad,
+                swing,
+                fs / q,
+                sliding_windows(y[::q], L, H)[: len(cad["period_s"])],
+                min_step_hz=min_step_hz,
+                max_step_hz=max_step_hz,
+                min_rms_rads=gyro_min_rms_rads,
+                swing_min_periodicity=gyro_swing_min_periodicity,
+                swing_half_correlation=gyro_swing_half_correlation,
+                acc_step_correlation=gyro_swing_acc_correlation,
+                min_periodicity=min_periodicity,
+            )
     centres = cad["centre"] * q
     cad["centre"] = centres
     period_n = np.interp(np.arange(n), centres, cad["period_s"]) * fs
@@ -639,6 +792,7 @@ def adaptive_steps(
     dominant = segment_argmax(s, np.maximum(pk - w, 0), np.minimum(pk + w + 1, n)) == pk
     R = np.interp(pk, centres, cad["periodicity"])
     inferred = np.interp(pk, centres, cad["inferred"].astype(float)) > 0.5
+    by_swing = np.interp(pk, centres, cad["swing"].astype(float)) > 0.5 if "swing" in cad else np.zeros(len(pk), dtype=bool)
     # noise floor: RMS of y over one step period before the step and over one after it, the smaller of the two
     # (motion on both sides: the fold spreads a step by one period, and a one-sided test keeps the last step of a
     # walk from lending its energy to a phantom step one period later)
@@ -649,7 +803,7 @@ def adaptive_steps(
     after = np.sqrt((cs[b] - cs[pk]) / np.maximum(b - pk, 1))
     rms = np.minimum(before, after)
     keep = dominant & (s[pk] > 0) & (R >= min_periodicity) & (rms >= min_rms_ms2)
-    pk, T, R, inferred = pk[keep], T[keep], R[keep], inferred[keep]
+    pk, T, R, inferred, by_swing = pk[keep], T[keep], R[keep], inferred[keep], by_swing[keep]
     conf = np.clip(R, 0.0, 1.0)
     bout = np.zeros(len(pk), dtype=np.int64)
     if len(pk):  # one step alone gets no interval, hence regularity 0, like a lone step inside a longer signal
@@ -670,6 +824,9 @@ def adaptive_steps(
         # a bout counts once it is confirmed by min_bout_steps steps (after its weak edges are dropped)
         size = np.bincount(bout[ok], minlength=int(bout[-1]) + 1)
         ok &= size[bout] >= min_bout_steps
+        if gyro_swing_min_bout_steps > min_bout_steps and by_swing.any():
+            swung = np.bincount(bout[ok & by_swing], minlength=int(bout[-1]) + 1) > 0
+            ok &= ~(swung[bout] & (size[bout] < gyro_swing_min_bout_steps))
         # a short bout must repeat its steps' strength (gait); a burst that waxes and wanes (a gesture) does not
         if short_bout_steps > 0 and ok.any():
             nb = int(bout[-1]) + 1
@@ -778,6 +935,24 @@ class AdaptiveStepDetector(BaseStepDetector):
     gyro_phase_correlation : float, default 0.7
         Correlation of the swing rate that counts as in phase (>=) or in
         anti-phase (<= its negative).
+    gyro_swing_min_periodicity : float, default 0.0
+        Stage 2c (0: off): where |acc|'s periodicity is below
+        ``min_periodicity``, a swing whose autocorrelation at its stride period
+        reaches this sets the step period (half the stride) and the
+        periodicity. 0.3, |acc|'s own floor, turns it on for recordings known
+        to hold walking (a slow walker); off by default because it lets more
+        of a gesturing hand's bursts through as steps.
+    gyro_swing_half_correlation : float, default 0.0
+        Stage 2c: the swing must be in anti-phase at half its stride period,
+        its autocorrelation there at most minus this (0: negative; the
+        swing reverses between the left and the right step).
+    gyro_swing_acc_correlation : float, default -1.0
+        Stage 2c: |acc|'s autocorrelation at the swing's step period must
+        reach this (the steps still repeat in |acc|); -1 is no test.
+    gyro_swing_min_bout_steps : int, default 0
+        Stage 2c: a walking bout with a step from a swing-set window counts
+        only from this many steps (10: the pedometers' ten-step
+        confirmation); at most ``min_bout_steps`` is no extra test.
     gait_check : bool, default True
         Leave out the bouts of fewer than 30 steps whose phone rotates at the
         step frequency as no walker's does (a gesturing hand; a longer bout is
@@ -797,8 +972,9 @@ class AdaptiveStepDetector(BaseStepDetector):
         One row per cadence window: ``t_s`` (window centre), ``cadence_hz``
         (steps per second), ``period_s``, ``periodicity``, ``stride`` (the
         dominant period was a stride), ``inferred`` (from the cadence
-        range alone) and ``gyro`` (+1 where the gyroscope halved the
-        period, -1 where it doubled it, 0 elsewhere).
+        range alone), ``gyro`` (+1 where the gyroscope halved the
+        period, -1 where it doubled it, 0 elsewhere) and ``swing`` (True where
+        the swing set the period and periodicity, stage 2c).
 
     Notes
     -----
@@ -839,6 +1015,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         "use_gyroscope": ["boolean"],
         "gyro_min_rms_rads": [NON_NEGATIVE],
         "gyro_phase_correlation": [Interval(0, 1, closed="both")],
+        "gyro_swing_half_correlation": [Interval(0, 1, closed="both")],
+        "gyro_swing_min_periodicity": [Interval(0, 1, closed="both")],
+        "gyro_swing_acc_correlation": [Interval(-1, 1, closed="both")],
+        "gyro_swing_min_bout_steps": [NON_NEGATIVE_INTEGER],
         "gait_check": ["boolean"],
     }
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
@@ -868,6 +1048,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         use_gyroscope: bool = True,
         gyro_min_rms_rads: float = GYRO_MIN_RMS_RADS,
         gyro_phase_correlation: float = GYRO_PHASE_CORRELATION,
+        gyro_swing_half_correlation: float = GYRO_SWING_HALF_CORRELATION,
+        gyro_swing_min_periodicity: float = GYRO_SWING_MIN_PERIODICITY,
+        gyro_swing_acc_correlation: float = GYRO_SWING_ACC_CORRELATION,
+        gyro_swing_min_bout_steps: int = GYRO_SWING_MIN_BOUT_STEPS,
         gait_check: bool = True,
     ):
         self.band_hz = band_hz
@@ -891,6 +1075,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.use_gyroscope = use_gyroscope
         self.gyro_min_rms_rads = gyro_min_rms_rads
         self.gyro_phase_correlation = gyro_phase_correlation
+        self.gyro_swing_half_correlation = gyro_swing_half_correlation
+        self.gyro_swing_min_periodicity = gyro_swing_min_periodicity
+        self.gyro_swing_acc_correlation = gyro_swing_acc_correlation
+        self.gyro_swing_min_bout_steps = gyro_swing_min_bout_steps
         self.gait_check = gait_check
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
@@ -934,6 +1122,7 @@ class AdaptiveStepDetector(BaseStepDetector):
                 "stride": cad["stride"],
                 "inferred": cad["inferred"],
                 "gyro": cad.get("gyro", np.zeros(len(cad["period_s"]), dtype=np.int64)),
+                "swing": cad.get("swing", np.zeros(len(cad["period_s"]), dtype=bool)),
             }
         )
         return self

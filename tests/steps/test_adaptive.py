@@ -98,7 +98,7 @@ def test_confidence_and_cadence_columns():
     assert ((st["confidence"] >= 0) & (st["confidence"] <= 1)).all()
     assert st["confidence"].median() > 0.8  # a clean periodic walk
     np.testing.assert_allclose(st["cadence_hz"], 1 / st["period_s"])
-    assert list(det.cadence_.columns) == ["t_s", "cadence_hz", "period_s", "periodicity", "stride", "inferred", "gyro"]
+    assert list(det.cadence_.columns) == ["t_s", "cadence_hz", "period_s", "periodicity", "stride", "inferred", "gyro", "swing"]
     # dropping low-confidence steps only removes steps
     kept = AdaptiveStepDetector(min_confidence=0.99).detect(rec).steps_
     assert set(kept["peak"]) <= set(st["peak"]) and len(kept) < len(st)

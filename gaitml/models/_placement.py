@@ -120,21 +120,35 @@ def rest_samples(
 ) -> np.ndarray:
     """Which samples rest: angular rate and acceleration magnitude, or (``gyr`` None) the acceleration alone (module docstring)."""
     a = _magnitude(acc)
-    rest = np.abs(a - GRAVITY_MS2) < rest_acc_tol_ms2
     if gyr is not None:
-        return rest & (_magnitude(gyr) < rest_gyr_rads)
+        return _gyro_rest(a, _magnitude(gyr), rest_gyr_rads, rest_acc_tol_ms2)
+    return _acc_rest(a, sampling_rate_hz, rest_acc_tol_ms2, rest_acc_std_ms2)
+
+
+def _gyro_rest(a: np.ndarray, w: np.ndarray, rest_gyr_rads: float, rest_acc_tol_ms2: float) -> np.ndarray:
+    """The gyroscope test's rest of each sample from the magnitudes ``a`` (m/s^2) and ``w`` (rad/s)."""
+    return (np.abs(a - GRAVITY_MS2) < rest_acc_tol_ms2) & (w < rest_gyr_rads)
+
+
+def _acc_rest(a: np.ndarray, sampling_rate_hz: float, rest_acc_tol_ms2: float, rest_acc_std_ms2: float) -> np.ndarray:
+    """The accelerometer test's rest of each sample from the magnitude ``a``: near g and steady around it (centred window)."""
+    dev = a - GRAVITY_MS2
+    rest = np.abs(dev) < rest_acc_tol_ms2
     n = len(a)
+    half = _std_half(sampling_rate_hz)
     if n == 0:
         return rest
-    half = _std_half(sampling_rate_hz)
-    dev = a - GRAVITY_MS2
     c1 = np.concatenate(([0.0], np.cumsum(dev)))
     c2 = np.concatenate(([0.0], np.cumsum(dev * dev)))
-    i = np.arange(n)
-    lo, hi = np.maximum(i - half, 0), np.minimum(i + half + 1, n)
-    k = hi - lo
-    mean = (c1[hi] - c1[lo]) / k
-    var = np.maximum((c2[hi] - c2[lo]) / k - mean * mean, 0.0)
+    var = np.empty(n)
+    k = 2 * half + 1
+    if n >= k:  # the centred windows inside the recording, by slices
+        mean = (c1[k:] - c1[:-k]) / k
+        var[half : n - half] = (c2[k:] - c2[:-k]) / k - mean * mean
+    edge = np.r_[0 : min(half, n), max(n - half, min(half, n)) : n] if n >= k else np.arange(n)
+    lo, hi = np.maximum(edge - half, 0), np.minimum(edge + half + 1, n)  # clipped at the recording's ends
+    mean = (c1[hi] - c1[lo]) / (hi - lo)
+    var[edge] = (c2[hi] - c2[lo]) / (hi - lo) - mean * mean
     return rest & (var < rest_acc_std_ms2 * rest_acc_std_ms2)
 
 
@@ -151,9 +165,9 @@ def _stance_rests(rest: np.ndarray, fs: float, start: np.ndarray, end: np.ndarra
     return np.where(i1 > i0, cum_ok[np.maximum(i1, i0)] - cum_ok[i0], 0).astype(np.int64)
 
 
-def _reaches(x: np.ndarray, level: float, start: np.ndarray, end: np.ndarray) -> np.ndarray:
-    """Whether the magnitude of ``x`` reaches ``level`` anywhere in each window ``[start, end)``."""
-    cum = np.concatenate(([0], np.cumsum(_magnitude(x) >= level)))
+def _reaches(mag: np.ndarray, level: float, start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """Whether the magnitude ``mag`` reaches ``level`` anywhere in each window ``[start, end)``."""
+    cum = np.concatenate(([0], np.cumsum(mag >= level)))
     return (cum[end] - cum[start]) > 0
 
 
@@ -200,17 +214,19 @@ def foot_like_windows(
     start = np.clip(windows["start"].to_numpy(dtype=np.int64), 0, n)
     end = np.clip(windows["end"].to_numpy(dtype=np.int64), start, n)
     fs = float(sampling_rate_hz)
-    rest_a = rest_samples(acc, None, fs, rest_acc_tol_ms2=rest_acc_tol_ms2, rest_acc_std_ms2=rest_acc_std_ms2)
+    a = _magnitude(acc)
+    rest_a = _acc_rest(a, fs, rest_acc_tol_ms2, rest_acc_std_ms2)
     # a rest sample's standard deviation reads `half` samples either side: the test's rests lie inside the window by that
     # much, so that it reads the window's own samples only (a recording cut into chunks gives every window the same answer)
     half = _std_half(fs)
     a_start = np.minimum(start + half, end)
     a_end = np.maximum(end - half, a_start)
     rests_a = _stance_rests(rest_a, fs, a_start, a_end, acc_min_rest_s, max_rest_s)
-    acc_test = (rests_a > 0) & _reaches(acc, swing_acc_ms2, start, end)
+    acc_test = (rests_a > 0) & _reaches(a, swing_acc_ms2, start, end)
     if gyr is None:
         gyro_test = np.zeros(len(start), dtype=bool)
     else:
-        rest_g = rest_samples(acc, gyr, fs, rest_gyr_rads=rest_gyr_rads, rest_acc_tol_ms2=rest_acc_tol_ms2)
-        gyro_test = (_stance_rests(rest_g, fs, start, end, min_rest_s, max_rest_s) > 0) & _reaches(gyr, swing_gyr_rads, start, end)
+        w = _magnitude(gyr)
+        rest_g = _gyro_rest(a, w, rest_gyr_rads, rest_acc_tol_ms2)
+        gyro_test = (_stance_rests(rest_g, fs, start, end, min_rest_s, max_rest_s) > 0) & _reaches(w, swing_gyr_rads, start, end)
     return {"foot_like": gyro_test | acc_test, "gyro_test": gyro_test, "acc_test": acc_test}

@@ -168,3 +168,17 @@ def test_the_rule_rarely_fires_on_real_tyrex_phones():
     assert len([k for k in counts if k[0] == "motion"]) == 8 and len([k for k in counts if k[0] == "person"]) == 3
     shares = {k: c[1] / c[0] for k, c in counts.items()}
     assert max(shares.values()) <= 0.02, shares  # measured at most 0.005 per motion and 0.004 per person
+
+
+def test_a_long_input_read_in_chunks_gets_the_same_reasons(tmp_path):
+    from gaitml.chunked_run import long_predict
+    from gaitml.io import read_recording, write_gaitml_csv
+
+    model = load_model(DEMO)
+    path = tmp_path / "foot.csv"
+    write_gaitml_csv(simulate_foot(modes=("walk",), duration_s=60.0, sampling_rate_hz=model.sampling_rate_hz, seed=507), path)
+    whole = predict_recording(model, read_recording(path))
+    chunked = long_predict(model, path, chunk_s=20.0, progress=False)
+    assert (whole["out_of_domain_reason"] == FOOT_REASON).mean() >= 0.8
+    assert whole["out_of_domain_reason"].tolist() == chunked["out_of_domain_reason"].tolist()
+    assert whole["in_domain"].tolist() == chunked["in_domain"].tolist()

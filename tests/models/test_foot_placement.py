@@ -103,7 +103,7 @@ def _share(rec: Recording) -> float:
 @pytest.mark.parametrize("seed", [501, 502])
 def test_a_simulated_foot_walking_is_flagged(seed):
     rec = simulate_foot(modes=("walk",), duration_s=40.0, sampling_rate_hz=FS, seed=seed)
-    assert _share(rec) >= 0.8  # the report's held-out seeds: 0.95 (the rule needs a stance rest of >= 0.14 s)
+    assert _share(rec) >= 0.8  # the report: 0.93 on held-out seeds at 100 Hz read at 50 Hz, 0.999 simulated at 50 Hz
 
 
 @pytest.mark.parametrize("position", ["hand-flat", "hand-tilted", "swinging-hand", "front-pocket", "back-pocket"])

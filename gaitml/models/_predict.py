@@ -257,9 +257,10 @@ def predict_recording(
         ``t_start_s``, ``t_end_s``, ``mode_raw`` (model output), ``mode`` (after
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
         gait in it, :func:`still_windows`), ``still``, ``in_domain`` (True/False from
-        the model's domain record, :mod:`gaitml.models.domain`; None when the model
-        has none), ``domain_distance``, ``gravity_angle_deg`` (NaN when not
-        checked), plus ``label`` and ``label_fraction`` when the recording has
+        the model's domain record, :mod:`gaitml.models.domain`, and the foot-placement
+        rule, :func:`foot_placement`; None when the model has no record),
+        ``out_of_domain_reason`` (why a window is out of domain; empty otherwise),
+        ``domain_distance``, ``gravity_angle_deg`` (NaN when not checked), plus ``label`` and ``label_fraction`` when the recording has
         labels. ``attrs`` holds ``sampling_rate_hz``, ``resampled_from_hz`` (or
         None), ``correction`` and ``has_domain``.
 

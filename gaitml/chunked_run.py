@@ -485,6 +485,7 @@ def long_pdr(
         _heading_source,
         _out_of_domain_steps,
         _resolve_step_length,
+        _step_reasons,
         assemble_result,
         modes_from_labels,
     )
@@ -590,13 +591,14 @@ def long_pdr(
     n = len(steps)
 
     # ---- modes per step (as run_pdr)
-    step_in_domain = model_modes = None
+    step_in_domain = model_modes = step_reasons = None
     if modes == "true":
         step_modes = np.concatenate(label_parts).astype(str)
     elif modes == "model":
         t_look = 0.5 * (t_step + next_step_times(t_step)) if mode_boundaries == "middle" and n > 1 else t_step
         step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
         step_in_domain, step_modes, model_modes = _out_of_domain_steps(model, windows, t_look, step_modes)
+        step_reasons = _step_reasons(windows, t_look, n)
     else:
         step_modes = np.full(n, "walk", dtype=object)
     step_modes = np.asarray(step_modes).astype(str)
@@ -623,6 +625,7 @@ def long_pdr(
         step_in_domain=step_in_domain,
         model_modes=model_modes,
         model=model,
+        step_reasons=step_reasons,
         info={
             "detector": detector,
             "heading": heading,

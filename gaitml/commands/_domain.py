@@ -15,12 +15,14 @@ NO_DOMAIN_WARNING = (
 )
 
 
-def domain_warning(model, in_domain, what: str = "windows") -> str | None:
+def domain_warning(model, in_domain, what: str = "windows", reasons=None) -> str | None:
     """The one warning line (without the ``gaitml: warning:`` prefix) for a prediction, or None.
 
     A model without a domain record gives :data:`NO_DOMAIN_WARNING`; otherwise a
     warning is given when more than :data:`OUT_OF_DOMAIN_WARN_FRACTION` of the
-    ``what`` are out of domain.
+    ``what`` are out of domain. ``reasons`` (the ``out_of_domain_reason`` of each, optional):
+    the line says how many look like a foot-mounted sensor
+    (:data:`gaitml.models._placement.FOOT_REASON`).
     """
     from gaitml.models.domain import out_of_domain_fraction
 
@@ -35,6 +37,21 @@ def domain_warning(model, in_domain, what: str = "windows") -> str | None:
     positions = ", ".join(sorted(dom.positions)) or "unknown"
     return (
         f"{100 * frac:.1f} % of the {what} ({k} of {n}) lie outside the model's training domain (positions {positions}, "
-        f"{dom.frame} frame); their modes are unreliable: use a model trained on recordings like this one "
+        f"{dom.frame} frame){foot_clause(reasons)}; their modes are unreliable: use a model trained on recordings like this one "
         "(docs/models.md: 'Is my recording in the model's domain?')"
+    )
+
+
+def foot_clause(reasons) -> str:
+    """``", N of them look like a foot-mounted sensor (...)"`` for the warning line, or ``""`` when none does."""
+    from gaitml.models._placement import FOOT_REASON
+
+    if reasons is None:
+        return ""
+    n_foot = int(sum(str(r) == FOOT_REASON for r in np.asarray(reasons, dtype=object).reshape(-1)))
+    if not n_foot:
+        return ""
+    return (
+        f", {n_foot} of them because they look like a foot-mounted sensor (a rest between fast swings at every stride, "
+        f"as a shoe in its stances; out_of_domain_reason '{FOOT_REASON}'), a placement no carried phone has"
     )

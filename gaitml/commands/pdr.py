@@ -439,7 +439,8 @@ def _warn_out_of_domain(model, modes: str, steps) -> None:
     from gaitml.commands._domain import domain_warning
 
     flags = steps["in_domain"].to_numpy(dtype=object) if "in_domain" in steps else []
-    warning = domain_warning(model, flags, what="steps")
+    reasons = steps["out_of_domain_reason"].to_numpy(dtype=object) if "out_of_domain_reason" in steps else None
+    warning = domain_warning(model, flags, what="steps", reasons=reasons)
     if warning:
         tail = "; they were moved forward along the facing heading" if model.domain is not None else ""
         log(f"gaitml: warning: {warning}{tail}")
@@ -468,8 +469,10 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         f"[heading {res.info['heading']}, modes {modes}, update {res.info['update']}]"
     ]
     if res.info.get("out_of_domain_steps") is not None:
+        foot = res.info.get("foot_mounted_steps")
+        foot_txt = f"; {foot} of them look like a foot-mounted sensor" if foot else ""
         lines.append(
-            f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading)"
+            f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading{foot_txt})"
         )
     if res.info.get("side_direction_unsure_steps"):
         lines.append(

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import argparse
 
+import numpy as np
+
 from gaitml.commands._args import add_input_options
 from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
 
@@ -76,6 +78,14 @@ def side_direction_warning(n_unsure: int, n: int, unit: str) -> str:
     )
 
 
+def reason_counts(reasons) -> dict:
+    """How many windows are out of domain for each reason (``out_of_domain_reason``), e.g. ``{"placement: foot-mounted sensor": 47}``."""
+    if reasons is None:
+        return {}
+    vals, counts = np.unique(np.array([str(r) for r in reasons if r], dtype=str), return_counts=True)
+    return {str(v): int(c) for v, c in zip(vals, counts, strict=True)}
+
+
 def _report(args, model, table, unit: str, settings: dict) -> int:
     """Write / print the prediction table of windows (time-window model) or steps / strides (step-window model).
 
@@ -97,7 +107,8 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     counts = {str(k): int(v) for k, v in table["mode"].value_counts().sort_index().items()}
     in_domain = table["in_domain"].to_numpy(dtype=object) if "in_domain" in table else []
     ood_fraction = out_of_domain_fraction(in_domain)
-    warning = domain_warning(model, in_domain, unit)
+    reasons = table["out_of_domain_reason"].to_numpy(dtype=object) if "out_of_domain_reason" in table else None
+    warning = domain_warning(model, in_domain, unit, reasons)
     if warning:
         log(f"gaitml: warning: {warning}")
     n_still = int(table["still"].sum()) if "still" in table else 0
@@ -121,12 +132,14 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                         **({"t_event_s": float(r.t_event_s)} if by_steps else {}),
                         "mode": str(r.mode),
                         "in_domain": None if r.in_domain is None else bool(r.in_domain),
+                        "out_of_domain_reason": (getattr(r, "out_of_domain_reason", "") or None),
                         "side_direction_unsure": bool(getattr(r, "side_direction_unsure", False)),
                     }
                     for r in table.itertuples()
                 ],
                 "counts": counts,
                 "out_of_domain_fraction": ood_fraction,
+                "out_of_domain_reasons": reason_counts(reasons),
                 "still_fraction": n_still / len(table) if len(table) else None,
                 "still_gate": table.attrs.get("still_gate", default_still_gate()),
                 "side_direction_unsure_count": n_unsure,

@@ -24,6 +24,8 @@ __all__ = [
     "STILL_THRESHOLDS_MS2",
     "SIDE_MODES",
     "FACE_UP_MAX_DEG",
+    "DOMAIN_REASON",
+    "foot_placement",
 ]
 
 #: The mode reported for a window with no gait in it (a phone lying still, a person standing).
@@ -60,6 +62,9 @@ SIDE_MODES = ("side_left", "side_right")
 #: trouser pocket, the swinging hand, at the ear) may face in or out and sit on either leg,
 #: which flips its lateral axis against the body, so its left / right is unsure there.
 FACE_UP_MAX_DEG = 60.0
+#: The ``out_of_domain_reason`` of a window the model's own domain check flags (:mod:`gaitml.models.domain`);
+#: a window the foot-placement rule flags gets :data:`gaitml.models._placement.FOOT_REASON`.
+DOMAIN_REASON = "unlike the training data"
 
 
 def still_statistic(recording: Recording, windows: pd.DataFrame, rule: str = STILL_RULE) -> np.ndarray:
@@ -252,9 +257,10 @@ def predict_recording(
         ``t_start_s``, ``t_end_s``, ``mode_raw`` (model output), ``mode`` (after
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
         gait in it, :func:`still_windows`), ``still``, ``in_domain`` (True/False from
-        the model's domain record, :mod:`gaitml.models.domain`; None when the model
-        has none), ``domain_distance``, ``gravity_angle_deg`` (NaN when not
-        checked), plus ``label`` and ``label_fraction`` when the recording has
+        the model's domain record, :mod:`gaitml.models.domain`, and the foot-placement
+        rule, :func:`foot_placement`; None when the model has no record),
+        ``out_of_domain_reason`` (why a window is out of domain; empty otherwise),
+        ``domain_distance``, ``gravity_angle_deg`` (NaN when not checked), plus ``label`` and ``label_fraction`` when the recording has
         labels. ``attrs`` holds ``sampling_rate_hz``, ``resampled_from_hz`` (or
         None), ``correction`` and ``has_domain``.
 
@@ -324,6 +330,21 @@ def side_direction_unsure(recording: Recording, windows: pd.DataFrame, modes, ma
     return side & (cos_z < np.cos(np.radians(float(max_deg))))
 
 
+def foot_placement(model, recording: Recording, windows: pd.DataFrame) -> np.ndarray | None:
+    """Which windows look like a foot-mounted sensor (:func:`gaitml.models._placement.foot_like_windows`), or None when not checked.
+
+    Checked for a model with a domain record none of whose training positions is on a foot
+    (a position name starting ``foot``); read with the recording's gyroscope when it has one,
+    else with the accelerometer-only rule.
+    """
+    dom = getattr(model, "domain", None)
+    if dom is None or any(str(p).lower().startswith("foot") for p in dom.positions):
+        return None
+    from gaitml.models._placement import foot_like_windows
+
+    return foot_like_windows(recording.acc, recording.gyr, recording.sampling_rate_hz, windows)["foot_like"]
+
+
 def finish_predictions(
     out: pd.DataFrame,
     windows: pd.DataFrame,
@@ -339,6 +360,10 @@ def finish_predictions(
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
 
+    A window that looks like a foot-mounted sensor (:func:`foot_placement`) is out of domain
+    (``in_domain`` False); ``out_of_domain_reason`` says why a window is out of domain
+    (:data:`gaitml.models._placement.FOOT_REASON` or :data:`DOMAIN_REASON`; empty in domain or unchecked).
+
     A window with no gait in it (:func:`still_windows` with ``still_rule``, ``still_threshold_ms2``) gets the mode :data:`STILL`
     and ``still = True``; ``mode_raw`` keeps the model's answer. ``side_direction_unsure``
     marks side steps read from an upright phone (:func:`side_direction_unsure`).
@@ -349,6 +374,18 @@ def finish_predictions(
     """
     for c, v in domain.items():
         out[c] = v
+    # a foot-mounted sensor (a fixed physics rule: a rest between fast swings at every stride) is no carried phone
+    from gaitml.models._placement import FOOT_REASON
+
+    flags = out["in_domain"].to_numpy(dtype=object).copy()
+    flagged = np.array([v is False or v is np.False_ for v in flags], dtype=bool)
+    reason = np.where(flagged, DOMAIN_REASON, "").astype(object)
+    foot = foot_placement(model, rec, windows)
+    if foot is not None and foot.any():
+        flags[foot] = False
+        reason[foot] = FOOT_REASON
+        out["in_domain"] = flags
+    out["out_of_domain_reason"] = reason
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
     out["still"] = still_windows(rec, windows, still_rule, still_threshold_ms2)
     out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)

@@ -92,7 +92,8 @@ class PdrResult:
         (None for the start row and for a model without a domain record) and the object
         has ``out_of_domain_steps`` and ``side_direction_unsure_steps`` (side steps moved
         forward because the model cannot tell their direction; None for a model without a
-        domain record); without a model they are absent. ``gait_check``: the step detector's
+        domain record), and ``foot_mounted_steps`` (steps whose window looks like a
+        foot-mounted sensor, :mod:`gaitml.models._placement`) when the windows say; without a model they are absent. ``gait_check``: the step detector's
         gait-evidence account (steps left out in bouts without gait evidence), when it ran.
         """
         traj = self.trajectory
@@ -112,6 +113,8 @@ class PdrResult:
         if self.info.get("modes") == "model":
             out["out_of_domain_steps"] = self.info.get("out_of_domain_steps")
             out["side_direction_unsure_steps"] = self.info.get("side_direction_unsure_steps")
+            if "foot_mounted_steps" in self.info:
+                out["foot_mounted_steps"] = self.info["foot_mounted_steps"]
         if self.info.get("gyro_bias") is not None:
             out["gyro_bias"] = self.info["gyro_bias"]
         if self.info.get("gait_check") is not None:
@@ -165,6 +168,13 @@ def _out_of_domain_steps(model, windows: pd.DataFrame, t_look, step_modes) -> tu
         unsure = np.array([bool(v) for v in window_values_at_steps(windows, t_look, "side_direction_unsure")], dtype=bool)
         modes = np.where(unsure & np.char.startswith(model_modes, "side_"), "walk", modes)
     return flags, modes, model_modes
+
+
+def _step_reasons(windows: pd.DataFrame, t_look, n: int) -> np.ndarray | None:
+    """The ``out_of_domain_reason`` of the window nearest each step (as its flag), or None when the windows have none."""
+    if n == 0 or "out_of_domain_reason" not in windows:
+        return None
+    return np.array([str(v or "") for v in window_values_at_steps(windows, t_look, "out_of_domain_reason")], dtype=object)
 
 
 def _detect(recording: Recording, detector):
@@ -372,6 +382,7 @@ def run_pdr(
             if mode_boundaries == "refine" and n > 1:
                 step_modes = refine_mode_boundaries(model, recording, t_step, step_modes)
             step_in_domain, step_modes, model_modes = _out_of_domain_steps(model, windows, t_look, step_modes)
+            step_reasons = _step_reasons(windows, t_look, n)
         else:  # the step-window model's own per-step flags: out-of-domain steps move forward, as for windows
             model_modes = np.asarray(step_modes).astype(str)
             step_in_domain = np.array([None if v is None else bool(v) for v in step_flags], dtype=object)
@@ -382,6 +393,8 @@ def run_pdr(
     step_modes = np.asarray(step_modes).astype(str)
     if modes != "model":
         step_in_domain = model_modes = None
+    if modes != "model" or mode_boundaries == "per-step":
+        step_reasons = None
     offsets = mode_offsets_rad(step_modes, unknown="forward")
     unknown = sorted(set(step_modes) - {"walk", "run", "side_left", "side_right", "backward", "forward"})
     if unknown:
@@ -421,6 +434,7 @@ def run_pdr(
         step_in_domain=step_in_domain,
         model_modes=model_modes,
         model=model,
+        step_reasons=step_reasons,
         info={
             "detector": det_name,
             "heading": heading if isinstance(heading, str) else source.name or type(source).__name__,
@@ -458,11 +472,14 @@ def assemble_result(
     model_modes,
     model,
     info: dict,
+    step_reasons=None,
 ) -> PdrResult:
     """The positions (multi-state update, paper 003 eq. 11, or forward-only, eq. 10) and the
     :class:`PdrResult` of per-step modes, lengths and headings; shared by :func:`run_pdr` and the
     chunked run of a long recording (:func:`gaitml.chunked_run.long_pdr`), so both give the same
-    tables and summary."""
+    tables and summary. ``step_reasons``: the ``out_of_domain_reason`` of each step (None: not known);
+    the step table gets the column and ``info`` the count ``foot_mounted_steps`` of
+    :data:`gaitml.models._placement.FOOT_REASON`."""
     step_modes = np.asarray(step_modes).astype(str)
     if update == "multi":
         xy = multi_state_update(lengths, theta, step_modes, start_xy_m=start_xy_m, unknown="forward")
@@ -506,6 +523,11 @@ def assemble_result(
         )
     )
     info = {**info, "out_of_domain_steps": n_ood, "side_direction_unsure_steps": n_unsure}
+    if step_reasons is not None and step_in_domain is not None:
+        from gaitml.models._placement import FOOT_REASON
+
+        steps["out_of_domain_reason"] = np.asarray(step_reasons, dtype=object)
+        info["foot_mounted_steps"] = int(sum(str(r) == FOOT_REASON for r in step_reasons))
     info = {k: info[k] for k in (*[k for k in info if k != "notes"], "notes")}
     return PdrResult(
         trajectory=traj,

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from gaitml.models import load_model, predict_recording
-from gaitml.models._predict import _windows_for, model_inputs
+from gaitml.models._predict import _windows_for, foot_placement, model_inputs
 from gaitml.models.domain import _BLOCKED_MIN_ROWS, ACC_MEAN_FEATURES, feature_gravity, orientation_dynamics, running_median, window_gravity
 from gaitml.pipeline.config import parse_config
 from gaitml.pipeline.runner import train_config
@@ -72,6 +72,7 @@ def _before(model, rec) -> dict[str, np.ndarray]:
     per_window[rows] = stacked_dynamics_distances(dom, q)  # standardised first, then the stacked factors
     dyn = span_median_loop(per_window, dom.dynamics["span"], dom.dynamics_every)  # nanmedian of each span's grid windows
     ok = (d <= dom.distance_threshold) & (ang <= dom.gravity_threshold_rad) & (dyn <= dom.dynamics["threshold"])
+    ok &= ~foot_placement(model, rec, w)  # predict adds the fixed foot-placement rule to the record's check
     return {"in_domain": ok, "domain_distance": d, "gravity_angle_deg": np.degrees(ang), "dynamics_distance": dyn}
 
 

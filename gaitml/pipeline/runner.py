@@ -223,6 +223,22 @@ def _load_recordings(cfg: ExperimentConfig):
     out = [resample_recording(r, fs) for r in recs]
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
+    if d["augment"]["swing_turns"] > 0:
+        from gaitml.pipeline.augment import augment_recordings
+
+        turns, positions = int(d["augment"]["swing_turns"]), list(d["augment"]["positions"])
+        extra = augment_recordings(out, turns, positions, seed=cfg.seed)
+        if not extra:
+            present = sorted({str(r.meta.get("position", "")) for r in out})
+            raise ConfigError(
+                f"data.augment.positions = {positions} matches no recording with a gyroscope; positions present: {present}. "
+                "Fix the list or set data.augment.swing_turns = 0."
+            )
+        out += extra
+        notes.append(
+            f"augmented: {len(extra)} copies of the {len(extra) // turns} real recording(s) in {positions}, the phone turned about "
+            f"its swing axis ({turns} angles per recording over the full turn)"
+        )
     if d["walks"]["path"]:
         walks, note = _walk_recordings(cfg, fs)
         out += walks
@@ -578,6 +594,11 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     gravity direction of every window in the phone frame; positions from the
     recordings' meta ``position`` (``"unknown"`` where absent); held-out thresholds
     over the config's groups.
+
+    Augmented copies of real recordings (meta ``augmented``, :mod:`gaitml.pipeline.augment`)
+    train the classifier but are left out of the domain record: its thresholds are quantiles
+    over the training windows, and a recording counted several times would pull them towards
+    its position (its orientation dynamics are the same in every copy).
     """
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
@@ -611,18 +632,19 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
         elif model.input_kind != "features":
             gyr = rec.gyr if fset == "all52+gyro" else None
             X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
+    keep = np.array([not data.recordings[int(i)].meta.get("augmented") for i in rec_idx], dtype=bool)
     return fit_domain(
-        X,
-        ds.y,
-        ds.groups,
-        gravity,
+        X[keep],
+        np.asarray(ds.y)[keep],
+        np.asarray(ds.groups)[keep],
+        gravity[keep],
         feature_names=feature_names(fset),
         feature_set=fset,
         frame=frame,
-        positions=positions,
+        positions=positions[keep],
         seed=cfg.seed,
-        dynamics=dynamics,
-        sequence=rec_idx,
+        dynamics=None if dynamics is None else dynamics[keep],
+        sequence=rec_idx[keep],
     )
 
 

@@ -1,6 +1,6 @@
 """Choosing ``data.augment.swing_turns`` on the training people only (nested person-out folds on tyrex).
 
-``python -m experiments.scripts.swing_turns_select --data ../shared/data [--turns 0,1,3,7] [--cache /tmp/runswing]``
+``python -m experiments.scripts.swing_turns_select --data ../shared/data [--turns 0,1,3,7] [--share-time] [--cache /tmp/runswing]``
 from the repository root.
 
 For every ordered pair of tyrex people (train on R, score Q) recipe a of
@@ -35,6 +35,7 @@ def main(argv=None) -> int:
     ap.add_argument("--turns", default="0,1,3,7")
     ap.add_argument("--positions", default="swinging-hand")
     ap.add_argument("--cache", type=Path, default=Path("/tmp/runswing"))
+    ap.add_argument("--share-time", action="store_true", help="the original and its copies share the recording's time")
     a = ap.parse_args(argv)
     cfg = simulated_part(load_config(a.config))
     out = a.cache / "select"
@@ -48,7 +49,7 @@ def main(argv=None) -> int:
             for q in people:
                 if q == r:
                     continue
-                f = out / f"{n}-{a.positions}-{r}-{q}.pkl"
+                f = out / f"{n}-{a.positions}{'-shared' if a.share_time else ''}-{r}-{q}.pkl"
                 if not f.exists():
                     t0 = time.perf_counter()
                     sim = (
@@ -65,6 +66,7 @@ def main(argv=None) -> int:
                             Path(tmp) / "m",
                             augment=n,
                             augment_positions=a.positions.split(","),
+                            share_time=a.share_time,
                         )
                     window_table(model, [it for it in items if it["subject"] == q]).to_pickle(f)
                     print(f"[swing_turns_select] turns {n}: train {r}, score {q} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)

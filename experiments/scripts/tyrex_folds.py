@@ -65,6 +65,7 @@ def main(argv=None) -> int:
     ap.add_argument("--tag", default="base")
     ap.add_argument("--augment", type=int, default=0, help="rotated copies per real recording (the phone turned about its swing axis)")
     ap.add_argument("--augment-positions", default=None, help="comma-separated positions to augment (default: the swinging ones)")
+    ap.add_argument("--share-time", action="store_true", help="the original and its copies share the recording's time")
     a = ap.parse_args(argv)
     cfg = simulated_part(load_config(a.config))
     out = a.cache / a.tag
@@ -86,6 +87,7 @@ def main(argv=None) -> int:
                 mdir,
                 augment=a.augment,
                 augment_positions=a.augment_positions.split(",") if a.augment_positions else None,
+                share_time=a.share_time,
             )
         model = load_model(mdir)
         tabs.append(fold_predictions(model, [it for it in items if it["subject"] == person]).assign(left_out=person))

@@ -33,7 +33,9 @@ from gaitml.errors import InputError
 __all__ = [
     "SWING_AXIS_HIGHPASS_HZ",
     "SWING_POSITIONS",
+    "SHARE_BLOCK_S",
     "augment_recordings",
+    "augmented_set",
     "axis_rotation",
     "rotate_recording",
     "swing_axis",
@@ -97,19 +99,37 @@ def rotate_recording(rec, R: np.ndarray, note: str):
     )
 
 
+#: length (s) of the stretches a recording is cut into when its grips share its time (``share_time``): two
+#: 1.5 s windows at 50 % overlap, so that most windows lie within one grip
+SHARE_BLOCK_S = 3.0
+
+
 def augment_recordings(
     recs: Sequence,
     copies: int,
     positions: Iterable[str] = SWING_POSITIONS,
     seed: int = 0,
     highpass_hz: float = SWING_AXIS_HIGHPASS_HZ,
+    share_time: bool = False,
+    block_s: float = SHARE_BLOCK_S,
 ) -> list:
     """Rotated copies of the recordings in ``positions``: the phone turned about its swing axis, ``copies`` per recording.
 
     The angles of one recording are ``2 pi (k + u) / (copies + 1)``, ``k = 1..copies``, with one
     offset ``u`` uniform in [-0.5, 0.5) per recording (``seed``): with the original, ``copies + 1``
     grips spread over the full turn. Recordings without a gyroscope, or in other positions, get no
-    copy. Returns the copies only (the caller keeps the originals).
+    copy.
+
+    ``share_time``: the original and its copies share the recording's time instead of each
+    holding all of it, as if the walker changed grip every ``block_s`` seconds: the recording is
+    cut into stretches of ``block_s``, stretch ``j`` keeps its labels in grip ``(j + s) mod
+    (copies + 1)`` (``s`` random per recording; grip 0 is the original) and is ``unlabelled`` in
+    the others. The position then keeps its number of training windows (its weight against the
+    other positions and modes); without it, it counts ``copies + 1`` times.
+
+    Returns ``(originals, copies)``-ready lists as one list: with ``share_time`` the originals
+    (relabelled) followed by the copies, to *replace* ``recs`` entries in those positions
+    (:func:`augmented_set` does the bookkeeping); without it, the copies only.
     """
     if copies < 0:
         raise InputError(f"augmentation copies must be >= 0, got {copies}; use 0 for none.")
@@ -120,10 +140,57 @@ def augment_recordings(
     out = []
     for rec in recs:
         u = rng.uniform(-0.5, 0.5)  # drawn for every recording so that a position list does not shift the others
+        shift = int(rng.integers(copies + 1))
         if rec.gyr is None or str(rec.meta.get("position", "")) not in want:
             continue
         axis = swing_axis(rec.gyr, rec.sampling_rate_hz, highpass_hz)
         for k in range(1, copies + 1):
             theta = 2.0 * np.pi * (k + u) / (copies + 1)
-            out.append(rotate_recording(rec, axis_rotation(axis, theta), f"turned {np.degrees(theta):.0f} deg about the swing axis"))
+            c = rotate_recording(rec, axis_rotation(axis, theta), f"turned {np.degrees(theta):.0f} deg about the swing axis")
+            if share_time:  # one grip per stretch: the copy holds only its stretches, and counts like the original
+                meta = {**c.meta, "augmented_shares_time": True}
+                c = c.replace(labels=_grip_labels(rec, k, copies + 1, shift, block_s), meta=meta, check_units=False)
+            out.append(c)
     return out
+
+
+def _grip_labels(rec, grip: int, n_grips: int, shift: int, block_s: float) -> np.ndarray:
+    """``rec``'s labels in the stretches of ``block_s`` that belong to ``grip`` (of ``n_grips``), ``unlabelled`` elsewhere."""
+    from gaitml.labels import UNLABELLED
+
+    if rec.labels is None:
+        raise InputError(f"{rec.name}: sharing a recording's time between grips needs its labels; label it first.")
+    block = max(1, int(round(block_s * rec.sampling_rate_hz)))
+    owner = (np.arange(rec.n_samples) // block + shift) % n_grips
+    lab = np.asarray(rec.labels, dtype=object)
+    return np.where(owner == grip, lab, UNLABELLED).astype(object)
+
+
+def augmented_set(
+    recs: Sequence,
+    copies: int,
+    positions: Iterable[str] = SWING_POSITIONS,
+    seed: int = 0,
+    share_time: bool = False,
+    block_s: float = SHARE_BLOCK_S,
+) -> tuple[list, list]:
+    """``recs`` with the rotated copies of :func:`augment_recordings`: ``(recordings, copies)``.
+
+    Without ``share_time`` the recordings are ``recs`` unchanged plus the copies; with it the
+    originals in ``positions`` keep only their own grip's stretches (the same draws as the
+    copies), so that every stretch of the recording is trained once, in one grip.
+    """
+    extra = augment_recordings(recs, copies, positions, seed, share_time=share_time, block_s=block_s)
+    if not share_time or not extra:
+        return [*recs, *extra], extra
+    want = set(positions)
+    rng = np.random.default_rng(seed)  # the same draws as augment_recordings: the grip of each stretch
+    out = []
+    for rec in recs:
+        rng.uniform(-0.5, 0.5)
+        shift = int(rng.integers(copies + 1))
+        if rec.gyr is None or str(rec.meta.get("position", "")) not in want:
+            out.append(rec)
+        else:
+            out.append(rec.replace(labels=_grip_labels(rec, 0, copies + 1, shift, block_s), check_units=False))
+    return [*out, *extra], extra

@@ -50,6 +50,8 @@ Keys (defaults in brackets) of ``task = "classification"``::
     swing_turns = 0                  # copies per recording in data.augment.positions: the phone turned about its
                                      # swing axis (the grip in a swinging hand), angles spread over the full turn
     positions = ["swinging-hand"]    # meta "position" values whose recordings get the copies
+    share_time = false               # true: the original and its copies share the recording's time (a grip per
+                                     # 3 s stretch), so the position keeps its number of windows
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -334,6 +336,7 @@ SCHEMA: dict[str, Any] = {
         "augment": {
             "swing_turns": _Leaf((int,), 0, check=_nonneg),
             "positions": _Leaf((list,), ["swinging-hand"], item_type=str),
+            "share_time": _Leaf((bool,), False),
         },
         # a folder source plus the simulated subjects of [data.simulated]
         "add_simulated": _Leaf((bool,), False),
@@ -478,6 +481,7 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "walks", "weight"): 1,
     ("data", "augment", "swing_turns"): 0,
     ("data", "augment", "positions"): ["swinging-hand"],
+    ("data", "augment", "share_time"): False,
 }
 
 

@@ -224,20 +224,21 @@ def _load_recordings(cfg: ExperimentConfig):
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
     if d["augment"]["swing_turns"] > 0:
-        from gaitml.pipeline.augment import augment_recordings
+        from gaitml.pipeline.augment import augmented_set
 
         turns, positions = int(d["augment"]["swing_turns"]), list(d["augment"]["positions"])
-        extra = augment_recordings(out, turns, positions, seed=cfg.seed)
+        share = bool(d["augment"]["share_time"])
+        out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share)
         if not extra:
             present = sorted({str(r.meta.get("position", "")) for r in out})
             raise ConfigError(
                 f"data.augment.positions = {positions} matches no recording with a gyroscope; positions present: {present}. "
                 "Fix the list or set data.augment.swing_turns = 0."
             )
-        out += extra
         notes.append(
             f"augmented: {len(extra)} copies of the {len(extra) // turns} real recording(s) in {positions}, the phone turned about "
             f"its swing axis ({turns} angles per recording over the full turn)"
+            + ("; the original and its copies share the recording's time (one grip per stretch)" if share else "")
         )
     if d["walks"]["path"]:
         walks, note = _walk_recordings(cfg, fs)
@@ -596,9 +597,11 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     over the config's groups.
 
     Augmented copies of real recordings (meta ``augmented``, :mod:`gaitml.pipeline.augment`)
-    train the classifier but are left out of the domain record: its thresholds are quantiles
-    over the training windows, and a recording counted several times would pull them towards
-    its position (its orientation dynamics are the same in every copy).
+    that repeat the whole recording train the classifier but are left out of the domain
+    record: its thresholds are quantiles over the training windows, and a recording counted
+    several times would pull them towards its position (its orientation dynamics are the same
+    in every copy). Copies that share the recording's time with it (meta
+    ``augmented_shares_time``: each stretch in one grip) count once and are kept.
     """
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
@@ -632,7 +635,8 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
         elif model.input_kind != "features":
             gyr = rec.gyr if fset == "all52+gyro" else None
             X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
-    keep = np.array([not data.recordings[int(i)].meta.get("augmented") for i in rec_idx], dtype=bool)
+    repeats = [bool(r.meta.get("augmented")) and not r.meta.get("augmented_shares_time") for r in data.recordings]
+    keep = np.array([not repeats[int(i)] for i in rec_idx], dtype=bool)
     return fit_domain(
         X[keep],
         np.asarray(ds.y)[keep],
@@ -651,7 +655,8 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
 def window_sources(data: PreparedData, ds) -> list[dict]:
     """Where the training windows come from: one entry per (real | simulated, position), windows per label.
 
-    A recording is simulated when its meta ``source`` is ``gaitml.simulate``, else real; its
+    A recording is simulated when its meta ``source`` is ``gaitml.simulate``, a rotated copy of a real
+    recording (meta ``augmented``, :mod:`gaitml.pipeline.augment`) is ``real, turned``, else real; its
     position is the meta ``motion`` (a tyrex recording's carrying motion, e.g. ``FrontPocket``)
     or else ``position`` (the simulator's carrying position). The model card prints the table
     (which modes were learnt from real recordings and which from the simulator).
@@ -660,7 +665,7 @@ def window_sources(data: PreparedData, ds) -> list[dict]:
     recs = data.recordings
     for idx, lab in zip(ds.windows["recording"].to_numpy(), ds.windows["label"].astype(str).to_numpy(), strict=True):
         meta = recs[int(idx)].meta
-        kind = "simulated" if meta.get("source") == "gaitml.simulate" else "real"
+        kind = "simulated" if meta.get("source") == "gaitml.simulate" else ("real, turned" if meta.get("augmented") else "real")
         where = str(meta.get("motion") or meta.get("position") or "unknown")
         row = counts.setdefault((kind, where), {})
         row[lab] = row.get(lab, 0) + 1

@@ -118,3 +118,21 @@ def test_folder_config_adds_the_copies_in_the_same_group(tmp_path):
         prepare_data(_config(root, swing_turns=2, positions=["back-pocket"]), use_cache=False)
     with pytest.raises(ConfigError, match="data.augment.swing_turns applies to data.source = 'folder'"):
         parse_config({"name": "x", "data": {"source": "simulated", "augment": {"swing_turns": 1}}})
+
+
+def test_shared_time_gives_every_stretch_to_exactly_one_grip():
+    from gaitml.pipeline.augment import augmented_set
+
+    rec = _swinging([0.0, 0.0, 1.0], n_s=60.0)
+    rec = rec.replace(labels=np.full(rec.n_samples, "walk", dtype=object))
+    other = _swinging([0.0, 0.0, 1.0], n_s=60.0, position="front-pocket")
+    other = other.replace(labels=np.full(other.n_samples, "walk", dtype=object))
+    out, extra = augmented_set([rec, other], 3, ["swinging-hand"], seed=2, share_time=True)
+    assert len(out) == 2 + 3 and len(extra) == 3 and out[1] is other
+    grips = [out[0], *extra]
+    walk = np.array([g.labels.astype(str) == "walk" for g in grips])
+    assert np.all(walk.sum(axis=0) == 1)  # each sample trained once, in one grip
+    assert all(0.15 < w.mean() < 0.35 for w in walk)  # about a quarter each
+    assert all(c.meta["augmented_shares_time"] for c in extra) and "augmented" not in out[0].meta
+    plain, extra2 = augmented_set([rec, other], 3, ["swinging-hand"], seed=2)
+    assert len(plain) == 5 and plain[0] is rec and all(np.all(c.labels.astype(str) == "walk") for c in extra2)

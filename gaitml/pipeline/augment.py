@@ -36,6 +36,7 @@ __all__ = [
     "SHARE_BLOCK_S",
     "augment_recordings",
     "augmented_set",
+    "without_copies",
     "axis_rotation",
     "rotate_recording",
     "swing_axis",
@@ -147,7 +148,7 @@ def augment_recordings(
         for k in range(1, copies + 1):
             theta = 2.0 * np.pi * (k + u) / (copies + 1)
             c = rotate_recording(rec, axis_rotation(axis, theta), f"turned {np.degrees(theta):.0f} deg about the swing axis")
-            if share_time:  # one grip per stretch: the copy holds only its stretches, and counts like the original
+            if share_time:  # one grip per stretch: the copy holds only its stretches
                 meta = {**c.meta, "augmented_shares_time": True}
                 c = c.replace(labels=_grip_labels(rec, k, copies + 1, shift, block_s), meta=meta, check_units=False)
             out.append(c)
@@ -178,7 +179,8 @@ def augmented_set(
 
     Without ``share_time`` the recordings are ``recs`` unchanged plus the copies; with it the
     originals in ``positions`` keep only their own grip's stretches (the same draws as the
-    copies), so that every stretch of the recording is trained once, in one grip.
+    copies), so that every stretch of the recording is trained once, in one grip; their full
+    labels are kept in ``meta["augment_full_labels"]`` (:func:`without_copies` restores them).
     """
     extra = augment_recordings(recs, copies, positions, seed, share_time=share_time, block_s=block_s)
     if not share_time or not extra:
@@ -192,5 +194,22 @@ def augmented_set(
         if rec.gyr is None or str(rec.meta.get("position", "")) not in want:
             out.append(rec)
         else:
-            out.append(rec.replace(labels=_grip_labels(rec, 0, copies + 1, shift, block_s), check_units=False))
+            # the full labels stay in the meta: the domain record is fitted on the recording as it was
+            meta = {**rec.meta, "augment_full_labels": rec.labels}
+            out.append(rec.replace(labels=_grip_labels(rec, 0, copies + 1, shift, block_s), meta=meta, check_units=False))
     return [*out, *extra], extra
+
+
+def without_copies(recs: Sequence, groups: Sequence) -> tuple[list, list]:
+    """The recordings as they were before :func:`augmented_set`: copies dropped, shared originals given back their full labels."""
+    out, out_groups = [], []
+    for r, g in zip(recs, groups, strict=True):
+        if r.meta.get("augmented"):
+            continue
+        full = r.meta.get("augment_full_labels")
+        if full is not None:
+            meta = {k: v for k, v in r.meta.items() if k != "augment_full_labels"}
+            r = r.replace(labels=full, meta=meta, check_units=False)
+        out.append(r)
+        out_groups.append(g)
+    return out, out_groups

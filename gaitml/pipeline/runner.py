@@ -596,13 +596,20 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     recordings' meta ``position`` (``"unknown"`` where absent); held-out thresholds
     over the config's groups.
 
-    Augmented copies of real recordings (meta ``augmented``, :mod:`gaitml.pipeline.augment`)
-    that repeat the whole recording train the classifier but are left out of the domain
-    record: its thresholds are quantiles over the training windows, and a recording counted
-    several times would pull them towards its position (its orientation dynamics are the same
-    in every copy). Copies that share the recording's time with it (meta
-    ``augmented_shares_time``: each stretch in one grip) count once and are kept.
+    Augmented copies of real recordings (:mod:`gaitml.pipeline.augment`) train the
+    classifier but not the domain record, which is fitted on the recordings as they were
+    (:func:`gaitml.pipeline.augment.without_copies`: copies dropped, originals with all their
+    windows): it holds the grips the walkers really used (a copy turned about the swing axis
+    points gravity where no walker held the phone, and other carrying positions, a bag, would
+    pass the gravity test there), and its held-out quantile thresholds are not pulled towards
+    the augmented position.
     """
+    from gaitml.pipeline.augment import without_copies
+
+    if any(r.meta.get("augmented") or r.meta.get("augment_full_labels") is not None for r in data.recordings):
+        recs, groups = without_copies(data.recordings, data.groups)
+        plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
+        return fit_training_domain(cfg, plain, build_dataset(cfg, plain, use_cache=False), model)
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
     from gaitml.models.domain import DYNAMICS_NAMES, fit_domain, orientation_dynamics, span_gravity, window_gravity
@@ -635,20 +642,18 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
         elif model.input_kind != "features":
             gyr = rec.gyr if fset == "all52+gyro" else None
             X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
-    repeats = [bool(r.meta.get("augmented")) and not r.meta.get("augmented_shares_time") for r in data.recordings]
-    keep = np.array([not repeats[int(i)] for i in rec_idx], dtype=bool)
     return fit_domain(
-        X[keep],
-        np.asarray(ds.y)[keep],
-        np.asarray(ds.groups)[keep],
-        gravity[keep],
+        X,
+        ds.y,
+        ds.groups,
+        gravity,
         feature_names=feature_names(fset),
         feature_set=fset,
         frame=frame,
-        positions=positions[keep],
+        positions=positions,
         seed=cfg.seed,
-        dynamics=None if dynamics is None else dynamics[keep],
-        sequence=rec_idx[keep],
+        dynamics=dynamics,
+        sequence=rec_idx,
     )
 
 

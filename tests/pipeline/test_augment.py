@@ -136,3 +136,28 @@ def test_shared_time_gives_every_stretch_to_exactly_one_grip():
     assert all(c.meta["augmented_shares_time"] for c in extra) and "augmented" not in out[0].meta
     plain, extra2 = augmented_set([rec, other], 3, ["swinging-hand"], seed=2)
     assert len(plain) == 5 and plain[0] is rec and all(np.all(c.labels.astype(str) == "walk") for c in extra2)
+
+
+def test_the_domain_record_is_fitted_on_the_recordings_as_they_were(tmp_path):
+    """Copies train the classifier only: the domain of an augmented training set equals the one without copies."""
+    from gaitml.models import make_model
+    from gaitml.pipeline.runner import build_dataset, fit_training_domain
+
+    root = _tyrex_swinging(tmp_path)
+    domains = []
+    for aug in ({}, {"swing_turns": 3, "share_time": True}, {"swing_turns": 2}):
+        cfg = _config(root, **aug)
+        data = prepare_data(cfg, use_cache=False)
+        ds = build_dataset(cfg, data, use_cache=False)
+        model = make_model(cfg["model"]["kind"], cfg["model"]["params"], seed=cfg.seed).fit(ds.inputs("features"), ds.y)
+        domains.append((len(ds), fit_training_domain(cfg, data, ds, model)))
+    (n0, d0), (n1, d1), (n2, d2) = domains
+    assert n2 == 3 * n0 and abs(n1 - n0) <= 0.1 * n0  # copies of the whole recording / one grip per stretch
+    for d in (d1, d2):
+        assert d.positions == d0.positions and d.classes == d0.classes
+        assert np.isclose(d.distance_threshold, d0.distance_threshold, rtol=1e-9)
+        assert np.isclose(d.gravity_threshold_rad, d0.gravity_threshold_rad, rtol=1e-9)
+        a, b = d.to_arrays(), d0.to_arrays()
+        assert sorted(a) == sorted(b)
+        for k in a:
+            np.testing.assert_allclose(a[k], b[k], rtol=1e-9, atol=1e-12, err_msg=k)

@@ -1,6 +1,7 @@
 """Cached person-out fold models of a tyrex recipe, and their per-window predictions (diagnosis of misread windows).
 
-``python -m experiments.scripts.tyrex_folds --config experiments/demo.toml [--recipe a] [--cache /tmp/runswing] [--tag NAME]``
+``python -m experiments.scripts.tyrex_folds --config experiments/demo.toml [--recipe a] [--cache /tmp/runswing] [--tag NAME]
+[--augment N [--augment-positions P,..] [--share-time]] [--diagnose MOTION,..]``
 from the repository root.
 
 Trains :func:`experiments.scripts.tyrex_modes.train_recipe` once per left-out tyrex person
@@ -8,7 +9,9 @@ Trains :func:`experiments.scripts.tyrex_modes.train_recipe` once per left-out ty
 ``CACHE/TAG/fold-PERSON``; then writes every left-out window's prediction
 (:func:`gaitml.models.predict_recording`) with the domain columns and which test flagged it
 (feature distance, gravity angle, dynamics span) to ``CACHE/TAG/windows.pkl``. A rerun
-reuses the cached models.
+reuses the cached models. ``--diagnose`` prints, for the named motions, what the misread
+windows were read as, which domain test flagged the flagged ones, the recordings that
+carry them, and per recording what physically differs (:func:`physical_table`).
 """
 
 from __future__ import annotations
@@ -52,6 +55,93 @@ def fold_predictions(model, items: list[dict]) -> pd.DataFrame:
     return pd.concat(rows, ignore_index=True)
 
 
+def _moving(t: pd.DataFrame) -> pd.DataFrame:
+    w = t[(t["label"].astype(str) == t["true_mode"]) & (t["label_fraction"] >= 0.5)].copy()
+    w["flag"] = w["in_domain"].map(lambda v: v is False)
+    w["right"] = ~w["flag"] & (w["mode"] == w["true_mode"])
+    w["wrong"] = ~w["flag"] & ~w["right"]
+    return w
+
+
+def diagnose(t: pd.DataFrame, motions) -> str:
+    """Markdown: per motion and left-out person, right / flagged / wrong, the modes of the wrong windows, the failing tests, the worst recordings."""
+    from experiments.scripts.tyrex_modes import md
+
+    w = _moving(t)
+    rows, recs = [], []
+    for (motion, person), g in w[w["motion"].isin(motions)].groupby(["motion", "left_out"]):
+        wrong = g[g["wrong"]]["mode"].value_counts()
+        f = g[g["flag"]]
+        rows.append(
+            {
+                "motion": motion,
+                "left out": person,
+                "windows": len(g),
+                "right": g["right"].mean(),
+                "flagged": g["flag"].mean(),
+                "wrong": g["wrong"].mean(),
+                "wrong read as": ", ".join(f"{m} {n}" for m, n in wrong.items()) or "-",
+                "flagged by distance / gravity / dynamics": f"{int(f['fail_distance'].sum())} / {int(f['fail_gravity'].sum())} / "
+                f"{int(f['fail_dynamics'].sum()) if 'fail_dynamics' in f else 0}",
+            }
+        )
+        for rec, h in g.groupby("recording"):
+            if (~h["right"]).mean() > 0.1:
+                recs.append({"motion": motion, "recording": rec, "windows": len(h), "not right": (~h["right"]).mean()})
+    return md(pd.DataFrame(rows)) + "\n\nrecordings with more than 10 % of their moving windows not right:\n\n" + md(pd.DataFrame(recs))
+
+
+def physical_table(items: list[dict], motions) -> pd.DataFrame:
+    """Per recording of ``motions``, over its moving samples: what a carried phone's signal is made of.
+
+    body speed (median of the motion capture's low-passed path speed where above 0.3 m/s), the
+    dominant |acc| frequency (0.6-4 Hz), |acc| median and 95th percentile, the largest |axis| (a
+    sensor range: Nexus 5 and iPhone 4S stop near 2 g), the share of samples with an axis above 19
+    m/s^2, gyroscope RMS, the swing axis (:func:`gaitml.pipeline.augment.swing_axis`) and the
+    cosine of gravity to it (0: the phone turns about a horizontal axis), and the mean gravity
+    direction in the phone frame (the grip).
+    """
+    from gaitml.evaluation.trajectory import body_track
+    from gaitml.pipeline.augment import swing_axis
+
+    rows = []
+    for it in items:
+        if it["motion"] not in motions:
+            continue
+        r = it["recording"]
+        mv = r.labels.astype(str) == it["mode"]
+        tr = it["truth"]
+        b = body_track(tr.t_s, tr.pos_m[:, :2])
+        v = np.linalg.norm(np.gradient(b, axis=0), axis=1) / np.median(np.diff(tr.t_s))
+        m = np.linalg.norm(r.acc, axis=1)[mv]
+        x = m - m.mean()
+        f = np.fft.rfftfreq(len(x), 1 / r.sampling_rate_hz)
+        p = np.abs(np.fft.rfft(x)) ** 2
+        band = (f > 0.6) & (f < 4.0)
+        g = r.gyr[mv]
+        ax = swing_axis(r.gyr, r.sampling_rate_hz)
+        ax = ax * np.sign(ax[np.argmax(np.abs(ax))])
+        gu = r.acc[mv].mean(0)
+        gu = gu / np.linalg.norm(gu)
+        rows.append(
+            {
+                "motion": it["motion"],
+                "recording": str(it["file"]).split("/")[-1],
+                "body m/s": round(float(np.median(v[v > 0.3])), 2),
+                "acc-norm Hz": round(float(f[band][np.argmax(p[band])]), 2),
+                "acc-norm p50": round(float(np.percentile(m, 50)), 1),
+                "acc-norm p95": round(float(np.percentile(m, 95)), 1),
+                "max axis": round(float(np.abs(r.acc[mv]).max()), 1),
+                "share > 19": round(float(np.mean(np.abs(r.acc[mv]).max(1) > 19.0)), 2),
+                "gyro rms": round(float(np.sqrt((g**2).sum(1).mean())), 2),
+                "swing axis": str(np.round(ax, 2).tolist()),
+                "cos(g, axis)": round(float(abs(gu @ ax)), 2),
+                "gravity in phone": str(np.round(gu, 2).tolist()),
+            }
+        )
+    return pd.DataFrame(rows).sort_values(["motion", "recording"])
+
+
 def main(argv=None) -> int:
     from experiments.scripts.tyrex_modes import _sim, simulated_part, train_recipe
     from gaitml.models import load_model
@@ -66,6 +156,7 @@ def main(argv=None) -> int:
     ap.add_argument("--augment", type=int, default=0, help="rotated copies per real recording (the phone turned about its swing axis)")
     ap.add_argument("--augment-positions", default=None, help="comma-separated positions to augment (default: the swinging ones)")
     ap.add_argument("--share-time", action="store_true", help="the original and its copies share the recording's time")
+    ap.add_argument("--diagnose", default="", help="comma-separated motions to diagnose (e.g. Swinging,RunningHand,RunningPocket)")
     a = ap.parse_args(argv)
     cfg = simulated_part(load_config(a.config))
     out = a.cache / a.tag
@@ -95,6 +186,13 @@ def main(argv=None) -> int:
     t = pd.concat(tabs, ignore_index=True)
     t.to_pickle(out / "windows.pkl")
     print(f"[tyrex_folds] wrote {out / 'windows.pkl'} ({len(t)} windows)", file=sys.stderr)
+    if a.diagnose:
+        from experiments.scripts.tyrex_modes import md
+
+        motions = a.diagnose.split(",")
+        print(diagnose(t, motions))
+        print("\nper recording, over its moving samples:\n")
+        print(md(physical_table(items, motions)))
     return 0
 
 

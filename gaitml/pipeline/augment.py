@@ -12,12 +12,15 @@ neglected). Features computed in the phone frame (paper 003, sec. 3.2: per-axis
 statistics of the accelerometer) do depend on it, so a model trained on a few people's
 grips reads another grip of the same swing as another motion.
 
-:func:`augment_recordings` adds, for each real recording in the named carrying positions,
+:func:`augmented_set` adds, for each real recording in the named carrying positions,
 ``copies`` rotated copies at angles spread over the full turn (a random offset per
 recording, from the config's seed), so that the training data hold every grip about the
-swing axis. The swing axis is estimated per recording (:func:`swing_axis`): the principal
-axis of the angular rate high-passed at :data:`SWING_AXIS_HIGHPASS_HZ` (the swing, not the
-walker's slow turns).
+swing axis; with ``share_time`` the original and its copies share the recording's time (one
+grip per stretch), so the position keeps its weight in training. The swing axis is
+estimated per recording (:func:`swing_axis`): the principal axis of the angular rate
+high-passed at :data:`SWING_AXIS_HIGHPASS_HZ` (the swing, not the walker's slow turns).
+:func:`without_copies` gives the recordings back as they were (the training pipeline fits
+the domain record on those: :func:`gaitml.pipeline.runner.fit_training_domain`).
 
 This is ours: the papers train on the grips their walkers used.
 """
@@ -128,9 +131,8 @@ def augment_recordings(
     the others. The position then keeps its number of training windows (its weight against the
     other positions and modes); without it, it counts ``copies + 1`` times.
 
-    Returns ``(originals, copies)``-ready lists as one list: with ``share_time`` the originals
-    (relabelled) followed by the copies, to *replace* ``recs`` entries in those positions
-    (:func:`augmented_set` does the bookkeeping); without it, the copies only.
+    Returns the copies only. With ``share_time`` the originals must give up the copies' stretches
+    too: use :func:`augmented_set`, which does both with the same draws.
     """
     if copies < 0:
         raise InputError(f"augmentation copies must be >= 0, got {copies}; use 0 for none.")

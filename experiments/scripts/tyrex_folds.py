@@ -55,6 +55,11 @@ def fold_predictions(model, items: list[dict]) -> pd.DataFrame:
     return pd.concat(rows, ignore_index=True)
 
 
+def _clipped(rec, limit_ms2: float):
+    """``rec`` as read by an accelerometer whose range stops at +-``limit_ms2`` per axis."""
+    return rec.replace(acc=np.clip(rec.acc, -limit_ms2, limit_ms2), check_units=False)
+
+
 def _moving(t: pd.DataFrame) -> pd.DataFrame:
     w = t[(t["label"].astype(str) == t["true_mode"]) & (t["label_fraction"] >= 0.5)].copy()
     w["flag"] = w["in_domain"].map(lambda v: v is False)
@@ -156,12 +161,21 @@ def main(argv=None) -> int:
     ap.add_argument("--augment", type=int, default=0, help="rotated copies per real recording (the phone turned about its swing axis)")
     ap.add_argument("--augment-positions", default=None, help="comma-separated positions to augment (default: the swinging ones)")
     ap.add_argument("--share-time", action="store_true", help="the original and its copies share the recording's time")
+    ap.add_argument(
+        "--clip-ms2",
+        type=float,
+        default=0.0,
+        help="lab experiment: clip every accelerometer axis at +-this (e.g. 19.6, the 2 g range of the Nexus 5 and "
+        "iPhone 4S) in training and in the left-out recordings alike (0: off)",
+    )
     ap.add_argument("--diagnose", default="", help="comma-separated motions to diagnose (e.g. Swinging,RunningHand,RunningPocket)")
     a = ap.parse_args(argv)
     cfg = simulated_part(load_config(a.config))
     out = a.cache / a.tag
     out.mkdir(parents=True, exist_ok=True)
     items = load_items(a.data, cfg["data"]["resample_hz"], a.cache)
+    if a.clip_ms2 > 0:
+        items = [{**it, "recording": _clipped(it["recording"], a.clip_ms2)} for it in items]
     sim_train = None
     tabs = []
     for person in sorted({it["subject"] for it in items}):
@@ -170,6 +184,8 @@ def main(argv=None) -> int:
         if not (mdir / "model.json").exists():
             if sim_train is None:
                 sim_train = _sim(cfg, cfg.seed, cfg["data"]["simulated"]["subjects"], cfg["data"]["simulated"]["positions"])
+                if a.clip_ms2 > 0:
+                    sim_train = [_clipped(r, a.clip_ms2) for r in sim_train]
             train_recipe(
                 cfg,
                 sim_train,

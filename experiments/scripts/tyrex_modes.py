@@ -244,8 +244,13 @@ def keep_modes(rec, modes) -> object:
     return rec.replace(labels=lab, check_units=False)
 
 
-def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path):
-    """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model."""
+def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path, augment: int = 0, augment_positions=None, share_time=False):
+    """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model.
+
+    ``augment``: rotated copies per real recording in ``augment_positions``
+    (:func:`gaitml.pipeline.augment.augment_recordings`, the phone turned about its swing axis; seed ``cfg.seed``),
+    counted with the real windows' weight; ``share_time``: the original and its copies share the recording's time.
+    """
     from gaitml.consts import MOTION_MODES
     from gaitml.features import feature_names
     from gaitml.models import load_model, make_model, save_model
@@ -254,10 +259,16 @@ def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path):
     sim_modes, weight = RECIPES[recipe]
     recs = [keep_modes(r, sim_modes) for r in sim_recs]
     groups = [f"sim-{r.meta['subject']}" for r in sim_recs]
-    for it in real_items:
+    real = [it["recording"] for it in real_items]
+    if augment and weight:
+        from gaitml.pipeline.augment import SWING_POSITIONS, augmented_set
+
+        pos = SWING_POSITIONS if augment_positions is None else tuple(augment_positions)
+        real, _ = augmented_set(real, augment, pos, seed=cfg.seed, share_time=share_time)
+    for r in real:
         for _ in range(weight):
-            recs.append(it["recording"])
-            groups.append(f"tyrex-{it['subject']}")
+            recs.append(r)
+            groups.append(f"tyrex-{r.meta['subject']}")
     data = PreparedData(recs, groups, [f"recipe {recipe}"], keep_labels=list(MOTION_MODES))
     ds = build_dataset(cfg, data, use_cache=False)
     model = make_model(cfg["model"]["kind"], cfg["model"]["params"], seed=cfg.seed)
@@ -413,8 +424,16 @@ def simulated_part(cfg):
             "data.labels": [],
             "data.add_simulated": False,
             "data.labelling.moving_speed_ms": 0.0,
+            "data.augment.swing_turns": 0,
         }
     )
+
+
+def augment_of(cfg) -> tuple[int, list[str], bool]:
+    """A folder config's ``[data.augment]`` (rotated copies of the real swinging recordings), or no copies."""
+    aug = cfg["data"]["augment"]
+    turns = int(aug["swing_turns"]) if cfg["data"]["source"] == "folder" else 0
+    return turns, list(aug["positions"]), bool(aug["share_time"])
 
 
 def main(argv=None) -> int:
@@ -434,6 +453,14 @@ def main(argv=None) -> int:
     ap.add_argument("--holdout", choices=("person", "person-phone"), default="person", help="what each fold leaves out")
     ap.add_argument("--baseline", default="models/demo,models/demo-acc", help="shipped models to score first ('' = none)")
     ap.add_argument("--sim-subjects", type=int, default=None, help="override data.simulated.subjects")
+    ap.add_argument("--share-time", choices=("on", "off"), default=None, help="override data.augment.share_time")
+    ap.add_argument(
+        "--swing-turns",
+        type=int,
+        default=None,
+        help="override data.augment.swing_turns (rotated copies of the real recordings in data.augment.positions; "
+        "default: the config's, 0 for a simulated config)",
+    )
     ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
     ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
@@ -448,7 +475,13 @@ def main(argv=None) -> int:
     )
     a = ap.parse_args(argv)
     gate = {k: v for k, v in (("still_rule", a.still_rule), ("still_threshold_ms2", a.still_threshold)) if v is not None}
-    cfg = simulated_part(load_config(a.config))
+    cfg_full = load_config(a.config)
+    turns, turn_positions, share_time = augment_of(cfg_full)
+    if a.swing_turns is not None:
+        turns = a.swing_turns
+    if a.share_time is not None:
+        share_time = a.share_time == "on"
+    cfg = simulated_part(cfg_full)
     over = {}
     if a.features:
         over["features.set"] = a.features
@@ -507,7 +540,9 @@ def main(argv=None) -> int:
             test = [it for it in items if it["subject"] == person and (phone is None or it["phone"] == phone)]
             person = person if phone is None else f"{person}/{phone}"
             with tempfile.TemporaryDirectory() as tmp:
-                model, n_win = train_recipe(cfg, sim_train, train, recipe, Path(tmp) / "m")
+                model, n_win = train_recipe(
+                    cfg, sim_train, train, recipe, Path(tmp) / "m", augment=turns, augment_positions=turn_positions, share_time=share_time
+                )
             t = window_table(model, test, gate)
             t["model"], t["left_out"] = f"recipe {recipe} ({cfg['features']['set']})", person
             tabs.append(t)
@@ -532,7 +567,13 @@ def main(argv=None) -> int:
             else "each person x phone left out (trained on the other people's other phones)"
         )
         rule = " (windows by the walking rule)" if a.moving_rule == "walking" else ""
-        emit(f"\n### recipe {recipe} ({cfg['features']['set']}), {what}{rule}\n")
+        aug = (
+            f", the real {'/'.join(turn_positions)} recordings turned about the swing axis ({turns} copies"
+            + (", sharing the recording's time)" if share_time else ")")
+            if turns
+            else ""
+        )
+        emit(f"\n### recipe {recipe} ({cfg['features']['set']}){aug}, {what}{rule}\n")
         emit(md(summarise(t, by="left_out")))
         if tabs_speed:
             ts = pd.concat(tabs_speed, ignore_index=True)

@@ -46,6 +46,12 @@ Keys (defaults in brackets) of ``task = "classification"``::
                                      # stretches of true steps become data.label "walk", the rest is left out
                                      # (gaitml.pipeline.runner.step_walking_labels); its data.group from the meta
     weight = 1                       # each such recording counts this many times in training
+    [data.augment]                   # "folder": rotated copies of the real recordings (gaitml.pipeline.augment)
+    swing_turns = 0                  # copies per recording in data.augment.positions: the phone turned about its
+                                     # swing axis (the grip in a swinging hand), angles spread over the full turn
+    positions = ["swinging-hand"]    # meta "position" values whose recordings get the copies
+    share_time = false               # true: the original and its copies share the recording's time (a grip per
+                                     # 3 s stretch), so the position keeps its number of windows
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -326,6 +332,12 @@ SCHEMA: dict[str, Any] = {
             "path": _Leaf((str,), ""),
             "weight": _Leaf((int,), 1, check=_pos),
         },
+        # a folder source plus rotated copies of its recordings in swinging positions (gaitml.pipeline.augment)
+        "augment": {
+            "swing_turns": _Leaf((int,), 0, check=_nonneg),
+            "positions": _Leaf((list,), ["swinging-hand"], item_type=str),
+            "share_time": _Leaf((bool,), False),
+        },
         # a folder source plus the simulated subjects of [data.simulated]
         "add_simulated": _Leaf((bool,), False),
         "simulated": {
@@ -467,6 +479,9 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("card", "notes"): [],
     ("data", "walks", "path"): "",
     ("data", "walks", "weight"): 1,
+    ("data", "augment", "swing_turns"): 0,
+    ("data", "augment", "positions"): ["swinging-hand"],
+    ("data", "augment", "share_time"): False,
 }
 
 
@@ -532,8 +547,9 @@ class ExperimentConfig:
                 del sec[key]
         if d.get("card") == {}:
             del d["card"]
-        if d["data"].get("walks") == {}:
-            del d["data"]["walks"]
+        for sub in ("walks", "augment"):
+            if d["data"].get(sub) == {}:
+                del d["data"][sub]
         if self.data_path is not None:
             d["data"]["path_resolved"] = str(self.data_path)
         if self.sweep:
@@ -666,6 +682,7 @@ def parse_config(
             ("data.add_simulated", d["add_simulated"]),
             ("data.labelling.moving_speed_ms", d["labelling"]["moving_speed_ms"] > 0),
             ("data.walks.path", bool(d["walks"]["path"])),
+            ("data.augment.swing_turns", d["augment"]["swing_turns"] > 0),
         ):
             if on:
                 raise ConfigError(f"{key} applies to data.source = 'folder' (a real data set); remove it or read a folder.")

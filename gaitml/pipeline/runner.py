@@ -223,6 +223,23 @@ def _load_recordings(cfg: ExperimentConfig):
     out = [resample_recording(r, fs) for r in recs]
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
+    if d["augment"]["swing_turns"] > 0:
+        from gaitml.pipeline.augment import augmented_set
+
+        turns, positions = int(d["augment"]["swing_turns"]), list(d["augment"]["positions"])
+        share = bool(d["augment"]["share_time"])
+        out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share)
+        if not extra:
+            present = sorted({str(r.meta.get("position", "")) for r in out})
+            raise ConfigError(
+                f"data.augment.positions = {positions} matches no recording with a gyroscope; positions present: {present}. "
+                "Fix the list or set data.augment.swing_turns = 0."
+            )
+        notes.append(
+            f"augmented: {len(extra)} copies of the {len(extra) // turns} real recording(s) in {positions}, the phone turned about "
+            f"its swing axis ({turns} angles per recording over the full turn)"
+            + ("; the original and its copies share the recording's time (one grip per stretch)" if share else "")
+        )
     if d["walks"]["path"]:
         walks, note = _walk_recordings(cfg, fs)
         out += walks
@@ -578,7 +595,21 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     gravity direction of every window in the phone frame; positions from the
     recordings' meta ``position`` (``"unknown"`` where absent); held-out thresholds
     over the config's groups.
+
+    Augmented copies of real recordings (:mod:`gaitml.pipeline.augment`) train the
+    classifier but not the domain record, which is fitted on the recordings as they were
+    (:func:`gaitml.pipeline.augment.without_copies`: copies dropped, originals with all their
+    windows): it holds the grips the walkers really used (a copy turned about the swing axis
+    points gravity where no walker held the phone, and other carrying positions, a bag, would
+    pass the gravity test there), and its held-out quantile thresholds are not pulled towards
+    the augmented position.
     """
+    from gaitml.pipeline.augment import without_copies
+
+    if any(r.meta.get("augmented") or r.meta.get("augment_full_labels") is not None for r in data.recordings):
+        recs, groups = without_copies(data.recordings, data.groups)
+        plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
+        return fit_training_domain(cfg, plain, build_dataset(cfg, plain, use_cache=False), model)
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
     from gaitml.models.domain import DYNAMICS_NAMES, fit_domain, orientation_dynamics, span_gravity, window_gravity
@@ -629,7 +660,8 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
 def window_sources(data: PreparedData, ds) -> list[dict]:
     """Where the training windows come from: one entry per (real | simulated, position), windows per label.
 
-    A recording is simulated when its meta ``source`` is ``gaitml.simulate``, else real; its
+    A recording is simulated when its meta ``source`` is ``gaitml.simulate``, a rotated copy of a real
+    recording (meta ``augmented``, :mod:`gaitml.pipeline.augment`) is ``real, turned``, else real; its
     position is the meta ``motion`` (a tyrex recording's carrying motion, e.g. ``FrontPocket``)
     or else ``position`` (the simulator's carrying position). The model card prints the table
     (which modes were learnt from real recordings and which from the simulator).
@@ -638,7 +670,7 @@ def window_sources(data: PreparedData, ds) -> list[dict]:
     recs = data.recordings
     for idx, lab in zip(ds.windows["recording"].to_numpy(), ds.windows["label"].astype(str).to_numpy(), strict=True):
         meta = recs[int(idx)].meta
-        kind = "simulated" if meta.get("source") == "gaitml.simulate" else "real"
+        kind = "simulated" if meta.get("source") == "gaitml.simulate" else ("real, turned" if meta.get("augmented") else "real")
         where = str(meta.get("motion") or meta.get("position") or "unknown")
         row = counts.setdefault((kind, where), {})
         row[lab] = row.get(lab, 0) + 1

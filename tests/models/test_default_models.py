@@ -64,7 +64,20 @@ def test_real_windows_teach_walk_and_run_only_and_the_simulator_every_mode(name)
     sources = model.info["training_data"]["sources"]
     real = {s["position"]: s["windows"] for s in sources if s["kind"] == "real"}
     sim = {s["position"]: s["windows"] for s in sources if s["kind"] == "simulated"}
+    turned = {s["position"]: s["windows"] for s in sources if s["kind"] == "real, turned"}
     assert set(real) == REAL_TYREX and set(sim) == SIMULATED
+    assert {s["kind"] for s in sources} <= {"real", "simulated", "real, turned"}
+    # the rotated copies (data.augment) are of the real swinging-hand walks only: so many per real window, or (share_time)
+    # the copies and the original share the recording's time, one grip per stretch: about turns / (turns + 1) of it turned
+    aug = load_config(CONFIGS[name], check_paths=False)["data"]["augment"]
+    turns = aug["swing_turns"]
+    assert set(turned) == ({"Swinging"} if turns else set())
+    for motion, w in turned.items():
+        assert {k for k, n in w.items() if n} == {"walk"}, motion
+        if aug["share_time"]:
+            assert abs(w["walk"] / (w["walk"] + real[motion]["walk"]) - turns / (turns + 1)) < 0.05, motion
+        else:
+            assert w["walk"] == turns * real[motion]["walk"], motion
     for motion, w in real.items():
         assert {k for k, n in w.items() if n} == ({"run"} if motion.startswith("Running") else {"walk"}), motion
     for pos, w in sim.items():

@@ -1,0 +1,217 @@
+"""Augmentation of real training recordings by a physically plausible variation: the phone turned in the hand about its swing axis.
+
+A phone carried in a swinging hand (or in a hand pumping while running) turns mostly
+about one axis: the axis of the arm's swing, across the walker's body. How the hand grips
+the phone *about that axis* (top up, top down, top forward or back) is a free choice of the
+walker that the swing itself does not depend on: the phone sits at the same place in the
+hand and the hand moves the same way whichever way round it is held. Turning the phone
+about the swing axis by an angle ``theta`` therefore changes the recording only by a fixed
+rotation of the phone frame: the specific force and the angular rate are both rotated by
+``R(axis, theta)`` (the small lever arm between the sensor and the centre of the grip is
+neglected). Features computed in the phone frame (paper 003, sec. 3.2: per-axis
+statistics of the accelerometer) do depend on it, so a model trained on a few people's
+grips reads another grip of the same swing as another motion.
+
+:func:`augmented_set` adds, for each real recording in the named carrying positions,
+``copies`` rotated copies at angles spread over the full turn (a random offset per
+recording, from the config's seed), so that the training data hold every grip about the
+swing axis; with ``share_time`` the original and its copies share the recording's time (one
+grip per stretch), so the position keeps its weight in training. The swing axis is
+estimated per recording (:func:`swing_axis`): the principal axis of the angular rate
+high-passed at :data:`SWING_AXIS_HIGHPASS_HZ` (the swing, not the walker's slow turns).
+:func:`without_copies` gives the recordings back as they were (the training pipeline fits
+the domain record on those: :func:`gaitml.pipeline.runner.fit_training_domain`).
+
+This is ours: the papers train on the grips their walkers used.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+from gaitml.errors import InputError
+
+__all__ = [
+    "SWING_AXIS_HIGHPASS_HZ",
+    "SWING_POSITIONS",
+    "SHARE_BLOCK_S",
+    "augment_recordings",
+    "augmented_set",
+    "without_copies",
+    "axis_rotation",
+    "rotate_recording",
+    "swing_axis",
+]
+
+#: high-pass corner (Hz) applied to the angular rate before its principal axis is taken: above
+#: the walker's turns (a room loop, well under 0.2 Hz), below the slowest stride of a swinging arm
+#: (about 0.5 Hz at 1 stride/s)
+SWING_AXIS_HIGHPASS_HZ = 0.4
+#: the default carrying positions (``meta["position"]`` of the tyrex folder source) given copies: the swinging hand
+#: (walking). The running hand (tyrex ``hand``: a pumping, swinging hand) swings too and may be named explicitly.
+SWING_POSITIONS = ("swinging-hand",)
+
+
+def swing_axis(gyr: np.ndarray, sampling_rate_hz: float, highpass_hz: float = SWING_AXIS_HIGHPASS_HZ) -> np.ndarray:
+    """The phone-frame unit axis the phone turns about most: the principal axis of the high-passed angular rate.
+
+    Parameters
+    ----------
+    gyr : (n, 3) angular rate (rad/s), phone frame.
+    sampling_rate_hz : its rate.
+    highpass_hz : the corner of the 2nd-order Butterworth high-pass (zero phase) that removes the walker's turns.
+
+    Returns
+    -------
+    (3,) unit vector (its sign is arbitrary: a rotation about it covers the full turn either way).
+    """
+    from scipy.signal import butter, sosfiltfilt
+
+    g = np.asarray(gyr, dtype=float)
+    if g.ndim != 2 or g.shape[1] != 3 or len(g) < 4:
+        raise InputError("swing_axis needs an (n, 3) angular rate with n >= 4 samples; pass the recording's gyroscope.")
+    sos = butter(2, highpass_hz, btype="highpass", fs=sampling_rate_hz, output="sos")
+    padlen = min(len(g) - 1, 3 * (2 * len(sos) + 1))
+    h = sosfiltfilt(sos, g, axis=0, padlen=padlen)
+    _, vec = np.linalg.eigh(h.T @ h)
+    return vec[:, -1]
+
+
+def axis_rotation(axis: Sequence[float], theta_rad: float) -> np.ndarray:
+    """The 3x3 rotation matrix by ``theta_rad`` about the unit ``axis`` (Rodrigues' formula)."""
+    k = np.asarray(axis, dtype=float)
+    k = k / np.linalg.norm(k)
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(theta_rad) * K + (1.0 - np.cos(theta_rad)) * (K @ K)
+
+
+def rotate_recording(rec, R: np.ndarray, note: str):
+    """``rec`` seen by a phone turned by ``R`` (phone frame): accelerometer and gyroscope rotated, ``meta["augmented"] = note``.
+
+    Phone-frame references (orientation truth) would no longer hold and are dropped.
+    """
+    R = np.asarray(R, dtype=float)
+    meta = {**rec.meta, "augmented": note, "id": f"{rec.meta.get('id', rec.meta.get('session', 'recording'))} [{note}]"}
+    return rec.replace(
+        acc=rec.acc @ R.T,
+        gyr=None if rec.gyr is None else rec.gyr @ R.T,
+        meta=meta,
+        reference={},
+        check_units=False,
+    )
+
+
+#: length (s) of the stretches a recording is cut into when its grips share its time (``share_time``): two
+#: 1.5 s windows at 50 % overlap, so that most windows lie within one grip
+SHARE_BLOCK_S = 3.0
+
+
+def augment_recordings(
+    recs: Sequence,
+    copies: int,
+    positions: Iterable[str] = SWING_POSITIONS,
+    seed: int = 0,
+    highpass_hz: float = SWING_AXIS_HIGHPASS_HZ,
+    share_time: bool = False,
+    block_s: float = SHARE_BLOCK_S,
+) -> list:
+    """Rotated copies of the recordings in ``positions``: the phone turned about its swing axis, ``copies`` per recording.
+
+    The angles of one recording are ``2 pi (k + u) / (copies + 1)``, ``k = 1..copies``, with one
+    offset ``u`` uniform in [-0.5, 0.5) per recording (``seed``): with the original, ``copies + 1``
+    grips spread over the full turn. Recordings without a gyroscope, or in other positions, get no
+    copy.
+
+    ``share_time``: the original and its copies share the recording's time instead of each
+    holding all of it, as if the walker changed grip every ``block_s`` seconds: the recording is
+    cut into stretches of ``block_s``, stretch ``j`` keeps its labels in grip ``(j + s) mod
+    (copies + 1)`` (``s`` random per recording; grip 0 is the original) and is ``unlabelled`` in
+    the others. The position then keeps its number of training windows (its weight against the
+    other positions and modes); without it, it counts ``copies + 1`` times.
+
+    Returns the copies only. With ``share_time`` the originals must give up the copies' stretches
+    too: use :func:`augmented_set`, which does both with the same draws.
+    """
+    if copies < 0:
+        raise InputError(f"augmentation copies must be >= 0, got {copies}; use 0 for none.")
+    if copies == 0:
+        return []
+    want = set(positions)
+    rng = np.random.default_rng(seed)
+    out = []
+    for rec in recs:
+        u = rng.uniform(-0.5, 0.5)  # drawn for every recording so that a position list does not shift the others
+        shift = int(rng.integers(copies + 1))
+        if rec.gyr is None or str(rec.meta.get("position", "")) not in want:
+            continue
+        axis = swing_axis(rec.gyr, rec.sampling_rate_hz, highpass_hz)
+        for k in range(1, copies + 1):
+            theta = 2.0 * np.pi * (k + u) / (copies + 1)
+            c = rotate_recording(rec, axis_rotation(axis, theta), f"turned {np.degrees(theta):.0f} deg about the swing axis")
+            if share_time:  # one grip per stretch: the copy holds only its stretches
+                meta = {**c.meta, "augmented_shares_time": True}
+                c = c.replace(labels=_grip_labels(rec, k, copies + 1, shift, block_s), meta=meta, check_units=False)
+            out.append(c)
+    return out
+
+
+def _grip_labels(rec, grip: int, n_grips: int, shift: int, block_s: float) -> np.ndarray:
+    """``rec``'s labels in the stretches of ``block_s`` that belong to ``grip`` (of ``n_grips``), ``unlabelled`` elsewhere."""
+    from gaitml.labels import UNLABELLED
+
+    if rec.labels is None:
+        raise InputError(f"{rec.name}: sharing a recording's time between grips needs its labels; label it first.")
+    block = max(1, int(round(block_s * rec.sampling_rate_hz)))
+    owner = (np.arange(rec.n_samples) // block + shift) % n_grips
+    lab = np.asarray(rec.labels, dtype=object)
+    return np.where(owner == grip, lab, UNLABELLED).astype(object)
+
+
+def augmented_set(
+    recs: Sequence,
+    copies: int,
+    positions: Iterable[str] = SWING_POSITIONS,
+    seed: int = 0,
+    share_time: bool = False,
+    block_s: float = SHARE_BLOCK_S,
+) -> tuple[list, list]:
+    """``recs`` with the rotated copies of :func:`augment_recordings`: ``(recordings, copies)``.
+
+    Without ``share_time`` the recordings are ``recs`` unchanged plus the copies; with it the
+    originals in ``positions`` keep only their own grip's stretches (the same draws as the
+    copies), so that every stretch of the recording is trained once, in one grip; their full
+    labels are kept in ``meta["augment_full_labels"]`` (:func:`without_copies` restores them).
+    """
+    extra = augment_recordings(recs, copies, positions, seed, share_time=share_time, block_s=block_s)
+    if not share_time or not extra:
+        return [*recs, *extra], extra
+    want = set(positions)
+    rng = np.random.default_rng(seed)  # the same draws as augment_recordings: the grip of each stretch
+    out = []
+    for rec in recs:
+        rng.uniform(-0.5, 0.5)
+        shift = int(rng.integers(copies + 1))
+        if rec.gyr is None or str(rec.meta.get("position", "")) not in want:
+            out.append(rec)
+        else:
+            # the full labels stay in the meta: the domain record is fitted on the recording as it was
+            meta = {**rec.meta, "augment_full_labels": rec.labels}
+            out.append(rec.replace(labels=_grip_labels(rec, 0, copies + 1, shift, block_s), meta=meta, check_units=False))
+    return [*out, *extra], extra
+
+
+def without_copies(recs: Sequence, groups: Sequence) -> tuple[list, list]:
+    """The recordings as they were before :func:`augmented_set`: copies dropped, shared originals given back their full labels."""
+    out, out_groups = [], []
+    for r, g in zip(recs, groups, strict=True):
+        if r.meta.get("augmented"):
+            continue
+        full = r.meta.get("augment_full_labels")
+        if full is not None:
+            meta = {k: v for k, v in r.meta.items() if k != "augment_full_labels"}
+            r = r.replace(labels=full, meta=meta, check_units=False)
+        out.append(r)
+        out_groups.append(g)
+    return out, out_groups

@@ -24,8 +24,9 @@ from gaitml.io import read_recording, write_gaitml_csv
 from gaitml.simulate import simulate_dataset
 from tests.conftest import ROOT
 
-#: Least fraction of windows with the same mode on both roads for a gaitml-csv (resampled on another road).
-MIN_MODE_AGREEMENT = 0.95
+#: Least fraction of windows with the same mode on both roads for a gaitml-csv (resampled on another road;
+#: measured 0.96-1.00 on 60 s simulated at 100 Hz, seeds 12-14, experiments/reports/chunked-rates.md).
+MIN_MODE_AGREEMENT = 0.9
 RAD2DEG = 180.0 / np.pi
 
 

@@ -11,7 +11,8 @@ gyroscope (seed 7, ``duration`` s at 50 Hz), alternately, best of ``reps`` each:
   check, including the orientation-dynamics part when the model records one); windows per s.
 - ``stream``: the streaming path of a deployed classifier, one hop of samples pushed at a time
   (:class:`gaitml.features.StreamingFeatureExtractor`), the SVM and the domain check of the one
-  new window (features and gravity: one-window callers do not check the dynamics part), and the
+  new window (features and gravity: one-window callers do not check the dynamics part), the
+  foot-placement rule of the window (:func:`gaitml.models.window_placement_reason`) and the
   adjacent-window correction; ms per window.
 
 Both run on one BLAS thread where threadpoolctl is available (as the domain rows of
@@ -33,6 +34,7 @@ __all__ = ["stream_loop", "main"]
 def stream_loop(rec, model) -> tuple[float, int]:
     """Wall time (s) and windows of the streaming loop of ``model`` over ``rec``."""
     from gaitml.features import StreamingFeatureExtractor
+    from gaitml.models import window_placement_reason
     from gaitml.postprocess import AdjacentWindowCorrector
 
     ext = StreamingFeatureExtractor(model.sampling_rate_hz, model.length_s, model.overlap, model.feature_set)
@@ -55,6 +57,8 @@ def stream_loop(rec, model) -> tuple[float, int]:
                     total = np.add.reduce(acc[s : s + length])
                     grav = total / math.sqrt(total @ total)
                 dom.check(row, grav)
+                # the foot-placement rule reads the window's own samples (as predict_recording's windows)
+                window_placement_reason(model, acc[s : s + length], gyr[s : s + length] if gyro else None)
             n += 1
     corr.flush()
     return time.perf_counter() - t0, n

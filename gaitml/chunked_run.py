@@ -42,7 +42,7 @@ import pandas as pd
 from sklearn.base import clone
 
 from gaitml.consts import DEFAULT_STEP_DETECTOR
-from gaitml.io.chunked import Chunk, iter_chunks, scan_input
+from gaitml.io.chunked import Chunk, iter_chunks, recording_chunks, scan_input
 
 __all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pdr", "long_still_bias", "progress_chunks"]
 
@@ -270,6 +270,7 @@ def _window_chunks(
     extra_windows: int = 0,
     phase_step: int = 1,
     window_grid: int = 1,
+    recording=None,
     **read_kwargs,
 ) -> Iterator[tuple[Chunk, int, int]]:
     """Chunks whose cores and margins are multiples of ``window_grid`` window hops (and of ``phase_step``).
@@ -281,11 +282,12 @@ def _window_chunks(
     ``window_grid``: a chunk's window i is window ``i`` mod ``window_grid`` of the whole
     file too, so a computation on every ``window_grid``-th window (the domain check's
     dynamics) uses the same windows as on the whole file.
+    ``recording``: the file already read whole (a format other than gaitml-csv), sliced instead of reading ``path``.
     """
     from gaitml.signal import window_params
 
     # the hop depends on the rate, known after the first block: peek at it
-    fs_probe = read_kwargs.get("sampling_rate_hz")
+    fs_probe = recording.sampling_rate_hz if recording is not None else read_kwargs.get("sampling_rate_hz")
     if fs_probe is None:
         if read_kwargs.get("scan") is None:
             read_kwargs["scan"] = scan_input(path, **read_kwargs)
@@ -297,13 +299,16 @@ def _window_chunks(
     length, hop = window_params(length_s, overlap, fs_probe)
     align = math.lcm(hop * max(1, int(window_grid)), max(1, int(phase_step)))
     margin_samples = math.ceil((math.ceil(length / hop) + max(0, int(extra_windows))) * hop / align) * align
-    chunks = iter_chunks(
-        path,
-        chunk_s=chunk_s,
-        margin_s=margin_samples / fs_probe,
-        align_samples=align,
-        **read_kwargs,
-    )
+    if recording is not None:
+        chunks = recording_chunks(recording, chunk_s=chunk_s, margin_s=margin_samples / fs_probe, align_samples=align)
+    else:
+        chunks = iter_chunks(
+            path,
+            chunk_s=chunk_s,
+            margin_s=margin_samples / fs_probe,
+            align_samples=align,
+            **read_kwargs,
+        )
     for ch in progress_chunks(chunks, desc, enabled=progress):
         yield ch, length, hop
 
@@ -383,18 +388,13 @@ def long_predict(
     from gaitml.models._predict import SIDE_MODES, side_direction_unsure
 
     parts, upright = [], []
-    if read_kwargs.get("sampling_rate_hz") is None:
-        # read at the model's rate, as predict_recording resamples a whole recording to it
-        read_kwargs["sampling_rate_hz"] = model.sampling_rate_hz
-        scan = read_kwargs.pop("scan", None)
-        if scan is not None:
-            same = abs(scan.sampling_rate_hz - model.sampling_rate_hz) <= 1e-9 * model.sampling_rate_hz
-            read_kwargs["scan"] = scan if same else scan.at_rate(model.sampling_rate_hz)
+    fs = float(model.sampling_rate_hz)
+    recording, own_hz = _at_model_rate(path, fs, read_kwargs)
     # a domain record with an orientation-dynamics part decides on the median over the last windows of the
     # dynamics of every `every`-th window (which keep every step-th sample): more context before each core,
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
     dom = getattr(model, "domain", None)
-    extra, phase, grid = (0, 1, 1) if dom is None else dom.chunk_context(float(read_kwargs["sampling_rate_hz"]))
+    extra, phase, grid = (0, 1, 1) if dom is None else dom.chunk_context(fs)
     chunks = _window_chunks(
         path,
         model.length_s,
@@ -405,6 +405,7 @@ def long_predict(
         extra_windows=extra,
         phase_step=phase,
         window_grid=grid,
+        recording=recording,
         **read_kwargs,
     )
     for ch, _length, _hop in chunks:
@@ -425,7 +426,40 @@ def long_predict(
         corrected = np.asarray(adjacent_window_correction(out["mode_raw"].to_numpy())).astype(str)
         out["mode"] = np.where(out["still"].to_numpy(dtype=bool), STILL, corrected)
         out["side_direction_unsure"] = np.concatenate(upright) & np.isin(out["mode"].to_numpy().astype(str), SIDE_MODES)
+    # what a whole-file prediction table says about its rate (predict_recording's attrs)
+    out.attrs.update(
+        sampling_rate_hz=fs,
+        resampled_from_hz=None if abs(own_hz - fs) <= 1e-9 * fs else own_hz,
+        correction=bool(correction),
+        has_domain=dom is not None,
+    )
     return out
+
+
+def _at_model_rate(path, fs: float, read_kwargs: dict):
+    """Make the chunks of ``path`` come at the model's rate ``fs``, as :func:`~gaitml.models.predict_recording`
+    resamples a whole recording to it; returns ``(recording, own_hz)``.
+
+    The file is read as a whole-file run reads it (``read_kwargs``: the user's format and rate, if any;
+    a file without a time base, gaitmap or IFSM, at its own known rate, never at the model's), at
+    ``own_hz``. A gaitml-csv is then read chunk by chunk on the model's grid (its first pass, the scan,
+    moved to ``fs``: ``read_kwargs`` is updated; ``recording`` None). Any other format is read whole
+    anyway, so it is resampled whole with :func:`~gaitml.models.resample_recording` (the resampling of
+    a whole-file prediction) and returned as ``recording``, for :func:`_window_chunks` to slice.
+    """
+    from gaitml.io import read_recording
+    from gaitml.models import resample_recording
+
+    scan = read_kwargs.pop("scan", None)
+    if scan is None:
+        scan = scan_input(path, **read_kwargs)
+    if scan is not None:
+        same = abs(scan.sampling_rate_hz - fs) <= 1e-9 * fs
+        read_kwargs["scan"] = scan if same else scan.at_rate(fs)
+        read_kwargs["sampling_rate_hz"] = fs
+        return None, float(scan.sampling_rate_hz)
+    rec = read_recording(path, **read_kwargs)
+    return resample_recording(rec, fs), float(rec.sampling_rate_hz)
 
 
 def long_pdr(

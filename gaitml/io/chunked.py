@@ -48,7 +48,7 @@ from gaitml.recording.resampling import UniformResampler
 from gaitml.recording.timestamps import check_increasing, judge_timestamps
 from gaitml.recording.units import acc_magnitude, check_unit_magnitudes, convert_units, gyr_magnitude, note_conversions
 
-__all__ = ["Chunk", "Scan", "iter_chunks", "scan_gaitml_csv", "scan_input", "estimate_samples", "LARGE_INPUT_SAMPLES"]
+__all__ = ["Chunk", "Scan", "iter_chunks", "recording_chunks", "scan_gaitml_csv", "scan_input", "estimate_samples", "LARGE_INPUT_SAMPLES"]
 
 #: Inputs with more samples than this are processed in chunks by the CLI.
 LARGE_INPUT_SAMPLES = 2_000_000
@@ -348,7 +348,7 @@ def iter_chunks(
     fmt = "columns-csv" if read_kwargs.get("columns") is not None else (format or detect_format(p))
     if fmt != "gaitml-csv":
         rec = read_recording(p, format=fmt, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit, **read_kwargs)
-        yield from _chunks_of(rec, chunk_s, margin_s, align_samples)
+        yield from recording_chunks(rec, chunk_s=chunk_s, margin_s=margin_s, align_samples=align_samples)
         return
     if scan is None:
         scan = scan_gaitml_csv(p, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit)
@@ -404,7 +404,9 @@ def iter_chunks(
         yield make(core_start, buf_start + buffered(), last=True)
 
 
-def _chunks_of(rec: Recording, chunk_s: float, margin_s: float, align: int) -> Iterator[Chunk]:
+def recording_chunks(rec: Recording, *, chunk_s: float = 600.0, margin_s: float = 30.0, align_samples: int = 1) -> Iterator[Chunk]:
+    """The chunks of a recording already in memory (a format read whole), cut as :func:`iter_chunks` cuts a file."""
+    align = align_samples
     fs = rec.sampling_rate_hz
     margin = int(round(margin_s * fs))
     core_len = max(align, int(round(chunk_s * fs / align)) * align)

@@ -9,7 +9,8 @@
   models only); :func:`model_card` writes its ``MODEL.md``; :func:`export_json` /
   :func:`export_onnx` give portable exports; :func:`predict_recording` gives
   per-window modes of a recording; :func:`predict_step_windows` per-step modes with a
-  step-window model (``window.by`` steps/strides in model.json).
+  step-window model (``window.by`` steps/strides in model.json);
+  :func:`window_placement_reason` the foot-placement rule of one window, for a stream.
 """
 
 from gaitml.models._card import model_card
@@ -25,6 +26,7 @@ from gaitml.models._predict import (
     model_inputs,
     predict_recording,
     still_windows,
+    window_placement_reason,
 )
 from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS, make_model, model_class, model_param_names
 from gaitml.models._step_windows import build_step_window_dataset, is_step_model, predict_step_windows, window_by, window_detector
@@ -70,4 +72,5 @@ __all__ = [
     "torch_available",
     "window_by",
     "window_detector",
+    "window_placement_reason",
 ]

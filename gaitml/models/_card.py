@@ -204,7 +204,21 @@ def _domain_lines(info: dict) -> list[str]:
         "- `gaitml predict` marks each window `in_domain`, reports `out_of_domain_fraction` and warns above 10 %; "
         "`gaitml pdr --model` moves out-of-domain steps forward along the facing heading (`out_of_domain_steps`)."
     )
+    lines.append(_placement_line(pos))
     return lines
+
+
+def _placement_line(positions) -> str:
+    """The foot-placement rule (gaitml.models._placement) as it applies to a model trained on ``positions``."""
+    from gaitml.models._placement import FOOT_REASON
+
+    if any(str(p).lower().startswith("foot") for p in positions):
+        return "- Foot-placement rule: not applied (a foot position is in the training data)."
+    return (
+        "- Foot-placement rule: a window holding a rest between fast swings, as a foot-mounted sensor shows at every "
+        f"stride and no carried phone does (a fixed physics rule, not fitted to this model), is out of domain with "
+        f"`out_of_domain_reason` '{FOOT_REASON}'."
+    )
 
 
 def _convergence_lines(info: dict) -> list[str]:

@@ -26,6 +26,7 @@ __all__ = [
     "FACE_UP_MAX_DEG",
     "DOMAIN_REASON",
     "foot_placement",
+    "window_placement_reason",
 ]
 
 #: The mode reported for a window with no gait in it (a phone lying still, a person standing).
@@ -343,6 +344,38 @@ def foot_placement(model, recording: Recording, windows: pd.DataFrame) -> np.nda
     from gaitml.models._placement import foot_like_windows
 
     return foot_like_windows(recording.acc, recording.gyr, recording.sampling_rate_hz, windows)["foot_like"]
+
+
+def window_placement_reason(model, acc, gyr=None) -> str | None:
+    """The foot-placement rule of one window (a stream's window): its ``out_of_domain_reason`` from the rule.
+
+    ``acc`` (and ``gyr``, None without a gyroscope) are the window's own samples, shape (length, 3) in
+    m/s^2 and rad/s, at the model's rate: the samples a streaming loop (e.g. over
+    :class:`gaitml.features.StreamingFeatureExtractor`) classifies. The rule reads a window's own
+    samples only (:mod:`gaitml.models._placement`), so calling this on every window of a stream gives
+    the windows :func:`predict_recording` flags on the whole recording.
+
+    Returns
+    -------
+    str or None
+        :data:`gaitml.models._placement.FOOT_REASON` when the window looks like a foot-mounted sensor
+        (the window is then out of domain, whatever the domain record says), ``""`` when it does not,
+        None when the rule is not checked for this model (as :func:`foot_placement`: no domain record,
+        or a foot position in training).
+    """
+    from gaitml.errors import InputError
+    from gaitml.models._placement import FOOT_REASON, foot_like_windows
+
+    dom = getattr(model, "domain", None)
+    if dom is None or any(str(p).lower().startswith("foot") for p in dom.positions):
+        return None
+    a = np.asarray(acc, dtype=float)
+    g = None if gyr is None else np.asarray(gyr, dtype=float)
+    if a.ndim != 2 or a.shape[1] != 3 or (g is not None and g.shape != a.shape):
+        shapes = f"acc {a.shape}" + ("" if g is None else f", gyr {g.shape}")
+        raise InputError(f"one window's samples must be (length, 3) arrays of the same length, got {shapes}; pass acc[s:s+length].")
+    win = pd.DataFrame({"start": [0], "end": [len(a)]})
+    return FOOT_REASON if bool(foot_like_windows(a, g, model.sampling_rate_hz, win)["foot_like"][0]) else ""
 
 
 def finish_predictions(

@@ -368,7 +368,7 @@ def run_pdr(
         from gaitml.models import predict_recording
 
         if getattr(model, "window_by", "time") != "time":  # step-window model: one prediction per step (gaitml.pdr.step_modes)
-            step_modes, note, step_flags = modes_from_step_model(model, recording, steps)
+            step_modes, note, step_flags, step_reasons = modes_from_step_model(model, recording, steps, with_reasons=True)
             notes.append(note)
             mode_boundaries = "per-step"
         elif mode_boundaries == "auto":
@@ -393,7 +393,7 @@ def run_pdr(
     step_modes = np.asarray(step_modes).astype(str)
     if modes != "model":
         step_in_domain = model_modes = None
-    if modes != "model" or mode_boundaries == "per-step":
+    if modes != "model":
         step_reasons = None
     offsets = mode_offsets_rad(step_modes, unknown="forward")
     unknown = sorted(set(step_modes) - {"walk", "run", "side_left", "side_right", "backward", "forward"})

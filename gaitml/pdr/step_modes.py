@@ -293,7 +293,7 @@ def refine_mode_boundaries(
     return out.astype(str)
 
 
-def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame) -> tuple[np.ndarray, str]:
+def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame, *, with_reasons: bool = False) -> tuple:
     """Mode of every step of ``steps`` from a step-window model (no window-to-step lookup).
 
     ``window.by = "steps"``: each step of the PDR's step table is one window (its
@@ -315,14 +315,17 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame) -> t
     -------
     (modes, note, in_domain) : ndarray of str (one per step), a sentence for the PDR
         notes, and the out-of-domain flag of every step (object array of True/False, or
-        None when the model has no domain record).
+        None when the model has no domain record). With ``with_reasons`` a fourth item: the
+        ``out_of_domain_reason`` of every step (object array of str, empty in domain or
+        unchecked), taken from its window as its flag is.
     """
     from gaitml.features.step_windows import spans_from_steps
     from gaitml.models import predict_step_windows
 
     n = len(steps)
     if n == 0:
-        return np.zeros(0, dtype=str), "no steps: nothing to classify"
+        out = (np.zeros(0, dtype=str), "no steps: nothing to classify", np.zeros(0, dtype=object))
+        return (*out, np.zeros(0, dtype=object)) if with_reasons else out
     by = model.window_by
     t_step = steps["t_peak_s"].to_numpy(float) if "t_peak_s" in steps else steps["peak"].to_numpy(float) / recording.sampling_rate_hz
     if by == "steps":
@@ -343,11 +346,10 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame) -> t
                     "every step is shorter than 3 samples at the model's rate; no step can be classified: use --modes true or forward."
                 )
             modes[missing] = modes_from_windows(table, t_step[missing])
-        in_domain = np.full(n, None, dtype=object)
-        in_domain[table["step"].to_numpy(dtype=np.int64)] = table["in_domain"].to_numpy(dtype=object)
-        if len(missing):
-            in_domain[missing] = window_values_at_steps(table, t_step[missing], "in_domain")
+        in_domain = _per_step(table, "in_domain", n, missing, t_step)
         note = f"modes per step from the step-window model ({n} steps classified on their own samples, no window lookup)"
+        if with_reasons:
+            return modes.astype(str), note, in_domain, _reasons(_per_step(table, "out_of_domain_reason", n, missing, t_step))
         return modes.astype(str), note, in_domain
     table = predict_step_windows(model, recording, correction=True)
     if len(table) == 0:
@@ -357,4 +359,22 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame) -> t
     note = (
         f"modes per step from the stride-window model ({len(table)} strides of {model.window_detector}; each step takes its stride's mode)"
     )
-    return modes_from_windows(table, t_step), note, window_values_at_steps(table, t_step, "in_domain")
+    out = (modes_from_windows(table, t_step), note, window_values_at_steps(table, t_step, "in_domain"))
+    if with_reasons:
+        return (*out, _reasons(window_values_at_steps(table, t_step, "out_of_domain_reason")))
+    return out
+
+
+def _per_step(table: pd.DataFrame, column: str, n: int, missing: np.ndarray, t_step: np.ndarray) -> np.ndarray:
+    """``column`` of a per-step prediction table for each of ``n`` steps; the ``missing`` steps (too short to
+    classify) take the value of the nearest classified step."""
+    out = np.full(n, None, dtype=object)
+    out[table["step"].to_numpy(dtype=np.int64)] = table[column].to_numpy(dtype=object)
+    if len(missing):
+        out[missing] = window_values_at_steps(table, t_step[missing], column)
+    return out
+
+
+def _reasons(values) -> np.ndarray:
+    """``out_of_domain_reason`` values as str (empty for none)."""
+    return np.array([str(v or "") for v in values], dtype=object)

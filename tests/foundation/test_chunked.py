@@ -57,9 +57,9 @@ def test_chunks_reassemble_to_whole_file(tmp_path, monkeypatch, irregular):
 def test_chunks_of_small_formats(tmp_path):
     p = _write(tmp_path, 1200)
     whole = read_recording(p)
-    from gaitml.io.chunked import _chunks_of
+    from gaitml.io.chunked import recording_chunks
 
-    acc, _ = _reassemble(_chunks_of(whole, 3.0, 1.0, 1))
+    acc, _ = _reassemble(recording_chunks(whole, chunk_s=3.0, margin_s=1.0, align_samples=1))
     np.testing.assert_array_equal(acc, whole.acc)
 
 

@@ -228,13 +228,17 @@ def _load_recordings(cfg: ExperimentConfig):
 
         turns, positions = int(d["augment"]["swing_turns"]), list(d["augment"]["positions"])
         share = bool(d["augment"]["share_time"])
-        out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share)
-        if not extra:
-            present = sorted({str(r.meta.get("position", "")) for r in out})
+        present = sorted({str(r.meta.get("position", "")) for r in out if r.gyr is not None})
+        unmatched = [p for p in positions if p not in present]
+        if unmatched:
             raise ConfigError(
-                f"data.augment.positions = {positions} matches no recording with a gyroscope; positions present: {present}. "
-                "Fix the list or set data.augment.swing_turns = 0."
+                f"data.augment.positions has {unmatched}, which matches no recording with a gyroscope; positions present (with a "
+                f"gyroscope): {present}. Fix the list or set data.augment.swing_turns = 0."
             )
+        try:
+            out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share)
+        except InputError as exc:
+            raise ConfigError(f"data.augment.share_time: {exc}") from exc
         notes.append(
             f"augmented: {len(extra)} copies of the {len(extra) // turns} real recording(s) in {positions}, the phone turned about "
             f"its swing axis ({turns} angles per recording over the full turn)"
@@ -332,11 +336,21 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
     keep_labels = None
     from gaitml.labels import UNLABELLED
 
-    if not d["labels"] and UNLABELLED in present and any("labelled_from" in r.meta for r in recs):
-        # samples outside every interval of an intervals file: left out, not a class (list it in data.labels to keep it)
+    shared = any(r.meta.get("augmented_shares_time") or r.meta.get("augment_full_labels") is not None for r in recs)
+    if shared and UNLABELLED in d["labels"]:
+        raise ConfigError(
+            f"data.labels lists {UNLABELLED!r}, but data.augment.share_time marks every grip {UNLABELLED!r} outside its own stretches; "
+            f"remove {UNLABELLED!r} from data.labels or set share_time = false."
+        )
+    if not d["labels"] and UNLABELLED in present and (shared or any("labelled_from" in r.meta for r in recs)):
+        # samples outside every interval of an intervals file, or a turned grip's stretches given to another grip
+        # (data.augment.share_time): left out, not a class
         classes = [c for c in present if c != UNLABELLED]
         keep_labels = classes
-        notes.append(f"windows labelled {UNLABELLED!r} (outside every interval) are left out; list it in data.labels to keep it as a class")
+        why = "another grip's stretches, data.augment.share_time" if shared else "outside every interval"
+        notes.append(
+            f"windows labelled {UNLABELLED!r} ({why}) are left out" + ("" if shared else "; list it in data.labels to keep it as a class")
+        )
     if len(classes) < 2:
         raise ConfigError(
             f"data.label = {label!r} has {len(classes)} class in the data ({', '.join(classes) or 'none'}); "

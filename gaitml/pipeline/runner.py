@@ -457,11 +457,38 @@ def _point_label(point: dict) -> str:
     return ", ".join(f"{k}={v}" for k, v in point.items()) or "(base)"
 
 
+def has_copies(data: PreparedData) -> bool:
+    """Whether ``data`` holds augmented copies or originals sharing their time with copies (:mod:`gaitml.pipeline.augment`)."""
+    return any(r.meta.get("augmented") or r.meta.get("augment_full_labels") is not None for r in data.recordings)
+
+
+def dataset_without_copies(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool | None = None, need_features: bool | None = None):
+    """The window data set of ``data``'s recordings as they were (:func:`gaitml.pipeline.augment.without_copies`).
+
+    Copies dropped, originals with all their labelled windows: what cross-validation scores
+    and the domain record is fitted on. Cached on ``data`` per window and feature setting.
+    """
+    from gaitml.pipeline.augment import without_copies
+
+    key = json.dumps(
+        [cfg["windows"], cfg["features"]["set"], cfg["features"]["frame"], need_raw, need_features], sort_keys=True, default=str
+    )
+    cache = data.__dict__.setdefault("_plain_datasets", {})
+    if key not in cache:
+        recs, groups = without_copies(data.recordings, data.groups)
+        plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
+        cache.clear()
+        cache[key] = build_dataset(cfg, plain, need_raw=need_raw, need_features=need_features, use_cache=False)
+    return cache[key]
+
+
 def _evaluate_point(cfg: ExperimentConfig, data: PreparedData, progress: bool, desc: str) -> dict:
     from gaitml.evaluation.cv import cross_validate
 
     t0 = time.perf_counter()
     ds = build_dataset(cfg, data)
+    # augmented copies train every fold but are not scored: the left-out people are scored on their recordings as they were
+    test_ds = dataset_without_copies(cfg, data) if has_copies(data) else None
     t_ds = time.perf_counter() - t0
     labels = cfg["data"]["labels"] or None
     if labels is None and cfg["data"]["source"] == "simulated":
@@ -481,8 +508,15 @@ def _evaluate_point(cfg: ExperimentConfig, data: PreparedData, progress: bool, d
         labels=labels,
         progress=progress,
         description=desc,
+        test_dataset=test_ds,
     )
-    return {"dataset": ds, "cv": res, "dataset_s": t_ds, "cv_s": time.perf_counter() - t1}
+    return {
+        "dataset": ds,
+        "test_dataset": ds if test_ds is None else test_ds,
+        "cv": res,
+        "dataset_s": t_ds,
+        "cv_s": time.perf_counter() - t1,
+    }
 
 
 def _headline(cfg: ExperimentConfig, res) -> dict:
@@ -620,10 +654,10 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     """
     from gaitml.pipeline.augment import without_copies
 
-    if any(r.meta.get("augmented") or r.meta.get("augment_full_labels") is not None for r in data.recordings):
+    if has_copies(data):
         recs, groups = without_copies(data.recordings, data.groups)
         plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
-        return fit_training_domain(cfg, plain, build_dataset(cfg, plain, use_cache=False), model)
+        return fit_training_domain(cfg, plain, dataset_without_copies(cfg, data), model)
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
     from gaitml.models.domain import DYNAMICS_NAMES, fit_domain, orientation_dynamics, span_gravity, window_gravity
@@ -768,6 +802,8 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
             "per_class_after": r["cv"].after["per_class"],
             "folds": r["cv"].folds.to_dict(orient="records"),
         }
+        if has_copies(data):
+            cv_scores["copies_not_scored"] = True  # the model card says so
     ds = build_dataset(cfg, data)
     kind = cfg["model"]["kind"]
     model = make_model(kind, cfg["model"]["params"], seed=cfg.seed)

@@ -236,3 +236,24 @@ def test_augment_settings_that_cannot_apply_are_refused(tmp_path):
     # a sweep may turn the copies off while share_time stays set
     cfg = _csv_config(root, swing_turns=3, share_time=True)
     assert cfg.with_values({"data.augment.swing_turns": 0})["data"]["augment"]["swing_turns"] == 0
+
+
+def test_cross_validation_scores_the_recordings_as_they_were_not_the_copies(tmp_path):
+    """Copies train every fold; each fold is scored on its left-out people's original windows, with their full labels."""
+    from gaitml.pipeline.runner import _evaluate_point, build_dataset
+
+    root = _csv_folder(tmp_path)
+    plain_cfg = _csv_config(root)
+    plain = build_dataset(plain_cfg, prepare_data(plain_cfg, use_cache=False), use_cache=False)
+    for aug in ({"swing_turns": 3, "share_time": True}, {"swing_turns": 2}):
+        cfg = _csv_config(root, **aug)
+        data = prepare_data(cfg, use_cache=False)
+        point = _evaluate_point(cfg, data, False, "t")
+        res, train, scored = point["cv"], point["dataset"], point["test_dataset"]
+        assert res.before["n"] == len(plain) and int(res.folds["n_test"].sum()) == len(plain)
+        assert not any("turned" in scored.recording_names[i] for i in res.predictions["recording"])
+        assert sorted(scored.recording_names) == sorted(plain.recording_names)
+        assert any("turned" in train.recording_names[i] for i in set(train.windows["recording"]))  # the copies were trained on
+        if not aug.get("share_time"):
+            assert int(res.folds["n_train"].sum()) == len(train) > len(plain)
+        assert set(res.predictions["label"]) == {"walk", "run"} and len(train) >= len(plain) - 0.1 * len(plain)

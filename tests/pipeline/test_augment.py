@@ -257,3 +257,19 @@ def test_cross_validation_scores_the_recordings_as_they_were_not_the_copies(tmp_
         if not aug.get("share_time"):
             assert int(res.folds["n_train"].sum()) == len(train) > len(plain)
         assert set(res.predictions["label"]) == {"walk", "run"} and len(train) >= len(plain) - 0.1 * len(plain)
+
+
+def test_cross_validate_refuses_test_windows_of_groups_it_never_trained_on(tmp_path):
+    from gaitml.evaluation.cv import cross_validate
+    from gaitml.pipeline.runner import build_dataset
+
+    root = _csv_folder(tmp_path)
+    cfg = _csv_config(root)
+    data = prepare_data(cfg, use_cache=False)
+    ds = build_dataset(cfg, data, use_cache=False)
+    data.groups = ["Cid" if g == "Bob" else g for g in data.groups]
+    other = build_dataset(cfg, data, use_cache=False)
+    with pytest.raises(InputError, match="test_dataset holds groups that dataset does not.*Cid"):
+        cross_validate(ds, cfg["model"]["kind"], cfg["model"]["params"], progress=False, test_dataset=other)
+    res = cross_validate(ds, cfg["model"]["kind"], cfg["model"]["params"], progress=False, test_dataset=ds)
+    assert res.before["n"] == len(ds)

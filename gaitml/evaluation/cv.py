@@ -148,6 +148,7 @@ def cross_validate(
     labels: list[str] | None = None,
     progress: bool = True,
     description: str = "cv",
+    test_dataset=None,
 ) -> CVResult:
     """Cross-validate model ``kind`` on a window data set, grouped by ``dataset.groups``.
 
@@ -161,6 +162,12 @@ def cross_validate(
     seed : model seed (the same in every fold)
     labels : order of labels in the metrics (default: sorted labels of the data)
     progress : show a tqdm bar on stderr
+    test_dataset : WindowDataset or None
+        The windows to score each fold on, when they differ from the training windows
+        (training on augmented copies, :mod:`gaitml.pipeline.augment`, scored on the
+        recordings as they were): each fold trains on ``dataset``'s windows of its training
+        groups and is scored on ``test_dataset``'s windows of its test groups. Its groups
+        must be among those of ``dataset``. Default: ``dataset`` itself.
 
     Returns
     -------
@@ -177,13 +184,25 @@ def cross_validate(
     y = dataset.y
     groups = dataset.groups
     splits = make_splits(scheme, groups, n_splits)
+    test = dataset if test_dataset is None else test_dataset
+    X_test, y_test, groups_test = (X, y, groups) if test_dataset is None else (test.inputs(input_kind), test.y, test.groups)
+    if test_dataset is not None:
+        if not set(groups_test) <= set(groups):
+            raise InputError(
+                "cross_validate: test_dataset holds groups that dataset does not "
+                f"({', '.join(sorted(set(groups_test) - set(groups))[:5])}); build both from the same recordings."
+            )
+        # the same folds, scored on the test windows of each fold's test groups
+        splits_test = [np.flatnonzero(np.isin(groups_test, np.unique(groups[te]))) for _tr, te in splits]
+    else:
+        splits_test = [te for _tr, te in splits]
     labs = list(labels) if labels else sorted(set(y))
     for k, (tr, _te) in enumerate(splits):
         if len(np.unique(y[tr])) < 2:
             raise InputError(
                 f"fold {k} of {scheme} has fewer than 2 classes in its training windows ({', '.join(sorted({str(c) for c in y[tr]}))}); use another scheme or more data per group."
             )
-    tasks = (delayed(_fit_predict)(kind, params, seed, X[tr], y[tr], X[te]) for tr, te in splits)
+    tasks = (delayed(_fit_predict)(kind, params, seed, X[tr], y[tr], X_test[te]) for (tr, _te), te in zip(splits, splits_test, strict=True))
     bar = tqdm(total=len(splits), desc=description, file=sys.stderr, disable=not progress, leave=False)
     results = []
     # never more workers than folds or cores (n_jobs = 5000 must not start 5000 processes)
@@ -200,8 +219,9 @@ def cross_validate(
             bar.update(1)
     bar.close()
     rows, preds = [], []
-    win = dataset.windows
-    for k, ((tr, te), (pred, fit_s)) in enumerate(zip(splits, results, strict=True)):
+    win = test.windows
+    y, test_groups = y_test, groups_test
+    for k, ((tr, _te), te, (pred, fit_s)) in enumerate(zip(splits, splits_test, results, strict=True)):
         rec = win["recording"].to_numpy()[te]
         corr = correct_by_recording(pred, rec, win["t_start_s"].to_numpy()[te])
         mb = classification_metrics(y[te], pred, labs)
@@ -210,7 +230,7 @@ def cross_validate(
             {
                 "fold": k,
                 "train_groups": ";".join(sorted(set(groups[tr]))),
-                "test_groups": ";".join(sorted(set(groups[te]))),
+                "test_groups": ";".join(sorted(set(test_groups[te]))),
                 "n_train": int(len(tr)),
                 "n_test": int(len(te)),
                 "accuracy": mb["accuracy"],
@@ -225,7 +245,7 @@ def cross_validate(
                 {
                     "fold": k,
                     "recording": rec,
-                    "group": groups[te],
+                    "group": test_groups[te],
                     "t_start_s": win["t_start_s"].to_numpy()[te],
                     "t_end_s": win["t_end_s"].to_numpy()[te],
                     "label": y[te],

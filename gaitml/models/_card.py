@@ -116,7 +116,12 @@ def _cv_lines(info: dict) -> list[str]:
     if not cv:
         return ["Not recorded (the model was trained with `train.cross_validate = false`)."]
     lines = [
-        f"Scheme: {cv.get('scheme', '?')}, {cv.get('n_folds', '?')} folds, {cv.get('n_test_predictions', '?')} test windows.",
+        f"Scheme: {cv.get('scheme', '?')}, {cv.get('n_folds', '?')} folds, {cv.get('n_test_predictions', '?')} test windows"
+        + (
+            " (the recordings as they were: the augmented copies train every fold and are not scored)."
+            if cv.get("copies_not_scored")
+            else "."
+        ),
         "",
         "| | before correction | after correction |",
         "|---|---|---|",

@@ -120,6 +120,7 @@ from typing import Any
 
 from gaitml.consts import MOTION_MODES
 from gaitml.errors import ConfigError, GaitmlError, InputError
+from gaitml.pipeline.augment import SWING_POSITIONS as SWING_POSITIONS_DEFAULT
 
 __all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "TASKS", "STEP_DATA_SETS", "STEP_HOLDOUTS"]
 
@@ -335,7 +336,7 @@ SCHEMA: dict[str, Any] = {
         # a folder source plus rotated copies of its recordings in swinging positions (gaitml.pipeline.augment)
         "augment": {
             "swing_turns": _Leaf((int,), 0, check=_nonneg),
-            "positions": _Leaf((list,), ["swinging-hand"], item_type=str),
+            "positions": _Leaf((list,), list(SWING_POSITIONS_DEFAULT), item_type=str),
             "share_time": _Leaf((bool,), False),
         },
         # a folder source plus the simulated subjects of [data.simulated]
@@ -480,7 +481,7 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "walks", "path"): "",
     ("data", "walks", "weight"): 1,
     ("data", "augment", "swing_turns"): 0,
-    ("data", "augment", "positions"): ["swinging-hand"],
+    ("data", "augment", "positions"): list(SWING_POSITIONS_DEFAULT),
     ("data", "augment", "share_time"): False,
 }
 
@@ -565,7 +566,8 @@ class ExperimentConfig:
             for p in parts[:-1]:
                 node = node.setdefault(p, {})
             node[parts[-1]] = v
-        return parse_config(raw, base_dir=self.base_dir, source=self.source, check_paths=False)
+        # an override may turn the copies off (a sweep over data.augment.swing_turns): the other augment keys stay set
+        return parse_config(raw, base_dir=self.base_dir, source=self.source, check_paths=False, check_unused=False)
 
     def with_data_path(self, path: str | os.PathLike) -> ExperimentConfig:
         """A copy reading its data from ``path`` (relative to the current folder), sweep kept.
@@ -644,7 +646,12 @@ def _check_model(values: dict) -> None:
 
 
 def parse_config(
-    raw: dict, *, base_dir: str | os.PathLike = ".", source: str | os.PathLike | None = None, check_paths: bool = True
+    raw: dict,
+    *,
+    base_dir: str | os.PathLike = ".",
+    source: str | os.PathLike | None = None,
+    check_paths: bool = True,
+    check_unused: bool = True,
 ) -> ExperimentConfig:
     """Validate a config dict (as read from TOML) into an :class:`ExperimentConfig`.
 
@@ -653,7 +660,10 @@ def parse_config(
     ConfigError
         Unknown key, wrong type, a value outside the allowed set, a missing
         ``name``, a bad sweep, ``data.path`` missing for source 'folder' or not
-        existing (when ``check_paths``), a model parameter the kind does not take.
+        existing (when ``check_paths``), a model parameter the kind does not take,
+        ``data.augment`` settings that cannot apply (``share_time`` or ``positions``
+        without copies, when ``check_unused``; ``share_time`` with one label per
+        recording).
     ModelError
         A torch model kind without torch installed.
     """
@@ -683,10 +693,25 @@ def parse_config(
             ("data.labelling.moving_speed_ms", d["labelling"]["moving_speed_ms"] > 0),
             ("data.walks.path", bool(d["walks"]["path"])),
             ("data.augment.swing_turns", d["augment"]["swing_turns"] > 0),
+            ("data.augment.share_time", d["augment"]["share_time"]),
+            ("data.augment.positions", list(d["augment"]["positions"]) != list(SWING_POSITIONS_DEFAULT)),
         ):
             if on:
                 raise ConfigError(f"{key} applies to data.source = 'folder' (a real data set); remove it or read a folder.")
     if d["source"] == "folder":
+        aug = d["augment"]
+        if check_unused and aug["swing_turns"] == 0:
+            for key, on in (
+                ("data.augment.share_time", aug["share_time"]),
+                ("data.augment.positions", list(aug["positions"]) != list(SWING_POSITIONS_DEFAULT)),
+            ):
+                if on:
+                    raise ConfigError(f"{key} is set but data.augment.swing_turns = 0 (no copies): set swing_turns > 0 or remove {key}.")
+        if aug["swing_turns"] > 0 and aug["share_time"] and d["label"] != "label" and d["labelling"]["moving_speed_ms"] <= 0:
+            raise ConfigError(
+                f"data.augment.share_time needs per-sample labels, but data.label = {d['label']!r} is one label per recording; "
+                "set share_time = false, or label per sample (data.label = 'label', or data.labelling.moving_speed_ms > 0)."
+            )
         if not d["path"]:
             raise ConfigError("data.source = 'folder' needs data.path (a data set folder, relative to the config file).")
         if check_paths and not cfg.data_path.exists():

@@ -116,7 +116,8 @@ def _point_files(folder: Path, cfg, point: dict, title: str) -> dict:
     confusion_table(res.before).to_csv(folder / "confusion_before.csv")
     confusion_table(res.after).to_csv(folder / "confusion_after.csv")
     pred = res.predictions.copy()
-    pred["recording"] = [ds.recording_names[i] for i in pred["recording"]]
+    scored = point.get("test_dataset", ds)  # the windows the folds were scored on (copies are not scored)
+    pred["recording"] = [scored.recording_names[i] for i in pred["recording"]]
     pred.to_csv(folder / "predictions.csv", index=False)
     plot_confusion(folder / "confusion.png", res.labels, res.before["confusion"], res.after["confusion"], title)
     return {"per_class": per_class}

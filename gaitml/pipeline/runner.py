@@ -228,13 +228,17 @@ def _load_recordings(cfg: ExperimentConfig):
 
         turns, positions = int(d["augment"]["swing_turns"]), list(d["augment"]["positions"])
         share = bool(d["augment"]["share_time"])
-        out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share)
-        if not extra:
-            present = sorted({str(r.meta.get("position", "")) for r in out})
+        present = sorted({str(r.meta.get("position", "")) for r in out if r.gyr is not None})
+        unmatched = [p for p in positions if p not in present]
+        if unmatched:
             raise ConfigError(
-                f"data.augment.positions = {positions} matches no recording with a gyroscope; positions present: {present}. "
-                "Fix the list or set data.augment.swing_turns = 0."
+                f"data.augment.positions has {unmatched}, which matches no recording with a gyroscope; positions present (with a "
+                f"gyroscope): {present}. Fix the list or set data.augment.swing_turns = 0."
             )
+        try:
+            out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share)
+        except InputError as exc:
+            raise ConfigError(f"data.augment.share_time: {exc}") from exc
         notes.append(
             f"augmented: {len(extra)} copies of the {len(extra) // turns} real recording(s) in {positions}, the phone turned about "
             f"its swing axis ({turns} angles per recording over the full turn)"
@@ -332,11 +336,21 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
     keep_labels = None
     from gaitml.labels import UNLABELLED
 
-    if not d["labels"] and UNLABELLED in present and any("labelled_from" in r.meta for r in recs):
-        # samples outside every interval of an intervals file: left out, not a class (list it in data.labels to keep it)
+    shared = any(r.meta.get("augmented_shares_time") or r.meta.get("augment_full_labels") is not None for r in recs)
+    if shared and UNLABELLED in d["labels"]:
+        raise ConfigError(
+            f"data.labels lists {UNLABELLED!r}, but data.augment.share_time marks every grip {UNLABELLED!r} outside its own stretches; "
+            f"remove {UNLABELLED!r} from data.labels or set share_time = false."
+        )
+    if not d["labels"] and UNLABELLED in present and (shared or any("labelled_from" in r.meta for r in recs)):
+        # samples outside every interval of an intervals file, or a turned grip's stretches given to another grip
+        # (data.augment.share_time): left out, not a class
         classes = [c for c in present if c != UNLABELLED]
         keep_labels = classes
-        notes.append(f"windows labelled {UNLABELLED!r} (outside every interval) are left out; list it in data.labels to keep it as a class")
+        why = "another grip's stretches, data.augment.share_time" if shared else "outside every interval"
+        notes.append(
+            f"windows labelled {UNLABELLED!r} ({why}) are left out" + ("" if shared else "; list it in data.labels to keep it as a class")
+        )
     if len(classes) < 2:
         raise ConfigError(
             f"data.label = {label!r} has {len(classes)} class in the data ({', '.join(classes) or 'none'}); "
@@ -443,11 +457,38 @@ def _point_label(point: dict) -> str:
     return ", ".join(f"{k}={v}" for k, v in point.items()) or "(base)"
 
 
+def has_copies(data: PreparedData) -> bool:
+    """Whether ``data`` holds augmented copies or originals sharing their time with copies (:mod:`gaitml.pipeline.augment`)."""
+    return any(r.meta.get("augmented") or r.meta.get("augment_full_labels") is not None for r in data.recordings)
+
+
+def dataset_without_copies(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool | None = None, need_features: bool | None = None):
+    """The window data set of ``data``'s recordings as they were (:func:`gaitml.pipeline.augment.without_copies`).
+
+    Copies dropped, originals with all their labelled windows: what cross-validation scores
+    and the domain record is fitted on. Cached on ``data`` per window and feature setting.
+    """
+    from gaitml.pipeline.augment import without_copies
+
+    key = json.dumps(
+        [cfg["windows"], cfg["features"]["set"], cfg["features"]["frame"], need_raw, need_features], sort_keys=True, default=str
+    )
+    cache = data.__dict__.setdefault("_plain_datasets", {})
+    if key not in cache:
+        recs, groups = without_copies(data.recordings, data.groups)
+        plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
+        cache.clear()
+        cache[key] = build_dataset(cfg, plain, need_raw=need_raw, need_features=need_features, use_cache=False)
+    return cache[key]
+
+
 def _evaluate_point(cfg: ExperimentConfig, data: PreparedData, progress: bool, desc: str) -> dict:
     from gaitml.evaluation.cv import cross_validate
 
     t0 = time.perf_counter()
     ds = build_dataset(cfg, data)
+    # augmented copies train every fold but are not scored: the left-out people are scored on their recordings as they were
+    test_ds = dataset_without_copies(cfg, data) if has_copies(data) else None
     t_ds = time.perf_counter() - t0
     labels = cfg["data"]["labels"] or None
     if labels is None and cfg["data"]["source"] == "simulated":
@@ -467,8 +508,15 @@ def _evaluate_point(cfg: ExperimentConfig, data: PreparedData, progress: bool, d
         labels=labels,
         progress=progress,
         description=desc,
+        test_dataset=test_ds,
     )
-    return {"dataset": ds, "cv": res, "dataset_s": t_ds, "cv_s": time.perf_counter() - t1}
+    return {
+        "dataset": ds,
+        "test_dataset": ds if test_ds is None else test_ds,
+        "cv": res,
+        "dataset_s": t_ds,
+        "cv_s": time.perf_counter() - t1,
+    }
 
 
 def _headline(cfg: ExperimentConfig, res) -> dict:
@@ -606,10 +654,10 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     """
     from gaitml.pipeline.augment import without_copies
 
-    if any(r.meta.get("augmented") or r.meta.get("augment_full_labels") is not None for r in data.recordings):
+    if has_copies(data):
         recs, groups = without_copies(data.recordings, data.groups)
         plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
-        return fit_training_domain(cfg, plain, build_dataset(cfg, plain, use_cache=False), model)
+        return fit_training_domain(cfg, plain, dataset_without_copies(cfg, data), model)
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
     from gaitml.models.domain import DYNAMICS_NAMES, fit_domain, orientation_dynamics, span_gravity, window_gravity
@@ -754,6 +802,8 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
             "per_class_after": r["cv"].after["per_class"],
             "folds": r["cv"].folds.to_dict(orient="records"),
         }
+        if has_copies(data):
+            cv_scores["copies_not_scored"] = True  # the model card says so
     ds = build_dataset(cfg, data)
     kind = cfg["model"]["kind"]
     model = make_model(kind, cfg["model"]["params"], seed=cfg.seed)

@@ -161,3 +161,115 @@ def test_the_domain_record_is_fitted_on_the_recordings_as_they_were(tmp_path):
         assert sorted(a) == sorted(b)
         for k in a:
             np.testing.assert_allclose(a[k], b[k], rtol=1e-9, atol=1e-12, err_msg=k)
+
+
+def _csv_folder(root):
+    """A folder of gaitml-csv recordings with per-sample labels (walk, then run) and a manifest, no intervals files."""
+    from gaitml.io import write_gaitml_csv, write_manifest
+
+    rows = []
+    for subject in ("Ann", "Bob"):
+        for position in ("swinging-hand", "front-pocket"):
+            rec = _swinging([0.0, 0.0, 1.0], n_s=40.0, position=position, subject=subject)
+            half = rec.n_samples // 2
+            labels = np.array(["walk"] * half + ["run"] * (rec.n_samples - half), dtype=object)
+            name = f"{subject}-{position}.csv"
+            write_gaitml_csv(rec.replace(labels=labels), root / name)
+            rows.append({"file": name, "subject": subject, "session": f"{subject}-{position}", "position": position})
+    write_manifest(rows, root)
+    return root
+
+
+def _csv_config(root, label="label", labels=None, **augment):
+    raw = {
+        "name": "aug",
+        "seed": 3,
+        "data": {"source": "folder", "path": str(root), "label": label, "group": "subject", "augment": augment},
+        "features": {"set": "all52+gyro"},
+    }
+    if labels is not None:
+        raw["data"]["labels"] = labels
+    return parse_config(raw, base_dir=root)
+
+
+def test_shared_time_never_trains_the_other_grips_stretches_as_a_class(tmp_path):
+    """Per-sample labels without data.labels: a grip's 'unlabelled' stretches are left out, not learnt as a mode."""
+    from gaitml.labels import UNLABELLED
+    from gaitml.pipeline.runner import build_dataset
+
+    root = _csv_folder(tmp_path)
+    plain_cfg = _csv_config(root)
+    plain = build_dataset(plain_cfg, prepare_data(plain_cfg, use_cache=False), use_cache=False)
+    cfg = _csv_config(root, swing_turns=3, share_time=True)
+    data = prepare_data(cfg, use_cache=False)
+    ds = build_dataset(cfg, data, use_cache=False)
+    assert UNLABELLED not in set(ds.y) and set(ds.y) == set(plain.y) == {"walk", "run"}
+    assert abs(len(ds) - len(plain)) <= 0.1 * len(plain)  # every stretch once, in one grip
+    assert any("another grip's stretches" in n for n in data.notes)
+    with pytest.raises(ConfigError, match="remove 'unlabelled' from data.labels"):
+        prepare_data(_csv_config(root, labels=["walk", "run", UNLABELLED], swing_turns=3, share_time=True), use_cache=False)
+
+
+def test_shared_time_with_one_label_per_recording_is_refused(tmp_path):
+    root = _csv_folder(tmp_path)
+    with pytest.raises(ConfigError, match="share_time needs per-sample labels.*data.label = 'position'"):
+        _csv_config(root, label="position", swing_turns=3, share_time=True)
+    data = prepare_data(_csv_config(root, label="position", swing_turns=3), use_cache=False)  # whole copies: fine
+    assert sum(bool(r.meta.get("augmented")) for r in data.recordings) == 6
+
+
+def test_every_augment_position_must_match_a_recording(tmp_path):
+    root = _csv_folder(tmp_path)
+    with pytest.raises(ConfigError, match=r"has \['swinging_hand'\].*present \(with a gyroscope\): \['front-pocket', 'swinging-hand'\]"):
+        prepare_data(_csv_config(root, swing_turns=2, positions=["swinging-hand", "swinging_hand"]), use_cache=False)
+
+
+def test_augment_settings_that_cannot_apply_are_refused(tmp_path):
+    root = _csv_folder(tmp_path)
+    with pytest.raises(ConfigError, match="data.augment.share_time is set but data.augment.swing_turns = 0"):
+        _csv_config(root, share_time=True)
+    with pytest.raises(ConfigError, match="data.augment.positions is set but data.augment.swing_turns = 0"):
+        _csv_config(root, positions=["front-pocket"])
+    for aug in ({"share_time": True}, {"positions": ["front-pocket"]}):
+        with pytest.raises(ConfigError, match="applies to data.source = 'folder'"):
+            parse_config({"name": "x", "data": {"source": "simulated", "augment": aug}})
+    # a sweep may turn the copies off while share_time stays set
+    cfg = _csv_config(root, swing_turns=3, share_time=True)
+    assert cfg.with_values({"data.augment.swing_turns": 0})["data"]["augment"]["swing_turns"] == 0
+
+
+def test_cross_validation_scores_the_recordings_as_they_were_not_the_copies(tmp_path):
+    """Copies train every fold; each fold is scored on its left-out people's original windows, with their full labels."""
+    from gaitml.pipeline.runner import _evaluate_point, build_dataset
+
+    root = _csv_folder(tmp_path)
+    plain_cfg = _csv_config(root)
+    plain = build_dataset(plain_cfg, prepare_data(plain_cfg, use_cache=False), use_cache=False)
+    for aug in ({"swing_turns": 3, "share_time": True}, {"swing_turns": 2}):
+        cfg = _csv_config(root, **aug)
+        data = prepare_data(cfg, use_cache=False)
+        point = _evaluate_point(cfg, data, False, "t")
+        res, train, scored = point["cv"], point["dataset"], point["test_dataset"]
+        assert res.before["n"] == len(plain) and int(res.folds["n_test"].sum()) == len(plain)
+        assert not any("turned" in scored.recording_names[i] for i in res.predictions["recording"])
+        assert sorted(scored.recording_names) == sorted(plain.recording_names)
+        assert any("turned" in train.recording_names[i] for i in set(train.windows["recording"]))  # the copies were trained on
+        if not aug.get("share_time"):
+            assert int(res.folds["n_train"].sum()) == len(train) > len(plain)
+        assert set(res.predictions["label"]) == {"walk", "run"} and len(train) >= len(plain) - 0.1 * len(plain)
+
+
+def test_cross_validate_refuses_test_windows_of_groups_it_never_trained_on(tmp_path):
+    from gaitml.evaluation.cv import cross_validate
+    from gaitml.pipeline.runner import build_dataset
+
+    root = _csv_folder(tmp_path)
+    cfg = _csv_config(root)
+    data = prepare_data(cfg, use_cache=False)
+    ds = build_dataset(cfg, data, use_cache=False)
+    data.groups = ["Cid" if g == "Bob" else g for g in data.groups]
+    other = build_dataset(cfg, data, use_cache=False)
+    with pytest.raises(InputError, match="test_dataset holds groups that dataset does not.*Cid"):
+        cross_validate(ds, cfg["model"]["kind"], cfg["model"]["params"], progress=False, test_dataset=other)
+    res = cross_validate(ds, cfg["model"]["kind"], cfg["model"]["params"], progress=False, test_dataset=ds)
+    assert res.before["n"] == len(ds)

@@ -21,7 +21,7 @@ def domain_warning(model, in_domain, what: str = "windows", reasons=None) -> str
     A model without a domain record gives :data:`NO_DOMAIN_WARNING`; otherwise a
     warning is given when more than :data:`OUT_OF_DOMAIN_WARN_FRACTION` of the
     ``what`` are out of domain. ``reasons`` (the ``out_of_domain_reason`` of each, optional):
-    the line says how many look like a foot-mounted sensor
+    the line says how many rest between fast swings as a foot-mounted sensor does
     (:data:`gaitml.models._placement.FOOT_REASON`).
     """
     from gaitml.models.domain import out_of_domain_fraction
@@ -43,7 +43,7 @@ def domain_warning(model, in_domain, what: str = "windows", reasons=None) -> str
 
 
 def foot_clause(reasons) -> str:
-    """``", N of them look like a foot-mounted sensor (...)"`` for the warning line, or ``""`` when none does."""
+    """``", N of them because they rest between fast swings (...)"`` for the warning line, or ``""`` when none does."""
     from gaitml.models._placement import FOOT_REASON
 
     if reasons is None:
@@ -52,6 +52,6 @@ def foot_clause(reasons) -> str:
     if not n_foot:
         return ""
     return (
-        f", {n_foot} of them because they look like a foot-mounted sensor (a rest between fast swings at every stride, "
-        f"as a shoe in its stances; out_of_domain_reason '{FOOT_REASON}'), a placement no carried phone has"
+        f", {n_foot} of them because they rest between fast swings (out_of_domain_reason '{FOOT_REASON}'): "
+        "a foot-mounted sensor shows this at every stride, no phone carried by a walker does, a gesturing hand can"
     )

@@ -470,7 +470,7 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
     ]
     if res.info.get("out_of_domain_steps") is not None:
         foot = res.info.get("foot_mounted_steps")
-        foot_txt = f"; {foot} of them look like a foot-mounted sensor" if foot else ""
+        foot_txt = f"; {foot} of them rest between fast swings (a foot-mounted sensor?)" if foot else ""
         lines.append(
             f"  out of the model's domain: {res.info['out_of_domain_steps']} of {res.n_steps} steps (moved forward along the facing heading{foot_txt})"
         )

@@ -79,7 +79,7 @@ def side_direction_warning(n_unsure: int, n: int, unit: str) -> str:
 
 
 def reason_counts(reasons) -> dict:
-    """How many windows are out of domain for each reason (``out_of_domain_reason``), e.g. ``{"placement: foot-mounted sensor": 47}``."""
+    """How many windows are out of domain for each reason (``out_of_domain_reason``), e.g. ``{"placement: rests between fast swings (foot-mounted sensor?)": 47}``."""
     if reasons is None:
         return {}
     vals, counts = np.unique(np.array([str(r) for r in reasons if r], dtype=str), return_counts=True)

@@ -221,8 +221,8 @@ def _placement_line(positions) -> str:
         return "- Foot-placement rule: not applied (a foot position is in the training data)."
     return (
         "- Foot-placement rule: a window holding a rest between fast swings, as a foot-mounted sensor shows at every "
-        f"stride and no carried phone does (a fixed physics rule, not fitted to this model), is out of domain with "
-        f"`out_of_domain_reason` '{FOOT_REASON}'."
+        "stride and no phone carried by a walker does (a gesturing hand can; a fixed physics rule, not fitted to this "
+        f"model), is out of domain with `out_of_domain_reason` '{FOOT_REASON}'."
     )
 
 

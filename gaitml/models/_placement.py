@@ -1,4 +1,11 @@
-"""A fixed physics rule that recognises a foot-mounted (shoe-mounted) sensor in a window of gait.
+"""A fixed physics rule that flags a window resting between fast swings, as a foot-mounted (shoe-mounted) sensor does at every stride.
+
+The rule sees a motion pattern, not a placement: a window holding a rest between fast swings is
+what a foot shows at every stride of a walk, and what no phone carried by a walker shows; a hand
+that gestures with the phone (fast turns with pauses between, not walking) can show it too. The
+reason it gives (:data:`FOOT_REASON`) therefore says what was seen and names the foot as a
+question. Such a window is out of domain for a model trained on carried phones either way: a
+gesture is none of the motion modes.
 
 A motion-mode model trained on phones carried in the hand, a pocket or a bag has never seen a
 sensor on the foot. The foot, unlike every place a phone is carried, *rests* once per stride:
@@ -10,8 +17,9 @@ belt rides on the trunk, a thigh or an arm, which keep moving all through the st
 rotates through the whole stance, an arm or a hanging bag swings through it and turns round only
 for an instant, and the trunk bounces at every step.
 
-The rule, per window (its own samples only, so a recording cut into chunks gives every window
-the same answer):
+The rule, per window (its own samples only, so a recording cut into chunks at the rate it is
+classified at gives every window the same answer; a recording resampled chunk by chunk to the
+model's rate can differ near the thresholds, as its resampled samples differ at the chunks' edges):
 
 - a sample *rests* when its angular rate is below :data:`REST_GYR_RADS` and its acceleration
   magnitude lies within :data:`REST_ACC_TOL_MS2` of gravity (the stance tests of foot-mounted
@@ -54,12 +62,17 @@ __all__ = [
     "REST_STD_WINDOW_S",
     "SWING_ACC_MS2",
     "SWING_GYR_RADS",
+    "PLACEMENT_PREFIX",
     "foot_like_windows",
+    "min_window_samples",
     "rest_samples",
 ]
 
-#: The reason given for a window the rule flags (table column ``out_of_domain_reason``, JSON, warning).
-FOOT_REASON = "placement: foot-mounted sensor"
+#: The stable, machine-readable start of every reason this rule gives.
+PLACEMENT_PREFIX = "placement:"
+#: The reason given for a window the rule flags (table column ``out_of_domain_reason``, JSON, warning): what was seen,
+#: and the placement it suggests as a question (a gesturing hand can show the same pattern).
+FOOT_REASON = f"{PLACEMENT_PREFIX} rests between fast swings (foot-mounted sensor?)"
 #: A resting sample turns slower than 0.5 rad/s (29 deg/s): a foot flat on the ground turns only by
 #: the gyroscope's noise and bias (a few deg/s); the same bound as the gyro-range stance test
 #: (:data:`gaitml.zupt.gyro_range.DEFAULT_GYR_RANGE_RADS`).
@@ -97,6 +110,12 @@ ACC_MIN_REST_S = 0.1
 #: a walking foot's heel strike and push-off peak at 2-3 g; a walker's trunk or thigh stays
 #: below about 2 g.
 SWING_ACC_MS2 = 2.5 * GRAVITY_MS2
+
+
+def min_window_samples(sampling_rate_hz: float) -> int:
+    """The fewest samples a window needs for the rule to be able to flag it: its shortest stance rest and one moving sample either side."""
+    shortest = min(MIN_REST_S, ACC_MIN_REST_S)
+    return int(np.ceil(shortest * float(sampling_rate_hz) - 1e-9)) + 2
 
 
 def _magnitude(x: np.ndarray) -> np.ndarray:

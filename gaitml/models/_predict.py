@@ -331,22 +331,27 @@ def side_direction_unsure(recording: Recording, windows: pd.DataFrame, modes, ma
     return side & (cos_z < np.cos(np.radians(float(max_deg))))
 
 
+def foot_rule_applies(model) -> bool:
+    """Whether the foot-placement rule is checked for ``model``: it has a domain record and no training position on a foot (a name starting ``foot``)."""
+    dom = getattr(model, "domain", None)
+    return dom is not None and not any(str(p).lower().startswith("foot") for p in dom.positions)
+
+
 def foot_placement(model, recording: Recording, windows: pd.DataFrame) -> np.ndarray | None:
-    """Which windows look like a foot-mounted sensor (:func:`gaitml.models._placement.foot_like_windows`), or None when not checked.
+    """Which windows rest between fast swings as a foot-mounted sensor does (:func:`gaitml.models._placement.foot_like_windows`), or None when not checked.
 
     Checked for a model with a domain record none of whose training positions is on a foot
     (a position name starting ``foot``); read with the recording's gyroscope when it has one,
     else with the accelerometer-only rule.
     """
-    dom = getattr(model, "domain", None)
-    if dom is None or any(str(p).lower().startswith("foot") for p in dom.positions):
+    if not foot_rule_applies(model):
         return None
     from gaitml.models._placement import foot_like_windows
 
     return foot_like_windows(recording.acc, recording.gyr, recording.sampling_rate_hz, windows)["foot_like"]
 
 
-def window_placement_reason(model, acc, gyr=None) -> str | None:
+def window_placement_reason(model, acc, gyr=None, sampling_rate_hz: float | None = None) -> str | None:
     """The foot-placement rule of one window (a stream's window): its ``out_of_domain_reason`` from the rule.
 
     ``acc`` (and ``gyr``, None without a gyroscope) are the window's own samples, shape (length, 3) in
@@ -354,28 +359,53 @@ def window_placement_reason(model, acc, gyr=None) -> str | None:
     :class:`gaitml.features.StreamingFeatureExtractor`) classifies. The rule reads a window's own
     samples only (:mod:`gaitml.models._placement`), so calling this on every window of a stream gives
     the windows :func:`predict_recording` flags on the whole recording.
+    ``sampling_rate_hz`` (None: the model's) is the samples' rate; a rate other than the model's is
+    refused (the rule's durations count samples at the model's rate: resample first).
+
+    Raises
+    ------
+    InputError
+        Arrays not of shape (length, 3), non-finite samples, a window shorter than the rule can
+        flag (:func:`gaitml.models._placement.min_window_samples`), or a rate other than the model's.
 
     Returns
     -------
     str or None
-        :data:`gaitml.models._placement.FOOT_REASON` when the window looks like a foot-mounted sensor
+        :data:`gaitml.models._placement.FOOT_REASON` when the window rests between fast swings (a foot-mounted sensor, or a gesturing hand)
         (the window is then out of domain, whatever the domain record says), ``""`` when it does not,
         None when the rule is not checked for this model (as :func:`foot_placement`: no domain record,
         or a foot position in training).
     """
     from gaitml.errors import InputError
-    from gaitml.models._placement import FOOT_REASON, foot_like_windows
+    from gaitml.models._placement import FOOT_REASON, foot_like_windows, min_window_samples
 
-    dom = getattr(model, "domain", None)
-    if dom is None or any(str(p).lower().startswith("foot") for p in dom.positions):
+    fs = float(model.sampling_rate_hz)
+    if sampling_rate_hz is not None:
+        try:
+            rate = float(sampling_rate_hz)
+        except (TypeError, ValueError):
+            rate = float("nan")
+        if not np.isfinite(rate) or abs(rate - fs) > 1e-6 * fs:
+            raise InputError(
+                f"the window's samples are at {sampling_rate_hz!r} Hz, the model's rate is {fs:g} Hz; resample the stream to {fs:g} Hz first."
+            )
+    if not foot_rule_applies(model):
         return None
     a = np.asarray(acc, dtype=float)
     g = None if gyr is None else np.asarray(gyr, dtype=float)
     if a.ndim != 2 or a.shape[1] != 3 or (g is not None and g.shape != a.shape):
         shapes = f"acc {a.shape}" + ("" if g is None else f", gyr {g.shape}")
         raise InputError(f"one window's samples must be (length, 3) arrays of the same length, got {shapes}; pass acc[s:s+length].")
+    need = min_window_samples(fs)
+    if len(a) < need:
+        raise InputError(
+            f"one window of {len(a)} samples is too short for the foot-placement rule (at least {need} at {fs:g} Hz); pass a whole window acc[s:s+length]."
+        )
+    if not np.isfinite(a).all() or (g is not None and not np.isfinite(g).all()):
+        which = "acc" if not np.isfinite(a).all() else "gyr"
+        raise InputError(f"the window's {which} samples hold NaN or infinite values; fill or drop the gap before calling the rule.")
     win = pd.DataFrame({"start": [0], "end": [len(a)]})
-    return FOOT_REASON if bool(foot_like_windows(a, g, model.sampling_rate_hz, win)["foot_like"][0]) else ""
+    return FOOT_REASON if bool(foot_like_windows(a, g, fs, win)["foot_like"][0]) else ""
 
 
 def finish_predictions(
@@ -393,7 +423,7 @@ def finish_predictions(
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
 
-    A window that looks like a foot-mounted sensor (:func:`foot_placement`) is out of domain
+    A window that rests between fast swings as a foot-mounted sensor does (:func:`foot_placement`) is out of domain
     (``in_domain`` False); ``out_of_domain_reason`` says why a window is out of domain
     (:data:`gaitml.models._placement.FOOT_REASON` or :data:`DOMAIN_REASON`; empty in domain or unchecked).
 
@@ -407,7 +437,7 @@ def finish_predictions(
     """
     for c, v in domain.items():
         out[c] = v
-    # a foot-mounted sensor (a fixed physics rule: a rest between fast swings at every stride) is no carried phone
+    # a rest between fast swings (a fixed physics rule): a foot-mounted sensor at every stride, or a gesturing hand; no carried phone
     from gaitml.models._placement import FOOT_REASON
 
     flags = out["in_domain"].to_numpy(dtype=object).copy()

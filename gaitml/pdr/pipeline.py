@@ -92,8 +92,9 @@ class PdrResult:
         (None for the start row and for a model without a domain record) and the object
         has ``out_of_domain_steps`` and ``side_direction_unsure_steps`` (side steps moved
         forward because the model cannot tell their direction; None for a model without a
-        domain record), and ``foot_mounted_steps`` (steps whose window looks like a
-        foot-mounted sensor, :mod:`gaitml.models._placement`) when the windows say; without a model they are absent. ``gait_check``: the step detector's
+        domain record), and ``foot_mounted_steps`` (steps whose window rests between fast swings as a
+        foot-mounted sensor does, :mod:`gaitml.models._placement`) when that rule ran (a model with a domain
+        record and no foot in its training positions); without a model they are absent. ``gait_check``: the step detector's
         gait-evidence account (steps left out in bouts without gait evidence), when it ran.
         """
         traj = self.trajectory
@@ -479,7 +480,7 @@ def assemble_result(
     chunked run of a long recording (:func:`gaitml.chunked_run.long_pdr`), so both give the same
     tables and summary. ``step_reasons``: the ``out_of_domain_reason`` of each step (None: not known);
     the step table gets the column and ``info`` the count ``foot_mounted_steps`` of
-    :data:`gaitml.models._placement.FOOT_REASON`."""
+    :data:`gaitml.models._placement.FOOT_REASON` when the foot-placement rule ran for ``model``."""
     step_modes = np.asarray(step_modes).astype(str)
     if update == "multi":
         xy = multi_state_update(lengths, theta, step_modes, start_xy_m=start_xy_m, unknown="forward")
@@ -525,9 +526,11 @@ def assemble_result(
     info = {**info, "out_of_domain_steps": n_ood, "side_direction_unsure_steps": n_unsure}
     if step_reasons is not None and step_in_domain is not None:
         from gaitml.models._placement import FOOT_REASON
+        from gaitml.models._predict import foot_rule_applies
 
         steps["out_of_domain_reason"] = np.asarray(step_reasons, dtype=object)
-        info["foot_mounted_steps"] = int(sum(str(r) == FOOT_REASON for r in step_reasons))
+        if foot_rule_applies(model):  # a count only where the rule ran (not: no domain record, a foot in training)
+            info["foot_mounted_steps"] = int(sum(str(r) == FOOT_REASON for r in step_reasons))
     info = {k: info[k] for k in (*[k for k in info if k != "notes"], "notes")}
     return PdrResult(
         trajectory=traj,

@@ -127,6 +127,7 @@ experiments/steps-real.toml``, ``experiments/reports/steps-heldout.md``).
 
 from __future__ import annotations
 
+import warnings
 from typing import ClassVar
 
 import numpy as np
@@ -941,7 +942,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         reaches this sets the step period (half the stride) and the
         periodicity. 0.3, |acc|'s own floor, turns it on for recordings known
         to hold walking (a slow walker); off by default because it lets more
-        of a gesturing hand's bursts through as steps.
+        of a gesturing hand's bursts through as steps. It reads the
+        gyroscope: without one (or with ``use_gyroscope=False``) it does not
+        run, and ``detect`` says so (a ``UserWarning``, and
+        ``cadence_.attrs['swing_stage']``).
     gyro_swing_half_correlation : float, default 0.0
         Stage 2c: the swing must be in anti-phase at half its stride period,
         its autocorrelation there at most minus this (0: negative; the
@@ -975,6 +979,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         range alone), ``gyro`` (+1 where the gyroscope halved the
         period, -1 where it doubled it, 0 elsewhere) and ``swing`` (True where
         the swing set the period and periodicity, stage 2c).
+        ``attrs['swing_stage']``: ``requested`` (``gyro_swing_min_periodicity``
+        > 0) and ``ran`` (requested and a gyroscope was read).
 
     Notes
     -----
@@ -1093,7 +1099,18 @@ class AdaptiveStepDetector(BaseStepDetector):
         if self.min_step_hz >= self.max_step_hz:
             raise InputError(f"`min_step_hz` ({self.min_step_hz}) must be below `max_step_hz` ({self.max_step_hz}).")
         use_gyr = params.pop("use_gyroscope")
-        r = adaptive_steps(acc_magnitude(rec), fs, gyr_rads=rec.gyr if use_gyr and rec.has_gyr else None, **params)
+        gyr = rec.gyr if use_gyr and rec.has_gyr else None
+        swing_requested = float(self.gyro_swing_min_periodicity) > 0
+        if swing_requested and gyr is None:
+            # stage 2c reads the gyroscope: without one (or with use_gyroscope=False) it cannot run
+            why = "use_gyroscope is False" if rec.has_gyr else "the recording has no gyroscope"
+            warnings.warn(
+                f"adaptive: the swing stage (gyro_swing_min_periodicity={self.gyro_swing_min_periodicity}) did not run: {why}; "
+                "steps are detected from |acc| alone.",
+                UserWarning,
+                stacklevel=2,
+            )
+        r = adaptive_steps(acc_magnitude(rec), fs, gyr_rads=gyr, **params)
         p = r["peak"]
         per = r["period_s"]
         half = np.rint(per * fs / 2).astype(np.int64)
@@ -1125,4 +1142,6 @@ class AdaptiveStepDetector(BaseStepDetector):
                 "swing": cad.get("swing", np.zeros(len(cad["period_s"]), dtype=bool)),
             }
         )
+        # whether the opt-in swing stage (2c) was asked for and whether it ran (it needs the gyroscope)
+        self.cadence_.attrs["swing_stage"] = {"requested": swing_requested, "ran": swing_requested and gyr is not None}
         return self

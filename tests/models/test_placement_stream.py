@@ -83,3 +83,22 @@ def test_not_checked_without_a_domain_record_and_bad_shapes_refused():
         window_placement_reason(model, acc[:, :2])
     with pytest.raises(InputError, match="one window's samples"):
         window_placement_reason(model, acc, np.zeros((74, 3)))
+
+
+def test_empty_short_and_non_finite_windows_and_another_rate_are_refused():
+    model = load_model(ROOT / "models" / "demo")
+    acc = np.tile([0.0, 0.0, 9.81], (75, 1))
+    for a, g in ((np.zeros((0, 3)), np.zeros((0, 3))), (np.zeros((0, 3)), None), (acc[:3], None)):
+        with pytest.raises(InputError, match="too short for the foot-placement rule"):
+            window_placement_reason(model, a, g)
+    bad = acc.copy()
+    bad[5] = np.nan
+    with pytest.raises(InputError, match="acc samples hold NaN"):
+        window_placement_reason(model, bad, np.zeros((75, 3)))
+    g = np.zeros((75, 3))
+    g[7, 1] = np.inf
+    with pytest.raises(InputError, match="gyr samples hold NaN"):
+        window_placement_reason(model, acc, g)
+    assert window_placement_reason(model, acc, None, sampling_rate_hz=model.sampling_rate_hz) == ""
+    with pytest.raises(InputError, match="resample the stream"):
+        window_placement_reason(model, acc, None, sampling_rate_hz=100.0)

@@ -330,3 +330,25 @@ def test_side_steps_of_unsure_direction_walk_forward_and_are_counted(tmp_path, c
     cap = capsys.readouterr()
     assert json.loads(cap.out)["side_direction_unsure_steps"] > 0
     assert cap.err.count("side steps of unsure direction") == 1
+
+
+def test_foot_mounted_steps_is_reported_only_where_the_foot_rule_ran():
+    import dataclasses
+
+    from gaitml.pdr import run_pdr
+    from gaitml.simulate import simulate_route
+
+    if not (ROOT / "models" / "demo" / "model.json").is_file():
+        pytest.skip("models/demo is not trained")
+    from gaitml.models import load_model
+
+    model = load_model(ROOT / "models" / "demo")
+    rec = simulate_route("straight", seed=13, duration_s=30.0)
+    ran = run_pdr(rec, model=model, modes="model")
+    assert isinstance(ran.info["foot_mounted_steps"], int)
+    assert ran.to_json_dict()["foot_mounted_steps"] == ran.info["foot_mounted_steps"]
+    foot_trained = dataclasses.replace(model, domain=dataclasses.replace(model.domain, positions={**model.domain.positions, "foot": 1}))
+    for m in (dataclasses.replace(model, domain=None), foot_trained):  # the rule is not checked: no count, not 0
+        res = run_pdr(rec, model=m, modes="model")
+        assert "foot_mounted_steps" not in res.info
+        assert "foot_mounted_steps" not in res.to_json_dict()

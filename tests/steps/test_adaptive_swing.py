@@ -58,11 +58,27 @@ def test_a_slow_walk_with_weak_acc_and_a_regular_swing_is_counted(seed, noise):
 
 
 def test_accelerometer_only_input_is_untouched_by_the_swing_rule():
+    # the opt-in stage needs the gyroscope: without one it does not run, and says so (a warning, the cadence's attrs)
     rec, _ = _slow_walk(0, 0.8, gyro=False)
-    on = get_detector("adaptive", **ON).detect(rec)
+    with pytest.warns(UserWarning, match="swing stage .* did not run: the recording has no gyroscope"):
+        on = get_detector("adaptive", **ON).detect(rec)
     off = get_detector("adaptive").detect(rec)
     assert np.array_equal(on.steps_["t_peak_s"].to_numpy(), off.steps_["t_peak_s"].to_numpy())
     assert not on.cadence_["swing"].any()
+    assert on.cadence_.attrs["swing_stage"] == {"requested": True, "ran": False}
+    assert off.cadence_.attrs["swing_stage"] == {"requested": False, "ran": False}
+
+
+def test_the_swing_stage_reports_that_it_ran_with_a_gyroscope():
+    import warnings
+
+    rec, _ = _slow_walk(0, 0.8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        on = get_detector("adaptive", **ON).detect(rec)
+    assert on.cadence_.attrs["swing_stage"] == {"requested": True, "ran": True}
+    with pytest.warns(UserWarning, match="use_gyroscope is False"):
+        get_detector("adaptive", use_gyroscope=False, **ON).detect(rec)
 
 
 @pytest.mark.parametrize(("step_s", "second"), [(0.8, 0.5), (1.0, 0.7), (1.0, 0.9)])

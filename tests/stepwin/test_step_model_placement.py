@@ -56,7 +56,7 @@ def test_pdr_with_a_step_model_gives_each_step_its_reason(foot_and_model, capsys
     summary = json.loads(res.out)
     assert summary["n_steps"] == len(pred["windows"])  # the model's own detector: the same steps
     assert summary["foot_mounted_steps"] == n_foot
-    assert f"{n_foot} of them because they look like a foot-mounted sensor" in res.err
+    assert f"{n_foot} of them because they rest between fast swings" in res.err
 
 
 def test_run_pdr_step_table_carries_the_reasons(foot_and_model):

@@ -445,11 +445,15 @@ def _at_model_rate(path, fs: float, read_kwargs: dict):
     ``own_hz``. A gaitml-csv is then read chunk by chunk on the model's grid (its first pass, the scan,
     moved to ``fs``: ``read_kwargs`` is updated; ``recording`` None). Any other format is read whole
     anyway, so it is resampled whole with :func:`~gaitml.models.resample_recording` (the resampling of
-    a whole-file prediction) and returned as ``recording``, for :func:`_window_chunks` to slice.
+    a whole-file prediction) and returned as ``recording``, for :func:`_window_chunks` to slice;
+    ``read_kwargs['recording']``, when given, is that file already read whole (taken out of ``read_kwargs``).
     """
     from gaitml.io import read_recording
     from gaitml.models import resample_recording
 
+    whole = read_kwargs.pop("recording", None)
+    if whole is not None:
+        return resample_recording(whole, fs), float(whole.sampling_rate_hz)
     scan = read_kwargs.pop("scan", None)
     if scan is None:
         scan = scan_input(path, **read_kwargs)

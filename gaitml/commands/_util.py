@@ -43,15 +43,21 @@ def is_large_input(args) -> bool:
 
 def long_read_kwargs(args) -> dict:
     """:func:`read_kwargs` for the chunked path, with the first pass over the file made here so that
-    its warnings (the same as a file read whole) are printed once, one stderr line each."""
+    its warnings (the same as a file read whole) are printed once, one stderr line each.
+
+    A gaitml-csv's first pass is its scan (``kw['scan']``); any other format is read whole anyway
+    (:func:`gaitml.io.chunked.iter_chunks`), so it is read here, once (``kw['recording']``, which the
+    chunked functions slice instead of reading the file again)."""
     from gaitml.io.chunked import scan_input
 
     kw = read_kwargs(args)
     scan = scan_input(args.input, **kw)
-    if scan is not None:
-        for warning in scan.warnings:
-            log(f"gaitml: warning: {warning}")
-        kw["scan"] = scan
+    if scan is None:
+        kw["recording"] = load_input(args)  # prints the reader's warnings
+        return kw
+    for warning in scan.warnings:
+        log(f"gaitml: warning: {warning}")
+    kw["scan"] = scan
     return kw
 
 

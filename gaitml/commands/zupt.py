@@ -124,8 +124,11 @@ def run(args) -> int:
             progress=True,
             **long_read_kwargs(args),
         )
-        thr = getattr(get_detector(args.detector, **params), "_threshold", lambda: None)()
+        det = get_detector(args.detector, **params)
+        thr = getattr(det, "_threshold", lambda: None)()
         obj = summary(args.detector, mask, table, fs, threshold_rads=thr)
+        if hasattr(det, "interval_rules"):  # as zupt_summary reports it for a file read whole
+            obj["interval_rules"] = det.interval_rules
         name, n = args.input, len(mask)
     else:
         rec = load_input(args)

@@ -327,6 +327,7 @@ def iter_chunks(
     acc_unit: str = "m/s^2",
     gyr_unit: str = "rad/s",
     scan: Scan | None = None,
+    recording: Recording | None = None,
     **read_kwargs,
 ) -> Iterator[Chunk]:
     """Yield overlapping chunks of a recording file (see the module docstring).
@@ -343,8 +344,15 @@ def iter_chunks(
     scan : Scan, optional
         The first pass over the file (:func:`scan_gaitml_csv`), when the caller
         already made it (to print its warnings); made here otherwise.
+    recording : Recording, optional
+        ``path`` already read whole (a format other than gaitml-csv), when the caller
+        already read it (to print its warnings): sliced (:func:`recording_chunks`)
+        instead of reading ``path`` again.
     """
     p = require_file(path)
+    if recording is not None:
+        yield from recording_chunks(recording, chunk_s=chunk_s, margin_s=margin_s, align_samples=align_samples)
+        return
     fmt = "columns-csv" if read_kwargs.get("columns") is not None else (format or detect_format(p))
     if fmt != "gaitml-csv":
         rec = read_recording(p, format=fmt, sampling_rate_hz=sampling_rate_hz, acc_unit=acc_unit, gyr_unit=gyr_unit, **read_kwargs)

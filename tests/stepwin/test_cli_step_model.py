@@ -14,30 +14,12 @@ from gaitml.models import load_model, predict_step_windows
 from gaitml.simulate import simulate_dataset
 from gaitml.steps import get_detector
 from tests.conftest import ROOT
-
-CONFIG = """
-name = "steps-small"
-seed = 5
-[data]
-source = "simulated"
-[data.simulated]
-subjects = 3
-duration_s = 60.0
-[windows]
-by = "steps"
-detector = "ifsm"
-[features]
-set = "all52+gyro"
-[train]
-cross_validate = true
-"""
+from tests.stepwin.conftest import STEP_MODEL_CONFIG as CONFIG
 
 
 @pytest.fixture(scope="module")
-def trained(tmp_path_factory):
-    d = tmp_path_factory.mktemp("stepmodel")
-    (d / "cfg.toml").write_text(CONFIG)
-    assert main(["train", str(d / "cfg.toml"), "--out", str(d / "model")]) == 0
+def trained(step_model_dir):
+    d = step_model_dir
     rec = simulate_dataset(n_subjects=1, duration_s=40.0, seed=321, segment_s=(6.0, 9.0))[0]
     write_gaitml_csv(rec, d / "walk.csv")
     return d, rec

@@ -18,29 +18,10 @@ from gaitml.io import write_gaitml_csv
 from gaitml.models._placement import FOOT_REASON
 from gaitml.simulate.foot import simulate_foot
 
-CONFIG = """
-name = "steps-placement"
-seed = 5
-[data]
-source = "simulated"
-[data.simulated]
-subjects = 3
-duration_s = 60.0
-[windows]
-by = "steps"
-detector = "ifsm"
-[features]
-set = "all52+gyro"
-[train]
-cross_validate = false
-"""
-
 
 @pytest.fixture(scope="module")
-def foot_and_model(tmp_path_factory):
-    d = tmp_path_factory.mktemp("stepfoot")
-    (d / "cfg.toml").write_text(CONFIG)
-    assert main(["train", str(d / "cfg.toml"), "--out", str(d / "model")]) == 0
+def foot_and_model(step_model_dir):
+    d = step_model_dir
     write_gaitml_csv(simulate_foot(modes=("walk",), duration_s=40.0, sampling_rate_hz=50.0, seed=613), d / "foot.csv")
     return d
 

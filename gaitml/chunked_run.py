@@ -82,9 +82,12 @@ def _shift_steps(table: pd.DataFrame, offset: int, fs: float) -> pd.DataFrame:
     return t
 
 
-def _core_steps(rec, ch: Chunk, detector: str, detector_params: dict | None, gait_check: bool | None) -> tuple[pd.DataFrame, dict | None]:
-    """A chunk's steps anchored in its core (chunk-local indices) and, with the gait-evidence test, its
-    account over the core's steps (:func:`_gait_account`); None without the test.
+def _core_steps(
+    rec, ch: Chunk, detector: str, detector_params: dict | None, gait_check: bool | None
+) -> tuple[pd.DataFrame, dict | None, object]:
+    """A chunk's steps anchored in its core (chunk-local indices), with the gait-evidence test its
+    account over the core's steps (:func:`_gait_account`; None without the test), and the fitted
+    detector (for its per-window ``cadence_``, :func:`_core_cadence`).
 
     The test runs on the chunk's whole step table, as on a whole recording: a detector with a
     ``gait_check`` parameter (``adaptive``) runs without it and its steps pass
@@ -110,7 +113,27 @@ def _core_steps(rec, ch: Chunk, detector: str, detector_params: dict | None, gai
     account = _gait_account(raw, checked, rec, ch) if gait else None
     core = checked[_in_core(checked, ch)].reset_index(drop=True)
     core.attrs = {k: v for k, v in checked.attrs.items() if k != "gait_check"}
-    return core, account
+    return core, account, det
+
+
+def _core_cadence(det, ch: Chunk, fs: float) -> pd.DataFrame | None:
+    """The detector's per-window cadence (``cadence_``, ``adaptive``) of the windows centred in the
+    chunk's core, at whole-file times; None for a detector without one.
+
+    A window belongs to the chunk whose core holds its centre sample, so every window of the file is
+    given once. Its time is its global centre sample over the rate, as a whole-file run gives it. The
+    windows lie on the whole-file grid (centres ``k * hop + window / 2``) when the chunk's first
+    sample is a multiple of the hop (in samples; e.g. 100 at 100 Hz with the 1 s hop and whole
+    seconds of chunk and margin); otherwise they are shifted by less than one hop.
+    """
+    cad = getattr(det, "cadence_", None)
+    if cad is None:
+        return None
+    centre = np.rint(cad["t_s"].to_numpy(dtype=float) * fs).astype(np.int64) + ch.offset
+    keep = (centre >= ch.core_start) & (centre < ch.core_end)
+    out = cad[keep].reset_index(drop=True)
+    out["t_s"] = centre[keep] / fs
+    return out
 
 
 def _gait_account(raw: pd.DataFrame, checked: pd.DataFrame, rec, ch: Chunk) -> dict:
@@ -162,9 +185,15 @@ def long_steps(
     detector_params: dict | None = None,
     count_also: str | None = None,
     gait_check: bool | None = None,
+    keep_cadence: bool = False,
     **read_kwargs,
 ) -> pd.DataFrame:
     """Detect steps in a long recording chunk by chunk; returns one global step table.
+
+    ``keep_cadence``: keep the detector's per-window cadence (``cadence_`` of ``adaptive``; nothing
+    for a detector without one) of the windows centred in each chunk's core, at whole-file times
+    (:func:`_core_cadence`), in ``attrs["cadence"]`` as a dict of column name to list (one entry per
+    window; a dict of lists, not a table, so that the step table's attrs stay comparable).
 
     ``count_also``: a second detector run on the same chunks (e.g. ``adaptive``, for the
     count cross-check of :mod:`gaitml.steps.crosscheck`). Only its step count is kept, in
@@ -198,12 +227,17 @@ def long_steps(
     attrs: dict = {}
     also_counts: list[int] = []
     accounts: list[dict] = []
+    cadence_parts: list[pd.DataFrame] = []
     gait = None
     for ch in progress_chunks(
         iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"steps ({detector})", enabled=progress
     ):
         fs = ch.recording.sampling_rate_hz
-        table, account = _core_steps(ch.recording, ch, detector, detector_params, gait_check)
+        table, account, det = _core_steps(ch.recording, ch, detector, detector_params, gait_check)
+        if keep_cadence:
+            cad = _core_cadence(det, ch, fs)
+            if cad is not None:
+                cadence_parts.append(cad)
         gait = account is not None
         if gait:
             accounts.append(account)
@@ -218,6 +252,9 @@ def long_steps(
         out.attrs["gait_check"] = _sum_accounts(accounts)
     if count_also is not None:
         out.attrs["count_also"] = {"detector": count_also, "n_steps": int(sum(also_counts))}
+    if cadence_parts:
+        cad = pd.concat(cadence_parts, ignore_index=True)
+        out.attrs["cadence"] = {c: cad[c].tolist() for c in cad.columns}
     return out
 
 
@@ -596,7 +633,7 @@ def long_pdr(
         bias_parts.append(run.bias_rads_[k - first : last - first + 1])
         prev_heading, prev_lo = heading_local, ch.offset
         # ---- steps anchored in the core (the detector's own gait-evidence test, accounted over the cores)
-        table, account = _core_steps(rec, ch, detector, None, None)
+        table, account, _det = _core_steps(rec, ch, detector, None, None)
         if account is not None:
             accounts.append(account)
         attrs.update(table.attrs)

@@ -82,9 +82,12 @@ def _shift_steps(table: pd.DataFrame, offset: int, fs: float) -> pd.DataFrame:
     return t
 
 
-def _core_steps(rec, ch: Chunk, detector: str, detector_params: dict | None, gait_check: bool | None) -> tuple[pd.DataFrame, dict | None]:
-    """A chunk's steps anchored in its core (chunk-local indices) and, with the gait-evidence test, its
-    account over the core's steps (:func:`_gait_account`); None without the test.
+def _core_steps(
+    rec, ch: Chunk, detector: str, detector_params: dict | None, gait_check: bool | None
+) -> tuple[pd.DataFrame, dict | None, object]:
+    """A chunk's steps anchored in its core (chunk-local indices), with the gait-evidence test its
+    record of the core's steps (:func:`_gait_account`; None without the test), and the fitted
+    detector (for its per-window ``cadence_``, :func:`_core_cadence`).
 
     The test runs on the chunk's whole step table, as on a whole recording: a detector with a
     ``gait_check`` parameter (``adaptive``) runs without it and its steps pass
@@ -110,45 +113,74 @@ def _core_steps(rec, ch: Chunk, detector: str, detector_params: dict | None, gai
     account = _gait_account(raw, checked, rec, ch) if gait else None
     core = checked[_in_core(checked, ch)].reset_index(drop=True)
     core.attrs = {k: v for k, v in checked.attrs.items() if k != "gait_check"}
-    return core, account
+    return core, account, det
+
+
+def _core_cadence(det, ch: Chunk, fs: float) -> pd.DataFrame | None:
+    """The detector's per-window cadence (``cadence_``, ``adaptive``) of the windows centred in the
+    chunk's core, at whole-file times; None for a detector without one.
+
+    A window belongs to the chunk whose core holds its centre sample, so every window of the file is
+    given once. Its time is its global centre sample over the rate, as a whole-file run gives it. The
+    windows lie on the whole-file grid (centres ``k * hop + window / 2``) when the chunk's first
+    sample is a multiple of the hop (in samples; e.g. 100 at 100 Hz with the 1 s hop and whole
+    seconds of chunk and margin); otherwise they are shifted by less than one hop.
+    """
+    cad = getattr(det, "cadence_", None)
+    if cad is None:
+        return None
+    centre = np.rint(cad["t_s"].to_numpy(dtype=float) * fs).astype(np.int64) + ch.offset
+    keep = (centre >= ch.core_start) & (centre < ch.core_end)
+    out = cad[keep].reset_index(drop=True)
+    out["t_s"] = centre[keep] / fs
+    return out
 
 
 def _gait_account(raw: pd.DataFrame, checked: pd.DataFrame, rec, ch: Chunk) -> dict:
-    """The gait-evidence account of one chunk over the steps anchored in its core.
-
-    Steps left out: the core's steps of ``raw`` missing from ``checked``. Bouts (grouped as
-    :func:`~gaitml.steps._gait_evidence.step_bouts` groups them) are counted in the chunk where
-    their first step is anchored in the core, so a bout that runs over a chunk edge counts once.
-    Times are those of the whole file.
+    """The gait-evidence record of one chunk: the steps of ``raw`` anchored in its core, at whole-file
+    times (``t_s``, the step event), with their ``period_s`` (None when the detector gives none) and
+    whether the test kept them (``kept``: in ``checked``). :func:`_sum_accounts` groups the records of
+    all chunks into the whole file's bouts.
     """
-    from gaitml.steps._gait_evidence import step_bouts
-
-    account = {"tested": rec.gyr is not None, "n_bouts": 0, "n_bouts_rejected": 0, "n_steps_rejected": 0, "rejected_t_s": []}
+    account = {"tested": rec.gyr is not None, "t_s": np.zeros(0), "period_s": np.zeros(0), "kept": np.zeros(0, dtype=bool)}
     if not len(raw):
         return account
     anchor = "end" if raw.attrs.get("event") == "t_end_s" else "peak"
     event = raw.attrs.get("event", "t_peak_s")
     kept = np.isin(raw[anchor].to_numpy(np.int64), checked[anchor].to_numpy(np.int64))
     core = _in_core(raw, ch)
-    period = raw["period_s"].to_numpy(dtype=float) if "period_s" in raw.columns else None
-    bout = step_bouts(raw[event].to_numpy(dtype=float), period)
-    first = np.concatenate([[True], bout[1:] != bout[:-1]])
-    out = core & ~kept
-    account["n_bouts"] = int((first & core).sum())
-    account["n_bouts_rejected"] = int((first & core & ~kept).sum())
-    account["n_steps_rejected"] = int(out.sum())
-    account["rejected_t_s"] = (raw[event].to_numpy(dtype=float)[out] + ch.offset / rec.sampling_rate_hz).tolist()
+    account["t_s"] = raw[event].to_numpy(dtype=float)[core] + ch.offset / rec.sampling_rate_hz
+    account["period_s"] = raw["period_s"].to_numpy(dtype=float)[core] if "period_s" in raw.columns else None
+    account["kept"] = kept[core]
     return account
 
 
 def _sum_accounts(accounts: list[dict]) -> dict:
-    """The whole file's gait-evidence account from the chunks' (:func:`_gait_account`)."""
+    """The whole file's gait-evidence account (the keys of :func:`~gaitml.steps._gait_evidence.gait_check`'s)
+    from the chunks' records (:func:`_gait_account`).
+
+    The core steps of all chunks (every step of the file once) are grouped into bouts as
+    :func:`~gaitml.steps._gait_evidence.step_bouts` groups a whole recording's steps, so a bout that runs
+    over a chunk edge is one bout. A bout is rejected when the test left out any of its steps: on a
+    whole file the test keeps or leaves out a bout whole, and a bout longer than a chunk margin, tested
+    on each chunk's part, can be kept in one chunk and left out in the next.
+    """
+    from gaitml.steps._gait_evidence import step_bouts
+
+    t = np.concatenate([a["t_s"] for a in accounts]) if accounts else np.zeros(0)
+    kept = np.concatenate([a["kept"] for a in accounts]) if accounts else np.zeros(0, dtype=bool)
+    periods = [a["period_s"] for a in accounts]
+    period = None if any(p is None for p in periods) or not periods else np.concatenate(periods)
+    order = np.argsort(t, kind="stable")
+    t, kept = t[order], kept[order]
+    period = None if period is None else period[order]
+    bout = step_bouts(t, period)
     return {
         "tested": all(a["tested"] for a in accounts) if accounts else True,
-        "n_bouts": sum(a["n_bouts"] for a in accounts),
-        "n_bouts_rejected": sum(a["n_bouts_rejected"] for a in accounts),
-        "n_steps_rejected": sum(a["n_steps_rejected"] for a in accounts),
-        "rejected_t_s": [t for a in accounts for t in a["rejected_t_s"]],
+        "n_bouts": int(bout[-1]) + 1 if len(bout) else 0,
+        "n_bouts_rejected": int(np.unique(bout[~kept]).size),
+        "n_steps_rejected": int((~kept).sum()),
+        "rejected_t_s": t[~kept].tolist(),
     }
 
 
@@ -162,9 +194,15 @@ def long_steps(
     detector_params: dict | None = None,
     count_also: str | None = None,
     gait_check: bool | None = None,
+    keep_cadence: bool = False,
     **read_kwargs,
 ) -> pd.DataFrame:
     """Detect steps in a long recording chunk by chunk; returns one global step table.
+
+    ``keep_cadence``: keep the detector's per-window cadence (``cadence_`` of ``adaptive``; nothing
+    for a detector without one) of the windows centred in each chunk's core, at whole-file times
+    (:func:`_core_cadence`), in ``attrs["cadence"]`` as a dict of column name to list (one entry per
+    window; a dict of lists, not a table, so that the step table's attrs stay comparable).
 
     ``count_also``: a second detector run on the same chunks (e.g. ``adaptive``, for the
     count cross-check of :mod:`gaitml.steps.crosscheck`). Only its step count is kept, in
@@ -182,9 +220,9 @@ def long_steps(
     rotation when the cadence is at least ``LONG_BOUT_STEPS / margin_s`` (1 step/s with the 30 s
     margin); a slower bout that turns with its steps can lose the few core steps near a chunk edge
     that a whole-file run keeps.
-    Bouts are counted (``n_bouts``, ``n_bouts_rejected``) in the chunk that holds their first step;
-    such a long bout kept in one chunk and rejected in the next adds its rejected steps to
-    ``n_steps_rejected`` but no rejected bout.
+    Bouts are counted (``n_bouts``, ``n_bouts_rejected``) over the whole file's core steps
+    (:func:`_sum_accounts`): a bout over a chunk edge is one bout, rejected when any chunk left out
+    any of its steps.
 
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).
@@ -198,12 +236,17 @@ def long_steps(
     attrs: dict = {}
     also_counts: list[int] = []
     accounts: list[dict] = []
+    cadence_parts: list[pd.DataFrame] = []
     gait = None
     for ch in progress_chunks(
         iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"steps ({detector})", enabled=progress
     ):
         fs = ch.recording.sampling_rate_hz
-        table, account = _core_steps(ch.recording, ch, detector, detector_params, gait_check)
+        table, account, det = _core_steps(ch.recording, ch, detector, detector_params, gait_check)
+        if keep_cadence:
+            cad = _core_cadence(det, ch, fs)
+            if cad is not None:
+                cadence_parts.append(cad)
         gait = account is not None
         if gait:
             accounts.append(account)
@@ -218,6 +261,9 @@ def long_steps(
         out.attrs["gait_check"] = _sum_accounts(accounts)
     if count_also is not None:
         out.attrs["count_also"] = {"detector": count_also, "n_steps": int(sum(also_counts))}
+    if cadence_parts:
+        cad = pd.concat(cadence_parts, ignore_index=True)
+        out.attrs["cadence"] = {c: cad[c].tolist() for c in cad.columns}
     return out
 
 
@@ -596,7 +642,7 @@ def long_pdr(
         bias_parts.append(run.bias_rads_[k - first : last - first + 1])
         prev_heading, prev_lo = heading_local, ch.offset
         # ---- steps anchored in the core (the detector's own gait-evidence test, accounted over the cores)
-        table, account = _core_steps(rec, ch, detector, None, None)
+        table, account, _det = _core_steps(rec, ch, detector, None, None)
         if account is not None:
             accounts.append(account)
         attrs.update(table.attrs)

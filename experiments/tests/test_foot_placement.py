@@ -9,7 +9,7 @@ from gaitml.simulate import simulate_dataset
 from gaitml.simulate.foot import simulate_foot
 
 
-def test_the_foot_is_read_at_the_model_rate_even_when_the_unit_check_would_refuse_it():
+def test_the_foot_is_read_at_the_model_rate_with_the_unit_check():
     rec = fp.foot_at_model_rate(simulate_foot(modes=("run",), duration_s=20.0, sampling_rate_hz=100.0, seed=111))
     assert rec.sampling_rate_hz == fp.FS_HZ and rec.n_samples == 1000
     walk = fp.foot_at_model_rate(simulate_foot(modes=("walk",), duration_s=30.0, sampling_rate_hz=100.0, seed=1))

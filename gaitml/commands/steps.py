@@ -83,9 +83,8 @@ def _json_steps(steps, t) -> list[dict]:
     return [{"t_s": float(a), **{k: float(v[i]) for k, v in cols.items()}} for i, a in enumerate(np.asarray(t, dtype=float))]
 
 
-def _json_cadence(det) -> list[dict] | None:
-    """The detector's per-window cadence (``cadence_``), if it has one."""
-    cad = getattr(det, "cadence_", None)
+def _json_cadence(cad) -> list[dict] | None:
+    """The per-window cadence (a detector's ``cadence_``, or the chunked road's ``attrs["cadence"]``), if any."""
     if cad is None:
         return None
     return [
@@ -220,7 +219,7 @@ def run(args) -> int:
         if warning:
             obj["warnings"] = [warning]
         _json_verdicts(obj, checked, sure, confident)
-        cadence = _json_cadence(det)
+        cadence = _json_cadence(getattr(det, "cadence_", None))
         if cadence is not None:
             obj["cadence"] = cadence
         if ev is not None:
@@ -269,6 +268,8 @@ def run(args) -> int:
 
 def _run_long(args) -> int:
     """A long input: chunks of 10 min with 30 s margins (bounded memory, see gaitml.chunked_run)."""
+    import pandas as pd
+
     from gaitml.chunked_run import long_steps
     from gaitml.evaluation.steps import step_times
     from gaitml.io import write_csv
@@ -279,7 +280,10 @@ def _run_long(args) -> int:
     gait = getattr(args, "gait_check", None)
     gait = args.detector in GAIT_CHECK_BY_DEFAULT if gait is None else gait
     # the gait-evidence test per chunk, its account summed over the chunks' core steps (gaitml.chunked_run)
-    steps = long_steps(args.input, args.detector, progress=True, count_also=also, gait_check=gait, **long_read_kwargs(args))
+    # with --json, the per-window cadence of the windows centred in each chunk's core, at whole-file times
+    steps = long_steps(
+        args.input, args.detector, progress=True, count_also=also, gait_check=gait, keep_cadence=bool(args.json), **long_read_kwargs(args)
+    )
     checked = steps.attrs.get("gait_check") if gait else None
     # the verdict reads only the global step table (times and periods), so it is the whole file's
     gait_line, sure, confident = _notes(steps, checked)
@@ -301,6 +305,10 @@ def _run_long(args) -> int:
         if warning:
             obj["warnings"] = [warning]
         _json_verdicts(obj, checked, sure, confident)
+        cad = steps.attrs.get("cadence")
+        cadence = _json_cadence(None if cad is None else pd.DataFrame(cad))
+        if cadence is not None:
+            obj["cadence"] = cadence
         emit_json(obj)
         return 0
     chunked = steps.attrs.get("chunked") or {}

@@ -260,7 +260,8 @@ def predict_recording(
         gait in it, :func:`still_windows`), ``still``, ``in_domain`` (True/False from
         the model's domain record, :mod:`gaitml.models.domain`, and the foot-placement
         rule, :func:`foot_placement`; None when the model has no record),
-        ``out_of_domain_reason`` (why a window is out of domain; empty otherwise),
+        ``out_of_domain_reason`` (why a window is out of domain; empty in domain; None, as
+        ``in_domain``, when the model has no record: nothing was checked),
         ``domain_distance``, ``gravity_angle_deg`` (NaN when not checked), plus ``label`` and ``label_fraction`` when the recording has
         labels. ``attrs`` holds ``sampling_rate_hz``, ``resampled_from_hz`` (or
         None), ``correction`` and ``has_domain``.
@@ -425,7 +426,8 @@ def finish_predictions(
 
     A window that rests between fast swings as a foot-mounted sensor does (:func:`foot_placement`) is out of domain
     (``in_domain`` False); ``out_of_domain_reason`` says why a window is out of domain
-    (:data:`gaitml.models._placement.FOOT_REASON` or :data:`DOMAIN_REASON`; empty in domain or unchecked).
+    (:data:`gaitml.models._placement.FOOT_REASON` or :data:`DOMAIN_REASON`; empty in domain; None where ``in_domain``
+    is None, a model without a domain record, whose windows are not checked).
 
     A window with no gait in it (:func:`still_windows` with ``still_rule``, ``still_threshold_ms2``) gets the mode :data:`STILL`
     and ``still = True``; ``mode_raw`` keeps the model's answer. ``side_direction_unsure``
@@ -443,6 +445,7 @@ def finish_predictions(
     flags = out["in_domain"].to_numpy(dtype=object).copy()
     flagged = np.array([v is False or v is np.False_ for v in flags], dtype=bool)
     reason = np.where(flagged, DOMAIN_REASON, "").astype(object)
+    reason[np.array([v is None for v in flags], dtype=bool)] = None  # not checked: unknown, as in_domain
     foot = foot_placement(model, rec, windows)
     if foot is not None and foot.any():
         flags[foot] = False

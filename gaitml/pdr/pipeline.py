@@ -89,7 +89,9 @@ class PdrResult:
         """The ``gaitml pdr --json`` object (DESIGN sec. 5).
 
         With a model (``modes='model'``) every trajectory row also has ``in_domain``
-        (None for the start row and for a model without a domain record) and the object
+        (None for the start row and for a model without a domain record) and
+        ``out_of_domain_reason`` (why its step is out of domain; None for the start row, a step
+        in domain and a model without a domain record, as ``gaitml predict --json``'s windows) and the object
         has ``out_of_domain_steps`` and ``side_direction_unsure_steps`` (side steps moved
         forward because the model cannot tell their direction; None for a model without a
         domain record), and ``foot_mounted_steps`` (steps whose window rests between fast swings as a
@@ -105,6 +107,10 @@ class PdrResult:
         if "in_domain" in traj:
             for row, v in zip(rows, traj["in_domain"], strict=True):
                 row["in_domain"] = None if v is None else bool(v)
+            if "out_of_domain_reason" in self.steps:
+                for row, r in zip(rows[1:], self.steps["out_of_domain_reason"], strict=True):
+                    row["out_of_domain_reason"] = str(r) if r else None
+                rows[0]["out_of_domain_reason"] = None
         out = {
             "n_steps": int(self.n_steps),
             "distance_m": float(self.distance_m),
@@ -479,7 +485,8 @@ def assemble_result(
     :class:`PdrResult` of per-step modes, lengths and headings; shared by :func:`run_pdr` and the
     chunked run of a long recording (:func:`gaitml.chunked_run.long_pdr`), so both give the same
     tables and summary. ``step_reasons``: the ``out_of_domain_reason`` of each step (None: not known);
-    the step table gets the column and ``info`` the count ``foot_mounted_steps`` of
+    the step table gets the column (with ``in_domain``: a step whose ``in_domain`` is None, e.g. every step
+    of a model without a domain record, has the reason None, unknown, not the empty reason of a step in domain) and ``info`` the count ``foot_mounted_steps`` of
     :data:`gaitml.models._placement.FOOT_REASON` when the foot-placement rule ran for ``model``."""
     step_modes = np.asarray(step_modes).astype(str)
     if update == "multi":
@@ -528,7 +535,9 @@ def assemble_result(
         from gaitml.models._placement import FOOT_REASON
         from gaitml.models._predict import foot_rule_applies
 
-        steps["out_of_domain_reason"] = np.asarray(step_reasons, dtype=object)
+        reasons = np.asarray(step_reasons, dtype=object).copy()
+        reasons[np.array([v is None for v in step_in_domain], dtype=bool)] = None
+        steps["out_of_domain_reason"] = reasons
         if foot_rule_applies(model):  # a count only where the rule ran (not: no domain record, a foot in training)
             info["foot_mounted_steps"] = int(sum(str(r) == FOOT_REASON for r in step_reasons))
     info = {k: info[k] for k in (*[k for k in info if k != "notes"], "notes")}

@@ -169,16 +169,50 @@ def _local_rates(t: np.ndarray, dt: np.ndarray, med: float | None, stretch: int 
     return t[: n * w_eff : w_eff], rates
 
 
+def _split_point(d: np.ndarray) -> int:
+    """Where the intervals ``d`` change level: the ``k`` (0..len) that leaves the least squared deviation
+    of ``d[:k]`` and ``d[k:]`` from their own means (a single change point by least squares)."""
+    n = len(d)
+    s1 = np.concatenate([[0.0], np.cumsum(d)])
+    s2 = np.concatenate([[0.0], np.cumsum(d * d)])
+    k = np.arange(n + 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        left = s2[k] - np.where(k > 0, s1[k] ** 2 / k, 0.0)
+        right = (s2[n] - s2[k]) - np.where(k < n, (s1[n] - s1[k]) ** 2 / (n - k), 0.0)
+    return int(np.argmin(left + right))
+
+
+def _change_span(t: np.ndarray, dt: np.ndarray, med: float, w: int, n: int, i: int, j: int) -> tuple[int, int]:
+    """The samples where a rate change found in stretches ``i..j`` (of ``n`` stretches of ``w`` intervals) starts and ends.
+
+    A stretch's rate only says that the change covers part of it; each edge is placed at the change point
+    (:func:`_split_point`) of the intervals of the two stretches around it (the last unchanged one and the
+    first changed one; gaps clipped to :data:`GAP_FACTOR` x the median). A run at the file's first or last
+    stretch starts at the first or ends at the last sample.
+    """
+    d = np.minimum(dt, GAP_FACTOR * med)
+    start = 0 if i == 0 else (i - 1) * w + _split_point(d[(i - 1) * w : (i + 1) * w])
+    if j == n - 1:
+        end = len(t) - 1
+    else:
+        hi = len(dt) if j + 2 >= n else (j + 2) * w
+        end = j * w + _split_point(d[j * w : hi])
+    return start, max(end, start)
+
+
 def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = None) -> dict[str, Any]:
     """The rate of a recording's timestamps, judged over the whole file (see :func:`judge_timestamps`).
 
     The rate is ``1 / median interval``, unless the timestamps are quantised (at
     most :data:`QUANTISED_LEVELS` distinct intervals) and that rate disagrees by
     more than :data:`QUANTISED_TOLERANCE` with the median of the stretch rates
-    (:func:`local_rates`): the clock's resolution is then too coarse for the
-    rate (400 Hz in whole milliseconds) and the stretch rate is the rate. Stretches whose
+    (:func:`local_rates`) and with most stretches: the clock's resolution is then too coarse for the
+    rate (400 Hz in whole milliseconds, where every stretch's mean interval lies between the
+    clock's levels) and the stretch rate is the rate. (A rate change mid-file also gives few levels,
+    but the stretches at the file's main rate agree with its median interval.) Stretches whose
     rate differs from it by more than :data:`RATE_CHANGE_TOLERANCE` for at least
-    :data:`RATE_CHANGE_MIN_S` are rate changes, reported with their position.
+    :data:`RATE_CHANGE_MIN_S` are rate changes, reported from the sample where the intervals change
+    (:func:`_change_span`) with the rate of the intervals between its edges.
 
     Returns
     -------
@@ -199,7 +233,9 @@ def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = 
         # distinct intervals among at most QUANTISED_SAMPLE of them, spread over the file
         sample = dt[:: max(1, len(dt) // QUANTISED_SAMPLE)]
         levels = np.unique(np.round(sample[sample <= GAP_FACTOR * med], 9))
-        if len(levels) <= QUANTISED_LEVELS and abs(r_med - rate) > QUANTISED_TOLERANCE * r_med:
+        # most stretches disagree with the median interval: quantised; a rate change leaves the stretches at the main rate
+        disagree = np.abs(rates[good] - rate) > QUANTISED_TOLERANCE * rates[good]
+        if len(levels) <= QUANTISED_LEVELS and abs(r_med - rate) > QUANTISED_TOLERANCE * r_med and disagree.mean() > 0.5:
             res = float(np.min(np.diff(levels))) if len(levels) > 1 else float(levels[0])
             rule = (
                 f"mean interval over stretches of {RATE_STRETCH_INTERVALS} samples (the timestamps are quantised to "
@@ -210,6 +246,7 @@ def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = 
     if good.any():
         off = good & (np.abs(rates - rate) > RATE_CHANGE_TOLERANCE * rate)
         ends = np.append(starts[1:], t[-1])
+        w = len(dt) // len(rates)
         i = 0
         while i < len(off):
             if not off[i]:
@@ -219,8 +256,11 @@ def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = 
             while j + 1 < len(off) and off[j + 1]:
                 j += 1
             if ends[j] - starts[i] >= RATE_CHANGE_MIN_S:
-                r = float(np.median(rates[i : j + 1]))
-                changes.append([round(float(starts[i] - t[0]), 6), round(float(ends[j] - t[0]), 6), round(r, 3)])
+                a, b = _change_span(t, dt, med, w, len(rates), i, j)
+                span = dt[a:b]
+                span = span[span <= GAP_FACTOR * med]
+                r = float(len(span) / span.sum()) if span.sum() > 0 else float(np.median(rates[i : j + 1]))
+                changes.append([round(float(t[a] - t[0]), 6), round(float(t[b] - t[0]), 6), round(r, 3)])
             i = j + 1
     max_rate = float(np.nanmax(rates)) if good.any() else rate
     return {"median_interval_s": med, "rate_hz": rate, "rate_rule": rule, "max_rate_hz": max(max_rate, rate), "rate_changes": changes}

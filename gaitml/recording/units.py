@@ -1,7 +1,9 @@
 """Units of a recording's channels: judged on the whole distribution, converted on request.
 
 A recording holds specific force in m/s^2 (gravity included) and angular rate in
-rad/s. Acceleration in g or milli-g is refused (:func:`check_acc_unit`); a
+rad/s. Acceleration in g or milli-g is refused (:func:`check_acc_unit`: the median
+|acc|, and its 5th percentile where the median cannot tell, as on a foot-mounted
+sensor of a runner); a
 gyroscope in deg/s is refused when its median or 99th percentile is beyond any
 human motion or gyro range in rad/s, and only warned about when it is merely fast
 (:func:`check_gyr_unit`). :func:`convert_units` applies the conversions a user
@@ -40,8 +42,16 @@ GYR_UNITS = ("rad/s", "deg/s")
 
 #: A median |acc| between these bounds (m/s^2 read as-is) means the data is in g.
 _G_UNIT_BAND = (0.5, 2.0)
-#: A median |acc| above this cannot be m/s^2 with gravity (milli-g, raw counts...).
+#: A median |acc| above this cannot be m/s^2 with gravity (milli-g, raw counts...) unless the 5th
+#: percentile is (a foot-mounted sensor of a runner: see :func:`judge_acc_magnitude`).
 _MAX_MEDIAN_ACC_MS2 = 50.0
+#: The low percentile of |acc| that tells the unit where the median cannot (:func:`judge_acc_magnitude`).
+_LOW_PERCENTILE = 5.0
+#: A 5th percentile |acc| up to this (2 g in m/s^2) is m/s^2 with gravity whatever the median.
+_MAX_LOW_ACC_MS2 = _G_UNIT_BAND[1] * GRAVITY_MS2
+#: A median |acc| below this (0.8 g in m/s^2) with gravity in m/s^2 is no sensor carried by a person:
+#: with a 5th percentile in the g band it is a fast-moving sensor in g.
+_G_RUN_MAX_MEDIAN = 8.0
 #: Gyro unit guess (see :func:`check_gyr_unit`). A deg/s signal read as rad/s is
 #: 57.3x too large everywhere: in its median, its rest level and its peaks.
 #: A median |gyr| above this (860 deg/s) is no human motion in rad/s: it is deg/s
@@ -84,7 +94,23 @@ def gyr_magnitude(gyr: np.ndarray) -> np.ndarray:
 
 def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc") -> None:
     """The test of :func:`check_acc_unit` on the per-sample magnitudes of the whole recording
-    (a file read in blocks collects them block by block and is judged by this same code)."""
+    (a file read in blocks collects them block by block and is judged by this same code).
+
+    The median |acc| of a carried phone is near 1 g (9.8 in m/s^2, 1 in g, 1000 in milli-g); a
+    foot-mounted sensor of a runner reads 4-5 g in its median (impacts and swings), but its low
+    tail stays near 1 g: a sensor on a person spends more than 5 % of the time at or below 1 g
+    (at rest, in a foot flat, in the unloading of each step; a running phone in a pocket
+    reads 0.3 g there), so the 5th percentile (:data:`_LOW_PERCENTILE`) tells the unit where the
+    median cannot:
+
+    - no gravity: a median |acc| below :data:`_MIN_MEDIAN_ACC_MS2`;
+    - g: a median |acc| in :data:`_G_UNIT_BAND` (0.5-2), or below :data:`_G_RUN_MAX_MEDIAN`
+      (a median no m/s^2 recording with gravity has) with a 5th percentile of at most the band's
+      top (2): a runner's foot in g (median 3.5-5.2, 5th percentile 0.6-1);
+    - milli-g or counts: a median |acc| above :data:`_MAX_MEDIAN_ACC_MS2` (50) whose 5th
+      percentile is above :data:`_MAX_LOW_ACC_MS2` (2 g in m/s^2): a runner's foot in m/s^2
+      reaches a median of 50 with a 5th percentile of 6-10, the same foot in milli-g 600-1000.
+    """
     if len(mag) == 0:
         return
     med = float(np.median(mag))
@@ -98,10 +124,18 @@ def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc") -> None:
             f"{what} looks like it is in g, not m/s^2 (median |acc| = {med:.2f}); "
             "pass acc_unit='g' (CLI: --acc-unit g) or convert to m/s^2."
         )
-    if med > _MAX_MEDIAN_ACC_MS2:
-        raise InputError(
-            f"{what} is implausibly large for m/s^2 with gravity (median |acc| = {med:.4g}; milli-g would give ~1000); convert it to m/s^2."
-        )
+    if med < _G_RUN_MAX_MEDIAN or med > _MAX_MEDIAN_ACC_MS2:
+        low = float(np.percentile(mag, _LOW_PERCENTILE))
+        if med < _G_RUN_MAX_MEDIAN and low <= _G_UNIT_BAND[1]:
+            raise InputError(
+                f"{what} looks like it is in g, not m/s^2 (median |acc| = {med:.2f}, 5th percentile {low:.2f}: a fast-moving "
+                "sensor, a runner's foot, in g; in m/s^2 it would have lost gravity); pass acc_unit='g' (CLI: --acc-unit g) or convert to m/s^2."
+            )
+        if med > _MAX_MEDIAN_ACC_MS2 and low > _MAX_LOW_ACC_MS2:
+            raise InputError(
+                f"{what} is implausibly large for m/s^2 with gravity (median |acc| = {med:.4g}, 5th percentile {low:.4g}; "
+                "milli-g would give ~1000); convert it to m/s^2."
+            )
 
 
 def check_gyr_unit(gyr: np.ndarray) -> str | None:

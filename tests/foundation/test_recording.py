@@ -69,6 +69,30 @@ def test_acc_in_milli_g_is_refused():
         Recording(acc=_acc(50) * 1000 / GRAVITY_MS2, sampling_rate_hz=50)
 
 
+def test_running_foot_is_told_from_unit_mistakes_by_its_rest_level():
+    """A foot-mounted sensor of a runner has a median |acc| of 4-5 g (up to and above 50 m/s^2) and its 5th
+    percentile near 1 g: accepted in m/s^2, also at 50 Hz (resampled as predict does, which smooths its foot
+    flats away); the same signal in g or in milli-g is refused with the one-line hint, and accepted in g when asked."""
+    from gaitml.models import resample_recording
+    from gaitml.simulate.foot import simulate_foot
+
+    medians = []
+    for seed in (8, 10, 111):
+        rec = simulate_foot(modes=("run",), duration_s=30.0, sampling_rate_hz=100.0, seed=seed)
+        for r in (rec, resample_recording(rec, 50.0)):  # the unit check passes in m/s^2, at both rates
+            medians.append(float(np.median(np.linalg.norm(r.acc, axis=1))))
+            fs = r.sampling_rate_hz
+            Recording(acc=r.acc, gyr=r.gyr, sampling_rate_hz=fs)
+            in_g = r.acc / GRAVITY_MS2
+            with pytest.raises(InputError, match=r"in g, not m/s\^2.*acc_unit='g'") as err:
+                Recording(acc=in_g, gyr=r.gyr, sampling_rate_hz=fs)
+            assert "\n" not in str(err.value)
+            assert Recording.from_arrays(in_g, fs, gyr=r.gyr, acc_unit="g").meta["converted"] == ["acc from g"]
+            with pytest.raises(InputError, match="implausibly large"):
+                Recording(acc=in_g * 1000.0, gyr=r.gyr, sampling_rate_hz=fs)
+    assert max(medians) > 50.0  # the median alone would call it milli-g
+
+
 def test_gyro_in_deg_s_is_refused_and_converted_on_request():
     g = np.random.default_rng(1).normal(0, 200, (200, 3))
     with pytest.raises(InputError, match="deg/s"):

@@ -352,3 +352,38 @@ def test_foot_mounted_steps_is_reported_only_where_the_foot_rule_ran():
         res = run_pdr(rec, model=m, modes="model")
         assert "foot_mounted_steps" not in res.info
         assert "foot_mounted_steps" not in res.to_json_dict()
+
+
+def test_out_of_domain_reason_is_unknown_where_in_domain_is():
+    """A model without a domain record checks nothing: every window and step has ``in_domain`` None and
+    ``out_of_domain_reason`` None (unknown), in ``predict_recording``'s table, ``run_pdr``'s step table and
+    the pdr JSON rows; a model with one gives the empty reason exactly where ``in_domain`` is True."""
+    import dataclasses
+
+    from gaitml.models import load_model, predict_recording
+    from gaitml.pdr import run_pdr
+    from gaitml.simulate import simulate_route
+
+    if not (ROOT / "models" / "demo" / "model.json").is_file():
+        pytest.skip("models/demo is not trained")
+    model = load_model(ROOT / "models" / "demo")
+    rec = simulate_route("straight", seed=13, duration_s=30.0)
+    bare = dataclasses.replace(model, domain=None)
+
+    table = predict_recording(bare, rec)
+    assert all(v is None for v in table["in_domain"]) and all(r is None for r in table["out_of_domain_reason"])
+    res = run_pdr(rec, model=bare, modes="model")
+    assert res.n_steps > 0
+    assert all(v is None for v in res.steps["in_domain"])
+    assert all(r is None for r in res.steps["out_of_domain_reason"])
+    rows = res.to_json_dict()["trajectory"]
+    assert all(row["in_domain"] is None and row["out_of_domain_reason"] is None for row in rows)
+
+    checked = run_pdr(rec, model=model, modes="model")
+    flags = checked.steps["in_domain"].tolist()
+    reasons = checked.steps["out_of_domain_reason"].tolist()
+    assert all(v is not None for v in flags)
+    assert all((r == "") == bool(v) for r, v in zip(reasons, flags, strict=True))
+    rows = checked.to_json_dict()["trajectory"]
+    assert rows[0]["in_domain"] is None and rows[0]["out_of_domain_reason"] is None
+    assert all((row["out_of_domain_reason"] is None) == row["in_domain"] for row in rows[1:])

@@ -216,3 +216,34 @@ def test_steps_notes_when_the_gait_check_could_not_run(files, tmp_path, capsys):
     cap = capsys.readouterr()
     assert json.loads(cap.out)["gait_check"]["tested"] is False
     assert cap.err.count("gaitml: note: gait check not run") == 1
+
+
+def test_a_bout_over_a_chunk_edge_left_out_in_one_chunk_counts_as_one_rejected_bout():
+    """One bout of 9 steps (1 s apart) over the edge of two chunks, kept by the test in the first chunk and
+    left out in the second (each chunk tests its own part of a bout longer than the margin): one bout, one
+    rejected bout, its 5 steps in the second core rejected (the rejected bout used to be lost: it was
+    counted only in the chunk holding its first step)."""
+    from gaitml.io.chunked import Chunk
+    from gaitml.recording import Recording
+    from gaitml.steps._table import make_step_table
+
+    fs = 10.0
+    rec = Recording(acc=np.tile([0.0, 0.0, 9.81], (150, 1)), gyr=np.zeros((150, 3)), sampling_rate_hz=fs)
+    peaks = np.arange(60, 150, 10)  # whole-file samples 60, 70, ..., 140
+
+    def table(p):
+        return make_step_table(p - 5, p, p + 5, fs, event="t_peak_s", period_s=np.full(len(p), 1.0))
+
+    first = Chunk(rec, 0, 0, 100)  # core [0, 100): the steps at 60-90, kept
+    second = Chunk(rec, 50, 100, 200)  # core [100, 200): the steps at 100-140, left out
+    accounts = [
+        cr._gait_account(table(peaks), table(peaks), rec, first),
+        cr._gait_account(table(peaks - 50), table(peaks[:0]), rec, second),
+    ]
+    total = cr._sum_accounts(accounts)
+    assert (total["n_bouts"], total["n_bouts_rejected"], total["n_steps_rejected"]) == (1, 1, 5)
+    np.testing.assert_allclose(total["rejected_t_s"], [10.0, 11.0, 12.0, 13.0, 14.0])
+    # a pause longer than any step interval between the two parts: two bouts, one of them rejected
+    accounts[1] = cr._gait_account(table(peaks[4:] - 50 + 40), table(peaks[:0]), rec, Chunk(rec, 50, 100, 250))
+    total = cr._sum_accounts(accounts)
+    assert (total["n_bouts"], total["n_bouts_rejected"], total["n_steps_rejected"]) == (2, 1, 5)

@@ -454,8 +454,16 @@ def long_predict(
         recording=recording,
         **read_kwargs,
     )
+    rng = getattr(model, "acc_range_ms2", None)
+    tallies, counted_to = [], 0  # the accelerometer range (gaitml.features._range): every sample counted once over the chunks
     for ch, _length, _hop in chunks:
         rec = ch.recording
+        if rng is not None:
+            from gaitml.features import acc_range_tally
+
+            new_from = max(counted_to - ch.offset, 0)
+            tallies.append(acc_range_tally(rec.acc[new_from:], rng))
+            counted_to = max(counted_to, ch.offset + rec.n_samples)
         if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
         table = predict_recording(model, rec, correction=False)
@@ -478,8 +486,25 @@ def long_predict(
         resampled_from_hz=None if abs(own_hz - fs) <= 1e-9 * fs else own_hz,
         correction=bool(correction),
         has_domain=dom is not None,
+        acc_range=_sum_tallies(tallies, rng),
     )
     return out
+
+
+def _sum_tallies(tallies: list[dict], range_ms2: float | None) -> dict | None:
+    """The :func:`gaitml.features.acc_range_tally` of a whole file from those of its chunks' new samples."""
+    if range_ms2 is None:
+        return None
+    from gaitml.features import WIDER_RANGE_RATIO
+
+    top = max((t["max_abs_axis_ms2"] for t in tallies), default=0.0)
+    return {
+        "range_ms2": float(range_ms2),
+        "n_samples": sum(t["n_samples"] for t in tallies),
+        "n_samples_clipped": sum(t["n_samples_clipped"] for t in tallies),
+        "max_abs_axis_ms2": top,
+        "wider": bool(top > WIDER_RANGE_RATIO * float(range_ms2)),
+    }
 
 
 def _at_model_rate(path, fs: float, read_kwargs: dict):

@@ -168,9 +168,19 @@ def main(argv=None) -> int:
         help="lab experiment: clip every accelerometer axis at +-this (e.g. 19.6, the 2 g range of the Nexus 5 and "
         "iPhone 4S) in training and in the left-out recordings alike (0: off)",
     )
+    ap.add_argument(
+        "--acc-range-ms2",
+        type=float,
+        default=None,
+        help="override features.acc_range_ms2: the fold models read every phone through this range in gaitml's own "
+        "training and predict path (the left-out recordings are passed as recorded)",
+    )
     ap.add_argument("--diagnose", default="", help="comma-separated motions to diagnose (e.g. Swinging,RunningHand,RunningPocket)")
     a = ap.parse_args(argv)
-    cfg = simulated_part(load_config(a.config))
+    cfg_full = load_config(a.config)
+    if a.acc_range_ms2 is not None:
+        cfg_full = cfg_full.with_values({"features.acc_range_ms2": a.acc_range_ms2})
+    cfg = simulated_part(cfg_full)
     out = a.cache / a.tag
     out.mkdir(parents=True, exist_ok=True)
     items = load_items(a.data, cfg["data"]["resample_hz"], a.cache)

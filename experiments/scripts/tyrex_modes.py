@@ -254,7 +254,7 @@ def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path, augment:
     from gaitml.consts import MOTION_MODES
     from gaitml.features import feature_names
     from gaitml.models import load_model, make_model, save_model
-    from gaitml.pipeline.runner import PreparedData, _window_info, build_dataset, fit_training_domain
+    from gaitml.pipeline.runner import PreparedData, _through_acc_range, _window_info, build_dataset, fit_training_domain
 
     sim_modes, weight = RECIPES[recipe]
     recs = [keep_modes(r, sim_modes) for r in sim_recs]
@@ -269,7 +269,10 @@ def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path, augment:
         for _ in range(weight):
             recs.append(r)
             groups.append(f"tyrex-{r.meta['subject']}")
-    data = PreparedData(recs, groups, [f"recipe {recipe}"], keep_labels=list(MOTION_MODES))
+    notes = [f"recipe {recipe}"]
+    # features.acc_range_ms2: every training recording read through the range, as gaitml train does (after the turns)
+    recs = _through_acc_range(recs, cfg["features"]["acc_range_ms2"], notes)
+    data = PreparedData(recs, groups, notes, keep_labels=list(MOTION_MODES))
     ds = build_dataset(cfg, data, use_cache=False)
     model = make_model(cfg["model"]["kind"], cfg["model"]["params"], seed=cfg.seed)
     model.fit(ds.inputs("features"), ds.y)
@@ -290,6 +293,8 @@ def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path, augment:
         "training_data": {"n_windows": len(ds), "n_recordings": len(recs), "groups": sorted(set(groups)), "notes": data.notes},
         "feature_frame": cfg["features"]["frame"],
     }
+    if cfg["features"]["acc_range_ms2"]:  # predict reads the left-out people through the model's range
+        info["acc_range_ms2"] = float(cfg["features"]["acc_range_ms2"])
     domain = fit_training_domain(cfg, data, ds, model)
     save_model(out_dir, model, info, domain=domain, card=False)
     return load_model(out_dir), len(ds)
@@ -412,6 +417,8 @@ def simulated_part(cfg):
     """The simulated part of ``cfg``: a shipped folder config (``data.add_simulated``, e.g. ``experiments/demo.toml``)
     becomes its ``[data.simulated]`` subjects alone, so that the recipes train exactly the shipped settings;
     a simulated config is returned as it is."""
+    from gaitml.pipeline.config import SWING_POSITIONS_DEFAULT
+
     if cfg["data"]["source"] == "simulated":
         return cfg
     if not cfg["data"]["add_simulated"]:
@@ -425,6 +432,9 @@ def simulated_part(cfg):
             "data.add_simulated": False,
             "data.labelling.moving_speed_ms": 0.0,
             "data.augment.swing_turns": 0,
+            # the augmentation is the folder's (augment_of); a simulated config refuses its keys
+            "data.augment.share_time": False,
+            "data.augment.positions": list(SWING_POSITIONS_DEFAULT),
         }
     )
 
@@ -461,6 +471,12 @@ def main(argv=None) -> int:
         help="override data.augment.swing_turns (rotated copies of the real recordings in data.augment.positions; "
         "default: the config's, 0 for a simulated config)",
     )
+    ap.add_argument(
+        "--acc-range-ms2",
+        type=float,
+        default=None,
+        help="override features.acc_range_ms2 (the accelerometer range the recipes' models read every phone through; 0 = none)",
+    )
     ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
     ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
@@ -476,6 +492,8 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     gate = {k: v for k, v in (("still_rule", a.still_rule), ("still_threshold_ms2", a.still_threshold)) if v is not None}
     cfg_full = load_config(a.config)
+    if a.acc_range_ms2 is not None:
+        cfg_full = cfg_full.with_values({"features.acc_range_ms2": a.acc_range_ms2})
     turns, turn_positions, share_time = augment_of(cfg_full)
     if a.swing_turns is not None:
         turns = a.swing_turns

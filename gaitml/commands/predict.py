@@ -91,7 +91,11 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
 
     ``settings``: the model's window settings for the JSON (length and overlap, or
     ``window_by`` and detector). Out-of-domain check (:mod:`gaitml.models.domain`): one
-    warning line, the fraction in the JSON.
+    warning line, the fraction in the JSON. The accelerometer range
+    (:mod:`gaitml.features._range`): ``acc_range`` in the JSON (null for a model without
+    one: the range, samples clipped, the largest |axis|), one stderr line when the
+    recording reads well beyond it (a wider-range sensor; not for phones that clip near it),
+    else a note beside the plain summary.
     """
     from gaitml.commands._domain import domain_warning
     from gaitml.io import write_csv
@@ -117,6 +121,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     n_unsure = int(table["side_direction_unsure"].sum()) if "side_direction_unsure" in table else 0
     if n_unsure:
         log(f"gaitml: warning: {side_direction_warning(n_unsure, len(table), unit)}")
+    acc_range = table.attrs.get("acc_range")
+    if acc_range and acc_range.get("wider"):
+        log(f"gaitml predict: {acc_range_note(acc_range)}")
     by_steps = unit != "windows"
     if args.json:
         emit_json(
@@ -143,6 +150,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 "still_fraction": n_still / len(table) if len(table) else None,
                 "still_gate": table.attrs.get("still_gate", default_still_gate()),
                 "side_direction_unsure_count": n_unsure,
+                "acc_range": acc_range,
             }
         )
     elif not args.out:
@@ -155,4 +163,18 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
             + ", ".join(f"{k} {v}" for k, v in counts.items())
             + f" ({len(table)} {unit}{detail}; use --out FILE or --json for the table)"
         )
+    if acc_range and not acc_range.get("wider") and not args.json:
+        log(
+            f"gaitml predict: accelerometer read through the model's range +-{acc_range['range_ms2']:g} m/s^2 per axis "
+            f"({acc_range['n_samples_clipped']} of {acc_range['n_samples']} samples clipped)"
+        )
     return 0
+
+
+def acc_range_note(acc_range: dict) -> str:
+    """One line: the recording reads beyond the model's accelerometer range, which the model clips it to (gaitml.features._range)."""
+    return (
+        f"the accelerometer reads up to {acc_range['max_abs_axis_ms2']:.1f} m/s^2 on an axis, beyond the model's range of "
+        f"+-{acc_range['range_ms2']:g} m/s^2 (its training phones' sensors): {acc_range['n_samples_clipped']} of "
+        f"{acc_range['n_samples']} samples were read clipped to it, as those phones read them, before the features and the domain check."
+    )

@@ -7,7 +7,9 @@
 - :class:`StreamingFeatureExtractor`: the same rows from samples pushed as they arrive;
 - :data:`CATALOGUE`, :data:`FEATURE_SETS`, :func:`feature_names`: the catalogue and subsets;
 - :data:`FEATURE_FRAMES`, :func:`gravity_frame_rotations`: the phone frame (paper 003) or a
-  per-window gravity-aligned frame that makes the features independent of the phone's orientation.
+  per-window gravity-aligned frame that makes the features independent of the phone's orientation;
+- :func:`clip_acc`, :func:`acc_range_tally`: the accelerometer range a model reads every phone through
+  (:mod:`gaitml.features._range`).
 """
 
 from gaitml.features._catalogue import (
@@ -23,6 +25,7 @@ from gaitml.features._catalogue import (
 )
 from gaitml.features._extract import extract_features, features_from_arrays
 from gaitml.features._frame import FEATURE_FRAMES, check_frame, gravity_frame_rotations
+from gaitml.features._range import WIDER_RANGE_RATIO, acc_range_tally, check_acc_range, clip_acc
 from gaitml.features._streaming import StreamingFeatureExtractor
 from gaitml.features._windows import make_windows
 from gaitml.features.step_windows import WINDOW_BY, extract_step_features, make_step_windows
@@ -35,9 +38,13 @@ __all__ = [
     "PAPER34_NUMBERS",
     "FeatureSpec",
     "StreamingFeatureExtractor",
+    "WIDER_RANGE_RATIO",
     "WINDOW_BY",
+    "acc_range_tally",
     "catalogue_markdown",
+    "check_acc_range",
     "check_frame",
+    "clip_acc",
     "extract_features",
     "extract_step_features",
     "feature_names",

@@ -8,6 +8,7 @@ from gaitml.errors import InputError
 from gaitml.features._catalogue import feature_names, resolve_subset
 from gaitml.features._extract import features_from_arrays
 from gaitml.features._frame import check_frame
+from gaitml.features._range import acc_range_tally, check_acc_range, clip_acc
 from gaitml.features._windows import WINDOW_LENGTH_S, WINDOW_OVERLAP
 from gaitml.signal import window_params
 
@@ -48,6 +49,11 @@ class StreamingFeatureExtractor:
         Feature frame, as in :func:`gaitml.features.extract_features` (the gravity
         frame of a window depends on the window's own samples, so the rows still
         equal the batch rows).
+    acc_range_ms2 : float, optional
+        The accelerometer range the model reads every phone through
+        (:mod:`gaitml.features._range`; a model's ``acc_range_ms2``): each pushed
+        acceleration sample is clipped to +-this per axis before its features, as the
+        whole-file path does. None (default) or 0: no range. :meth:`for_model` sets it.
 
     Attributes
     ----------
@@ -60,6 +66,8 @@ class StreamingFeatureExtractor:
     last_starts_ : ndarray of int
         Start sample indices (from the first pushed sample) of the rows returned
         by the latest ``push``.
+    n_clipped_ : int
+        Pushed samples with an axis beyond ``acc_range_ms2`` (0 without a range).
     """
 
     def __init__(
@@ -69,17 +77,32 @@ class StreamingFeatureExtractor:
         overlap: float = WINDOW_OVERLAP,
         subset: str = "all52",
         frame: str = "phone",
+        acc_range_ms2: float | None = None,
     ):
         self.sampling_rate_hz = sampling_rate_hz
         self.length_s = length_s
         self.overlap = overlap
         self.subset = subset
         self.frame = frame
+        self.acc_range_ms2 = acc_range_ms2
+        self._range = check_acc_range(acc_range_ms2)
         self._subset = resolve_subset(subset)
         check_frame(frame)
         self.length_samples_, self.hop_samples_ = window_params(length_s, overlap, float(sampling_rate_hz))
         self.feature_names_ = feature_names(self._subset)
         self.reset()
+
+    @classmethod
+    def for_model(cls, model) -> StreamingFeatureExtractor:
+        """The extractor of a saved time-window feature model: its rate, window, feature set, frame and accelerometer range."""
+        return cls(
+            model.sampling_rate_hz,
+            model.length_s,
+            model.overlap,
+            model.feature_set,
+            frame=getattr(model, "frame", "phone"),
+            acc_range_ms2=getattr(model, "acc_range_ms2", None),
+        )
 
     def reset(self) -> StreamingFeatureExtractor:
         """Forget all buffered samples; the next push starts a new stream."""
@@ -90,6 +113,7 @@ class StreamingFeatureExtractor:
         self.n_samples_ = 0
         self.n_windows_ = 0
         self.last_starts_ = np.zeros(0, dtype=np.int64)
+        self.n_clipped_ = 0
         return self
 
     def push(self, acc_chunk, gyr_chunk=None) -> np.ndarray:
@@ -108,6 +132,9 @@ class StreamingFeatureExtractor:
             Possibly zero rows.
         """
         acc = _chunk("acc", acc_chunk)
+        if self._range is not None:
+            self.n_clipped_ += acc_range_tally(acc, self._range)["n_samples_clipped"]
+            acc = clip_acc(acc, self._range)
         need_gyr = self._subset == "all52+gyro"
         if need_gyr:
             if gyr_chunk is None:

@@ -170,6 +170,12 @@ def _domain_lines(info: dict) -> list[str]:
             else " (per-window gravity-aligned: the features do not depend on the phone's orientation)"
         ),
     ]
+    if info.get("acc_range_ms2") is not None:
+        lines.append(
+            f"- Accelerometer range: every recording is read through +-{float(info['acc_range_ms2']):g} m/s^2 per axis "
+            "(the narrowest range of the training phones) before the features and this check; a phone with a wider range is "
+            "not out of domain merely for reading beyond it. The foot-placement rule reads the recording unclipped."
+        )
     try:
         g = sm.get("gravity_mean") or []
         q = sm.get("gravity_angle_to_mean_deg") or {}

@@ -20,6 +20,12 @@ the weights).
 ``statistic``, ``threshold_ms2``); version 1 named only ``range_ms2`` (max - min of |acc|),
 which is null in version 2 unless the range rule is in force. A reader of version 1 must
 not read a version 2 export.
+
+``format_version`` 3 is written for a model with an accelerometer range (``acc_range_ms2``,
+:mod:`gaitml.features._range`): its ``acc_range`` entry (``range_ms2``, ``rule``) says to clip
+each accelerometer axis to +-``range_ms2`` before the features. A reader of version 2 must not
+read a version 3 export (it would compute the features of a wide-range phone unclipped). A
+model without a range is exported as version 2, exactly as before.
 """
 
 from __future__ import annotations
@@ -32,11 +38,13 @@ import numpy as np
 
 from gaitml.errors import ModelError
 
-__all__ = ["export_json", "export_onnx", "input_spec", "PORTABLE_FORMAT", "PORTABLE_FORMAT_VERSION"]
+__all__ = ["export_json", "export_onnx", "input_spec", "PORTABLE_FORMAT", "PORTABLE_FORMAT_VERSION", "PORTABLE_RANGE_FORMAT_VERSION"]
 
 PORTABLE_FORMAT = "gaitml-portable-model"
-#: Version of the portable layout (see the module docstring for what changed in 2).
+#: Version of the portable layout of a model without an accelerometer range (see the module docstring for what changed in 2).
 PORTABLE_FORMAT_VERSION = 2
+#: Version of the portable layout of a model with an accelerometer range (its ``acc_range`` entry, new in 3).
+PORTABLE_RANGE_FORMAT_VERSION = 3
 ONNX_HINT = "install the optional extra: pip install 'gaitml[onnx]'"
 
 _VOTING = {
@@ -173,11 +181,27 @@ def input_spec(model) -> dict:
             "side_direction": _side_direction_spec(),
         },
     }
+    rng = getattr(model, "acc_range_ms2", None)
+    if rng is not None:
+        out["format_version"] = PORTABLE_RANGE_FORMAT_VERSION
+        out["acc_range"] = _acc_range_spec(rng)
     if info["input_kind"] == "features":
         out["features"] = _feature_spec(info)
     else:
         out["raw_channels"] = list(info.get("raw_channels", []))
     return out
+
+
+def _acc_range_spec(range_ms2: float) -> dict:
+    """The accelerometer range (gaitml.features._range) as the JSON export states it."""
+    return {
+        "range_ms2": float(range_ms2),
+        "rule": (
+            "Before the features (after resampling to sampling_rate_hz): clip each accelerometer axis to [-range_ms2, +range_ms2] "
+            "(x = min(max(x, -range_ms2), range_ms2)): the model reads every phone through the narrowest accelerometer range of its "
+            "training phones. The still gate and the side-direction flag read the accelerometer unclipped."
+        ),
+    }
 
 
 def _still_spec() -> dict:

@@ -16,7 +16,11 @@ Layout (``format_version`` 2)::
 :mod:`gaitml.features._frame`; absent in older models = ``"phone"``) and, for models
 trained since the domain record exists, ``domain`` (:mod:`gaitml.models.domain`):
 its arrays are stored in ``arrays.npz`` under names starting ``domain__`` and are
-read with the same ``allow_pickle=False``.
+read with the same ``allow_pickle=False``. A model trained with ``[features]
+acc_range_ms2`` records ``acc_range_ms2``: the accelerometer range per axis (m/s^2)
+every recording is read through before its features and its domain check
+(:mod:`gaitml.features._range`); a model without the key reads the accelerometer
+as it comes.
 
 ``model.json`` records what is needed to use the model correctly and to trust it:
 the gaitml, scikit-learn, numpy and torch versions, the model kind, the feature
@@ -174,6 +178,12 @@ class TrainedModel:
     def frame(self) -> str:
         """Feature frame the model was trained in (``'phone'`` for models that do not record one)."""
         return str(self.info.get("feature_frame", "phone"))
+
+    @property
+    def acc_range_ms2(self) -> float | None:
+        """The accelerometer range (m/s^2 per axis) the model reads every phone through, or None (:mod:`gaitml.features._range`)."""
+        v = self.info.get("acc_range_ms2")
+        return None if v is None else float(v)
 
     @property
     def raw_channels(self) -> list[str]:
@@ -578,6 +588,17 @@ def _check_feature_set(info: dict, jpath: Path) -> None:
         raise ModelError(
             f"feature_frame {info.get('feature_frame')!r} in {jpath} is unknown to this gaitml; known: {', '.join(FEATURE_FRAMES)}. Retrain the model."
         )
+    if info.get("acc_range_ms2") is not None:
+        from gaitml.errors import InputError
+        from gaitml.features import check_acc_range
+
+        try:
+            if check_acc_range(info["acc_range_ms2"]) is None:
+                raise InputError("0 is written as no key")
+        except InputError:
+            raise ModelError(
+                f"acc_range_ms2 {info['acc_range_ms2']!r} in {jpath} is not an accelerometer range (a number >= 9.81 m/s^2); retrain the model."
+            ) from None
     if info["input_kind"] == "raw":
         return
     from gaitml.features import FEATURE_SETS, feature_names

@@ -11,6 +11,7 @@ from gaitml.recording import Recording
 __all__ = [
     "predict_recording",
     "model_inputs",
+    "model_view",
     "domain_columns",
     "still_windows",
     "side_direction_unsure",
@@ -134,8 +135,38 @@ def _windows_for(recording: Recording, length_s: float, overlap: float) -> pd.Da
     return w
 
 
+def model_view(model, recording: Recording) -> tuple[Recording, dict | None]:
+    """``recording`` as ``model`` reads it, and what that changed.
+
+    A model with an accelerometer range (``acc_range_ms2`` in model.json,
+    :mod:`gaitml.features._range`) reads every phone through the narrowest range in its
+    training data: each acceleration axis clipped to +-``acc_range_ms2``. The view feeds the
+    classifier's inputs and the domain check (fitted on the training windows read the same
+    way); the fixed physics rules (foot placement, still gate, side direction) read
+    ``recording`` itself.
+
+    Returns
+    -------
+    (Recording, dict or None)
+        The view (``recording`` itself without a range) and
+        :func:`gaitml.features.acc_range_tally` of ``recording`` (None without a range).
+    """
+    from gaitml.features import acc_range_tally, clip_acc
+
+    r = getattr(model, "acc_range_ms2", None)
+    if r is None:
+        return recording, None
+    tally = acc_range_tally(recording.acc, r)
+    if tally["n_samples_clipped"] == 0:
+        return recording, tally
+    return recording.replace(acc=clip_acc(recording.acc, r), check_units=False), tally
+
+
 def model_inputs(model, recording: Recording, windows: pd.DataFrame) -> np.ndarray:
-    """The model's input for ``windows`` of ``recording`` (features in saved order, or raw)."""
+    """The model's input for ``windows`` of ``recording`` (features in saved order, or raw).
+
+    ``recording`` is read as it is: pass :func:`model_view` of it for a model with an accelerometer range.
+    """
     from gaitml.models._dataset import raw_windows
 
     if model.input_kind == "raw":
@@ -264,7 +295,9 @@ def predict_recording(
         ``in_domain``, when the model has no record: nothing was checked),
         ``domain_distance``, ``gravity_angle_deg`` (NaN when not checked), plus ``label`` and ``label_fraction`` when the recording has
         labels. ``attrs`` holds ``sampling_rate_hz``, ``resampled_from_hz`` (or
-        None), ``correction`` and ``has_domain``.
+        None), ``correction``, ``has_domain`` and ``acc_range`` (None for a model without an
+        accelerometer range, else :func:`gaitml.features.acc_range_tally` of the recording at the
+        model's rate: the range and how many samples it clipped; :func:`model_view`).
 
     Raises
     ------
@@ -283,11 +316,12 @@ def predict_recording(
             "the accelerometer-only model models/demo-acc (feature set 'all52')",
         )
     w = _windows_for(rec, model.length_s, model.overlap)
-    X = model_inputs(model, rec, w)
+    seen, tally = model_view(model, rec)  # the classifier and the domain record read the accelerometer through the model's range
+    X = model_inputs(model, seen, w)
     out = w[["start", "end", "t_start_s", "t_end_s"]].copy()
     out["mode_raw"], out["mode"] = predicted_modes(model, X, correction)
     # ---- out-of-domain check (gaitml.models.domain)
-    domain = domain_columns(model, rec, w, X if model.input_kind == "features" else None)
+    domain = domain_columns(model, seen, w, X if model.input_kind == "features" else None)
     return finish_predictions(
         out,
         w,
@@ -299,6 +333,7 @@ def predict_recording(
         still_rule=still_rule,
         still_threshold_ms2=still_threshold_ms2,
         has_domain=getattr(model, "domain", None) is not None,
+        acc_range=tally,
     )
 
 

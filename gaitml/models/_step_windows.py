@@ -182,10 +182,11 @@ def predict_step_windows(model, recording: Recording, correction: bool = True, *
         rate), ``t_start_s``, ``t_end_s``, ``t_event_s``, ``mode_raw``, ``mode``, plus
         ``label`` and ``label_fraction`` when the recording has labels. ``attrs``:
         ``sampling_rate_hz``, ``resampled_from_hz``, ``correction``, ``by``,
-        ``detector``, ``n_short`` (spans too short to classify).
+        ``detector``, ``n_short`` (spans too short to classify), ``acc_range``
+        (:func:`gaitml.models._predict.model_view`: None without an accelerometer range).
     """
     from gaitml.features.step_windows import make_step_windows
-    from gaitml.models._predict import finish_predictions, predicted_modes
+    from gaitml.models._predict import finish_predictions, model_view, predicted_modes
 
     by, det = window_by(model), window_detector(model)
     if by == "time":
@@ -195,17 +196,20 @@ def predict_step_windows(model, recording: Recording, correction: bool = True, *
         rec.require_gyr(
             f"the model's feature set {model.feature_set!r}", "a model trained on feature set 'all52' (e.g. experiments/paper-svm.toml)"
         )
-    w = make_step_windows(rec, by, det, min_label_fraction=0.0, spans=spans)
+    # a model with an accelerometer range reads the recording through it (gaitml.features._range): steps, features
+    # and the domain check, as in training; the fixed physics rules in finish_predictions read the recording itself
+    seen, tally = model_view(model, rec)
+    w = make_step_windows(seen, by, det, min_label_fraction=0.0, spans=spans)
     cols = ["step", "start", "end", "t_start_s", "t_end_s", "t_event_s"]
     out = w[cols].copy()
     if len(w):
-        X = step_model_inputs(model, rec, w)
+        X = step_model_inputs(model, seen, w)
         out["mode_raw"], out["mode"] = predicted_modes(model, X, correction)
     else:
         X = None
         out["mode_raw"] = pd.Series(dtype=str)
         out["mode"] = pd.Series(dtype=str)
-    domain = step_domain_columns(model, rec, w, X if model.input_kind == "features" else None)
+    domain = step_domain_columns(model, seen, w, X if model.input_kind == "features" else None)
     return finish_predictions(
-        out, w, domain, model, recording, rec, correction, by=by, detector=det, n_short=int(w.attrs.get("n_short", 0))
+        out, w, domain, model, recording, rec, correction, by=by, detector=det, n_short=int(w.attrs.get("n_short", 0)), acc_range=tally
     )

@@ -244,6 +244,9 @@ def refine_mode_boundaries(
     if len(t) < 2:
         return m.astype(str)
     rec = resample_recording(recording, model.sampling_rate_hz)
+    from gaitml.models._predict import model_view
+
+    rec = model_view(model, rec)[0]  # the model's evidence reads the accelerometer through its range, as predict does
     fs = rec.sampling_rate_hz
     n = rec.n_samples
     win_s = model.length_s if raw else (0.5 * model.length_s if short_window_s is None else float(short_window_s))

@@ -70,6 +70,8 @@ Keys (defaults in brackets) of ``task = "classification"``::
     [features]
     set = "all52"                    # "all52" | "paper34" | "all52+gyro"
     frame = "phone"                  # "phone" (paper 003) | "gravity" (per-window gravity-aligned, orientation-free)
+    acc_range_ms2 = 0                # read every accelerometer through +-this per axis (m/s^2), in training and
+                                     # prediction: the training phones' narrowest range, e.g. 19.6 (2 g); 0 = none
     [model]
     kind = "linear-ovo-svm"          # | "mlp" | "cnn1d"
     params = {}                      # constructor parameters of the kind, e.g. { C = 1.0 }
@@ -250,6 +252,16 @@ def _pos(v):
     return None if v > 0 else "must be > 0"
 
 
+def _acc_range(v):
+    from gaitml.consts import GRAVITY_MS2
+
+    return (
+        None
+        if v == 0 or v >= GRAVITY_MS2
+        else f"must be 0 (no range) or a range per axis >= {GRAVITY_MS2} m/s^2 (1 g), e.g. 19.6 for +-2 g"
+    )
+
+
 def _nonneg_int(v):
     return None if v >= 0 else "must be >= 0"
 
@@ -359,7 +371,12 @@ SCHEMA: dict[str, Any] = {
         "by": _Leaf((str,), "time", allowed=_window_by_names),
         "detector": _Leaf((str,), ""),
     },
-    "features": {"set": _Leaf((str,), "all52", allowed=_feature_set_names), "frame": _Leaf((str,), "phone", allowed=_feature_frame_names)},
+    "features": {
+        "set": _Leaf((str,), "all52", allowed=_feature_set_names),
+        "frame": _Leaf((str,), "phone", allowed=_feature_frame_names),
+        # the accelerometer range every recording is read through (gaitml.features._range); 0 = none
+        "acc_range_ms2": _Leaf(_NUM, 0.0, check=_acc_range),
+    },
     "model": {
         "kind": _Leaf((str,), "linear-ovo-svm", allowed=_model_kind_names),
         "params": _Leaf((dict,), {}),

@@ -365,7 +365,38 @@ def prepare_data(cfg: ExperimentConfig, *, use_cache: bool = True) -> PreparedDa
     groups = [str(r.meta[group]) for r in recs]
     c = cfg["cv"]
     check_groups(c["scheme"], groups, c["n_splits"], group_key=group)
+    labelled = _through_acc_range(labelled, cfg["features"]["acc_range_ms2"], notes)
     return PreparedData(labelled, groups, notes, keep_labels)
+
+
+def _through_acc_range(recs: list, range_ms2: float, notes: list[str]) -> list:
+    """``recs`` read through the accelerometer range ``range_ms2`` (``features.acc_range_ms2``; 0: as they are).
+
+    Every recording of the training set, real and simulated, augmented copies included
+    (turned first, then read by the range, as the phone's sensor would), clipped per axis
+    (:mod:`gaitml.features._range`): the classifier, cross-validation and the domain record
+    all read the windows as :func:`gaitml.models.predict_recording` will. A note says how many
+    samples were clipped.
+    """
+    from gaitml.features import acc_range_tally, check_acc_range, clip_acc
+
+    r = check_acc_range(range_ms2)
+    if r is None:
+        return recs
+    out, n_clip, n_all, n_recs = [], 0, 0, 0
+    for rec in recs:
+        t = acc_range_tally(rec.acc, r)
+        n_all += t["n_samples"]
+        if t["n_samples_clipped"]:
+            n_clip += t["n_samples_clipped"]
+            n_recs += 1
+            rec = rec.replace(acc=clip_acc(rec.acc, r), check_units=False)
+        out.append(rec)
+    notes.append(
+        f"accelerometer read through +-{r:g} m/s^2 per axis (features.acc_range_ms2): {n_clip} of {n_all} samples clipped "
+        f"in {n_recs} of {len(recs)} recordings"
+    )
+    return out
 
 
 def build_dataset(
@@ -378,9 +409,7 @@ def build_dataset(
     need_raw = input_kind == "raw" if need_raw is None else need_raw
     need_features = input_kind == "features" if need_features is None else need_features
     w = cfg["windows"]
-    key = json.dumps(
-        [_data_key(cfg), w, cfg["features"]["set"], cfg["features"]["frame"], need_raw, need_features], sort_keys=True, default=str
-    )
+    key = json.dumps([_data_key(cfg), w, cfg["features"], need_raw, need_features], sort_keys=True, default=str)
     if use_cache and key in _DS_CACHE:
         return _DS_CACHE[key]
     if w["by"] != "time":
@@ -743,17 +772,18 @@ def attach_training_domain(cfg: ExperimentConfig, model_dir: str | Path, out_dir
 
     model = load_model(model_dir)
     w = cfg["windows"]
-    mine = (model.feature_set, model.length_s, model.overlap, model.sampling_rate_hz, model.frame)
+    mine = (model.feature_set, model.length_s, model.overlap, model.sampling_rate_hz, model.frame, model.acc_range_ms2 or 0.0)
     theirs = (
         cfg["features"]["set"],
         float(w["length_s"]),
         float(w["overlap"]),
         float(cfg["data"]["resample_hz"]),
         cfg["features"]["frame"],
+        float(cfg["features"]["acc_range_ms2"]),
     )
     if mine != theirs:
         raise ConfigError(
-            f"config {cfg.name} (feature set, window, overlap, rate, frame = {theirs}) is not the one model {model_dir} was trained with "
+            f"config {cfg.name} (feature set, window, overlap, rate, frame, accelerometer range = {theirs}) is not the one model {model_dir} was trained with "
             f"({mine}); pass the model's own training config."
         )
     data = prepare_data(cfg)
@@ -842,5 +872,7 @@ def train_config(cfg: ExperimentConfig, *, out_dir: str | Path | None = None, pr
     if model.input_kind == "features" and list(ds.feature_names) != info["feature_names"]:
         raise InputError(f"the feature table columns differ from feature_names({fset!r}); this is a bug in the feature set definition.")
     info["feature_frame"] = cfg["features"]["frame"]
+    if cfg["features"]["acc_range_ms2"]:  # a model without the key reads the accelerometer as it comes
+        info["acc_range_ms2"] = float(cfg["features"]["acc_range_ms2"])
     domain = fit_training_domain(cfg, data, ds, model)
     return save_model(target, model, info, domain=domain)

@@ -1,7 +1,7 @@
 """Cached person-out fold models of a tyrex recipe, and their per-window predictions (diagnosis of misread windows).
 
 ``python -m experiments.scripts.tyrex_folds --config experiments/demo.toml [--recipe a] [--cache /tmp/runswing] [--tag NAME]
-[--augment N [--augment-positions P,..] [--share-time]] [--diagnose MOTION,..]``
+[--augment N [--augment-positions P,..] [--share-time]] [--flips x,y,z [--flip-positions P,..]] [--diagnose MOTION,..]``
 from the repository root.
 
 Trains :func:`experiments.scripts.tyrex_modes.train_recipe` once per left-out tyrex person
@@ -161,6 +161,8 @@ def main(argv=None) -> int:
     ap.add_argument("--augment", type=int, default=0, help="rotated copies per real recording (the phone turned about its swing axis)")
     ap.add_argument("--augment-positions", default=None, help="comma-separated positions to augment (default: the swinging ones)")
     ap.add_argument("--share-time", action="store_true", help="the original and its copies share the recording's time")
+    ap.add_argument("--flips", default="", help="pocket flips: comma-separated phone axes (x,y,z) the copies are turned 180 deg about")
+    ap.add_argument("--flip-positions", default=None, help="comma-separated positions given the flips (default: the pockets)")
     ap.add_argument(
         "--clip-ms2",
         type=float,
@@ -195,6 +197,8 @@ def main(argv=None) -> int:
                 augment=a.augment,
                 augment_positions=a.augment_positions.split(",") if a.augment_positions else None,
                 share_time=a.share_time,
+                flips=[f for f in a.flips.split(",") if f],
+                flip_positions=a.flip_positions.split(",") if a.flip_positions else None,
             )
         model = load_model(mdir)
         tabs.append(fold_predictions(model, [it for it in items if it["subject"] == person]).assign(left_out=person))

@@ -244,12 +244,24 @@ def keep_modes(rec, modes) -> object:
     return rec.replace(labels=lab, check_units=False)
 
 
-def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path, augment: int = 0, augment_positions=None, share_time=False):
+def train_recipe(
+    cfg,
+    sim_recs,
+    real_items,
+    recipe: str,
+    out_dir: Path,
+    augment: int = 0,
+    augment_positions=None,
+    share_time=False,
+    flips=(),
+    flip_positions=None,
+):
     """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model.
 
     ``augment``: rotated copies per real recording in ``augment_positions``
     (:func:`gaitml.pipeline.augment.augment_recordings`, the phone turned about its swing axis; seed ``cfg.seed``),
-    counted with the real windows' weight; ``share_time``: the original and its copies share the recording's time.
+    counted with the real windows' weight; ``share_time``: the original and its copies share the recording's time;
+    ``flips``: pocket flips (180 deg turns about the named phone axes) of the recordings in ``flip_positions``.
     """
     from gaitml.consts import MOTION_MODES
     from gaitml.features import feature_names
@@ -260,11 +272,12 @@ def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path, augment:
     recs = [keep_modes(r, sim_modes) for r in sim_recs]
     groups = [f"sim-{r.meta['subject']}" for r in sim_recs]
     real = [it["recording"] for it in real_items]
-    if augment and weight:
-        from gaitml.pipeline.augment import SWING_POSITIONS, augmented_set
+    if (augment or flips) and weight:
+        from gaitml.pipeline.augment import POCKET_POSITIONS, SWING_POSITIONS, augmented_set
 
         pos = SWING_POSITIONS if augment_positions is None else tuple(augment_positions)
-        real, _ = augmented_set(real, augment, pos, seed=cfg.seed, share_time=share_time)
+        fpos = POCKET_POSITIONS if flip_positions is None else tuple(flip_positions)
+        real, _ = augmented_set(real, augment, pos, seed=cfg.seed, share_time=share_time, flips=tuple(flips), flip_positions=fpos)
     for r in real:
         for _ in range(weight):
             recs.append(r)
@@ -412,6 +425,8 @@ def simulated_part(cfg):
     """The simulated part of ``cfg``: a shipped folder config (``data.add_simulated``, e.g. ``experiments/demo.toml``)
     becomes its ``[data.simulated]`` subjects alone, so that the recipes train exactly the shipped settings;
     a simulated config is returned as it is."""
+    from gaitml.pipeline.augment import SWING_POSITIONS
+
     if cfg["data"]["source"] == "simulated":
         return cfg
     if not cfg["data"]["add_simulated"]:
@@ -424,7 +439,11 @@ def simulated_part(cfg):
             "data.labels": [],
             "data.add_simulated": False,
             "data.labelling.moving_speed_ms": 0.0,
+            # the copies belong to the real part (train_recipe adds them): every augment key back to its default,
+            # which a simulated source requires
             "data.augment.swing_turns": 0,
+            "data.augment.share_time": False,
+            "data.augment.positions": list(SWING_POSITIONS),
         }
     )
 

@@ -1,7 +1,7 @@
 """Cached person-out fold models of a tyrex recipe, and their per-window predictions (diagnosis of misread windows).
 
 ``python -m experiments.scripts.tyrex_folds --config experiments/demo.toml [--recipe a] [--cache /tmp/runswing] [--tag NAME]
-[--augment N [--augment-positions P,..] [--share-time]] [--diagnose MOTION,..]``
+[--augment N [--augment-positions P,..] [--share-time]] [--flips x,y,z [--flip-positions P,..]] [--score-flipped] [--diagnose MOTION,..]``
 from the repository root.
 
 Trains :func:`experiments.scripts.tyrex_modes.train_recipe` once per left-out tyrex person
@@ -147,6 +147,90 @@ def physical_table(items: list[dict], motions) -> pd.DataFrame:
     return pd.DataFrame(rows).sort_values(["motion", "recording"])
 
 
+def orientation_table(items: list[dict], motions) -> pd.DataFrame:
+    """Per recording of ``motions``: which way round the phone is carried, in the walker's frame.
+
+    Over the moving samples: ``up`` is the mean specific force (gravity's opposite, from the
+    accelerometer), ``forward`` the motion capture's walking direction (the body track's horizontal
+    velocity turned into the phone frame by the captured attitude, mean, made perpendicular to up),
+    ``left = up x forward``. The phone's top (+y) and screen normal (+z) are given on (up, forward,
+    left): top up / down, screen forward / backward / to the walker's left or right. The swing axis
+    (:func:`gaitml.pipeline.augment.swing_axis`, sign chosen to point left) on the same frame: its
+    ``up`` part is the tilt a turn of the phone cannot change (a rigid turn of the phone frame keeps
+    every angle between gravity, the walking direction and the swing axis).
+    """
+    from gaitml.evaluation.trajectory import body_track
+    from gaitml.pipeline.augment import swing_axis
+
+    rows = []
+    for it in items:
+        if it["motion"] not in motions:
+            continue
+        tr, r = it["truth"], it["recording"]
+        b = body_track(tr.t_s, tr.pos_m[:, :2])
+        v = np.gradient(b, axis=0) / np.median(np.diff(tr.t_s))
+        sp = np.linalg.norm(v, axis=1)
+        m = (sp > 0.3) & tr.valid
+        f = np.zeros((int(m.sum()), 3))
+        f[:, :2] = v[m] / sp[m, None]
+        fwd = np.einsum("nji,nj->ni", tr.rot[m], f).mean(0)  # room -> phone frame: rot^T f
+        mv = r.labels.astype(str) == it["mode"]
+        up = r.acc[mv].mean(0)
+        up /= np.linalg.norm(up)
+        fwd = fwd - (fwd @ up) * up
+        fwd /= np.linalg.norm(fwd)
+        left = np.cross(up, fwd)
+        ax = swing_axis(r.gyr, r.sampling_rate_hz)
+        ax = ax if ax @ left >= 0 else -ax
+        rows.append(
+            {
+                "motion": it["motion"],
+                "person": it["subject"],
+                "recording": str(it["file"]).split("/")[-1],
+                "top (y) on up / fwd / left": f"{up[1]:+.2f} / {fwd[1]:+.2f} / {left[1]:+.2f}",
+                "screen (z) on up / fwd / left": f"{up[2]:+.2f} / {fwd[2]:+.2f} / {left[2]:+.2f}",
+                "swing axis on up / fwd / left": f"{ax @ up:+.2f} / {ax @ fwd:+.2f} / {ax @ left:+.2f}",
+            }
+        )
+    return pd.DataFrame(rows).sort_values(["motion", "recording"])
+
+
+def flipped_table(out: Path, items: list[dict], motions=("FrontPocket", "BackPocket", "RunningPocket")) -> pd.DataFrame:
+    """Each fold model of ``out`` on its left-out person's ``motions`` as recorded and flipped 180 deg about the phone's x, y, z.
+
+    A phone put into the pocket another way round (:func:`gaitml.pipeline.augment.flip_rotation`);
+    per motion, flip and left-out person: right / flagged / silently wrong over the moving windows,
+    and the share flagged by the gravity-angle test.
+    """
+    from gaitml.models import load_model
+    from gaitml.pipeline.augment import FLIP_AXES, flip_rotation, rotate_recording
+
+    rows = []
+    for person in sorted({it["subject"] for it in items}):
+        model = load_model(out / f"fold-{person}")
+        mine = [it for it in items if it["subject"] == person and it["motion"] in motions]
+        for ax in ("none", *FLIP_AXES):
+            its = [
+                it if ax == "none" else {**it, "recording": rotate_recording(it["recording"], flip_rotation(ax), f"flipped about {ax}")}
+                for it in mine
+            ]
+            w = _moving(fold_predictions(model, its))
+            for motion, g in w.groupby("motion"):
+                rows.append(
+                    {
+                        "motion": motion,
+                        "flip": ax,
+                        "left out": person,
+                        "windows": len(g),
+                        "right": g["right"].mean(),
+                        "flagged": g["flag"].mean(),
+                        "wrong": g["wrong"].mean(),
+                        "flagged by gravity": (g["flag"] & g["fail_gravity"]).mean(),
+                    }
+                )
+    return pd.DataFrame(rows).sort_values(["motion", "flip", "left out"])
+
+
 def main(argv=None) -> int:
     from experiments.scripts.tyrex_modes import _sim, simulated_part, train_recipe
     from gaitml.models import load_model
@@ -161,6 +245,8 @@ def main(argv=None) -> int:
     ap.add_argument("--augment", type=int, default=0, help="rotated copies per real recording (the phone turned about its swing axis)")
     ap.add_argument("--augment-positions", default=None, help="comma-separated positions to augment (default: the swinging ones)")
     ap.add_argument("--share-time", action="store_true", help="the original and its copies share the recording's time")
+    ap.add_argument("--flips", default="", help="pocket flips: comma-separated phone axes (x,y,z) the copies are turned 180 deg about")
+    ap.add_argument("--flip-positions", default=None, help="comma-separated positions given the flips (default: the pockets)")
     ap.add_argument(
         "--clip-ms2",
         type=float,
@@ -174,6 +260,11 @@ def main(argv=None) -> int:
         default=None,
         help="override features.acc_range_ms2: the fold models read every phone through this range in gaitml's own "
         "training and predict path (the left-out recordings are passed as recorded)",
+    )
+    ap.add_argument(
+        "--score-flipped",
+        action="store_true",
+        help="also score each left-out person's pocket recordings flipped 180 deg about the phone's x, y, z (a phone put in another way round)",
     )
     ap.add_argument("--diagnose", default="", help="comma-separated motions to diagnose (e.g. Swinging,RunningHand,RunningPocket)")
     a = ap.parse_args(argv)
@@ -205,6 +296,8 @@ def main(argv=None) -> int:
                 augment=a.augment,
                 augment_positions=a.augment_positions.split(",") if a.augment_positions else None,
                 share_time=a.share_time,
+                flips=[f for f in a.flips.split(",") if f],
+                flip_positions=a.flip_positions.split(",") if a.flip_positions else None,
             )
         model = load_model(mdir)
         tabs.append(fold_predictions(model, [it for it in items if it["subject"] == person]).assign(left_out=person))
@@ -219,6 +312,13 @@ def main(argv=None) -> int:
         print(diagnose(t, motions))
         print("\nper recording, over its moving samples:\n")
         print(md(physical_table(items, motions)))
+        print("\nwhich way round the phone is carried (per recording, walker's frame from the motion capture):\n")
+        print(md(orientation_table(items, motions)))
+    if a.score_flipped:
+        from experiments.scripts.tyrex_modes import md
+
+        print("\nthe left-out person's pockets as recorded and put in another way round (fold models):\n")
+        print(md(flipped_table(out, items)))
     return 0
 
 

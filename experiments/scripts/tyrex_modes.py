@@ -244,12 +244,26 @@ def keep_modes(rec, modes) -> object:
     return rec.replace(labels=lab, check_units=False)
 
 
-def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path, augment: int = 0, augment_positions=None, share_time=False):
+def train_recipe(
+    cfg,
+    sim_recs,
+    real_items,
+    recipe: str,
+    out_dir: Path,
+    augment: int = 0,
+    augment_positions=None,
+    share_time=False,
+    flips=(),
+    flip_positions=None,
+    flip_simulated=False,
+):
     """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model.
 
     ``augment``: rotated copies per real recording in ``augment_positions``
     (:func:`gaitml.pipeline.augment.augment_recordings`, the phone turned about its swing axis; seed ``cfg.seed``),
-    counted with the real windows' weight; ``share_time``: the original and its copies share the recording's time.
+    counted with the real windows' weight; ``share_time``: the original and its copies share the recording's time;
+    ``flips``: pocket flips (180 deg turns about the named phone axes) of the recordings in ``flip_positions``;
+    ``flip_simulated``: the simulated recordings in those positions flipped too (every mode, sharing their time).
     """
     from gaitml.consts import MOTION_MODES
     from gaitml.features import feature_names
@@ -259,12 +273,19 @@ def train_recipe(cfg, sim_recs, real_items, recipe: str, out_dir: Path, augment:
     sim_modes, weight = RECIPES[recipe]
     recs = [keep_modes(r, sim_modes) for r in sim_recs]
     groups = [f"sim-{r.meta['subject']}" for r in sim_recs]
+    if flips and flip_simulated:
+        from gaitml.pipeline.augment import POCKET_POSITIONS, augmented_set
+
+        fpos = POCKET_POSITIONS if flip_positions is None else tuple(flip_positions)
+        recs, _ = augmented_set(recs, 0, seed=cfg.seed, share_time=True, flips=tuple(flips), flip_positions=fpos)
+        groups = [f"sim-{r.meta['subject']}" for r in recs]
     real = [it["recording"] for it in real_items]
-    if augment and weight:
-        from gaitml.pipeline.augment import SWING_POSITIONS, augmented_set
+    if (augment or flips) and weight:
+        from gaitml.pipeline.augment import POCKET_POSITIONS, SWING_POSITIONS, augmented_set
 
         pos = SWING_POSITIONS if augment_positions is None else tuple(augment_positions)
-        real, _ = augmented_set(real, augment, pos, seed=cfg.seed, share_time=share_time)
+        fpos = POCKET_POSITIONS if flip_positions is None else tuple(flip_positions)
+        real, _ = augmented_set(real, augment, pos, seed=cfg.seed, share_time=share_time, flips=tuple(flips), flip_positions=fpos)
     for r in real:
         for _ in range(weight):
             recs.append(r)
@@ -417,7 +438,7 @@ def simulated_part(cfg):
     """The simulated part of ``cfg``: a shipped folder config (``data.add_simulated``, e.g. ``experiments/demo.toml``)
     becomes its ``[data.simulated]`` subjects alone, so that the recipes train exactly the shipped settings;
     a simulated config is returned as it is."""
-    from gaitml.pipeline.config import SWING_POSITIONS_DEFAULT
+    from gaitml.pipeline.augment import POCKET_POSITIONS, SWING_POSITIONS
 
     if cfg["data"]["source"] == "simulated":
         return cfg
@@ -431,10 +452,13 @@ def simulated_part(cfg):
             "data.labels": [],
             "data.add_simulated": False,
             "data.labelling.moving_speed_ms": 0.0,
+            # the copies belong to the real part (train_recipe adds them): every augment key back to its default,
+            # which a simulated source requires
             "data.augment.swing_turns": 0,
-            # the augmentation is the folder's (augment_of); a simulated config refuses its keys
             "data.augment.share_time": False,
-            "data.augment.positions": list(SWING_POSITIONS_DEFAULT),
+            "data.augment.positions": list(SWING_POSITIONS),
+            "data.augment.flips": [],
+            "data.augment.flip_positions": list(POCKET_POSITIONS),
         }
     )
 
@@ -444,6 +468,12 @@ def augment_of(cfg) -> tuple[int, list[str], bool]:
     aug = cfg["data"]["augment"]
     turns = int(aug["swing_turns"]) if cfg["data"]["source"] == "folder" else 0
     return turns, list(aug["positions"]), bool(aug["share_time"])
+
+
+def flips_of(cfg) -> tuple[list[str], list[str]]:
+    """A folder config's pocket flips (``data.augment.flips``, ``flip_positions``), or none."""
+    aug = cfg["data"]["augment"]
+    return (list(aug["flips"]) if cfg["data"]["source"] == "folder" else []), list(aug["flip_positions"])
 
 
 def main(argv=None) -> int:
@@ -477,6 +507,14 @@ def main(argv=None) -> int:
         default=None,
         help="override features.acc_range_ms2 (the accelerometer range the recipes' models read every phone through; 0 = none)",
     )
+    ap.add_argument(
+        "--flips",
+        default=None,
+        help="override data.augment.flips: comma-separated phone axes of the pocket flips ('' = none; default: the config's)",
+    )
+    ap.add_argument(
+        "--flip-simulated", action="store_true", help="lab: flip the simulated recordings in the flip positions too (every mode)"
+    )
     ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
     ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
@@ -499,6 +537,9 @@ def main(argv=None) -> int:
         turns = a.swing_turns
     if a.share_time is not None:
         share_time = a.share_time == "on"
+    flips, flip_positions = flips_of(cfg_full)
+    if a.flips is not None:
+        flips = [f for f in a.flips.split(",") if f]
     cfg = simulated_part(cfg_full)
     over = {}
     if a.features:
@@ -559,7 +600,17 @@ def main(argv=None) -> int:
             person = person if phone is None else f"{person}/{phone}"
             with tempfile.TemporaryDirectory() as tmp:
                 model, n_win = train_recipe(
-                    cfg, sim_train, train, recipe, Path(tmp) / "m", augment=turns, augment_positions=turn_positions, share_time=share_time
+                    cfg,
+                    sim_train,
+                    train,
+                    recipe,
+                    Path(tmp) / "m",
+                    augment=turns,
+                    augment_positions=turn_positions,
+                    share_time=share_time,
+                    flips=flips,
+                    flip_positions=flip_positions,
+                    flip_simulated=a.flip_simulated,
                 )
             t = window_table(model, test, gate)
             t["model"], t["left_out"] = f"recipe {recipe} ({cfg['features']['set']})", person
@@ -589,6 +640,10 @@ def main(argv=None) -> int:
             f", the real {'/'.join(turn_positions)} recordings turned about the swing axis ({turns} copies"
             + (", sharing the recording's time)" if share_time else ")")
             if turns
+            else ""
+        ) + (
+            f", pocket flips about {'/'.join(flips)} in {'/'.join(flip_positions)}" + (" (real and simulated)" if a.flip_simulated else "")
+            if flips
             else ""
         )
         emit(f"\n### recipe {recipe} ({cfg['features']['set']}){aug}, {what}{rule}\n")

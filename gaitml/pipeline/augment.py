@@ -1,4 +1,4 @@
-"""Augmentation of real training recordings by a physically plausible variation: the phone turned in the hand about its swing axis.
+"""Augmentation of real training recordings by physically valid variations of the grip: the phone turned in the hand about its swing axis, and the phone put into a pocket another way round.
 
 A phone carried in a swinging hand (or in a hand pumping while running) turns mostly
 about one axis: the axis of the arm's swing, across the walker's body. How the hand grips
@@ -22,6 +22,16 @@ high-passed at :data:`SWING_AXIS_HIGHPASS_HZ` (the swing, not the walker's slow 
 :func:`without_copies` gives the recordings back as they were (the training pipeline fits
 the domain record on those: :func:`gaitml.pipeline.runner.fit_training_domain`).
 
+A phone goes into a trouser pocket in four discrete ways: top up or top down, screen toward
+the thigh or away from it. The four are related by the 180 deg turns about the phone's own
+axes (:func:`flip_rotation`: about x, top and screen both reversed; about y, the screen
+reversed, the top kept; about z, the top reversed, the screen kept), exact rigid rotations
+of the phone frame, so the specific force and the angular rate are rotated alike (the phone
+sits at the same place on the thigh; its few millimetres of thickness are neglected).
+``flips`` adds, for each real recording in ``flip_positions``, the copies turned by the
+named flips (with swing turns in the same position: every turned grip flipped too). Unlike
+the swing turns, a flip needs no gyroscope (it does not estimate an axis).
+
 This is ours: the papers train on the grips their walkers used.
 """
 
@@ -34,6 +44,8 @@ import numpy as np
 from gaitml.errors import InputError
 
 __all__ = [
+    "FLIP_AXES",
+    "POCKET_POSITIONS",
     "SWING_AXIS_HIGHPASS_HZ",
     "SWING_POSITIONS",
     "SHARE_BLOCK_S",
@@ -41,6 +53,7 @@ __all__ = [
     "augmented_set",
     "without_copies",
     "axis_rotation",
+    "flip_rotation",
     "rotate_recording",
     "swing_axis",
 ]
@@ -52,6 +65,11 @@ SWING_AXIS_HIGHPASS_HZ = 0.4
 #: the default carrying positions (``meta["position"]`` of the tyrex folder source) given copies: the swinging hand
 #: (walking). The running hand (tyrex ``hand``: a pumping, swinging hand) swings too and may be named explicitly.
 SWING_POSITIONS = ("swinging-hand",)
+#: the phone axes a pocket flip turns about by 180 deg (:func:`flip_rotation`)
+FLIP_AXES = ("x", "y", "z")
+#: the default carrying positions (``meta["position"]`` of the tyrex folder source) given pocket flips: the front and
+#: back trouser pockets (walking) and the pocket of the running recordings
+POCKET_POSITIONS = ("front-pocket", "back-pocket", "pocket")
 
 
 def swing_axis(gyr: np.ndarray, sampling_rate_hz: float, highpass_hz: float = SWING_AXIS_HIGHPASS_HZ) -> np.ndarray:
@@ -87,6 +105,20 @@ def axis_rotation(axis: Sequence[float], theta_rad: float) -> np.ndarray:
     return np.eye(3) + np.sin(theta_rad) * K + (1.0 - np.cos(theta_rad)) * (K @ K)
 
 
+def flip_rotation(axis: str) -> np.ndarray:
+    """The 180 deg turn of the phone about its own ``axis`` ("x", "y" or "z"): a proper rotation (determinant +1).
+
+    About x (across the screen): top and screen both reversed; about y (along the phone, top up):
+    the screen reversed; about z (the screen normal): the top reversed. With the identity, the
+    four ways a phone lies flat in a pocket.
+    """
+    if axis not in FLIP_AXES:
+        raise InputError(f"a pocket flip turns about the phone's x, y or z axis, got {axis!r}; use one of {', '.join(FLIP_AXES)}.")
+    d = -np.ones(3)
+    d[FLIP_AXES.index(axis)] = 1.0
+    return np.diag(d)
+
+
 def rotate_recording(rec, R: np.ndarray, note: str):
     """``rec`` seen by a phone turned by ``R`` (phone frame): accelerometer and gyroscope rotated, ``meta["augmented"] = note``.
 
@@ -108,6 +140,58 @@ def rotate_recording(rec, R: np.ndarray, note: str):
 SHARE_BLOCK_S = 3.0
 
 
+def _check_flips(flips: Sequence[str]) -> tuple[str, ...]:
+    flips = tuple(flips)
+    bad = [f for f in flips if f not in FLIP_AXES]
+    if bad:
+        raise InputError(f"pocket flips name the phone axes {', '.join(FLIP_AXES)}, got {bad[0]!r}; fix the list.")
+    if len(set(flips)) != len(flips):
+        raise InputError(f"pocket flips list an axis twice ({list(flips)}); list each of {', '.join(FLIP_AXES)} at most once.")
+    return flips
+
+
+def _plans(recs, copies, positions, seed, highpass_hz, flips, flip_positions) -> list:
+    """Per recording: ``None`` (no copy) or ``(grips, shift)``, ``grips`` the (rotation, note) of every copy, in order.
+
+    The swing-turn draws (offset, grip shift) come from ``default_rng(seed)`` in the same order
+    whatever the flips, so that a config without flips gives the copies it gave before flips existed;
+    a flipped recording draws its grip shift from a second stream.
+    """
+    if copies < 0:
+        raise InputError(f"augmentation copies must be >= 0, got {copies}; use 0 for none.")
+    flips = _check_flips(flips)
+    want, want_flip = set(positions), set(flip_positions)
+    rng = np.random.default_rng(seed)
+    rng_flip = np.random.default_rng([seed, _FLIP_STREAM])
+    plans = []
+    for rec in recs:
+        grips = []
+        shift = 0
+        if copies > 0:
+            u = rng.uniform(-0.5, 0.5)  # drawn for every recording so that a position list does not shift the others
+            shift = int(rng.integers(copies + 1))
+            if rec.gyr is not None and str(rec.meta.get("position", "")) in want:
+                axis = swing_axis(rec.gyr, rec.sampling_rate_hz, highpass_hz)
+                for k in range(1, copies + 1):
+                    theta = 2.0 * np.pi * (k + u) / (copies + 1)
+                    grips.append((axis_rotation(axis, theta), f"turned {np.degrees(theta):.0f} deg about the swing axis"))
+        if flips:
+            v = rng_flip.uniform()
+            if str(rec.meta.get("position", "")) in want_flip:
+                base = [(np.eye(3), ""), *grips]
+                for f in flips:
+                    F = flip_rotation(f)
+                    for R, note in base:
+                        grips.append((F @ R, f"flipped about {f}" + (f", {note}" if note else "")))
+                shift = int(v * (len(grips) + 1))
+        plans.append((grips, shift) if grips else None)
+    return plans
+
+
+#: the random stream (with the seed) of the pocket flips' grip shifts, apart from the swing turns' draws
+_FLIP_STREAM = 1
+
+
 def augment_recordings(
     recs: Sequence,
     copies: int,
@@ -116,43 +200,46 @@ def augment_recordings(
     highpass_hz: float = SWING_AXIS_HIGHPASS_HZ,
     share_time: bool = False,
     block_s: float = SHARE_BLOCK_S,
+    flips: Sequence[str] = (),
+    flip_positions: Iterable[str] = POCKET_POSITIONS,
 ) -> list:
-    """Rotated copies of the recordings in ``positions``: the phone turned about its swing axis, ``copies`` per recording.
+    """Rotated copies of the recordings: turned about the swing axis (``positions``) and/or flipped (``flip_positions``).
 
-    The angles of one recording are ``2 pi (k + u) / (copies + 1)``, ``k = 1..copies``, with one
-    offset ``u`` uniform in [-0.5, 0.5) per recording (``seed``): with the original, ``copies + 1``
-    grips spread over the full turn. Recordings without a gyroscope, or in other positions, get no
-    copy.
+    Swing turns: ``copies`` per recording in ``positions``, at angles ``2 pi (k + u) / (copies + 1)``,
+    ``k = 1..copies``, with one offset ``u`` uniform in [-0.5, 0.5) per recording (``seed``): with the
+    original, ``copies + 1`` grips spread over the full turn. Recordings without a gyroscope get no
+    turned copy.
+
+    Pocket flips: for each axis in ``flips`` (of :data:`FLIP_AXES`), every recording in
+    ``flip_positions`` also enters turned by :func:`flip_rotation` of that axis; a recording that
+    is turned about its swing axis too has each of its grips flipped (``(1 + copies) (1 + len(flips))``
+    grips in all).
 
     ``share_time``: the original and its copies share the recording's time instead of each
     holding all of it, as if the walker changed grip every ``block_s`` seconds: the recording is
     cut into stretches of ``block_s``, stretch ``j`` keeps its labels in grip ``(j + s) mod
-    (copies + 1)`` (``s`` random per recording; grip 0 is the original) and is ``unlabelled`` in
+    n_grips`` (``s`` random per recording; grip 0 is the original) and is ``unlabelled`` in
     the others. The position then keeps its number of training windows (its weight against the
-    other positions and modes); without it, it counts ``copies + 1`` times.
+    other positions and modes); without it, it counts ``n_grips`` times.
 
     Returns the copies only. With ``share_time`` the originals must give up the copies' stretches
     too: use :func:`augmented_set`, which does both with the same draws.
     """
-    if copies < 0:
-        raise InputError(f"augmentation copies must be >= 0, got {copies}; use 0 for none.")
-    if copies == 0:
-        return []
-    want = set(positions)
-    rng = np.random.default_rng(seed)
+    plans = _plans(recs, copies, positions, seed, highpass_hz, flips, flip_positions)
+    return _copies(recs, plans, share_time, block_s)
+
+
+def _copies(recs, plans, share_time, block_s) -> list:
     out = []
-    for rec in recs:
-        u = rng.uniform(-0.5, 0.5)  # drawn for every recording so that a position list does not shift the others
-        shift = int(rng.integers(copies + 1))
-        if rec.gyr is None or str(rec.meta.get("position", "")) not in want:
+    for rec, plan in zip(recs, plans, strict=True):
+        if plan is None:
             continue
-        axis = swing_axis(rec.gyr, rec.sampling_rate_hz, highpass_hz)
-        for k in range(1, copies + 1):
-            theta = 2.0 * np.pi * (k + u) / (copies + 1)
-            c = rotate_recording(rec, axis_rotation(axis, theta), f"turned {np.degrees(theta):.0f} deg about the swing axis")
+        grips, shift = plan
+        for k, (R, note) in enumerate(grips, start=1):
+            c = rotate_recording(rec, R, note)
             if share_time:  # one grip per stretch: the copy holds only its stretches
                 meta = {**c.meta, "augmented_shares_time": True}
-                c = c.replace(labels=_grip_labels(rec, k, copies + 1, shift, block_s), meta=meta, check_units=False)
+                c = c.replace(labels=_grip_labels(rec, k, len(grips) + 1, shift, block_s), meta=meta, check_units=False)
             out.append(c)
     return out
 
@@ -176,29 +263,29 @@ def augmented_set(
     seed: int = 0,
     share_time: bool = False,
     block_s: float = SHARE_BLOCK_S,
+    flips: Sequence[str] = (),
+    flip_positions: Iterable[str] = POCKET_POSITIONS,
 ) -> tuple[list, list]:
     """``recs`` with the rotated copies of :func:`augment_recordings`: ``(recordings, copies)``.
 
     Without ``share_time`` the recordings are ``recs`` unchanged plus the copies; with it the
-    originals in ``positions`` keep only their own grip's stretches (the same draws as the
+    originals that have copies keep only their own grip's stretches (the same draws as the
     copies), so that every stretch of the recording is trained once, in one grip; their full
     labels are kept in ``meta["augment_full_labels"]`` (:func:`without_copies` restores them).
     """
-    extra = augment_recordings(recs, copies, positions, seed, share_time=share_time, block_s=block_s)
+    plans = _plans(recs, copies, positions, seed, SWING_AXIS_HIGHPASS_HZ, flips, flip_positions)
+    extra = _copies(recs, plans, share_time, block_s)
     if not share_time or not extra:
         return [*recs, *extra], extra
-    want = set(positions)
-    rng = np.random.default_rng(seed)  # the same draws as augment_recordings: the grip of each stretch
     out = []
-    for rec in recs:
-        rng.uniform(-0.5, 0.5)
-        shift = int(rng.integers(copies + 1))
-        if rec.gyr is None or str(rec.meta.get("position", "")) not in want:
+    for rec, plan in zip(recs, plans, strict=True):
+        if plan is None:
             out.append(rec)
         else:
+            grips, shift = plan
             # the full labels stay in the meta: the domain record is fitted on the recording as it was
             meta = {**rec.meta, "augment_full_labels": rec.labels}
-            out.append(rec.replace(labels=_grip_labels(rec, 0, copies + 1, shift, block_s), meta=meta, check_units=False))
+            out.append(rec.replace(labels=_grip_labels(rec, 0, len(grips) + 1, shift, block_s), meta=meta, check_units=False))
     return [*out, *extra], extra
 
 

@@ -52,6 +52,9 @@ Keys (defaults in brackets) of ``task = "classification"``::
     positions = ["swinging-hand"]    # meta "position" values whose recordings get the copies
     share_time = false               # true: the original and its copies share the recording's time (a grip per
                                      # 3 s stretch), so the position keeps its number of windows
+    flips = []                       # pocket flips: copies turned 180 deg about the named phone axes ("x", "y",
+                                     # "z": top up/down, screen toward/away from the thigh), exact rigid turns
+    flip_positions = ["front-pocket", "back-pocket", "pocket"]   # meta "position" values given the flips
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -122,6 +125,8 @@ from typing import Any
 
 from gaitml.consts import MOTION_MODES
 from gaitml.errors import ConfigError, GaitmlError, InputError
+from gaitml.pipeline.augment import FLIP_AXES
+from gaitml.pipeline.augment import POCKET_POSITIONS as POCKET_POSITIONS_DEFAULT
 from gaitml.pipeline.augment import SWING_POSITIONS as SWING_POSITIONS_DEFAULT
 
 __all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "TASKS", "STEP_DATA_SETS", "STEP_HOLDOUTS"]
@@ -248,6 +253,10 @@ class _Leaf:
         return self.default() if callable(self.default) else copy.deepcopy(self.default)
 
 
+def _no_repeats(v):
+    return None if len(set(v)) == len(v) else "lists an item twice"
+
+
 def _pos(v):
     return None if v > 0 else "must be > 0"
 
@@ -350,6 +359,9 @@ SCHEMA: dict[str, Any] = {
             "swing_turns": _Leaf((int,), 0, check=_nonneg),
             "positions": _Leaf((list,), list(SWING_POSITIONS_DEFAULT), item_type=str),
             "share_time": _Leaf((bool,), False),
+            # 180 deg turns of the phone about its own axes (the ways a phone lies in a pocket)
+            "flips": _Leaf((list,), [], item_type=str, item_allowed=FLIP_AXES, check=_no_repeats),
+            "flip_positions": _Leaf((list,), list(POCKET_POSITIONS_DEFAULT), item_type=str),
         },
         # a folder source plus the simulated subjects of [data.simulated]
         "add_simulated": _Leaf((bool,), False),
@@ -500,6 +512,8 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "augment", "swing_turns"): 0,
     ("data", "augment", "positions"): list(SWING_POSITIONS_DEFAULT),
     ("data", "augment", "share_time"): False,
+    ("data", "augment", "flips"): [],
+    ("data", "augment", "flip_positions"): list(POCKET_POSITIONS_DEFAULT),
 }
 
 
@@ -712,6 +726,8 @@ def parse_config(
             ("data.augment.swing_turns", d["augment"]["swing_turns"] > 0),
             ("data.augment.share_time", d["augment"]["share_time"]),
             ("data.augment.positions", list(d["augment"]["positions"]) != list(SWING_POSITIONS_DEFAULT)),
+            ("data.augment.flips", bool(d["augment"]["flips"])),
+            ("data.augment.flip_positions", list(d["augment"]["flip_positions"]) != list(POCKET_POSITIONS_DEFAULT)),
         ):
             if on:
                 raise ConfigError(f"{key} applies to data.source = 'folder' (a real data set); remove it or read a folder.")
@@ -719,12 +735,15 @@ def parse_config(
         aug = d["augment"]
         if check_unused and aug["swing_turns"] == 0:
             for key, on in (
-                ("data.augment.share_time", aug["share_time"]),
+                ("data.augment.share_time", aug["share_time"] and not aug["flips"]),
                 ("data.augment.positions", list(aug["positions"]) != list(SWING_POSITIONS_DEFAULT)),
             ):
                 if on:
                     raise ConfigError(f"{key} is set but data.augment.swing_turns = 0 (no copies): set swing_turns > 0 or remove {key}.")
-        if aug["swing_turns"] > 0 and aug["share_time"] and d["label"] != "label" and d["labelling"]["moving_speed_ms"] <= 0:
+        if check_unused and not aug["flips"] and list(aug["flip_positions"]) != list(POCKET_POSITIONS_DEFAULT):
+            raise ConfigError("data.augment.flip_positions is set but data.augment.flips is empty (no flip): name the axes or remove it.")
+        copies = aug["swing_turns"] > 0 or bool(aug["flips"])
+        if copies and aug["share_time"] and d["label"] != "label" and d["labelling"]["moving_speed_ms"] <= 0:
             raise ConfigError(
                 f"data.augment.share_time needs per-sample labels, but data.label = {d['label']!r} is one label per recording; "
                 "set share_time = false, or label per sample (data.label = 'label', or data.labelling.moving_speed_ms > 0)."

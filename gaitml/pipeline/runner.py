@@ -223,25 +223,48 @@ def _load_recordings(cfg: ExperimentConfig):
     out = [resample_recording(r, fs) for r in recs]
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
-    if d["augment"]["swing_turns"] > 0:
+    aug = d["augment"]
+    if aug["swing_turns"] > 0 or aug["flips"]:
         from gaitml.pipeline.augment import augmented_set
 
-        turns, positions = int(d["augment"]["swing_turns"]), list(d["augment"]["positions"])
-        share = bool(d["augment"]["share_time"])
-        present = sorted({str(r.meta.get("position", "")) for r in out if r.gyr is not None})
-        unmatched = [p for p in positions if p not in present]
-        if unmatched:
-            raise ConfigError(
-                f"data.augment.positions has {unmatched}, which matches no recording with a gyroscope; positions present (with a "
-                f"gyroscope): {present}. Fix the list or set data.augment.swing_turns = 0."
-            )
+        turns, positions = int(aug["swing_turns"]), list(aug["positions"])
+        flips, flip_positions = list(aug["flips"]), list(aug["flip_positions"])
+        share = bool(aug["share_time"])
+        if turns > 0:
+            present = sorted({str(r.meta.get("position", "")) for r in out if r.gyr is not None})
+            unmatched = [p for p in positions if p not in present]
+            if unmatched:
+                raise ConfigError(
+                    f"data.augment.positions has {unmatched}, which matches no recording with a gyroscope; positions present (with a "
+                    f"gyroscope): {present}. Fix the list or set data.augment.swing_turns = 0."
+                )
+        if flips:
+            present = sorted({str(r.meta.get("position", "")) for r in out})
+            unmatched = [p for p in flip_positions if p not in present]
+            # the default list names every pocket of the tyrex layout: a data set needs only one of them
+            from gaitml.pipeline.augment import POCKET_POSITIONS
+
+            if unmatched and (flip_positions != list(POCKET_POSITIONS) or len(unmatched) == len(flip_positions)):
+                raise ConfigError(
+                    f"data.augment.flip_positions has {unmatched}, which matches no recording; positions present: {present}. "
+                    "Fix the list or set data.augment.flips = []."
+                )
         try:
-            out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share)
+            out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share, flips=flips, flip_positions=flip_positions)
         except InputError as exc:
             raise ConfigError(f"data.augment.share_time: {exc}") from exc
+        n_turned = sum(1 for r in extra if "swing axis" in r.meta["augmented"] and "flipped" not in r.meta["augmented"])
+        parts = []
+        if turns > 0:
+            parts.append(
+                f"{n_turned} copies of the {n_turned // turns} real recording(s) in {positions}, the phone turned about its swing axis "
+                f"({turns} angles per recording over the full turn)"
+            )
+        if flips:
+            parts.append(f"{len(extra) - n_turned} copies flipped 180 deg about the phone's {'/'.join(flips)} axis in {flip_positions}")
         notes.append(
-            f"augmented: {len(extra)} copies of the {len(extra) // turns} real recording(s) in {positions}, the phone turned about "
-            f"its swing axis ({turns} angles per recording over the full turn)"
+            "augmented: "
+            + "; ".join(parts)
             + ("; the original and its copies share the recording's time (one grip per stretch)" if share else "")
         )
     if d["walks"]["path"]:

@@ -70,17 +70,26 @@ def test_real_windows_teach_walk_and_run_only_and_the_simulator_every_mode(name)
     turned = {s["position"]: s["windows"] for s in sources if s["kind"] == "real, turned"}
     assert set(real) == REAL_TYREX and set(sim) == SIMULATED
     assert {s["kind"] for s in sources} <= {"real", "simulated", "real, turned"}
-    # the rotated copies (data.augment) are of the real swinging-hand walks only: so many per real window, or (share_time)
-    # the copies and the original share the recording's time, one grip per stretch: about turns / (turns + 1) of it turned
+    # the rotated copies (data.augment) are of the real recordings in the augmented positions only (swing turns: the
+    # swinging hand; pocket flips: the pockets): so many per real window, or (share_time) the copies and the original
+    # share the recording's time, one grip per stretch: about (grips - 1) / grips of it turned
+    from gaitml.io.tyrex import TYREX_POSITIONS
+
     aug = load_config(CONFIGS[name], check_paths=False)["data"]["augment"]
-    turns = aug["swing_turns"]
-    assert set(turned) == ({"Swinging"} if turns else set())
+    turns, flips = aug["swing_turns"], aug["flips"]
+    grips = {}
+    for motion, position in TYREX_POSITIONS.items():
+        n = (1 + (turns if position in aug["positions"] else 0)) * (1 + (len(flips) if position in aug["flip_positions"] else 0))
+        if n > 1:
+            grips[motion] = n
+    assert set(turned) == set(grips)
     for motion, w in turned.items():
-        assert {k for k, n in w.items() if n} == {"walk"}, motion
+        mode = "run" if motion.startswith("Running") else "walk"
+        assert {k for k, n in w.items() if n} == {mode}, motion
         if aug["share_time"]:
-            assert abs(w["walk"] / (w["walk"] + real[motion]["walk"]) - turns / (turns + 1)) < 0.05, motion
+            assert abs(w[mode] / (w[mode] + real[motion][mode]) - (grips[motion] - 1) / grips[motion]) < 0.05, motion
         else:
-            assert w["walk"] == turns * real[motion]["walk"], motion
+            assert w[mode] == (grips[motion] - 1) * real[motion][mode], motion
     for motion, w in real.items():
         assert {k for k, n in w.items() if n} == ({"run"} if motion.startswith("Running") else {"walk"}), motion
     for pos, w in sim.items():

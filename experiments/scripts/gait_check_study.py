@@ -242,6 +242,12 @@ def _load_selection(cache: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     return ng, ty
 
 
+def _rejects(d: pd.DataFrame, f: float, m: int) -> pd.Series:
+    """Bouts the rotation test, the vertical test (share > ``f``) or the context rule (``m`` steps; 0: off) reject."""
+    r = d.rot | ((d.vfrac > f) & (d.n_steps < 30))
+    return r | ((d.n_steps < 10) & (d.n_steps + d.ctx < m)) if m else r
+
+
 def _grid_rows(ng: pd.DataFrame, ty: pd.DataFrame, settings) -> pd.DataFrame:
     """Steps per minute (non-gait) and tyrex steps lost per person (walking motions; AR apart) per (F, G, M) setting."""
     rows = []
@@ -252,11 +258,7 @@ def _grid_rows(ng: pd.DataFrame, ty: pd.DataFrame, settings) -> pd.DataFrame:
         for sw in ("off", "on"):
             n, t = ng[ng.swing == sw], ty[ty.swing == sw]
 
-            def rej(d):
-                r = d.rot | ((d.vfrac > f) & (d.n_steps < 30))
-                return r | ((d.n_steps < 10) & (d.n_steps + d.ctx < m)) if m else r
-
-            rn, rt = rej(n), rej(t)
+            rn, rt = _rejects(n, f, m), _rejects(t, f, m)
             row = {"F": f, "G": g, "M": m, "swing": sw}
             for kind in ("gestures", "desk"):
                 row[kind] = n[~rn & (n.set == kind)].n_steps.sum() / SELECTION_MINUTES

@@ -275,8 +275,8 @@ def gait_evidence(
         Module docstring.
     long_bout_steps : int
         A bout of at least this many steps shows gait whatever its rotation
-        and vertical acceleration (module docstring); both are still measured
-        and returned.
+        and vertical acceleration (module docstring); its rotation is still
+        measured and returned, its vertical share is not (NaN).
     confirm_bout_steps, context_steps : int
         A bout of fewer than ``confirm_bout_steps`` steps has no gait evidence
         unless it and the bouts within ``context_s`` of it hold at least
@@ -289,7 +289,7 @@ def gait_evidence(
         ``bout``, ``first`` / ``last`` (row positions in ``steps``), ``n_steps``,
         ``t_start_s`` / ``t_end_s``, ``step_hz``, ``rotation_step_rad_s``,
         ``rotation_stride_rad_s``, ``stride_vertical_fraction`` (NaN where
-        untested), ``context_steps`` (the steps of the bouts within
+        untested and on long bouts), ``context_steps`` (the steps of the bouts within
         ``context_s`` of it, its own included), ``tested``, ``long_bout`` (at
         least ``long_bout_steps`` steps), ``unconfirmed`` (a short bout without
         the context), ``reason`` (``''``, ``'rotation'``, ``'vertical'``,
@@ -358,7 +358,7 @@ def gait_evidence(
             tested = len(seg) >= 8 and bool(np.all(np.isfinite(seg)))
             if tested:
                 rs, rr = (float(v) for v in rotation_amplitude(seg, fs / q, f, f / 2.0))
-                if x is not None:
+                if x is not None and len(idx) < long_bout_steps:  # a long bout is gait whatever its vertical: not measured
                     vf = vertical_stride_fraction(x, fs, a, min(e, len(x)), f)
         row["rotation_step_rad_s"] = rs
         row["rotation_stride_rad_s"] = rr

@@ -218,7 +218,7 @@ def _rotation_rejects(d: pd.DataFrame) -> pd.Series:
     return (d.r_f > 0.7) & (d.r_f > d.r_half) & (d.n_steps < 30)
 
 
-def _context(d: pd.DataFrame, key: list[str], g: float) -> np.ndarray:
+def bout_context(d: pd.DataFrame, key: list[str], g: float) -> np.ndarray:
     """Steps of the other bouts reaching within ``g`` s of each bout (whole bouts counted, as the library does)."""
     c = np.zeros(len(d))
     d = d.reset_index(drop=True)
@@ -242,7 +242,7 @@ def _load_selection(cache: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     return ng, ty
 
 
-def _rejects(d: pd.DataFrame, f: float, m: int) -> pd.Series:
+def grid_rejects(d: pd.DataFrame, f: float, m: int) -> pd.Series:
     """Bouts the rotation test, the vertical test (share > ``f``) or the context rule (``m`` steps; 0: off) reject."""
     r = d.rot | ((d.vfrac > f) & (d.n_steps < 30))
     return r | ((d.n_steps < 10) & (d.n_steps + d.ctx < m)) if m else r
@@ -253,12 +253,12 @@ def _grid_rows(ng: pd.DataFrame, ty: pd.DataFrame, settings) -> pd.DataFrame:
     rows = []
     for g, m, f in settings:
         if m:
-            ng["ctx"] = _context(ng, ["rec", "swing"], g)
-            ty["ctx"] = _context(ty, ["rec", "seg", "swing"], g)
+            ng["ctx"] = bout_context(ng, ["rec", "swing"], g)
+            ty["ctx"] = bout_context(ty, ["rec", "seg", "swing"], g)
         for sw in ("off", "on"):
             n, t = ng[ng.swing == sw], ty[ty.swing == sw]
 
-            rn, rt = _rejects(n, f, m), _rejects(t, f, m)
+            rn, rt = grid_rejects(n, f, m), grid_rejects(t, f, m)
             row = {"F": f, "G": g, "M": m, "swing": sw}
             for kind in ("gestures", "desk"):
                 row[kind] = n[~rn & (n.set == kind)].n_steps.sum() / SELECTION_MINUTES

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from experiments.scripts.gait_check_study import _context, _rejects
+from experiments.scripts.gait_check_study import bout_context, grid_rejects
 
 
 def _bouts() -> pd.DataFrame:
@@ -24,14 +24,14 @@ def _bouts() -> pd.DataFrame:
 
 def test_context_counts_the_other_bouts_within_the_window():
     d = _bouts()
-    assert _context(d, ["rec"], 30.0).tolist() == [20, 6, 0]
-    assert _context(d, ["rec"], 5.0).tolist() == [0, 0, 0]
+    assert bout_context(d, ["rec"], 30.0).tolist() == [20, 6, 0]
+    assert bout_context(d, ["rec"], 5.0).tolist() == [0, 0, 0]
 
 
 def test_rejects_combines_the_vertical_test_and_the_context_rule():
     d = _bouts()
-    d["ctx"] = _context(d, ["rec"], 30.0)
-    assert _rejects(d, np.inf, 0).tolist() == [False, False, False]
-    assert _rejects(d, 0.4, 0).tolist() == [False, False, True]  # the stroke-like bout
-    assert _rejects(d, np.inf, 20).tolist() == [False, False, True]  # the lone short bout
-    assert _rejects(d, np.inf, 30).tolist() == [True, False, True]  # 6 + 20 < 30: the short bout near the walk too
+    d["ctx"] = bout_context(d, ["rec"], 30.0)
+    assert grid_rejects(d, np.inf, 0).tolist() == [False, False, False]
+    assert grid_rejects(d, 0.4, 0).tolist() == [False, False, True]  # the stroke-like bout
+    assert grid_rejects(d, np.inf, 20).tolist() == [False, False, True]  # the lone short bout
+    assert grid_rejects(d, np.inf, 30).tolist() == [True, False, True]  # 6 + 20 < 30: the short bout near the walk too

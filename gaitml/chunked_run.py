@@ -22,7 +22,9 @@ Equivalence with a whole-file run:
   per chunk edge; nothing else in it depends on the whole recording);
 - the gait-evidence test of the steps (``adaptive``'s own, or ``gait_check`` of :func:`long_steps`)
   runs on each chunk's steps, as on a whole recording, and its account is summed over the steps
-  anchored in the cores: equal to a whole-file run's for bouts shorter than the margin;
+  anchored in the cores: equal to a whole-file run's for bouts shorter than the margin (with the
+  opt-in short-bout rule, a short bout's context, the steps within 30 s of it, lies within the
+  30 s margin, up to a neighbouring bout that runs beyond it);
 - dead reckoning (:func:`long_pdr`) starts from the gyroscope bias of the whole file's still
   stretches (a first pass, :func:`long_still_bias`), carries the attitude across chunks and
   corrects the heading over all steps: the whole-file run's trajectory (within a millimetre)
@@ -106,7 +108,7 @@ def _core_steps(
     gait = (bool(det.get_params()["gait_check"]) if own else False) if gait_check is None else bool(gait_check)
     if own:
         raw = det.set_params(gait_check=False).detect(rec).steps_
-        checked = check_steps(raw, rec.gyr, rec.sampling_rate_hz) if gait else raw
+        checked = check_steps(raw, rec.gyr, rec.sampling_rate_hz, acc=rec.acc) if gait else raw
     else:
         raw = det.detect(rec).steps_
         checked = gait_check_recording(raw, rec) if gait else raw
@@ -219,7 +221,9 @@ def long_steps(
     :data:`~gaitml.steps._gait_evidence.LONG_BOUT_STEPS` steps that make a bout gait whatever its
     rotation when the cadence is at least ``LONG_BOUT_STEPS / margin_s`` (1 step/s with the 30 s
     margin); a slower bout that turns with its steps can lose the few core steps near a chunk edge
-    that a whole-file run keeps.
+    that a whole-file run keeps. With the opt-in short-bout rule a short bout is confirmed by the
+    steps within :data:`~gaitml.steps._gait_evidence.CONTEXT_S` (30 s) of it: with a margin shorter
+    than that, a short bout near a chunk edge can lose steps a whole-file run keeps.
     Bouts are counted (``n_bouts``, ``n_bouts_rejected``) over the whole file's core steps
     (:func:`_sum_accounts`): a bout over a chunk edge is one bout, rejected when any chunk left out
     any of its steps.

@@ -6,8 +6,10 @@ step. The test now keeps every bout of at least ``LONG_BOUT_STEPS`` regular step
 compares three rules on the same steps (``adaptive`` run once with the test off, then the test applied):
 
 - ``off``: no test;
-- ``before``: the rotation test on every bout (``long_bout_steps`` = infinity, the rule before the exemption);
-- ``now``: the shipped default (bouts of >= ``LONG_BOUT_STEPS`` steps exempt).
+- ``before``: the rotation test alone on every bout (``long_bout_steps`` = infinity, the rule before the exemption;
+  the short-bout context rule off);
+- ``now``: the shipped default (bouts of >= ``LONG_BOUT_STEPS`` steps exempt; since the gait-check branch also the
+  vertical-symmetry and short-bout context rules).
 
 Tables:
 
@@ -58,8 +60,8 @@ def rules(rec) -> dict:
     raw = get_detector("adaptive", gait_check=False).detect(rec).steps_
     out = {
         "off": len(raw),
-        "before": len(gait_check(raw, rec.gyr, fs, long_bout_steps=NEVER)),
-        "now": len(gait_check(raw, rec.gyr, fs)),
+        "before": len(gait_check(raw, rec.gyr, fs, long_bout_steps=NEVER, confirm_bout_steps=0)),
+        "now": len(gait_check(raw, rec.gyr, fs, acc=rec.acc)),
         "ev": gait_evidence(rec.gyr, fs, raw, long_bout_steps=NEVER),
         "raw": raw,
     }
@@ -131,7 +133,7 @@ def _check_recording_never(steps: pd.DataFrame, rec) -> pd.DataFrame:
     """``gait_check_recording`` with the rule before the exemption (adaptive's cadence, no long bout exempt)."""
     cad = get_detector("adaptive", gait_check=False).detect(rec).cadence_
     cadence = (cad["t_s"].to_numpy(), cad["cadence_hz"].to_numpy())
-    return gait_check(steps, rec.gyr, rec.sampling_rate_hz, cadence=cadence, long_bout_steps=NEVER)
+    return gait_check(steps, rec.gyr, rec.sampling_rate_hz, cadence=cadence, long_bout_steps=NEVER, confirm_bout_steps=0)
 
 
 def nongait_tables(seeds, cache: Path | None) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -189,8 +191,8 @@ def tyrex_table(data: Path, cache: Path | None) -> pd.DataFrame:
             t0 = float(r.meta.get("t0_original_s", 0.0))
             for k, st in (
                 ("off", raw),
-                ("before", gait_check(raw, r.gyr, fs, long_bout_steps=NEVER)),
-                ("now", gait_check(raw, r.gyr, fs)),
+                ("before", gait_check(raw, r.gyr, fs, long_bout_steps=NEVER, confirm_bout_steps=0)),
+                ("now", gait_check(raw, r.gyr, fs, acc=r.acc)),
             ):
                 row[k] += int(np.sum(in_reference_span(t0 + st["t_peak_s"].to_numpy(), ref)))
             ev = gait_evidence(r.gyr, fs, raw, long_bout_steps=NEVER)

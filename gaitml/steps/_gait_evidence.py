@@ -1,4 +1,4 @@
-"""Gait evidence per bout of steps: is the phone's rotation that of a walker?
+"""Gait evidence per bout of steps: do the phone's rotation, its vertical motion and its context show a walker?
 
 A step detector finds a run of regular peaks in the acceleration magnitude. A
 hand that gestures while its owner stands and talks makes such runs too:
@@ -52,11 +52,48 @@ the ten-step confirmation of pedometers (Bassett et al., Med. Sci. Sports
 Exerc. 28, 1996) and 15 s of walking at 2 steps/s, twice the longest burst
 of beats counted at the top of the step band.
 
-Bouts of one step (no interval, no frequency) and recordings without a
-gyroscope are not tested: they keep their steps, and the result says the test
-could not run. The defaults were set on simulated gestures (seeds 0-39) and on
-the tyrex walks of two of its three people; the figures, in sample and held
-out, are in ``experiments/reports/nongait.md``.
+**Vertical symmetry: the body rises once per step.** The rotation test reads
+the rotation at the steps' own frequency, so it cannot reject a bout whose
+period was set by a rotation (a beat that turns the phone once per stroke
+while |acc| peaks twice looks like a stride of two steps). A second test needs
+no rotation: in walking the centre of mass rises and falls once per *step*
+(the inverted-pendulum gait: Zijlstra & Hof, Gait Posture 18, 2003), left and
+right steps alike, so the vertical acceleration repeats with the step period
+(step regularity close to stride regularity: Moe-Nilssen & Helbostad, J.
+Biomech. 37, 2004) and little of it varies at the stride frequency (the
+difference between a left and a right step). A hand that strokes once per two
+|acc| peaks moves up and down once per stroke: its vertical acceleration
+varies at the "stride". A bout below ``long_bout_steps`` has **no gait
+evidence** either when more than ``max_stride_vertical_fraction`` (0.4) of
+the variance of its vertical acceleration is at half its step frequency
+(:func:`vertical_stride_fraction`; the vertical is the acceleration averaged
+over a stride). It runs with the rotation test (a recording with a gyroscope,
+given its acceleration).
+
+**A few steps alone (opt-in).** A phone handled at a desk (picked up,
+tapped, put down) gives runs of 4-14 regular |acc| peaks with little rotation
+and a symmetric vertical: nothing in the motion itself tells them from a few
+steps of a walker. What can tell them apart is what surrounds them:
+pedometers count nothing until ten steps in a row (Bassett et al. 1996) for
+that reason. With ``confirm_bout_steps`` = 10 a bout of fewer steps has **no
+gait evidence** unless it and the bouts that reach within ``context_s`` (30 s)
+of its first or last step hold at least ``context_steps`` (20) steps: a walk
+broken by turns keeps its short pieces, a run of a few steps alone is left
+out. It is **off by default** (``confirm_bout_steps`` = 0) because a slow,
+halting walk whose steps the detector finds only in short pieces (the tyrex
+AR walks, a phone held up in front) loses them too. ``context_s`` is no longer
+than the 30 s chunk margin of :mod:`gaitml.chunked_run`, so a long input run
+in chunks sees the same context for a bout of its core, up to bouts that run
+beyond the margin.
+
+Bouts of one step (no interval, no frequency) are not tested by the rotation
+and vertical tests; recordings without a gyroscope are not tested at all:
+they keep their steps, and the result says the test could not run. The
+rotation thresholds were set on simulated gestures (seeds 0-39) and on the
+tyrex walks of two of its three people; ``max_stride_vertical_fraction``,
+``context_s`` and ``context_steps`` on simulated gestures and desk handling
+(seeds 0-39) and the tyrex walks (AR included), leave-one-person-out; the
+figures, in sample and held out, are in ``experiments/reports/nongait.md``.
 """
 
 from __future__ import annotations
@@ -69,9 +106,14 @@ __all__ = [
     "MAX_STEP_ROTATION_RAD_S",
     "STEP_OVER_STRIDE_RATIO",
     "LONG_BOUT_STEPS",
+    "MAX_STRIDE_VERTICAL_FRACTION",
+    "CONFIRM_BOUT_STEPS",
+    "CONTEXT_S",
+    "CONTEXT_STEPS",
     "MAX_STEP_INTERVAL_S",
     "step_bouts",
     "rotation_amplitude",
+    "vertical_stride_fraction",
     "gait_evidence",
     "gait_check",
     "gait_check_recording",
@@ -94,6 +136,18 @@ STEP_OVER_STRIDE_RATIO = 1.0
 #: (Bassett et al. 1996), 15 s at 2 steps/s. The limit of this rule: a phone waved or shaken in a steady rhythm
 #: for that long is counted as steps (and as confident gait); only shorter bursts are left out
 LONG_BOUT_STEPS = 30
+#: a bout below ``long_bout_steps`` has no gait evidence when more than this share of the variance of its vertical
+#: acceleration is at the stride frequency (half the step frequency): a body's vertical acceleration repeats every
+#: step, left and right alike (Zijlstra & Hof 2003; Moe-Nilssen & Helbostad 2004); a hand that strokes once per two
+#: |acc| peaks puts its vertical swing at the "stride". A pure stride sinusoid gives 1
+MAX_STRIDE_VERTICAL_FRACTION = 0.4
+#: the short-bout context rule is off by default (0): it costs real slow walks (module docstring). Opt in with
+#: ``confirm_bout_steps=10`` (the pedometers' ten-step confirmation, Bassett et al. 1996): a bout of fewer steps ...
+CONFIRM_BOUT_STEPS = 0
+#: ... shows gait only when the bouts within this many seconds of its first and last step ...
+CONTEXT_S = 30.0
+#: ... hold, with its own, at least this many steps
+CONTEXT_STEPS = 20
 
 
 def step_bouts(t_s: np.ndarray, period_s: np.ndarray | None = None, *, gap_ratio: float = GAP_RATIO) -> np.ndarray:
@@ -139,19 +193,60 @@ def rotation_amplitude(x: np.ndarray, sampling_rate_hz: float, *freqs_hz: float)
     return np.sqrt(np.sum(coef[: 2 * k].reshape(k, 2, -1) ** 2, axis=(1, 2)))
 
 
+def vertical_stride_fraction(acc: np.ndarray, sampling_rate_hz: float, start: int, end: int, step_hz: float) -> float:
+    """Share of the variance of the vertical acceleration over samples ``start:end`` at the stride frequency.
+
+    The vertical is the direction of gravity, the acceleration (n, 3; m/s^2,
+    gravity included) averaged over one stride (``2 / step_hz``) around each
+    sample: a moving mean one stride long removes the stride frequency and its
+    harmonics, so it leaves the attitude's slower drift. The acceleration along
+    it, averaged in blocks down to about :data:`FIT_RATE_HZ`, is fitted with
+    sinusoids at ``step_hz / 2``, ``step_hz`` and ``2 * step_hz`` plus a
+    constant and a trend (:func:`rotation_amplitude`); the result is the power
+    of the stride sinusoid (amplitude^2 / 2) over the variance of the vertical
+    acceleration, in [0, 1] up to the fit's leakage; NaN when the span holds
+    fewer than 8 blocks or the vertical acceleration does not vary.
+    """
+    from scipy.ndimage import uniform_filter1d
+
+    x = np.asarray(acc, dtype=float)
+    fs = float(sampling_rate_hz)
+    f = float(step_hz)
+    w = max(1, int(round(2.0 * fs / f)))
+    a0, e0 = max(0, start - w), min(len(x), end + w)
+    grav = uniform_filter1d(x[a0:e0], w, axis=0, mode="nearest")[start - a0 : end - a0]
+    up = grav / np.maximum(np.linalg.norm(grav, axis=1, keepdims=True), 1e-9)
+    vert = np.sum(x[start:end] * up, axis=1, keepdims=True)
+    q = max(1, int(fs // FIT_RATE_HZ))
+    m = len(vert) // q
+    if m < 8:
+        return float("nan")
+    v = vert[: m * q].reshape(m, q, -1).mean(axis=1)
+    var = float(np.var(v))
+    if not np.isfinite(var) or var <= 0:
+        return float("nan")
+    half = float(rotation_amplitude(v, fs / q, f / 2.0, f, 2.0 * f)[0])
+    return half**2 / 2.0 / var
+
+
 def gait_evidence(
     gyr: np.ndarray | None,
     sampling_rate_hz: float,
     steps: pd.DataFrame,
     *,
+    acc: np.ndarray | None = None,
     event: str | None = None,
     cadence: tuple[np.ndarray, np.ndarray] | None = None,
     gap_ratio: float = GAP_RATIO,
     max_step_rotation_rad_s: float = MAX_STEP_ROTATION_RAD_S,
     step_over_stride_ratio: float = STEP_OVER_STRIDE_RATIO,
     long_bout_steps: int = LONG_BOUT_STEPS,
+    max_stride_vertical_fraction: float = MAX_STRIDE_VERTICAL_FRACTION,
+    confirm_bout_steps: int = CONFIRM_BOUT_STEPS,
+    context_s: float = CONTEXT_S,
+    context_steps: int = CONTEXT_STEPS,
 ) -> pd.DataFrame:
-    """One row per bout of ``steps``: its rotation at the step and stride frequencies and whether it shows gait.
+    """One row per bout of ``steps``: its rotation, vertical acceleration and neighbours, and whether it shows gait.
 
     Parameters
     ----------
@@ -162,6 +257,10 @@ def gait_evidence(
     steps : DataFrame
         A step table (DESIGN sec. 2): sample index column ``peak`` (or the
         column of ``event``), ``period_s`` used for the bout gaps.
+    acc : float array (n, 3), optional
+        Acceleration (m/s^2, gravity included) of the same recording: the
+        vertical-symmetry test (:func:`vertical_stride_fraction`) runs only
+        with it (None: column NaN, that test passes every bout).
     event : str, optional
         The time column standing for a step (default ``steps.attrs['event']``,
         else ``t_peak_s``).
@@ -172,19 +271,29 @@ def gait_evidence(
         where a detector that counts one step per stride would put the step
         frequency at the stride's and its gait's stride rotation at the
         "step" frequency.
-    gap_ratio, max_step_rotation_rad_s, step_over_stride_ratio : float
+    gap_ratio, max_step_rotation_rad_s, step_over_stride_ratio, max_stride_vertical_fraction, context_s : float
         Module docstring.
     long_bout_steps : int
         A bout of at least this many steps shows gait whatever its rotation
-        (module docstring); its rotation is still measured and returned.
+        and vertical acceleration (module docstring); its rotation is still
+        measured and returned, its vertical share is not (NaN).
+    confirm_bout_steps, context_steps : int
+        A bout of fewer than ``confirm_bout_steps`` steps has no gait evidence
+        unless it and the bouts within ``context_s`` of it hold at least
+        ``context_steps`` steps (``confirm_bout_steps`` 0, the default: rule
+        off; 10 opts in).
 
     Returns
     -------
     DataFrame
         ``bout``, ``first`` / ``last`` (row positions in ``steps``), ``n_steps``,
         ``t_start_s`` / ``t_end_s``, ``step_hz``, ``rotation_step_rad_s``,
-        ``rotation_stride_rad_s`` (NaN where untested), ``tested``, ``long_bout``
-        (at least ``long_bout_steps`` steps) and ``gait``.
+        ``rotation_stride_rad_s``, ``stride_vertical_fraction`` (NaN where
+        untested and on long bouts), ``context_steps`` (the steps of the bouts within
+        ``context_s`` of it, its own included), ``tested``, ``long_bout`` (at
+        least ``long_bout_steps`` steps), ``unconfirmed`` (a short bout without
+        the context), ``reason`` (``''``, ``'rotation'``, ``'vertical'``,
+        ``'unconfirmed'``: the first rule that rejects the bout) and ``gait``.
     """
     cols = [
         "bout",
@@ -196,8 +305,12 @@ def gait_evidence(
         "step_hz",
         "rotation_step_rad_s",
         "rotation_stride_rad_s",
+        "stride_vertical_fraction",
+        "context_steps",
         "tested",
         "long_bout",
+        "unconfirmed",
+        "reason",
         "gait",
     ]
     if len(steps) == 0:
@@ -208,9 +321,15 @@ def gait_evidence(
     period = steps["period_s"].to_numpy(dtype=float) if "period_s" in steps.columns else None
     bout = step_bouts(t, period, gap_ratio=gap_ratio)
     g = None if gyr is None else np.asarray(gyr, dtype=float)
+    x = None if acc is None else np.asarray(acc, dtype=float)
     q = max(1, int(fs // FIT_RATE_HZ))
+    nb = int(bout[-1]) + 1
+    # first and last step time and size of every bout: the context of the short ones
+    size = np.bincount(bout, minlength=nb)
+    starts = np.concatenate([[0], np.cumsum(size)[:-1]])
+    t_first, t_last = t[starts], t[starts + size - 1]
     rows = []
-    for b in range(int(bout[-1]) + 1):
+    for b in range(nb):
         idx = np.flatnonzero(bout == b)
         tb = t[idx]
         row = {
@@ -227,7 +346,7 @@ def gait_evidence(
             inside = (ct >= tb[0]) & (ct <= tb[-1])
             f = float(np.median(cf[inside])) if inside.any() else float(np.interp(0.5 * (tb[0] + tb[-1]), ct, cf))
         row["step_hz"] = f
-        rs = rr = np.nan
+        rs = rr = vf = np.nan
         tested = g is not None and len(idx) >= 2 and np.isfinite(f) and f > 0
         if tested:
             half = 0.5 / f
@@ -239,12 +358,29 @@ def gait_evidence(
             tested = len(seg) >= 8 and bool(np.all(np.isfinite(seg)))
             if tested:
                 rs, rr = (float(v) for v in rotation_amplitude(seg, fs / q, f, f / 2.0))
+                if x is not None and len(idx) < long_bout_steps:  # a long bout is gait whatever its vertical: not measured
+                    vf = vertical_stride_fraction(x, fs, a, min(e, len(x)), f)
         row["rotation_step_rad_s"] = rs
         row["rotation_stride_rad_s"] = rr
+        row["stride_vertical_fraction"] = vf
+        near = (t_last > t_first[b] - context_s) & (t_first < t_last[b] + context_s)
+        row["context_steps"] = int(size[near].sum())
         row["tested"] = bool(tested)
+        long_bout = len(idx) >= long_bout_steps
         beats = tested and rs > max_step_rotation_rad_s and rs > step_over_stride_ratio * rr
-        row["long_bout"] = len(idx) >= long_bout_steps
-        row["gait"] = not (beats and not row["long_bout"])
+        strokes = tested and np.isfinite(vf) and vf > max_stride_vertical_fraction
+        unconfirmed = g is not None and len(idx) < confirm_bout_steps and row["context_steps"] < context_steps
+        row["long_bout"] = long_bout
+        row["unconfirmed"] = bool(unconfirmed)
+        reason = ""
+        if beats and not long_bout:
+            reason = "rotation"
+        elif strokes and not long_bout:
+            reason = "vertical"
+        elif unconfirmed:
+            reason = "unconfirmed"
+        row["reason"] = reason
+        row["gait"] = reason == ""
         rows.append(row)
     return pd.DataFrame(rows, columns=cols)
 
@@ -252,10 +388,12 @@ def gait_evidence(
 def gait_check(steps: pd.DataFrame, gyr: np.ndarray | None, sampling_rate_hz: float, **kwargs) -> pd.DataFrame:
     """``steps`` without the bouts that show no gait evidence (:func:`gait_evidence`), with the account in ``attrs``.
 
-    The returned table keeps the input's ``attrs`` and adds
-    ``attrs['gait_check']``: ``tested`` (False without a gyroscope),
+    ``kwargs`` go to :func:`gait_evidence` (pass ``acc=`` for the
+    vertical-symmetry test). The returned table keeps the input's ``attrs``
+    and adds ``attrs['gait_check']``: ``tested`` (False without a gyroscope),
     ``n_steps_rejected``, ``n_bouts_rejected``, ``n_bouts`` and
-    ``rejected_t_s`` (the left-out steps' times, for plots and logs).
+    ``rejected_t_s`` (the left-out steps' times, for plots and logs); which
+    rule left a bout out is :func:`gait_evidence`'s ``reason``.
     """
     attrs = dict(steps.attrs)
     ev = gait_evidence(gyr, sampling_rate_hz, steps, **kwargs)
@@ -293,4 +431,4 @@ def gait_check_recording(steps: pd.DataFrame, recording) -> pd.DataFrame:
             cadence = (cad["t_s"].to_numpy(), cad["cadence_hz"].to_numpy())
         except InputError:
             cadence = None
-    return gait_check(steps, recording.gyr, recording.sampling_rate_hz, cadence=cadence)
+    return gait_check(steps, recording.gyr, recording.sampling_rate_hz, acc=recording.acc, cadence=cadence)

@@ -959,7 +959,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         confirmation); at most ``min_bout_steps`` is no extra test.
     gait_check : bool, default True
         Leave out the bouts of fewer than 30 steps whose phone rotates at the
-        step frequency as no walker's does (a gesturing hand; a longer bout is
+        step frequency, or whose vertical acceleration varies at the stride
+        frequency, as no walker's does (a gesturing hand; a longer bout is
         gait whatever its rotation; :mod:`gaitml.steps._gait_evidence`);
         needs a gyroscope (without one nothing is tested). The account is in
         ``steps_.attrs['gait_check']``.
@@ -1128,7 +1129,7 @@ class AdaptiveStepDetector(BaseStepDetector):
             confidence=r["confidence"],
         )
         if check:  # bouts without gait evidence (a gesturing hand) are left out
-            self.steps_ = gait_check(self.steps_, rec.gyr, fs)
+            self.steps_ = gait_check(self.steps_, rec.gyr, fs, acc=rec.acc)
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(
             {

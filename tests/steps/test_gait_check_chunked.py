@@ -6,9 +6,10 @@ chunks' core steps; `gaitml pdr`, `label` and `segment` say, in one stderr note 
 
 Bound on chunked vs whole-file counts: a bout of steps lying within a chunk margin of a chunk edge is tested
 on the same steps as on the whole file, so the counts are equal when the margins are longer than the bouts
-and than ``adaptive``'s cadence windows (its cadence is what other detectors are tested at). The gesture
-bursts of the simulator last seconds and its walks here are cut into segments of 8-20 s; 10 s margins hold
-them, and the counts below must be equal.
+and than ``adaptive``'s cadence windows (its cadence is what other detectors are tested at), and at least as
+long as the context a short bout is confirmed by (``CONTEXT_S``, 30 s). The gesture bursts of the simulator last
+seconds and its walks here are cut into segments of 8-20 s; 30 s margins hold them and the context, and the
+counts below must be equal.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from gaitml.simulate.nongait import simulate_nongait
 from gaitml.steps import get_detector
 from gaitml.steps._gait_evidence import gait_check_recording
 
-CHUNK_S, MARGIN_S = 20.0, 10.0
+CHUNK_S, MARGIN_S = 20.0, 30.0  # margins as long as the gait check's context window (CONTEXT_S)
 
 
 @pytest.fixture(scope="module")

@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gaitml.consts import ACC_LIMIT_MS2
 from gaitml.errors import InputError
 from gaitml.io._common import require_file
 from gaitml.io._detect import detect_format, read_recording
@@ -228,6 +229,7 @@ def scan_gaitml_csv(
     has_gyr = has_labels = False
     cols_ignored: list[str] = []
     n = 0
+    acc_sum, acc_count = np.zeros(3), 0
     for block, offset, cols in _parsed_blocks(p, rows):
         has_gyr, has_labels, cols_ignored = cols.has_gyr, cols.has_labels, cols.ignored
         if block.nan_count:
@@ -241,6 +243,9 @@ def scan_gaitml_csv(
         acc, gyr = convert_units(block.acc, block.gyr, acc_unit, gyr_unit)
         ts.append(block.t)
         amag.append(acc_magnitude(acc))
+        fin = np.isfinite(acc).all(axis=1)
+        acc_sum += np.clip(acc[fin], -ACC_LIMIT_MS2, ACC_LIMIT_MS2).sum(axis=0)
+        acc_count += int(fin.sum())
         if gyr is not None:
             gmag.append(gyr_magnitude(gyr))
         tally.add(acc, gyr, offset)
@@ -265,7 +270,8 @@ def scan_gaitml_csv(
         meta["ignored_columns"] = cols_ignored
     note_conversions(meta, acc_unit, has_gyr and gyr_unit == "deg/s")
     plan = judge_timestamps(t, sampling_rate_hz=sampling_rate_hz)
-    warning = check_unit_magnitudes(amag.values(), gmag.values() if has_gyr else None, meta)
+    mean_norm = float(np.linalg.norm(acc_sum / acc_count)) if acc_count else None
+    warning = check_unit_magnitudes(amag.values(), gmag.values() if has_gyr else None, meta, acc_mean_norm=mean_norm)
     del amag, gmag
     tally.raise_first()
     meta.update(plan["meta"])

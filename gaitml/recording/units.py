@@ -29,6 +29,7 @@ __all__ = [
     "acc_magnitude",
     "gyr_magnitude",
     "judge_acc_magnitude",
+    "acc_mean_norm",
     "judge_gyr_magnitude",
     "convert_units",
     "note_conversions",
@@ -68,6 +69,11 @@ _GYR_P99_SUSPECT_RADS = 20.0
 _GYR_REST_RADS = 0.03
 #: A median |acc| below this cannot include gravity (all zeros, or gravity removed).
 _MIN_MEDIAN_ACC_MS2 = 0.5
+#: The norm of the recording's mean acceleration vector below which it holds no gravity: with gravity the mean
+#: specific force over whole strides is gravity turned into the sensor frame (about 1 in g, 9.8 in m/s^2, at
+#: least half of it for a foot that pitches by +-60 deg); linear acceleration (gravity removed) averages to the
+#: sensor's bias, a few hundredths. Read only where the magnitudes cannot tell g from no gravity.
+_MIN_MEAN_NORM = 0.3
 
 
 def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
@@ -78,7 +84,13 @@ def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
     """
     if len(acc) == 0:
         return
-    judge_acc_magnitude(acc_magnitude(acc), what=what)
+    judge_acc_magnitude(acc_magnitude(acc), what=what, mean_norm=acc_mean_norm(acc))
+
+
+def acc_mean_norm(acc: np.ndarray) -> float:
+    """The norm of the mean acceleration vector over the recording (NaN rows ignored): gravity's share of it."""
+    m = np.nanmean(np.clip(np.asarray(acc, dtype=float), -ACC_LIMIT_MS2, ACC_LIMIT_MS2), axis=0)
+    return float(np.linalg.norm(m)) if np.all(np.isfinite(m)) else float("nan")
 
 
 def acc_magnitude(acc: np.ndarray) -> np.ndarray:
@@ -92,7 +104,7 @@ def gyr_magnitude(gyr: np.ndarray) -> np.ndarray:
     return np.sqrt(np.sum(np.square(np.clip(gyr, -GYR_LIMIT_RADS, GYR_LIMIT_RADS)), axis=1)).astype(np.float32)
 
 
-def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc") -> None:
+def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc", mean_norm: float | None = None) -> None:
     """The test of :func:`check_acc_unit` on the per-sample magnitudes of the whole recording
     (a file read in blocks collects them block by block and is judged by this same code).
 
@@ -110,6 +122,13 @@ def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc") -> None:
     - milli-g or counts: a median |acc| above :data:`_MAX_MEDIAN_ACC_MS2` (50) whose 5th
       percentile is above :data:`_MAX_LOW_ACC_MS2` (2 g in m/s^2): a runner's foot in m/s^2
       reaches a median of 50 with a 5th percentile of 6-10, the same foot in milli-g 600-1000.
+      The percentile is taken over the samples that are not (near) zero (|acc| >= 0.5): a logger's
+      zero rows (before the sensor starts, dropped rows filled with 0) say nothing of the unit.
+
+    ``mean_norm`` (:func:`acc_mean_norm`, optional): where the median is below a gravity recording's
+    (2-8: a fast-moving sensor in g, or no gravity), a mean acceleration vector near zero (below
+    :data:`_MIN_MEAN_NORM`) says the recording has no gravity at all (linear acceleration in m/s^2,
+    which would only look right once multiplied by 9.81): refused as such.
     """
     if len(mag) == 0:
         return
@@ -125,7 +144,13 @@ def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc") -> None:
             "pass acc_unit='g' (CLI: --acc-unit g) or convert to m/s^2."
         )
     if med < _G_RUN_MAX_MEDIAN or med > _MAX_MEDIAN_ACC_MS2:
-        low = float(np.percentile(mag, _LOW_PERCENTILE))
+        live = mag[mag >= _MIN_MEDIAN_ACC_MS2]
+        low = float(np.percentile(live, _LOW_PERCENTILE)) if len(live) else 0.0
+        if med < _G_RUN_MAX_MEDIAN and mean_norm is not None and mean_norm < _MIN_MEAN_NORM:
+            raise InputError(
+                f"{what} has no gravity (median |acc| = {med:.3g}, mean acceleration vector {mean_norm:.2g}: it averages "
+                "to zero): gaitml needs the raw accelerometer with gravity included, not linear acceleration; export the raw sensor."
+            )
         if med < _G_RUN_MAX_MEDIAN and low <= _G_UNIT_BAND[1]:
             raise InputError(
                 f"{what} looks like it is in g, not m/s^2 (median |acc| = {med:.2f}, 5th percentile {low:.2f}: a fast-moving "
@@ -186,13 +211,18 @@ def judge_gyr_magnitude(mag: np.ndarray) -> str | None:
 
 def check_units(acc: np.ndarray, gyr: np.ndarray | None, meta: Mapping[str, Any]) -> str | None:
     """The unit checks of acc (refuse) and gyr (refuse or a warning text, see :func:`check_gyr_unit`)."""
-    return check_unit_magnitudes(acc_magnitude(acc), None if gyr is None else gyr_magnitude(gyr), meta)
+    return check_unit_magnitudes(
+        acc_magnitude(acc), None if gyr is None else gyr_magnitude(gyr), meta, acc_mean_norm=acc_mean_norm(acc) if len(acc) else None
+    )
 
 
-def check_unit_magnitudes(acc_mag: np.ndarray, gyr_mag: np.ndarray | None, meta: Mapping[str, Any]) -> str | None:
-    """:func:`check_units` on the per-sample magnitudes (:func:`acc_magnitude`, :func:`gyr_magnitude`)."""
+def check_unit_magnitudes(
+    acc_mag: np.ndarray, gyr_mag: np.ndarray | None, meta: Mapping[str, Any], *, acc_mean_norm: float | None = None
+) -> str | None:
+    """:func:`check_units` on the per-sample magnitudes (:func:`acc_magnitude`, :func:`gyr_magnitude`) and, when known,
+    the norm of the mean acceleration vector (:func:`acc_mean_norm`; a file read in blocks sums its blocks)."""
     try:
-        judge_acc_magnitude(acc_mag)
+        judge_acc_magnitude(acc_mag, mean_norm=acc_mean_norm)
     except InputError as exc:
         if "acc from g" in meta.get("converted", []):
             raise InputError(f"{exc} (the data was converted from g as asked: drop --acc-unit g / acc_unit='g' if it is in m/s^2)") from exc

@@ -93,6 +93,38 @@ def test_running_foot_is_told_from_unit_mistakes_by_its_rest_level():
     assert max(medians) > 50.0  # the median alone would call it milli-g
 
 
+def test_milli_g_with_zero_rows_is_still_refused():
+    """A logger's zero rows (sensor warm-up, dropped rows filled with 0) must not pass a milli-g file as m/s^2:
+    the low percentile that tells a runner's foot from milli-g is taken over the samples that are not zero."""
+    a = _acc(2000) * 1000 / GRAVITY_MS2
+    for rows in (slice(0, 140), slice(None, None, 15)):  # 7 % at the start, or scattered
+        z = a.copy()
+        z[rows] = 0.0
+        with pytest.raises(InputError, match="implausibly large"):
+            Recording(acc=z, sampling_rate_hz=50)
+
+
+def test_linear_acceleration_is_refused_as_no_gravity_not_as_g():
+    """Gravity removed (a phone's linear-acceleration export) has a median of a few m/s^2 and a low tail under 2
+    like a runner's foot in g; its mean vector is near zero, so it is refused as having no gravity (the "in g"
+    hint would make it look right once multiplied by 9.81); a runner's foot in g still gets the g hint."""
+    from scipy.ndimage import uniform_filter1d
+
+    from gaitml.simulate.foot import simulate_foot
+
+    rng = np.random.default_rng(3)
+    t = np.arange(3000) / 50.0
+    lin = np.column_stack([4.0 * np.sin(2 * np.pi * 1.8 * t), 3.0 * np.cos(2 * np.pi * 0.9 * t), 5.0 * np.sin(2 * np.pi * 1.8 * t + 1)])
+    lin += rng.normal(0, 0.3, lin.shape)
+    lin -= uniform_filter1d(lin, 100, axis=0)
+    with pytest.raises(InputError, match="no gravity") as err:
+        Recording(acc=lin, sampling_rate_hz=50)
+    assert "acc_unit='g'" not in str(err.value)
+    foot = simulate_foot(modes=("run",), duration_s=30.0, sampling_rate_hz=100.0, seed=8)
+    with pytest.raises(InputError, match=r"in g, not m/s\^2"):
+        Recording(acc=foot.acc / GRAVITY_MS2, gyr=foot.gyr, sampling_rate_hz=100.0)
+
+
 def test_gyro_in_deg_s_is_refused_and_converted_on_request():
     g = np.random.default_rng(1).normal(0, 200, (200, 3))
     with pytest.raises(InputError, match="deg/s"):

@@ -105,10 +105,11 @@ def _core_steps(
     params = dict(detector_params or {})
     det = get_detector(detector, **params)
     own = "gait_check" in det.get_params()
+    vertical = det.get_params().get("gait_check_vertical_fraction")  # adaptive's opt-in vertical-symmetry test
     gait = (bool(det.get_params()["gait_check"]) if own else False) if gait_check is None else bool(gait_check)
     if own:
         raw = det.set_params(gait_check=False).detect(rec).steps_
-        checked = check_steps(raw, rec.gyr, rec.sampling_rate_hz, acc=rec.acc) if gait else raw
+        checked = check_steps(raw, rec.gyr, rec.sampling_rate_hz, acc=rec.acc, max_stride_vertical_fraction=vertical) if gait else raw
     else:
         raw = det.detect(rec).steps_
         checked = gait_check_recording(raw, rec) if gait else raw

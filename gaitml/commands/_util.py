@@ -85,6 +85,6 @@ def gait_check_note(account: dict | None, detector: str) -> None:
         return
     log(
         f"gaitml: note: {account['n_steps_rejected']} steps in {account['n_bouts_rejected']} of {account['n_bouts']} bouts "
-        f"without gait evidence left out by {detector} (the phone turns or moves up and down as a gesturing hand does, not as "
+        f"without gait evidence left out by {detector} (the phone rotates at the step rate as a gesturing hand does, not as "
         "a walker's); a paper detector (e.g. --detector single-peak) keeps them"
     )

@@ -103,8 +103,8 @@ def _gait_line(checked: dict | None) -> str | None:
     if not n:
         return f"every bout of steps shows gait evidence ({checked['n_bouts']} bouts)"
     return (
-        f"{n} steps in {m} of {checked['n_bouts']} bouts without gait evidence left out (the phone turns or moves up and "
-        "down as a gesturing hand does, not as a walker's); --no-gait-check keeps them"
+        f"{n} steps in {m} of {checked['n_bouts']} bouts without gait evidence left out (the phone rotates at the step rate "
+        "as a gesturing hand does, not as a walker's); --no-gait-check keeps them"
     )
 
 

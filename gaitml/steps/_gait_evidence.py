@@ -63,12 +63,19 @@ right steps alike, so the vertical acceleration repeats with the step period
 Biomech. 37, 2004) and little of it varies at the stride frequency (the
 difference between a left and a right step). A hand that strokes once per two
 |acc| peaks moves up and down once per stroke: its vertical acceleration
-varies at the "stride". A bout below ``long_bout_steps`` has **no gait
-evidence** either when more than ``max_stride_vertical_fraction`` (0.4) of
-the variance of its vertical acceleration is at half its step frequency
-(:func:`vertical_stride_fraction`; the vertical is the acceleration averaged
-over a stride). It runs with the rotation test (a recording with a gyroscope,
-given its acceleration).
+varies at the "stride". With ``max_stride_vertical_fraction`` set (opt-in;
+:data:`MAX_STRIDE_VERTICAL_FRACTION` = 0.4 is the value chosen on whole
+recordings) a bout below ``long_bout_steps`` has **no gait evidence** either
+when more than that share of the variance of its vertical acceleration is at
+half its step frequency (:func:`vertical_stride_fraction`; the vertical is the
+acceleration averaged over a stride). It runs with the rotation test (a
+recording with a gyroscope, given its acceleration). It is **off by default**
+(``max_stride_vertical_fraction=None``) because a hand that swings the phone
+while walking breaks the symmetry it reads: the arm swings once per *stride*
+as a pendulum whose forward and backward swings differ (Perry & Burnfield
+2010, ch. 7), so a large share of a swinging hand's vertical acceleration is
+at half the step frequency, and a short walk with the phone in a swinging
+hand loses its steps.
 
 **A few steps alone (opt-in).** A phone handled at a desk (picked up,
 tapped, put down) gives runs of 4-14 regular |acc| peaks with little rotation
@@ -136,10 +143,12 @@ STEP_OVER_STRIDE_RATIO = 1.0
 #: (Bassett et al. 1996), 15 s at 2 steps/s. The limit of this rule: a phone waved or shaken in a steady rhythm
 #: for that long is counted as steps (and as confident gait); only shorter bursts are left out
 LONG_BOUT_STEPS = 30
-#: a bout below ``long_bout_steps`` has no gait evidence when more than this share of the variance of its vertical
-#: acceleration is at the stride frequency (half the step frequency): a body's vertical acceleration repeats every
-#: step, left and right alike (Zijlstra & Hof 2003; Moe-Nilssen & Helbostad 2004); a hand that strokes once per two
-#: |acc| peaks puts its vertical swing at the "stride". A pure stride sinusoid gives 1
+#: the vertical-symmetry test's opt-in threshold (the default, ``max_stride_vertical_fraction=None``, is off: a
+#: swinging hand's arm swings once per stride; module docstring): with it, a bout below ``long_bout_steps`` has no gait
+#: evidence when more than this share of the variance of its vertical acceleration is at the stride frequency (half
+#: the step frequency): a body's vertical acceleration repeats every step, left and right alike (Zijlstra & Hof 2003;
+#: Moe-Nilssen & Helbostad 2004); a hand that strokes once per two |acc| peaks puts its vertical swing at the
+#: "stride". A pure stride sinusoid gives 1
 MAX_STRIDE_VERTICAL_FRACTION = 0.4
 #: the short-bout context rule is off by default (0): it costs real slow walks (module docstring). Opt in with
 #: ``confirm_bout_steps=10`` (the pedometers' ten-step confirmation, Bassett et al. 1996): a bout of fewer steps ...
@@ -241,7 +250,7 @@ def gait_evidence(
     max_step_rotation_rad_s: float = MAX_STEP_ROTATION_RAD_S,
     step_over_stride_ratio: float = STEP_OVER_STRIDE_RATIO,
     long_bout_steps: int = LONG_BOUT_STEPS,
-    max_stride_vertical_fraction: float = MAX_STRIDE_VERTICAL_FRACTION,
+    max_stride_vertical_fraction: float | None = None,
     confirm_bout_steps: int = CONFIRM_BOUT_STEPS,
     context_s: float = CONTEXT_S,
     context_steps: int = CONTEXT_STEPS,
@@ -259,8 +268,9 @@ def gait_evidence(
         column of ``event``), ``period_s`` used for the bout gaps.
     acc : float array (n, 3), optional
         Acceleration (m/s^2, gravity included) of the same recording: the
-        vertical-symmetry test (:func:`vertical_stride_fraction`) runs only
-        with it (None: column NaN, that test passes every bout).
+        vertical share (:func:`vertical_stride_fraction`) is measured only
+        with it (None: column NaN, the vertical-symmetry test passes every
+        bout).
     event : str, optional
         The time column standing for a step (default ``steps.attrs['event']``,
         else ``t_peak_s``).
@@ -271,8 +281,12 @@ def gait_evidence(
         where a detector that counts one step per stride would put the step
         frequency at the stride's and its gait's stride rotation at the
         "step" frequency.
-    gap_ratio, max_step_rotation_rad_s, step_over_stride_ratio, max_stride_vertical_fraction, context_s : float
+    gap_ratio, max_step_rotation_rad_s, step_over_stride_ratio, context_s : float
         Module docstring.
+    max_stride_vertical_fraction : float or None
+        The vertical-symmetry test (module docstring): None, the default, is
+        off (the share is still measured and returned given ``acc``);
+        :data:`MAX_STRIDE_VERTICAL_FRACTION` opts in.
     long_bout_steps : int
         A bout of at least this many steps shows gait whatever its rotation
         and vertical acceleration (module docstring); its rotation is still
@@ -368,7 +382,7 @@ def gait_evidence(
         row["tested"] = bool(tested)
         long_bout = len(idx) >= long_bout_steps
         beats = tested and rs > max_step_rotation_rad_s and rs > step_over_stride_ratio * rr
-        strokes = tested and np.isfinite(vf) and vf > max_stride_vertical_fraction
+        strokes = max_stride_vertical_fraction is not None and tested and np.isfinite(vf) and vf > max_stride_vertical_fraction
         unconfirmed = g is not None and len(idx) < confirm_bout_steps and row["context_steps"] < context_steps
         row["long_bout"] = long_bout
         row["unconfirmed"] = bool(unconfirmed)
@@ -388,8 +402,8 @@ def gait_evidence(
 def gait_check(steps: pd.DataFrame, gyr: np.ndarray | None, sampling_rate_hz: float, **kwargs) -> pd.DataFrame:
     """``steps`` without the bouts that show no gait evidence (:func:`gait_evidence`), with the account in ``attrs``.
 
-    ``kwargs`` go to :func:`gait_evidence` (pass ``acc=`` for the
-    vertical-symmetry test). The returned table keeps the input's ``attrs``
+    ``kwargs`` go to :func:`gait_evidence` (pass ``acc=`` and
+    ``max_stride_vertical_fraction=`` for the opt-in vertical-symmetry test). The returned table keeps the input's ``attrs``
     and adds ``attrs['gait_check']``: ``tested`` (False without a gyroscope),
     ``n_steps_rejected``, ``n_bouts_rejected``, ``n_bouts`` and
     ``rejected_t_s`` (the left-out steps' times, for plots and logs); which
@@ -414,12 +428,13 @@ def gait_check(steps: pd.DataFrame, gyr: np.ndarray | None, sampling_rate_hz: fl
     return out
 
 
-def gait_check_recording(steps: pd.DataFrame, recording) -> pd.DataFrame:
+def gait_check_recording(steps: pd.DataFrame, recording, **kwargs) -> pd.DataFrame:
     """:func:`gait_check` of any detector's ``steps`` on ``recording``, tested at ``adaptive``'s local step frequency.
 
     ``adaptive`` (gait check off) gives the cadence (its stride-versus-step
     decision); where it cannot run (a recording too short for its cadence
-    windows) each bout's own median step interval is used.
+    windows) each bout's own median step interval is used. ``kwargs`` go to
+    :func:`gait_evidence` (e.g. ``max_stride_vertical_fraction``).
     """
     from gaitml.errors import InputError
     from gaitml.steps import get_detector
@@ -431,4 +446,4 @@ def gait_check_recording(steps: pd.DataFrame, recording) -> pd.DataFrame:
             cadence = (cad["t_s"].to_numpy(), cad["cadence_hz"].to_numpy())
         except InputError:
             cadence = None
-    return gait_check(steps, recording.gyr, recording.sampling_rate_hz, acc=recording.acc, cadence=cadence)
+    return gait_check(steps, recording.gyr, recording.sampling_rate_hz, acc=recording.acc, cadence=cadence, **kwargs)

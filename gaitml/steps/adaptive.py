@@ -959,11 +959,19 @@ class AdaptiveStepDetector(BaseStepDetector):
         confirmation); at most ``min_bout_steps`` is no extra test.
     gait_check : bool, default True
         Leave out the bouts of fewer than 30 steps whose phone rotates at the
-        step frequency, or whose vertical acceleration varies at the stride
-        frequency, as no walker's does (a gesturing hand; a longer bout is
+        step frequency as no walker's does (a gesturing hand; a longer bout is
         gait whatever its rotation; :mod:`gaitml.steps._gait_evidence`);
         needs a gyroscope (without one nothing is tested). The account is in
         ``steps_.attrs['gait_check']``.
+    gait_check_vertical_fraction : float or None, default None
+        The gait check's opt-in vertical-symmetry test: a bout of fewer than
+        30 steps with more than this share of its vertical acceleration's
+        variance at the stride frequency is left out too
+        (:data:`~gaitml.steps._gait_evidence.MAX_STRIDE_VERTICAL_FRACTION`,
+        0.4, opts in). None: off, because a phone in a swinging hand puts
+        much of its vertical acceleration at the stride frequency (the arm
+        swings once per stride) and a short walk so carried would lose its
+        steps.
 
     Attributes
     ----------
@@ -1027,6 +1035,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         "gyro_swing_acc_correlation": [Interval(-1, 1, closed="both")],
         "gyro_swing_min_bout_steps": [NON_NEGATIVE_INTEGER],
         "gait_check": ["boolean"],
+        "gait_check_vertical_fraction": [Interval(0, None, closed="left"), None],
     }
     #: settings the evaluation may choose on training users (``gaitml.pipeline.steps_real``); the defaults are not fitted
     param_grid: ClassVar[dict[str, tuple]] = {"min_periodicity": (0.2, 0.3, 0.4), "min_confidence": (0.0, 0.2, 0.4)}
@@ -1060,6 +1069,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         gyro_swing_acc_correlation: float = GYRO_SWING_ACC_CORRELATION,
         gyro_swing_min_bout_steps: int = GYRO_SWING_MIN_BOUT_STEPS,
         gait_check: bool = True,
+        gait_check_vertical_fraction: float | None = None,
     ):
         self.band_hz = band_hz
         self.window_s = window_s
@@ -1087,11 +1097,13 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.gyro_swing_acc_correlation = gyro_swing_acc_correlation
         self.gyro_swing_min_bout_steps = gyro_swing_min_bout_steps
         self.gait_check = gait_check
+        self.gait_check_vertical_fraction = gait_check_vertical_fraction
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
         """Detect steps in ``recording``; results in ``steps_`` and ``cadence_``."""
         params = self._validate_params()
         check = params.pop("gait_check")
+        vertical = params.pop("gait_check_vertical_fraction")
         rec = as_recording(recording, "adaptive step detection", min_duration_s=2.0)
         fs = rec.sampling_rate_hz
         lo, hi = (float(v) for v in self.band_hz)
@@ -1129,7 +1141,7 @@ class AdaptiveStepDetector(BaseStepDetector):
             confidence=r["confidence"],
         )
         if check:  # bouts without gait evidence (a gesturing hand) are left out
-            self.steps_ = gait_check(self.steps_, rec.gyr, fs, acc=rec.acc)
+            self.steps_ = gait_check(self.steps_, rec.gyr, fs, acc=rec.acc, max_stride_vertical_fraction=vertical)
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(
             {

@@ -122,11 +122,12 @@ def _core_cadence(det, ch: Chunk, fs: float) -> pd.DataFrame | None:
     """The detector's per-window cadence (``cadence_``, ``adaptive``) of the windows centred in the
     chunk's core, at whole-file times; None for a detector without one.
 
-    A window belongs to the chunk whose core holds its centre sample, so every window of the file is
-    given once. Its time is its global centre sample over the rate, as a whole-file run gives it. The
-    windows lie on the whole-file grid (centres ``k * hop + window / 2``) when the chunk's first
-    sample is a multiple of the hop (in samples; e.g. 100 at 100 Hz with the 1 s hop and whole
-    seconds of chunk and margin); otherwise they are shifted by less than one hop.
+    The chunk must start at a multiple of the detector's cadence hop in samples
+    (:meth:`~gaitml.steps.adaptive.AdaptiveStepDetector.cadence_hop_samples`; :func:`long_steps` with
+    ``keep_cadence`` cuts its chunks so): its windows are then the whole-file run's windows
+    (centres ``k * hop + window / 2``). A window belongs to the chunk whose core holds its centre
+    sample, so every window of the file is given once, at its global centre sample over the rate, as
+    a whole-file run gives it.
     """
     cad = getattr(det, "cadence_", None)
     if cad is None:
@@ -235,6 +236,14 @@ def long_steps(
 
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
+    align, margin_read_s = 1, margin_s
+    grid = getattr(get_detector(detector, **dict(detector_params or {})), "cadence_hop_samples", None)
+    if keep_cadence and grid is not None:
+        # chunk offsets (core start - margin) on multiples of the cadence hop: each chunk's cadence
+        # windows are then the whole-file run's windows (_core_cadence)
+        fs_probe = _probe_rate(path, read_kwargs)
+        align = grid(fs_probe)
+        margin_read_s = math.ceil(round(margin_s * fs_probe) / align) * align / fs_probe
     parts = []
     fs = None
     attrs: dict = {}
@@ -243,7 +252,9 @@ def long_steps(
     cadence_parts: list[pd.DataFrame] = []
     gait = None
     for ch in progress_chunks(
-        iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"steps ({detector})", enabled=progress
+        iter_chunks(path, chunk_s=chunk_s, margin_s=margin_read_s, align_samples=align, **read_kwargs),
+        f"steps ({detector})",
+        enabled=progress,
     ):
         fs = ch.recording.sampling_rate_hz
         table, account, det = _core_steps(ch.recording, ch, detector, detector_params, gait_check)
@@ -309,6 +320,24 @@ def long_zupts(
     return mask, intervals_table(mask, fs), fs
 
 
+def _probe_rate(path, read_kwargs: dict) -> float:
+    """The sampling rate the chunks of ``path`` will have, before they are cut: the given rate, the
+    rate of a recording already read (``recording``), or the first pass's (``scan``, made here and
+    kept in ``read_kwargs`` for the reading that follows); else that of a first one-second chunk."""
+    if read_kwargs.get("recording") is not None:
+        return float(read_kwargs["recording"].sampling_rate_hz)
+    fs_probe = read_kwargs.get("sampling_rate_hz")
+    if fs_probe is None:
+        if read_kwargs.get("scan") is None:
+            read_kwargs["scan"] = scan_input(path, **read_kwargs)
+        if read_kwargs["scan"] is not None:
+            fs_probe = read_kwargs["scan"].sampling_rate_hz
+        else:
+            first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
+            fs_probe = first.recording.sampling_rate_hz
+    return float(fs_probe)
+
+
 def _window_chunks(
     path,
     length_s,
@@ -337,15 +366,7 @@ def _window_chunks(
     from gaitml.signal import window_params
 
     # the hop depends on the rate, known after the first block: peek at it
-    fs_probe = recording.sampling_rate_hz if recording is not None else read_kwargs.get("sampling_rate_hz")
-    if fs_probe is None:
-        if read_kwargs.get("scan") is None:
-            read_kwargs["scan"] = scan_input(path, **read_kwargs)
-        if read_kwargs["scan"] is not None:
-            fs_probe = read_kwargs["scan"].sampling_rate_hz
-        else:
-            first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
-            fs_probe = first.recording.sampling_rate_hz
+    fs_probe = recording.sampling_rate_hz if recording is not None else _probe_rate(path, read_kwargs)
     length, hop = window_params(length_s, overlap, fs_probe)
     align = math.lcm(hop * max(1, int(window_grid)), max(1, int(phase_step)))
     margin_samples = math.ceil((math.ceil(length / hop) + max(0, int(extra_windows))) * hop / align) * align

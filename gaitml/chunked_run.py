@@ -22,9 +22,10 @@ Equivalence with a whole-file run:
   per chunk edge; nothing else in it depends on the whole recording);
 - the gait-evidence test of the steps (``adaptive``'s own, or ``gait_check`` of :func:`long_steps`)
   runs on each chunk's steps, as on a whole recording, and its account is summed over the steps
-  anchored in the cores: equal to a whole-file run's for bouts shorter than the margin (with the
-  opt-in short-bout rule, a short bout's context, the steps within 30 s of it, lies within the
-  30 s margin, up to a neighbouring bout that runs beyond it);
+  anchored in the cores: equal to a whole-file run's for bouts shorter than the margin. The
+  test's opt-in short-bout rule (``confirm_bout_steps`` of
+  :func:`~gaitml.steps._gait_evidence.gait_check`) is Python-only, applied to a step table of a
+  recording read whole: no chunked run applies it (:func:`long_steps` refuses its settings);
 - dead reckoning (:func:`long_pdr`) starts from the gyroscope bias of the whole file's still
   stretches (a first pass, :func:`long_still_bias`), carries the attitude across chunks and
   corrects the heading over all steps: the whole-file run's trajectory (within a millimetre)
@@ -50,6 +51,8 @@ __all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pd
 
 DEFAULT_CHUNK_S = 600.0
 DEFAULT_MARGIN_S = 30.0
+#: the settings of the gait check's opt-in short-bout rule, Python-only (not applied in chunked runs)
+SHORT_BOUT_SETTINGS = ("confirm_bout_steps", "context_s", "context_steps")
 
 
 def progress_chunks(chunks: Iterator[Chunk], desc: str, *, enabled: bool = True) -> Iterator[Chunk]:
@@ -222,9 +225,10 @@ def long_steps(
     :data:`~gaitml.steps._gait_evidence.LONG_BOUT_STEPS` steps that make a bout gait whatever its
     rotation when the cadence is at least ``LONG_BOUT_STEPS / margin_s`` (1 step/s with the 30 s
     margin); a slower bout that turns with its steps can lose the few core steps near a chunk edge
-    that a whole-file run keeps. With the opt-in short-bout rule a short bout is confirmed by the
-    steps within :data:`~gaitml.steps._gait_evidence.CONTEXT_S` (30 s) of it: with a margin shorter
-    than that, a short bout near a chunk edge can lose steps a whole-file run keeps.
+    that a whole-file run keeps. The test's opt-in short-bout rule (``confirm_bout_steps``,
+    ``context_s``, ``context_steps`` of :func:`~gaitml.steps._gait_evidence.gait_check`) is
+    Python-only, for a recording read whole: it is not available here, and ``detector_params``
+    naming one of its settings is refused with an :class:`~gaitml.errors.InputError`.
     Bouts are counted (``n_bouts``, ``n_bouts_rejected``) over the whole file's core steps
     (:func:`_sum_accounts`): a bout over a chunk edge is one bout, rejected when any chunk left out
     any of its steps.
@@ -232,8 +236,16 @@ def long_steps(
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).
     """
+    from gaitml.errors import InputError
     from gaitml.steps import get_detector
 
+    short_bout = sorted(set(detector_params or {}) & set(SHORT_BOUT_SETTINGS))
+    if short_bout:
+        raise InputError(
+            f"{', '.join(short_bout)}: the gait check's opt-in short-bout rule is not available in a chunked run; "
+            "read the recording whole and apply gaitml.steps._gait_evidence.gait_check(steps, gyr, fs, acc=acc, "
+            "confirm_bout_steps=10) to adaptive's steps (gait_check=False)."
+        )
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
     align, margin_read_s = 1, margin_s

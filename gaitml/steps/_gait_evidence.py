@@ -80,9 +80,10 @@ gait evidence** unless it and the bouts that reach within ``context_s`` (30 s)
 of its first or last step hold at least ``context_steps`` (20) steps, where only
 bouts that stand on their own count as context (at least ``confirm_bout_steps``
 steps, passing the rotation and vertical tests): a walk broken by turns keeps
-its short pieces, a run of a few steps alone is left out, and so are several
-such runs near one another (desk handling repeated every few seconds). It is **off by default** (``confirm_bout_steps`` = 0) because a slow,
-halting walk whose steps the detector finds only in short pieces (the tyrex
+the short pieces that lie near a piece of ten steps or more, a run of a few
+steps alone is left out, and so are several such runs near one another (desk
+handling repeated every few seconds). It is **off by default**
+(``confirm_bout_steps`` = 0) because a slow, halting walk whose steps the detector finds only in short pieces (the tyrex
 AR walks, a phone held up in front) loses them too. ``context_s`` is no longer
 than the 30 s chunk margin of :mod:`gaitml.chunked_run`, so a long input run
 in chunks sees the same context for a bout of its core, up to bouts that run

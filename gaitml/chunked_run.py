@@ -126,8 +126,8 @@ def _core_cadence(det, ch: Chunk, fs: float) -> pd.DataFrame | None:
     chunk's core, at whole-file times; None for a detector without one.
 
     The chunk must start at a multiple of the detector's cadence hop in samples
-    (:meth:`~gaitml.steps.adaptive.AdaptiveStepDetector.cadence_hop_samples`; :func:`long_steps` with
-    ``keep_cadence`` cuts its chunks so): its windows are then the whole-file run's windows
+    (:meth:`~gaitml.steps.adaptive.AdaptiveStepDetector.cadence_hop_samples`; :func:`long_steps` cuts
+    its chunks so): its windows are then the whole-file run's windows
     (centres ``k * hop + window / 2``). A window belongs to the chunk whose core holds its centre
     sample, so every window of the file is given once, at its global centre sample over the rate, as
     a whole-file run gives it.
@@ -207,7 +207,8 @@ def long_steps(
 
     ``keep_cadence``: keep the detector's per-window cadence (``cadence_`` of ``adaptive``; nothing
     for a detector without one) of the windows centred in each chunk's core, at whole-file times
-    (:func:`_core_cadence`), in ``attrs["cadence"]`` as a dict of column name to list (one entry per
+    (:func:`_core_cadence`; for such a detector the chunk cores and margins are multiples of its
+    cadence hop in samples, the margin rounded up, so that each chunk's windows are the whole file's), in ``attrs["cadence"]`` as a dict of column name to list (one entry per
     window; a dict of lists, not a table, so that the step table's attrs stay comparable).
 
     ``count_also``: a second detector run on the same chunks (e.g. ``adaptive``, for the
@@ -250,9 +251,10 @@ def long_steps(
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
     align, margin_read_s = 1, margin_s
     grid = getattr(get_detector(detector, **dict(detector_params or {})), "cadence_hop_samples", None)
-    if keep_cadence and grid is not None:
+    if grid is not None:
         # chunk offsets (core start - margin) on multiples of the cadence hop: each chunk's cadence
-        # windows are then the whole-file run's windows (_core_cadence)
+        # windows are then the whole-file run's windows (_core_cadence); with or without keep_cadence,
+        # so that the steps do not depend on it
         fs_probe = _probe_rate(path, read_kwargs)
         align = grid(fs_probe)
         margin_read_s = math.ceil(round(margin_s * fs_probe) / align) * align / fs_probe

@@ -38,3 +38,14 @@ def test_chunked_cadence_windows_are_the_whole_file_windows(odd_rate_file, chunk
     np.testing.assert_array_equal(np.asarray(cad["stride"]), whole["stride"].to_numpy())
     # same windows, so the same values up to the band-pass filter's edge transient at the chunk ends
     np.testing.assert_allclose(np.asarray(cad["cadence_hz"]), whole["cadence_hz"].to_numpy(), rtol=0, atol=1e-6)
+
+
+def test_chunked_steps_do_not_depend_on_keep_cadence(odd_rate_file):
+    """The chunks are cut on the cadence grid with or without keep_cadence: `steps --json` and the text output
+    give the same steps."""
+    kw = {"chunk_s": 20.0, "margin_s": 10.0, "progress": False}
+    a = long_steps(odd_rate_file, "adaptive", keep_cadence=True, **kw)
+    b = long_steps(odd_rate_file, "adaptive", **kw)
+    assert len(a) > 50  # a walk: there are steps to compare
+    np.testing.assert_array_equal(a["peak"].to_numpy(), b["peak"].to_numpy())
+    assert "cadence" not in b.attrs

@@ -258,7 +258,7 @@ def grid_rejects(d: pd.DataFrame, f: float, m: int) -> pd.Series:
     return r | ((d.n_steps < 10) & (d.n_steps + d.ctx < m)) if m else r
 
 
-def _standing(d: pd.DataFrame, f: float) -> pd.Series | None:
+def standing_bouts(d: pd.DataFrame, f: float) -> pd.Series | None:
     """The bouts that count as a short bout's context: >= 10 steps, passing the rotation and vertical tests
     (None with ``--all-bouts-context``: every bout, the rule as first shipped)."""
     if ALL_BOUTS_CONTEXT:
@@ -271,8 +271,8 @@ def _grid_rows(ng: pd.DataFrame, ty: pd.DataFrame, settings) -> pd.DataFrame:
     rows = []
     for g, m, f in settings:
         if m:
-            ng["ctx"] = bout_context(ng, ["rec", "swing"], g, _standing(ng, f))
-            ty["ctx"] = bout_context(ty, ["rec", "seg", "swing"], g, _standing(ty, f))
+            ng["ctx"] = bout_context(ng, ["rec", "swing"], g, standing_bouts(ng, f))
+            ty["ctx"] = bout_context(ty, ["rec", "seg", "swing"], g, standing_bouts(ty, f))
         for sw in ("off", "on"):
             n, t = ng[ng.swing == sw], ty[ty.swing == sw]
 

@@ -39,7 +39,7 @@ def test_rejects_combines_the_vertical_test_and_the_context_rule():
 
 def test_only_bouts_that_stand_on_their_own_are_context():
     """As the library counts it: three 7-step runs 8 s apart do not confirm one another; a walk does."""
-    from experiments.scripts.gait_check_study import _standing
+    from experiments.scripts.gait_check_study import standing_bouts
 
     runs = pd.DataFrame(
         {
@@ -52,8 +52,8 @@ def test_only_bouts_that_stand_on_their_own_are_context():
         }
     )
     assert bout_context(runs, ["rec"], 30.0).tolist() == [14, 14, 14]  # every bout counted: 7 + 14 >= 20
-    runs["ctx"] = bout_context(runs, ["rec"], 30.0, _standing(runs, 0.4))
+    runs["ctx"] = bout_context(runs, ["rec"], 30.0, standing_bouts(runs, 0.4))
     assert runs["ctx"].tolist() == [0, 0, 0]
     assert grid_rejects(runs, 0.4, 20).tolist() == [True, True, True]
     d = _bouts()  # the 20-step walk stands on its own; the stroke-like 5-step bout would not
-    assert bout_context(d, ["rec"], 30.0, _standing(d, 0.4)).tolist() == [20, 0, 0]
+    assert bout_context(d, ["rec"], 30.0, standing_bouts(d, 0.4)).tolist() == [20, 0, 0]

@@ -15,7 +15,9 @@ Equivalence with a whole-file run:
 - step detectors whose state is local (peaks, zero crossings, FSMs that reset
   every step) give the same steps away from chunk boundaries; detectors that
   learn thresholds (``fsm-selflearn``) restart learning in every chunk's left
-  margin, which the 30 s margin covers; ``adaptive``'s bout rules (a bout's weak
+  margin, which the 30 s margin covers; ``adaptive``'s chunks start on its cadence
+  grid (:func:`long_steps`), so its per-window cadence, and the step period it places
+  the steps with, are the whole file's; its bout rules (a bout's weak
   edges judged against the bout, its size, a short bout's regularity) see only
   the part of a bout inside the chunk, so on a walk longer than the margin a few
   steps of a bout can differ from a whole-file run's (at most one chunk's bouts

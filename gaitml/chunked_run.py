@@ -15,16 +15,19 @@ Equivalence with a whole-file run:
 - step detectors whose state is local (peaks, zero crossings, FSMs that reset
   every step) give the same steps away from chunk boundaries; detectors that
   learn thresholds (``fsm-selflearn``) restart learning in every chunk's left
-  margin, which the 30 s margin covers; ``adaptive``'s bout rules (a bout's weak
+  margin, which the 30 s margin covers; ``adaptive``'s chunks start on its cadence
+  grid (:func:`long_steps`), so its per-window cadence, and the step period it places
+  the steps with, are the whole file's; its bout rules (a bout's weak
   edges judged against the bout, its size, a short bout's regularity) see only
   the part of a bout inside the chunk, so on a walk longer than the margin a few
   steps of a bout can differ from a whole-file run's (at most one chunk's bouts
   per chunk edge; nothing else in it depends on the whole recording);
 - the gait-evidence test of the steps (``adaptive``'s own, or ``gait_check`` of :func:`long_steps`)
   runs on each chunk's steps, as on a whole recording, and its account is summed over the steps
-  anchored in the cores: equal to a whole-file run's for bouts shorter than the margin (with the
-  opt-in short-bout rule, a short bout's context, the steps within 30 s of it, lies within the
-  30 s margin, up to a neighbouring bout that runs beyond it);
+  anchored in the cores: equal to a whole-file run's for bouts shorter than the margin. The
+  test's opt-in short-bout rule (``confirm_bout_steps`` of
+  :func:`~gaitml.steps._gait_evidence.gait_check`) is Python-only, applied to a step table of a
+  recording read whole: no chunked run applies it (:func:`long_steps` refuses its settings);
 - dead reckoning (:func:`long_pdr`) starts from the gyroscope bias of the whole file's still
   stretches (a first pass, :func:`long_still_bias`), carries the attitude across chunks and
   corrects the heading over all steps: the whole-file run's trajectory (within a millimetre)
@@ -50,6 +53,8 @@ __all__ = ["long_steps", "long_zupts", "long_features", "long_predict", "long_pd
 
 DEFAULT_CHUNK_S = 600.0
 DEFAULT_MARGIN_S = 30.0
+#: the settings of the gait check's opt-in short-bout rule, Python-only (not applied in chunked runs)
+SHORT_BOUT_SETTINGS = ("confirm_bout_steps", "context_s", "context_steps")
 
 
 def progress_chunks(chunks: Iterator[Chunk], desc: str, *, enabled: bool = True) -> Iterator[Chunk]:
@@ -123,11 +128,12 @@ def _core_cadence(det, ch: Chunk, fs: float) -> pd.DataFrame | None:
     """The detector's per-window cadence (``cadence_``, ``adaptive``) of the windows centred in the
     chunk's core, at whole-file times; None for a detector without one.
 
-    A window belongs to the chunk whose core holds its centre sample, so every window of the file is
-    given once. Its time is its global centre sample over the rate, as a whole-file run gives it. The
-    windows lie on the whole-file grid (centres ``k * hop + window / 2``) when the chunk's first
-    sample is a multiple of the hop (in samples; e.g. 100 at 100 Hz with the 1 s hop and whole
-    seconds of chunk and margin); otherwise they are shifted by less than one hop.
+    The chunk must start at a multiple of the detector's cadence hop in samples
+    (:meth:`~gaitml.steps.adaptive.AdaptiveStepDetector.cadence_hop_samples`; :func:`long_steps` cuts
+    its chunks so): its windows are then the whole-file run's windows
+    (centres ``k * hop + window / 2``). A window belongs to the chunk whose core holds its centre
+    sample, so every window of the file is given once, at its global centre sample over the rate, as
+    a whole-file run gives it.
     """
     cad = getattr(det, "cadence_", None)
     if cad is None:
@@ -204,7 +210,8 @@ def long_steps(
 
     ``keep_cadence``: keep the detector's per-window cadence (``cadence_`` of ``adaptive``; nothing
     for a detector without one) of the windows centred in each chunk's core, at whole-file times
-    (:func:`_core_cadence`), in ``attrs["cadence"]`` as a dict of column name to list (one entry per
+    (:func:`_core_cadence`; for such a detector the chunk cores and margins are multiples of its
+    cadence hop in samples, the margin rounded up, so that each chunk's windows are the whole file's), in ``attrs["cadence"]`` as a dict of column name to list (one entry per
     window; a dict of lists, not a table, so that the step table's attrs stay comparable).
 
     ``count_also``: a second detector run on the same chunks (e.g. ``adaptive``, for the
@@ -222,9 +229,10 @@ def long_steps(
     :data:`~gaitml.steps._gait_evidence.LONG_BOUT_STEPS` steps that make a bout gait whatever its
     rotation when the cadence is at least ``LONG_BOUT_STEPS / margin_s`` (1 step/s with the 30 s
     margin); a slower bout that turns with its steps can lose the few core steps near a chunk edge
-    that a whole-file run keeps. With the opt-in short-bout rule a short bout is confirmed by the
-    steps within :data:`~gaitml.steps._gait_evidence.CONTEXT_S` (30 s) of it: with a margin shorter
-    than that, a short bout near a chunk edge can lose steps a whole-file run keeps.
+    that a whole-file run keeps. The test's opt-in short-bout rule (``confirm_bout_steps``,
+    ``context_s``, ``context_steps`` of :func:`~gaitml.steps._gait_evidence.gait_check`) is
+    Python-only, for a recording read whole: it is not available here, and ``detector_params``
+    naming one of its settings is refused with an :class:`~gaitml.errors.InputError`.
     Bouts are counted (``n_bouts``, ``n_bouts_rejected``) over the whole file's core steps
     (:func:`_sum_accounts`): a bout over a chunk edge is one bout, rejected when any chunk left out
     any of its steps.
@@ -232,10 +240,27 @@ def long_steps(
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).
     """
+    from gaitml.errors import InputError
     from gaitml.steps import get_detector
 
+    short_bout = sorted(set(detector_params or {}) & set(SHORT_BOUT_SETTINGS))
+    if short_bout:
+        raise InputError(
+            f"{', '.join(short_bout)}: the gait check's opt-in short-bout rule is not available in a chunked run; "
+            "read the recording whole and apply gaitml.steps._gait_evidence.gait_check(steps, gyr, fs, acc=acc, "
+            "confirm_bout_steps=10) to adaptive's steps (gait_check=False)."
+        )
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
+    align, margin_read_s = 1, margin_s
+    grid = getattr(get_detector(detector, **dict(detector_params or {})), "cadence_hop_samples", None)
+    if grid is not None:
+        # chunk offsets (core start - margin) on multiples of the cadence hop: each chunk's cadence
+        # windows are then the whole-file run's windows (_core_cadence); with or without keep_cadence,
+        # so that the steps do not depend on it
+        fs_probe = _probe_rate(path, read_kwargs)
+        align = grid(fs_probe)
+        margin_read_s = math.ceil(round(margin_s * fs_probe) / align) * align / fs_probe
     parts = []
     fs = None
     attrs: dict = {}
@@ -244,7 +269,9 @@ def long_steps(
     cadence_parts: list[pd.DataFrame] = []
     gait = None
     for ch in progress_chunks(
-        iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"steps ({detector})", enabled=progress
+        iter_chunks(path, chunk_s=chunk_s, margin_s=margin_read_s, align_samples=align, **read_kwargs),
+        f"steps ({detector})",
+        enabled=progress,
     ):
         fs = ch.recording.sampling_rate_hz
         table, account, det = _core_steps(ch.recording, ch, detector, detector_params, gait_check)
@@ -310,6 +337,24 @@ def long_zupts(
     return mask, intervals_table(mask, fs), fs
 
 
+def _probe_rate(path, read_kwargs: dict) -> float:
+    """The sampling rate the chunks of ``path`` will have, before they are cut: the given rate, the
+    rate of a recording already read (``recording``), or the first pass's (``scan``, made here and
+    kept in ``read_kwargs`` for the reading that follows); else that of a first one-second chunk."""
+    if read_kwargs.get("recording") is not None:
+        return float(read_kwargs["recording"].sampling_rate_hz)
+    fs_probe = read_kwargs.get("sampling_rate_hz")
+    if fs_probe is None:
+        if read_kwargs.get("scan") is None:
+            read_kwargs["scan"] = scan_input(path, **read_kwargs)
+        if read_kwargs["scan"] is not None:
+            fs_probe = read_kwargs["scan"].sampling_rate_hz
+        else:
+            first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
+            fs_probe = first.recording.sampling_rate_hz
+    return float(fs_probe)
+
+
 def _window_chunks(
     path,
     length_s,
@@ -338,15 +383,7 @@ def _window_chunks(
     from gaitml.signal import window_params
 
     # the hop depends on the rate, known after the first block: peek at it
-    fs_probe = recording.sampling_rate_hz if recording is not None else read_kwargs.get("sampling_rate_hz")
-    if fs_probe is None:
-        if read_kwargs.get("scan") is None:
-            read_kwargs["scan"] = scan_input(path, **read_kwargs)
-        if read_kwargs["scan"] is not None:
-            fs_probe = read_kwargs["scan"].sampling_rate_hz
-        else:
-            first = next(iter_chunks(path, chunk_s=1.0, margin_s=0.0, **read_kwargs))
-            fs_probe = first.recording.sampling_rate_hz
+    fs_probe = recording.sampling_rate_hz if recording is not None else _probe_rate(path, read_kwargs)
     length, hop = window_params(length_s, overlap, fs_probe)
     align = math.lcm(hop * max(1, int(window_grid)), max(1, int(phase_step)))
     margin_samples = math.ceil((math.ceil(length / hop) + max(0, int(extra_windows))) * hop / align) * align

@@ -213,19 +213,29 @@ MARGIN = 0.001
 SELECTION_MINUTES = 40 * 2.0
 
 
+#: --all-bouts-context: every bout counts as context (the short-bout rule as first shipped)
+ALL_BOUTS_CONTEXT = False
+
+
 def _rotation_rejects(d: pd.DataFrame) -> pd.Series:
     """The shipped rotation test (0.7 rad/s, above the stride's, below 30 steps) on the cached bouts."""
     return (d.r_f > 0.7) & (d.r_f > d.r_half) & (d.n_steps < 30)
 
 
-def bout_context(d: pd.DataFrame, key: list[str], g: float) -> np.ndarray:
-    """Steps of the other bouts reaching within ``g`` s of each bout (whole bouts counted, as the library does)."""
+def bout_context(d: pd.DataFrame, key: list[str], g: float, standing: pd.Series | None = None) -> np.ndarray:
+    """Steps of the other bouts reaching within ``g`` s of each bout (whole bouts counted, as the library does).
+
+    ``standing``: only these bouts count (the library counts the bouts that stand on their own: at least
+    ``confirm_bout_steps`` steps, passing the rotation and vertical tests); None: every bout (the rule as first
+    shipped, when short runs confirmed one another)."""
     c = np.zeros(len(d))
     d = d.reset_index(drop=True)
+    ok = np.ones(len(d), dtype=bool) if standing is None else np.asarray(standing, dtype=bool)
     for _, grp in d.groupby(key):
         ts, te, n = grp.t_start_s.to_numpy(), grp.t_end_s.to_numpy(), grp.n_steps.to_numpy()
+        s = ok[grp.index.to_numpy()]
         for k, i in enumerate(grp.index):
-            o = (te > ts[k] - g) & (ts < te[k] + g)
+            o = (te > ts[k] - g) & (ts < te[k] + g) & s
             o[k] = False
             c[i] = n[o].sum()
     return c
@@ -248,13 +258,21 @@ def grid_rejects(d: pd.DataFrame, f: float, m: int) -> pd.Series:
     return r | ((d.n_steps < 10) & (d.n_steps + d.ctx < m)) if m else r
 
 
+def standing_bouts(d: pd.DataFrame, f: float) -> pd.Series | None:
+    """The bouts that count as a short bout's context: >= 10 steps, passing the rotation and vertical tests
+    (None with ``--all-bouts-context``: every bout, the rule as first shipped)."""
+    if ALL_BOUTS_CONTEXT:
+        return None
+    return ~grid_rejects(d, f, 0) & (d.n_steps >= 10)
+
+
 def _grid_rows(ng: pd.DataFrame, ty: pd.DataFrame, settings) -> pd.DataFrame:
     """Steps per minute (non-gait) and tyrex steps lost per person (walking motions; AR apart) per (F, G, M) setting."""
     rows = []
     for g, m, f in settings:
         if m:
-            ng["ctx"] = bout_context(ng, ["rec", "swing"], g)
-            ty["ctx"] = bout_context(ty, ["rec", "seg", "swing"], g)
+            ng["ctx"] = bout_context(ng, ["rec", "swing"], g, standing_bouts(ng, f))
+            ty["ctx"] = bout_context(ty, ["rec", "seg", "swing"], g, standing_bouts(ty, f))
         for sw in ("off", "on"):
             n, t = ng[ng.swing == sw], ty[ty.swing == sw]
 
@@ -280,8 +298,11 @@ def _lopo(grid: pd.DataFrame, tot: pd.Series, ar_zero: bool) -> list[str]:
         if ar_zero:
             ok &= r[[f"{q} AR" for q in tr]].sum(axis=1) == 0
         c = r[ok].assign(s=lambda d: d.gestures + d.desk, lost=lost[ok]).sort_values(["s", "lost"])
+        none = c.empty
+        if none:  # nothing admissible: the setting that costs the other two people least
+            c = r.assign(s=lambda d: d.gestures + d.desk, lost=lost).sort_values(["lost", "s"])
         b = c.iloc[0]
-        setting = f"{b.F:g}" + (f", {b.G:g} s, {int(b.M)}" if b.M else "")
+        setting = ("none admissible; least loss: " if none else "") + f"{b.F:g}" + (f", {b.G:g} s, {int(b.M)}" if b.M else "")
         out.append(
             f"| {p} | {setting} | {int(r.loc[b.name, tr].sum())} ({lost[b.name]:.4f}) | "
             f"{int(b[p])} of {int(tot[p])} ({b[p] / tot[p]:.4f}) | {int(b[f'{p} AR'])} | {b.gestures:.3f} / {b.desk:.3f} |"
@@ -320,7 +341,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seeds", choices=("selection", "heldout"), default="selection")
     ap.add_argument("--sets", default="nongait,tyrex,slow,walk")
     ap.add_argument("--select", action="store_true", help="print the leave-one-person-out choice from the cached bouts")
+    ap.add_argument("--all-bouts-context", action="store_true", help="--select with every bout as context (the rule as first shipped)")
     a = ap.parse_args(argv)
+    global ALL_BOUTS_CONTEXT
+    ALL_BOUTS_CONTEXT = a.all_bouts_context
     cache = Path(a.cache)
     cache.mkdir(parents=True, exist_ok=True)
     if a.select:

@@ -35,3 +35,25 @@ def test_rejects_combines_the_vertical_test_and_the_context_rule():
     assert grid_rejects(d, 0.4, 0).tolist() == [False, False, True]  # the stroke-like bout
     assert grid_rejects(d, np.inf, 20).tolist() == [False, False, True]  # the lone short bout
     assert grid_rejects(d, np.inf, 30).tolist() == [True, False, True]  # 6 + 20 < 30: the short bout near the walk too
+
+
+def test_only_bouts_that_stand_on_their_own_are_context():
+    """As the library counts it: three 7-step runs 8 s apart do not confirm one another; a walk does."""
+    from experiments.scripts.gait_check_study import standing_bouts
+
+    runs = pd.DataFrame(
+        {
+            "rec": ["a"] * 3,
+            "t_start_s": [60.0, 68.0, 76.0],
+            "t_end_s": [63.0, 71.0, 79.0],
+            "n_steps": [7, 7, 7],
+            "rot": [False] * 3,
+            "vfrac": [0.1] * 3,
+        }
+    )
+    assert bout_context(runs, ["rec"], 30.0).tolist() == [14, 14, 14]  # every bout counted: 7 + 14 >= 20
+    runs["ctx"] = bout_context(runs, ["rec"], 30.0, standing_bouts(runs, 0.4))
+    assert runs["ctx"].tolist() == [0, 0, 0]
+    assert grid_rejects(runs, 0.4, 20).tolist() == [True, True, True]
+    d = _bouts()  # the 20-step walk stands on its own; the stroke-like 5-step bout would not
+    assert bout_context(d, ["rec"], 30.0, standing_bouts(d, 0.4)).tolist() == [20, 0, 0]

@@ -84,14 +84,16 @@ steps of a walker. What can tell them apart is what surrounds them:
 pedometers count nothing until ten steps in a row (Bassett et al. 1996) for
 that reason. With ``confirm_bout_steps`` = 10 a bout of fewer steps has **no
 gait evidence** unless it and the bouts that reach within ``context_s`` (30 s)
-of its first or last step hold at least ``context_steps`` (20) steps: a walk
-broken by turns keeps its short pieces, a run of a few steps alone is left
-out. It is **off by default** (``confirm_bout_steps`` = 0) because a slow,
-halting walk whose steps the detector finds only in short pieces (the tyrex
-AR walks, a phone held up in front) loses them too. ``context_s`` is no longer
-than the 30 s chunk margin of :mod:`gaitml.chunked_run`, so a long input run
-in chunks sees the same context for a bout of its core, up to bouts that run
-beyond the margin.
+of its first or last step hold at least ``context_steps`` (20) steps, where only
+bouts that stand on their own count as context (at least ``confirm_bout_steps``
+steps, passing the rotation and vertical tests): a walk broken by turns keeps
+the short pieces that lie near a piece of ten steps or more, a run of a few
+steps alone is left out, and so are several such runs near one another (desk
+handling repeated every few seconds). It is **off by default**
+(``confirm_bout_steps`` = 0) because a slow, halting walk whose steps the detector finds only in short pieces (the tyrex
+AR walks, a phone held up in front) loses them too. The rule is for Python
+callers of :func:`gait_check`: a long input run in chunks
+(:func:`gaitml.chunked_run.long_steps`) refuses its settings.
 
 Bouts of one step (no interval, no frequency) are not tested by the rotation
 and vertical tests; recordings without a gyroscope are not tested at all:
@@ -293,9 +295,10 @@ def gait_evidence(
         measured and returned, its vertical share is not (NaN).
     confirm_bout_steps, context_steps : int
         A bout of fewer than ``confirm_bout_steps`` steps has no gait evidence
-        unless it and the bouts within ``context_s`` of it hold at least
-        ``context_steps`` steps (``confirm_bout_steps`` 0, the default: rule
-        off; 10 opts in).
+        unless it and the bouts within ``context_s`` of it that stand on their
+        own (at least ``confirm_bout_steps`` steps, passing the rotation and
+        vertical tests) hold at least ``context_steps`` steps
+        (``confirm_bout_steps`` 0, the default: rule off; 10 opts in).
 
     Returns
     -------
@@ -303,8 +306,8 @@ def gait_evidence(
         ``bout``, ``first`` / ``last`` (row positions in ``steps``), ``n_steps``,
         ``t_start_s`` / ``t_end_s``, ``step_hz``, ``rotation_step_rad_s``,
         ``rotation_stride_rad_s``, ``stride_vertical_fraction`` (NaN where
-        untested and on long bouts), ``context_steps`` (the steps of the bouts within
-        ``context_s`` of it, its own included), ``tested``, ``long_bout`` (at
+        untested and on long bouts), ``context_steps`` (its steps and those of the
+        bouts within ``context_s`` of it that stand on their own), ``tested``, ``long_bout`` (at
         least ``long_bout_steps`` steps), ``unconfirmed`` (a short bout without
         the context), ``reason`` (``''``, ``'rotation'``, ``'vertical'``,
         ``'unconfirmed'``: the first rule that rejects the bout) and ``gait``.
@@ -377,25 +380,26 @@ def gait_evidence(
         row["rotation_step_rad_s"] = rs
         row["rotation_stride_rad_s"] = rr
         row["stride_vertical_fraction"] = vf
-        near = (t_last > t_first[b] - context_s) & (t_first < t_last[b] + context_s)
-        row["context_steps"] = int(size[near].sum())
         row["tested"] = bool(tested)
         long_bout = len(idx) >= long_bout_steps
         beats = tested and rs > max_step_rotation_rad_s and rs > step_over_stride_ratio * rr
         strokes = max_stride_vertical_fraction is not None and tested and np.isfinite(vf) and vf > max_stride_vertical_fraction
-        unconfirmed = g is not None and len(idx) < confirm_bout_steps and row["context_steps"] < context_steps
         row["long_bout"] = long_bout
-        row["unconfirmed"] = bool(unconfirmed)
-        reason = ""
-        if beats and not long_bout:
-            reason = "rotation"
-        elif strokes and not long_bout:
-            reason = "vertical"
-        elif unconfirmed:
-            reason = "unconfirmed"
-        row["reason"] = reason
-        row["gait"] = reason == ""
+        row["reason"] = "rotation" if beats and not long_bout else ("vertical" if strokes and not long_bout else "")
         rows.append(row)
+    # the context of a short bout: itself and the bouts near it that stand on their own (they pass the
+    # rotation and vertical tests and hold at least confirm_bout_steps steps), so that short runs do not
+    # confirm one another
+    standing = np.array([r["reason"] == "" for r in rows]) & (size >= max(1, confirm_bout_steps))
+    for b, row in enumerate(rows):
+        near = (t_last > t_first[b] - context_s) & (t_first < t_last[b] + context_s) & standing
+        near[b] = False
+        row["context_steps"] = int(size[b] + size[near].sum())
+        unconfirmed = g is not None and size[b] < confirm_bout_steps and row["context_steps"] < context_steps
+        row["unconfirmed"] = bool(unconfirmed)
+        if row["reason"] == "" and unconfirmed:
+            row["reason"] = "unconfirmed"
+        row["gait"] = row["reason"] == ""
     return pd.DataFrame(rows, columns=cols)
 
 

@@ -146,6 +146,8 @@ from gaitml.steps._table import make_step_table
 __all__ = [
     "AdaptiveStepDetector",
     "local_cadence",
+    "cadence_decimation",
+    "cadence_hop_samples",
     "adaptive_steps",
     "fold_steps",
     "window_autocorrelation",
@@ -260,6 +262,26 @@ def window_autocorrelation(y: np.ndarray, length: int, hop: int, lags: np.ndarra
         den = np.sqrt(c[:, L - k] * (c[:, L] - c[:, k]))
         r[:, j] = np.divide(num, den, out=np.zeros_like(num), where=den > 0)
     return r
+
+
+def cadence_decimation(sampling_rate_hz: float) -> int:
+    """The decimation factor of the cadence estimate: every ``q``-th sample, ``q = floor(fs / CADENCE_RATE_HZ)``
+    (at least 1), so that the autocorrelation runs at about :data:`CADENCE_RATE_HZ` (module docstring, stage 2)."""
+    return max(1, int(float(sampling_rate_hz) // CADENCE_RATE_HZ))
+
+
+def cadence_hop_samples(sampling_rate_hz: float, hop_s: float = HOP_S) -> int:
+    """The hop of :func:`adaptive_steps`' cadence windows in samples of its input.
+
+    The windows are cut from the signal decimated by ``q`` (:func:`cadence_decimation`) every
+    ``round(hop_s * fs / q)`` decimated samples, so window ``k`` starts at input sample ``k * hop``, with
+    ``hop = round(hop_s * fs / q) * q`` (e.g. 90 samples at 90.09 Hz, not 90.09). A part of a longer
+    signal whose first sample is a multiple of ``hop`` has its windows on the longer signal's grid (and
+    decimates the same samples).
+    """
+    fs = float(sampling_rate_hz)
+    q = cadence_decimation(fs)
+    return max(1, int(round(hop_s * fs / q))) * q
 
 
 def local_cadence(
@@ -732,7 +754,7 @@ def adaptive_steps(
     n = len(x)
     y = bandpass(x - np.median(x), band_hz[0], band_hz[1], fs, order=2)
     # the cadence estimate runs on the band-limited signal decimated to about CADENCE_RATE_HZ
-    q = max(1, int(fs // CADENCE_RATE_HZ))
+    q = cadence_decimation(fs)
     still = None
     if gyr_rads is not None:
         g = np.asarray(gyr_rads, dtype=float)
@@ -1098,6 +1120,11 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.gyro_swing_min_bout_steps = gyro_swing_min_bout_steps
         self.gait_check = gait_check
         self.gait_check_vertical_fraction = gait_check_vertical_fraction
+
+    def cadence_hop_samples(self, sampling_rate_hz: float) -> int:
+        """The hop of the cadence windows (``cadence_``) in samples at ``sampling_rate_hz``
+        (:func:`cadence_hop_samples` with this detector's ``hop_s``)."""
+        return cadence_hop_samples(sampling_rate_hz, float(self.hop_s))
 
     def detect(self, recording: Recording) -> AdaptiveStepDetector:
         """Detect steps in ``recording``; results in ``steps_`` and ``cadence_``."""

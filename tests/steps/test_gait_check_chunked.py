@@ -6,10 +6,10 @@ chunks' core steps; `gaitml pdr`, `label` and `segment` say, in one stderr note 
 
 Bound on chunked vs whole-file counts: a bout of steps lying within a chunk margin of a chunk edge is tested
 on the same steps as on the whole file, so the counts are equal when the margins are longer than the bouts
-and than ``adaptive``'s cadence windows (its cadence is what other detectors are tested at), and at least as
-long as the context a short bout is confirmed by (``CONTEXT_S``, 30 s). The gesture bursts of the simulator last
-seconds and its walks here are cut into segments of 8-20 s; 30 s margins hold them and the context, and the
-counts below must be equal.
+and than ``adaptive``'s cadence windows (its cadence is what other detectors are tested at). The gesture
+bursts of the simulator last seconds and its walks here are cut into segments of 8-20 s; 10 s margins hold
+them, and the counts below must be equal. (The opt-in short-bout rule, ``confirm_bout_steps``, is reachable from
+Python's ``gait_check`` only: no chunked run applies it, so its 30 s context does not bound the margins here.)
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from gaitml.simulate.nongait import simulate_nongait
 from gaitml.steps import get_detector
 from gaitml.steps._gait_evidence import gait_check_recording
 
-CHUNK_S, MARGIN_S = 20.0, 30.0  # margins as long as the gait check's context window (CONTEXT_S)
+CHUNK_S, MARGIN_S = 20.0, 10.0
 
 
 @pytest.fixture(scope="module")
@@ -71,6 +71,16 @@ def test_chunked_gait_check_equals_whole_file(files, name, detector, gait):
     np.testing.assert_allclose(b["rejected_t_s"], a["rejected_t_s"], atol=1e-9)
     if name == "gestures":  # the test has something to find here: most gesture "steps" go
         assert b["n_steps_rejected"] > len(chunked)
+
+
+def test_chunked_steps_refuse_the_python_only_short_bout_rule(files):
+    """The opt-in short-bout rule (gait_check's confirm_bout_steps) is not applied in chunks: naming it is refused
+    with an error that says so and how to apply it, before anything is read."""
+    from gaitml.errors import InputError
+
+    for key, value in (("confirm_bout_steps", 10), ("context_s", 30.0)):
+        with pytest.raises(InputError, match=f"{key}: .*not available in a chunked run.*gait_check"):
+            long_steps(files["gestures"], "adaptive", chunk_s=CHUNK_S, margin_s=MARGIN_S, progress=False, detector_params={key: value})
 
 
 def test_chunked_steps_default_follows_the_detector(files):

@@ -81,7 +81,8 @@ def test_a_short_bout_alone_has_no_gait_evidence_and_with_a_walk_near_it_has():
     both = np.r_[walk, short]
     ev = gait_evidence(rec.gyr, fs, _steps(both, 0.5), acc=rec.acc, confirm_bout_steps=CONFIRM)
     assert len(ev) == 2 and ev["gait"].all()
-    assert ev["context_steps"].tolist() == [len(both), len(both)]
+    # the short bout is confirmed by the walk; the walk (a bout that stands on its own) by nothing short
+    assert ev["context_steps"].tolist() == [len(walk), len(both)]
     # the same walk further away than CONTEXT_S: the short bout is alone again, the walk keeps its steps
     far = np.r_[walk - CONTEXT_S - 5.0, short]
     out = gait_check(_steps(far, 0.5), rec.gyr, fs, acc=rec.acc, confirm_bout_steps=CONFIRM)
@@ -89,6 +90,30 @@ def test_a_short_bout_alone_has_no_gait_evidence_and_with_a_walk_near_it_has():
     # without a gyroscope nothing is tested
     no_gyr = _still(120.0, gyro=False)
     assert len(gait_check(_steps(short, 0.5), None, fs, acc=no_gyr.acc, confirm_bout_steps=CONFIRM)) == len(short)
+
+
+def test_short_runs_near_one_another_do_not_confirm_one_another():
+    """Three desk-like runs of 7 steps, 8 s apart and no walk: each is alone (its context is its own 7 steps),
+    so all are left out; with a walk of CONTEXT_STEPS steps 10 s before them, they are kept."""
+    rec = _still(120.0)
+    fs = rec.sampling_rate_hz
+    runs = np.concatenate([60.0 + k * 8.0 + 0.5 * np.arange(CONFIRM - 3) for k in range(3)])
+    assert 3 * (CONFIRM - 3) >= CONTEXT_STEPS  # together they would reach the context
+    ev = gait_evidence(rec.gyr, fs, _steps(runs, 0.5), acc=rec.acc, confirm_bout_steps=CONFIRM)
+    assert len(ev) == 3
+    assert ev["context_steps"].tolist() == [CONFIRM - 3] * 3
+    assert ev["reason"].tolist() == ["unconfirmed"] * 3
+    out = gait_check(_steps(runs, 0.5), rec.gyr, fs, acc=rec.acc, confirm_bout_steps=CONFIRM)
+    assert len(out) == 0 and out.attrs["gait_check"]["n_bouts_rejected"] == 3
+    # a real walk near them: each run is confirmed by it (not by the other runs)
+    walk = runs[0] - 10.0 - 0.5 * np.arange(CONTEXT_STEPS)[::-1]
+    ev = gait_evidence(rec.gyr, fs, _steps(np.r_[walk, runs], 0.5), acc=rec.acc, confirm_bout_steps=CONFIRM)
+    assert len(ev) == 4 and ev["gait"].all()
+    assert ev["context_steps"].tolist()[1:] == [CONTEXT_STEPS + CONFIRM - 3] * 3
+    # a run of CONFIRM steps stands on its own and confirms the short runs near it
+    lead = runs[0] - 10.0 - 0.5 * np.arange(CONTEXT_STEPS - (CONFIRM - 3))[::-1]
+    assert len(lead) >= CONFIRM
+    assert gait_evidence(rec.gyr, fs, _steps(np.r_[lead, runs], 0.5), acc=rec.acc, confirm_bout_steps=CONFIRM)["gait"].all()
 
 
 def test_a_stroke_rhythm_is_rejected_by_the_vertical_test_where_the_rotation_test_passes_it():

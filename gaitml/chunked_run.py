@@ -252,15 +252,7 @@ def long_steps(
         )
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
-    align, margin_read_s = 1, margin_s
-    grid = getattr(get_detector(detector, **dict(detector_params or {})), "cadence_hop_samples", None)
-    if grid is not None:
-        # chunk offsets (core start - margin) on multiples of the cadence hop: each chunk's cadence
-        # windows are then the whole-file run's windows (_core_cadence); with or without keep_cadence,
-        # so that the steps do not depend on it
-        fs_probe = _probe_rate(path, read_kwargs)
-        align = grid(fs_probe)
-        margin_read_s = math.ceil(round(margin_s * fs_probe) / align) * align / fs_probe
+    align, margin_read_s = _step_chunking(detector, detector_params, path, read_kwargs, margin_s)
     parts = []
     fs = None
     attrs: dict = {}
@@ -288,7 +280,7 @@ def long_steps(
             also_counts.append(int(_in_core(get_detector(count_also).detect(ch.recording).steps_, ch).sum()))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     out.attrs.update(attrs)
-    out.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_s}
+    out.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_read_s}
     if gait:
         out.attrs["gait_check"] = _sum_accounts(accounts)
     if count_also is not None:
@@ -579,6 +571,21 @@ def _at_model_rate(path, fs: float, read_kwargs: dict):
     return resample_recording(rec, fs), float(rec.sampling_rate_hz)
 
 
+def _step_chunking(detector: str, detector_params, path, read_kwargs, margin_s: float) -> tuple[int, float]:
+    """The chunk alignment (samples) and margin (s) for a step detector: for one with a cadence grid
+    (``adaptive``), chunk offsets (core start - margin) fall on multiples of the cadence hop, so each
+    chunk's cadence windows, and the steps placed with them, are the whole-file run's (:func:`long_steps`
+    and :func:`long_pdr` alike); otherwise no alignment and the margin as asked."""
+    from gaitml.steps import get_detector
+
+    grid = getattr(get_detector(detector, **dict(detector_params or {})), "cadence_hop_samples", None)
+    if grid is None:
+        return 1, margin_s
+    fs_probe = _probe_rate(path, read_kwargs)
+    align = grid(fs_probe)
+    return align, math.ceil(round(margin_s * fs_probe) / align) * align / fs_probe
+
+
 def long_pdr(
     path: str | os.PathLike,
     *,
@@ -676,7 +683,12 @@ def long_pdr(
     first_bias = None  # the first chunk's bias record (what was removed at the start)
     prev_heading = None  # per-sample heading of the previous chunk, from global index prev_lo
     prev_lo = 0
-    for ch in progress_chunks(iter_chunks(path, chunk_s=chunk_s, margin_s=margin_s, **read_kwargs), f"pdr ({detector})", enabled=progress):
+    align, margin_read_s = _step_chunking(detector, None, path, read_kwargs, margin_s)
+    for ch in progress_chunks(
+        iter_chunks(path, chunk_s=chunk_s, margin_s=margin_read_s, align_samples=align, **read_kwargs),
+        f"pdr ({detector})",
+        enabled=progress,
+    ):
         rec = ch.recording
         fs = rec.sampling_rate_hz
         rec.require_gyr("PDR heading")
@@ -730,7 +742,7 @@ def long_pdr(
     if event not in steps:
         event = "t_peak_s"
     steps.attrs["event"] = event
-    steps.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_s}
+    steps.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_read_s}
     gait = gait_check_record(_sum_accounts(accounts)) if accounts else None
     if gait is not None:
         steps.attrs["gait_check"] = gait

@@ -69,11 +69,15 @@ _GYR_P99_SUSPECT_RADS = 20.0
 _GYR_REST_RADS = 0.03
 #: A median |acc| below this cannot include gravity (all zeros, or gravity removed).
 _MIN_MEDIAN_ACC_MS2 = 0.5
-#: The norm of the recording's mean acceleration vector below which it holds no gravity: with gravity the mean
-#: specific force over whole strides is gravity turned into the sensor frame (about 1 in g, 9.8 in m/s^2, at
-#: least half of it for a foot that pitches by +-60 deg); linear acceleration (gravity removed) averages to the
-#: sensor's bias, a few hundredths. Read only where the magnitudes cannot tell g from no gravity.
-_MIN_MEAN_NORM = 0.3
+#: No gravity by the mean vector: the norm of the recording's mean acceleration vector below this share of
+#: its median |acc|. With gravity the mean specific force over whole strides is gravity turned into the sensor
+#: frame (0.9 and more of the median for a carried phone, at least half of it for a foot that pitches by +-60
+#: deg); linear acceleration (gravity removed) averages to the sensor's bias, under 0.01 of its median.
+_MAX_MEAN_SHARE = 0.03
+#: ... together with a 5th percentile of |acc| below this share of the median: linear acceleration passes
+#: through zero (0.3-0.4), while a phone turned through every attitude at rest (a six-position calibration,
+#: whose mean vector also cancels) or tumbling keeps |acc| near its median (0.95-1.0).
+_MAX_LOW_SHARE_NO_GRAVITY = 0.45
 
 
 def check_acc_unit(acc: np.ndarray, *, what: str = "acc") -> None:
@@ -125,10 +129,11 @@ def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc", mean_norm: float 
       The percentile is taken over the samples that are not (near) zero (|acc| >= 0.5): a logger's
       zero rows (before the sensor starts, dropped rows filled with 0) say nothing of the unit.
 
-    ``mean_norm`` (:func:`acc_mean_norm`, optional): where the median is below a gravity recording's
-    (2-8: a fast-moving sensor in g, or no gravity), a mean acceleration vector near zero (below
-    :data:`_MIN_MEAN_NORM`) says the recording has no gravity at all (linear acceleration in m/s^2,
-    which would only look right once multiplied by 9.81): refused as such.
+    ``mean_norm`` (:func:`acc_mean_norm`, optional): a mean acceleration vector near zero (below
+    :data:`_MAX_MEAN_SHARE` of the median) with a low tail through zero (5th percentile below
+    :data:`_MAX_LOW_SHARE_NO_GRAVITY` of the median) says the recording has no gravity at all
+    (linear acceleration, in any unit: multiplied by 9.81 it would look right): refused as such,
+    before any unit is judged.
     """
     if len(mag) == 0:
         return
@@ -138,6 +143,13 @@ def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc", mean_norm: float 
             f"{what} has no gravity (median |acc| = {med:.3g} m/s^2): gaitml needs the raw accelerometer with gravity "
             "included, not linear acceleration or zeros; export the raw sensor."
         )
+    if mean_norm is not None and mean_norm < _MAX_MEAN_SHARE * med:
+        low_all = float(np.percentile(mag, _LOW_PERCENTILE))
+        if low_all < _MAX_LOW_SHARE_NO_GRAVITY * med:
+            raise InputError(
+                f"{what} has no gravity (median |acc| = {med:.3g}, mean acceleration vector {mean_norm:.2g}: it averages "
+                "to zero): gaitml needs the raw accelerometer with gravity included, not linear acceleration; export the raw sensor."
+            )
     if _G_UNIT_BAND[0] <= med <= _G_UNIT_BAND[1]:
         raise InputError(
             f"{what} looks like it is in g, not m/s^2 (median |acc| = {med:.2f}); "
@@ -146,11 +158,6 @@ def judge_acc_magnitude(mag: np.ndarray, *, what: str = "acc", mean_norm: float 
     if med < _G_RUN_MAX_MEDIAN or med > _MAX_MEDIAN_ACC_MS2:
         live = mag[mag >= _MIN_MEDIAN_ACC_MS2]
         low = float(np.percentile(live, _LOW_PERCENTILE)) if len(live) else 0.0
-        if med < _G_RUN_MAX_MEDIAN and mean_norm is not None and mean_norm < _MIN_MEAN_NORM:
-            raise InputError(
-                f"{what} has no gravity (median |acc| = {med:.3g}, mean acceleration vector {mean_norm:.2g}: it averages "
-                "to zero): gaitml needs the raw accelerometer with gravity included, not linear acceleration; export the raw sensor."
-            )
         if med < _G_RUN_MAX_MEDIAN and low <= _G_UNIT_BAND[1]:
             raise InputError(
                 f"{what} looks like it is in g, not m/s^2 (median |acc| = {med:.2f}, 5th percentile {low:.2f}: a fast-moving "

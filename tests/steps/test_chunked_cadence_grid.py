@@ -49,3 +49,15 @@ def test_chunked_steps_do_not_depend_on_keep_cadence(odd_rate_file):
     assert len(a) > 50  # a walk: there are steps to compare
     np.testing.assert_array_equal(a["peak"].to_numpy(), b["peak"].to_numpy())
     assert "cadence" not in b.attrs
+
+
+def test_chunked_pdr_finds_the_steps_of_chunked_steps(odd_rate_file):
+    """`gaitml pdr` on a long input cuts its chunks on adaptive's cadence grid as `gaitml steps` does, so both
+    commands place the same steps (they did not when only long_steps was aligned)."""
+    from gaitml.chunked_run import long_pdr
+
+    kw = {"chunk_s": 20.0, "margin_s": 10.0, "progress": False}
+    steps = long_steps(odd_rate_file, "adaptive", **kw)
+    pdr = long_pdr(odd_rate_file, detector="adaptive", modes="forward", **kw)
+    assert len(steps) > 50
+    np.testing.assert_array_equal(pdr.steps["peak"].to_numpy(), steps["peak"].to_numpy())

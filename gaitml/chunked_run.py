@@ -252,7 +252,7 @@ def long_steps(
         )
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
-    align, margin_read_s = _step_chunking(detector, detector_params, path, read_kwargs, margin_s)
+    align, margin_read_s = _step_chunking(detector, detector_params, path, read_kwargs, margin_s, count_also)
     parts = []
     fs = None
     attrs: dict = {}
@@ -571,18 +571,22 @@ def _at_model_rate(path, fs: float, read_kwargs: dict):
     return resample_recording(rec, fs), float(rec.sampling_rate_hz)
 
 
-def _step_chunking(detector: str, detector_params, path, read_kwargs, margin_s: float) -> tuple[int, float]:
+def _step_chunking(detector: str, detector_params, path, read_kwargs, margin_s: float, also: str | None = None) -> tuple[int, float]:
     """The chunk alignment (samples) and margin (s) for a step detector: for one with a cadence grid
     (``adaptive``), chunk offsets (core start - margin) fall on multiples of the cadence hop, so each
     chunk's cadence windows, and the steps placed with them, are the whole-file run's (:func:`long_steps`
-    and :func:`long_pdr` alike); otherwise no alignment and the margin as asked."""
+    and :func:`long_pdr` alike); with a second detector ``also`` (the count cross-check) on the least
+    common multiple of both grids; otherwise no alignment and the margin as asked."""
     from gaitml.steps import get_detector
 
-    grid = getattr(get_detector(detector, **dict(detector_params or {})), "cadence_hop_samples", None)
-    if grid is None:
+    grids = [getattr(get_detector(detector, **dict(detector_params or {})), "cadence_hop_samples", None)]
+    if also is not None:
+        grids.append(getattr(get_detector(also), "cadence_hop_samples", None))
+    grids = [g for g in grids if g is not None]
+    if not grids:
         return 1, margin_s
     fs_probe = _probe_rate(path, read_kwargs)
-    align = grid(fs_probe)
+    align = math.lcm(*(int(g(fs_probe)) for g in grids))
     return align, math.ceil(round(margin_s * fs_probe) / align) * align / fs_probe
 
 
@@ -683,7 +687,7 @@ def long_pdr(
     first_bias = None  # the first chunk's bias record (what was removed at the start)
     prev_heading = None  # per-sample heading of the previous chunk, from global index prev_lo
     prev_lo = 0
-    align, margin_read_s = _step_chunking(detector, None, path, read_kwargs, margin_s)
+    align, margin_read_s = _step_chunking(detector, None, path, read_kwargs, margin_s, count_also)
     for ch in progress_chunks(
         iter_chunks(path, chunk_s=chunk_s, margin_s=margin_read_s, align_samples=align, **read_kwargs),
         f"pdr ({detector})",

@@ -61,3 +61,12 @@ def test_chunked_pdr_finds_the_steps_of_chunked_steps(odd_rate_file):
     pdr = long_pdr(odd_rate_file, detector="adaptive", modes="forward", **kw)
     assert len(steps) > 50
     np.testing.assert_array_equal(pdr.steps["peak"].to_numpy(), steps["peak"].to_numpy())
+
+
+def test_the_adaptive_cross_check_count_of_another_detector_is_adaptive_s_own_chunked_count(odd_rate_file):
+    """`count_also="adaptive"` beside another main detector counts on chunks on adaptive's grid too, so the
+    cross-check count equals what `gaitml steps --detector adaptive` counts on the same long input."""
+    kw = {"chunk_s": 20.0, "margin_s": 10.0, "progress": False}
+    own = long_steps(odd_rate_file, "adaptive", **kw)
+    other = long_steps(odd_rate_file, "single-peak", count_also="adaptive", **kw)
+    assert other.attrs["count_also"]["n_steps"] == len(own)

@@ -154,13 +154,18 @@ def test_the_domain_record_is_fitted_on_the_recordings_as_they_were(tmp_path):
     (n0, d0), (n1, d1), (n2, d2) = domains
     assert n2 == 3 * n0 and abs(n1 - n0) <= 0.1 * n0  # copies of the whole recording / one grip per stretch
     for d in (d1, d2):
-        assert d.positions == d0.positions and d.classes == d0.classes
         assert np.isclose(d.distance_threshold, d0.distance_threshold, rtol=1e-9)
-        assert np.isclose(d.gravity_threshold_rad, d0.gravity_threshold_rad, rtol=1e-9)
-        a, b = d.to_arrays(), d0.to_arrays()
-        assert sorted(a) == sorted(b)
-        for k in a:
-            np.testing.assert_allclose(a[k], b[k], rtol=1e-9, atol=1e-12, err_msg=k)
+        assert_same_domain(d, d0)
+
+
+def assert_same_domain(d, d0):
+    """Two domain records are the same record: positions, classes, gravity threshold and every array."""
+    assert d.positions == d0.positions and d.classes == d0.classes
+    assert np.isclose(d.gravity_threshold_rad, d0.gravity_threshold_rad, rtol=1e-9)
+    a, b = d.to_arrays(), d0.to_arrays()
+    assert sorted(a) == sorted(b)
+    for k in a:
+        np.testing.assert_allclose(a[k], b[k], rtol=1e-9, atol=1e-12, err_msg=k)
 
 
 def _csv_folder(root):

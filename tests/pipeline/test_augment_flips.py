@@ -10,7 +10,7 @@ from gaitml.pipeline.augment import FLIP_AXES, augment_recordings, augmented_set
 from gaitml.pipeline.config import parse_config
 from gaitml.pipeline.runner import prepare_data
 from gaitml.recording import Recording
-from tests.pipeline.test_augment import _config, _csv_config, _csv_folder, _swinging, _tyrex_swinging
+from tests.pipeline.test_augment import _config, _csv_config, _csv_folder, _swinging, _tyrex_swinging, assert_same_domain
 
 FS = 50.0
 
@@ -116,22 +116,7 @@ def test_flips_never_enter_the_domain_record(tmp_path):
         {"flips": ["x", "y", "z"], "flip_positions": ["swinging-hand"]},
         {"swing_turns": 1, "flips": ["y"], "flip_positions": ["swinging-hand"], "share_time": True},
     ):
-        cfg = parse_config(
-            {
-                "name": "aug",
-                "seed": 3,
-                "data": {
-                    "source": "folder",
-                    "path": str(root),
-                    "label": "mode",
-                    "labels": ["walk", "still"],
-                    "labelling": {"moving_speed_ms": 0.3},
-                    **({"augment": aug} if aug else {}),
-                },
-                "features": {"set": "all52+gyro"},
-            },
-            base_dir=root,
-        )
+        cfg = _config(root, **aug)
         data = prepare_data(cfg, use_cache=False)
         ds = build_dataset(cfg, data, use_cache=False)
         model = make_model(cfg["model"]["kind"], cfg["model"]["params"], seed=cfg.seed).fit(ds.inputs("features"), ds.y)
@@ -141,12 +126,7 @@ def test_flips_never_enter_the_domain_record(tmp_path):
     assert any("flipped 180 deg about the phone's x/y/z axis" in n for n in data1.notes)
     assert any("flipped about y, turned" in r.meta.get("augmented", "") for r in data2.recordings)
     for d in (d1, d2):
-        assert d.positions == d0.positions and d.classes == d0.classes
-        assert np.isclose(d.gravity_threshold_rad, d0.gravity_threshold_rad, rtol=1e-9)
-        a, b = d.to_arrays(), d0.to_arrays()
-        assert sorted(a) == sorted(b)
-        for k in a:
-            np.testing.assert_allclose(a[k], b[k], rtol=1e-9, atol=1e-12, err_msg=k)
+        assert_same_domain(d, d0)
 
 
 def test_flip_settings_are_validated(tmp_path):

@@ -114,7 +114,8 @@ def _core_steps(
     gait = (bool(det.get_params()["gait_check"]) if own else False) if gait_check is None else bool(gait_check)
     if own:
         raw = det.set_params(gait_check=False).detect(rec).steps_
-        checked = check_steps(raw, rec.gyr, rec.sampling_rate_hz, acc=rec.acc, max_stride_vertical_fraction=vertical) if gait else raw
+        acc = rec.acc if vertical is not None else None  # only the opt-in vertical test reads it
+        checked = check_steps(raw, rec.gyr, rec.sampling_rate_hz, acc=acc, max_stride_vertical_fraction=vertical) if gait else raw
     else:
         raw = det.detect(rec).steps_
         checked = gait_check_recording(raw, rec) if gait else raw

@@ -1168,7 +1168,9 @@ class AdaptiveStepDetector(BaseStepDetector):
             confidence=r["confidence"],
         )
         if check:  # bouts without gait evidence (a gesturing hand) are left out
-            self.steps_ = gait_check(self.steps_, rec.gyr, fs, acc=rec.acc, max_stride_vertical_fraction=vertical)
+            # the acceleration only feeds the opt-in vertical test: not measured when it is off
+            acc = rec.acc if vertical is not None else None
+            self.steps_ = gait_check(self.steps_, rec.gyr, fs, acc=acc, max_stride_vertical_fraction=vertical)
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(
             {

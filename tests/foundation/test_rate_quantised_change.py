@@ -61,6 +61,8 @@ def _assert_judged(judged: dict, main_hz: float, change: list[float]) -> None:
         (((200, 20), (100, 40)), "jitter", 100.0, [0.0, 20.0, 200.0]),
         (((400, 5), (50, 55)), "floor", 50.0, [0.0, 5.0, 400.0]),
         (((50, 5), (200, 55)), "round", 200.0, [0.0, 5.0, 50.0]),
+        (((150, 20), (50, 40)), "floor", 50.0, [0.0, 20.0, 150.0]),
+        (((60, 40), (150, 20)), "round", 60.0, [40.0, 59.993, 150.0]),
         # a 20 s island at 4x the rate, and one at a quarter of it
         (((100, 20), (400, 20), (100, 40)), "floor", 100.0, [20.0, 40.0, 400.0]),
         (((400, 20), (100, 20), (400, 40)), "floor", 400.0, [20.0, 40.0, 100.0]),
@@ -78,8 +80,9 @@ def test_jitter_does_not_bias_the_main_rate_when_two_rates_are_mixed():
 
 
 @pytest.mark.parametrize("clock", ["exact", "floor", "round", "jitter"])
-@pytest.mark.parametrize("fs", [50, 100, 200, 300, 400])
+@pytest.mark.parametrize("fs", [50, 60, 100, 150, 200, 300, 400])
 def test_one_rate_throughout_has_no_change(fs, clock):
+    # in whole ms, 60 Hz is 16, 17, 17 ms and 150 Hz 6, 7, 7 ms: the median interval gives 58.8 and 142.9 Hz
     judged = judge_rate(_clock(np.arange(60 * fs) / fs, clock))
     assert judged["rate_hz"] == pytest.approx(fs, rel=0.005)
     assert judged["rate_changes"] == []

@@ -175,10 +175,12 @@ def _local_rates(t: np.ndarray, dt: np.ndarray, med: float | None, stretch: int 
     # so at least RATE_CHANGE_MIN_S x MIN_RATE_HZ intervals): they are a slower rate's samples; judge its
     # gaps against its own time-weighted median interval
     total = blocks.sum(axis=1)
-    for k in np.flatnonzero((d < 0.5 * total) & (w_eff - c >= RATE_CHANGE_MIN_S * MIN_RATE_HZ)):
-        srt = np.sort(blocks[k])
-        own = srt[srt <= GAP_FACTOR * srt[int(np.searchsorted(np.cumsum(srt), 0.5 * total[k]))]]
-        d[k], c[k] = own.sum(), float(len(own))
+    slow = np.flatnonzero((d < 0.5 * total) & (w_eff - c >= RATE_CHANGE_MIN_S * MIN_RATE_HZ))
+    if slow.size:
+        srt = np.sort(blocks[slow], axis=1)
+        half = (np.cumsum(srt, axis=1) < 0.5 * total[slow, None]).sum(axis=1)
+        own = srt <= GAP_FACTOR * srt[np.arange(slow.size), half][:, None]
+        d[slow], c[slow] = np.where(own, srt, 0.0).sum(axis=1), own.sum(axis=1).astype(float)
     with np.errstate(divide="ignore", invalid="ignore"):
         rates = np.where(d > 0, c / d, np.nan)
     return t[: n * w_eff : w_eff], rates, d

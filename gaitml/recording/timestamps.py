@@ -289,10 +289,11 @@ def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = 
     3. The file's rate is ``1 / median interval`` of the samples outside the changes, unless those are
        quantised (at most :data:`QUANTISED_LEVELS` distinct intervals, a clock's resolution apart, which is
        at most half the median interval: a second rate or dropped samples lie an interval apart) and that
-       rate disagrees by more than :data:`QUANTISED_TOLERANCE` with their mean rate (gaps left out; in a
-       file without rate changes, the time-weighted median of the stretch rates, which a part too short to
-       be judged a change does not pull): the clock's resolution is then too coarse for the rate (400 Hz in
-       whole milliseconds: 2, 3, 2, 3 ms; 150 Hz: 6, 7, 7 ms gives 143 Hz) and that mean is the rate.
+       rate disagrees by more than :data:`QUANTISED_TOLERANCE` with the mean rate of the intervals within
+       1.5 resolutions of the median (the two levels the true interval lies between, and none of dropped
+       samples or of a part at another rate too short to be judged a change): the clock's resolution is
+       then too coarse for the rate (400 Hz in whole milliseconds: 2, 3, 2, 3 ms; 150 Hz: 6, 7, 7 ms gives
+       143 Hz) and that mean is the rate.
 
     Returns
     -------
@@ -332,14 +333,15 @@ def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = 
         levels = np.unique(np.round(sample[sample <= GAP_FACTOR * main_med], 9))
         res = float(np.min(np.diff(levels))) if len(levels) > 1 else np.inf
         if len(levels) <= QUANTISED_LEVELS and res <= 0.5 * main_med:
-            if found:  # the samples at the main rate are known to the sample: their mean rate
-                r_q, how = _mean_rate(main), "mean interval outside the rate changes"
-            else:  # a part too short to judge a change (under a stretch) does not pull a median
-                near = good & (np.abs(rates - ref) <= RATE_CHANGE_TOLERANCE * ref)
-                r_q = _weighted_median(rates[near], durs[near]) if near.any() else rate
-                how = f"time-weighted median of the mean rates of stretches of {RATE_STRETCH_INTERVALS} samples"
+            # the mean of the clock's levels next to the median: neither dropped samples (twice the interval)
+            # nor a part at another rate too short to be judged a change pull it
+            own = main[np.abs(main - main_med) <= 1.5 * res]
+            r_q = float(len(own) / own.sum())
             if abs(r_q - rate) > QUANTISED_TOLERANCE * r_q:
-                rule = f"{how} (the timestamps are quantised to {res:.3g} s: the median interval gives {rate:.6g} Hz)"
+                rule = (
+                    f"mean of the intervals within {1.5 * res:.3g} s of the median{' outside the rate changes' if found else ''} "
+                    f"(the timestamps are quantised to {res:.3g} s: the median interval gives {rate:.6g} Hz)"
+                )
                 rate = r_q
     changes = [[round(float(t[a] - t[0]), 6), round(float(t[b] - t[0]), 6), round(r, 3)] for a, b, r in found]
     max_rate = float(np.nanmax(rates)) if good.any() else rate

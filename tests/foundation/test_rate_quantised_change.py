@@ -120,3 +120,14 @@ def test_gaps_in_a_fast_file_are_no_rate_change(n_gaps):
     judged = judge_rate(t)
     assert judged["rate_hz"] == pytest.approx(2000.0, rel=1e-6)
     assert judged["rate_changes"] == []
+
+
+@pytest.mark.parametrize("fs", [60, 100])
+@pytest.mark.parametrize("clock", ["exact", "floor", "round"])
+def test_dropped_samples_do_not_lower_the_rate(fs, clock):
+    # 3 % of single samples missing: twice the interval there; the clock's rate is still the rate
+    t = np.arange(120 * fs) / fs
+    t = _clock(t[np.random.default_rng(fs).random(len(t)) >= 0.03], clock)
+    judged = judge_rate(t)
+    assert judged["rate_hz"] == pytest.approx(fs, rel=0.01)
+    assert judged["rate_changes"] == []

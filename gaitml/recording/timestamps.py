@@ -49,14 +49,15 @@ MAX_BRIDGE_FACTOR = 10.0
 #: The rate is judged on stretches of this many intervals (:func:`local_rates`): long enough
 #: to average the rounding of millisecond timestamps, short enough to place a rate change.
 RATE_STRETCH_INTERVALS = 1000
-#: Timestamps whose intervals take at most this many distinct values (to 1 ns) are quantised
-#: (a clock with a coarse resolution, e.g. whole milliseconds) ...
+#: Timestamps whose intervals take at most this many distinct values (to 1 ns), at most half the
+#: median interval apart, are quantised (a clock with a coarse resolution, e.g. whole milliseconds) ...
 QUANTISED_LEVELS = 8
-#: ... counted among this many intervals spread over the file.
+#: ... counted among this many intervals spread over the samples at the file's main rate.
 QUANTISED_SAMPLE = 100_000
 #: ... and when the median interval's rate and the stretch rate then disagree by more than
-#: this fraction, the stretch rate is the rate (:func:`judge_rate`).
-QUANTISED_TOLERANCE = 0.05
+#: this fraction, the stretch rate is the rate (:func:`judge_rate`). 1 %: a clock in whole ms
+#: puts the median interval's rate 2 % off at 60 Hz (17 ms) and 5 % off at 150 Hz (7 ms).
+QUANTISED_TOLERANCE = 0.01
 #: A stretch whose rate differs from the file's by more than this fraction is a rate change ...
 RATE_CHANGE_TOLERANCE = 0.2
 #: ... when it lasts at least this long (s).
@@ -142,31 +143,47 @@ def local_rates(t: np.ndarray, *, stretch: int | None = None) -> tuple[np.ndarra
     """Rates of consecutive stretches of ``stretch`` intervals: ``(start times, rates in Hz)``.
 
     Each stretch's rate is its number of intervals over its duration, gaps
-    (intervals over :data:`GAP_FACTOR` x the median) left out: the mean rate,
-    which quantised timestamps (400 Hz logged in whole milliseconds: 2, 3, 2, 3 ms)
-    still give right where the median interval does not. ``stretch`` defaults
-    to :data:`RATE_STRETCH_INTERVALS`.
+    left out: the mean rate, which quantised timestamps (400 Hz logged in whole
+    milliseconds: 2, 3, 2, 3 ms) still give right where the median interval does
+    not. A gap is an interval over :data:`GAP_FACTOR` x the file's median interval,
+    or, in a stretch where such intervals take most of the time and number at least
+    :data:`RATE_CHANGE_MIN_S` x :data:`MIN_RATE_HZ` (a slower rate, not gaps), over
+    :data:`GAP_FACTOR` x the stretch's own time-weighted median.
+    ``stretch`` defaults to :data:`RATE_STRETCH_INTERVALS`.
     """
     t = np.asarray(t, dtype=float)
-    return _local_rates(t, np.diff(t), None, stretch)
+    starts, rates, _ = _local_rates(t, np.diff(t), None, stretch)
+    return starts, rates
 
 
-def _local_rates(t: np.ndarray, dt: np.ndarray, med: float | None, stretch: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`local_rates` from the intervals ``dt`` (and their median) already computed; no copy of ``dt``."""
+def _local_rates(t: np.ndarray, dt: np.ndarray, med: float | None, stretch: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`local_rates` from the intervals ``dt`` (and their median) already computed, with each stretch's
+    duration without its gaps (s) as a third array; no copy of ``dt``."""
     w = int(stretch or RATE_STRETCH_INTERVALS)
     if len(dt) == 0:
-        return np.zeros(0), np.zeros(0)
+        return np.zeros(0), np.zeros(0), np.zeros(0)
     med = float(np.median(dt)) if med is None else med
     n = len(dt) // w if len(dt) >= w else 1
     w_eff = len(dt) // n
-    d = dt[: n * w_eff].reshape(n, w_eff).sum(axis=1)
+    blocks = dt[: n * w_eff].reshape(n, w_eff)
+    d = blocks.sum(axis=1)
     c = np.full(n, float(w_eff))
     gaps = np.flatnonzero(dt[: n * w_eff] > GAP_FACTOR * med)
     np.subtract.at(d, gaps // w_eff, dt[gaps])
     np.subtract.at(c, gaps // w_eff, 1.0)
+    # "gaps" take most of a stretch's time and are many (a rate change lasts at least RATE_CHANGE_MIN_S,
+    # so at least RATE_CHANGE_MIN_S x MIN_RATE_HZ intervals): they are a slower rate's samples; judge its
+    # gaps against its own time-weighted median interval
+    total = blocks.sum(axis=1)
+    slow = np.flatnonzero((d < 0.5 * total) & (w_eff - c >= RATE_CHANGE_MIN_S * MIN_RATE_HZ))
+    if slow.size:
+        srt = np.sort(blocks[slow], axis=1)
+        half = (np.cumsum(srt, axis=1) < 0.5 * total[slow, None]).sum(axis=1)
+        own = srt <= GAP_FACTOR * srt[np.arange(slow.size), half][:, None]
+        d[slow], c[slow] = np.where(own, srt, 0.0).sum(axis=1), own.sum(axis=1).astype(float)
     with np.errstate(divide="ignore", invalid="ignore"):
         rates = np.where(d > 0, c / d, np.nan)
-    return t[: n * w_eff : w_eff], rates
+    return t[: n * w_eff : w_eff], rates, d
 
 
 def _split_point(d: np.ndarray) -> int:
@@ -200,68 +217,133 @@ def _change_span(t: np.ndarray, dt: np.ndarray, med: float, w: int, n: int, i: i
     return start, max(end, start)
 
 
+def _mean_rate(d: np.ndarray) -> float:
+    """The mean rate (Hz) of the intervals ``d``: their number over their sum, intervals over
+    :data:`GAP_FACTOR` x their median (gaps) left out."""
+    m = float(np.median(d))
+    ok = d[d <= GAP_FACTOR * m]
+    return float(len(ok) / ok.sum()) if ok.sum() > 0 else 1.0 / m
+
+
+def _weighted_median(values: np.ndarray, weights: np.ndarray) -> float:
+    """The value below and above which half the weight lies (the lower one on a tie)."""
+    order = np.argsort(values, kind="stable")
+    cum = np.cumsum(weights[order])
+    return float(values[order][int(np.searchsorted(cum, 0.5 * cum[-1]))])
+
+
+def _level(rates: np.ndarray, durs: np.ndarray) -> float:
+    """The rate most of the file runs at, from stretch rates and their durations.
+
+    The stretch rate with the most time within half of :data:`RATE_CHANGE_TOLERANCE` of it (a stretch
+    across a rate change has a rate of its own and little time about it) is the level; the rate is the
+    time-weighted median of the stretches within :data:`RATE_CHANGE_TOLERANCE` of that level.
+    """
+    lr = np.log(rates)
+    order = np.argsort(lr, kind="stable")
+    s, cw = lr[order], np.concatenate([[0.0], np.cumsum(durs[order])])
+    half = 0.5 * np.log1p(RATE_CHANGE_TOLERANCE)
+    support = cw[np.searchsorted(s, s + half, side="right")] - cw[np.searchsorted(s, s - half, side="left")]
+    near = np.abs(lr - s[int(np.argmax(support))]) <= np.log1p(RATE_CHANGE_TOLERANCE)
+    return _weighted_median(rates[near], durs[near])
+
+
+def _rate_changes(
+    t: np.ndarray, dt: np.ndarray, med: float, starts: np.ndarray, rates: np.ndarray, rate: float
+) -> list[tuple[int, int, float]]:
+    """Runs of stretches off ``rate`` by more than :data:`RATE_CHANGE_TOLERANCE` for at least
+    :data:`RATE_CHANGE_MIN_S`: ``(first sample, last sample, rate of the intervals between them)``, kept
+    when that rate (gaps left out, :func:`_mean_rate`) is off by more than the tolerance too."""
+    changes: list[tuple[int, int, float]] = []
+    off = np.isfinite(rates) & (np.abs(rates - rate) > RATE_CHANGE_TOLERANCE * rate)
+    ends = np.append(starts[1:], t[-1])
+    w = len(dt) // len(rates)
+    i = 0
+    while i < len(off):
+        if not off[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < len(off) and off[j + 1]:
+            j += 1
+        if ends[j] - starts[i] >= RATE_CHANGE_MIN_S:
+            a, b = _change_span(t, dt, med, w, len(rates), i, j)
+            r = _mean_rate(dt[a:b]) if b > a else float(np.median(rates[i : j + 1]))
+            if abs(r - rate) > RATE_CHANGE_TOLERANCE * rate:  # its own intervals are off too, not only a gap among them
+                changes.append((a, b, r))
+        i = j + 1
+    return changes
+
+
 def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = None) -> dict[str, Any]:
     """The rate of a recording's timestamps, judged over the whole file (see :func:`judge_timestamps`).
 
-    The rate is ``1 / median interval``, unless the timestamps are quantised (at
-    most :data:`QUANTISED_LEVELS` distinct intervals) and that rate disagrees by
-    more than :data:`QUANTISED_TOLERANCE` with the median of the stretch rates
-    (:func:`local_rates`) and with most stretches: the clock's resolution is then too coarse for the
-    rate (400 Hz in whole milliseconds, where every stretch's mean interval lies between the
-    clock's levels) and the stretch rate is the rate. (A rate change mid-file also gives few levels,
-    but the stretches at the file's main rate agree with its median interval.) Stretches whose
-    rate differs from it by more than :data:`RATE_CHANGE_TOLERANCE` for at least
-    :data:`RATE_CHANGE_MIN_S` are rate changes, reported from the sample where the intervals change
-    (:func:`_change_span`) with the rate of the intervals between its edges.
+    1. The stretch rates (:func:`local_rates`, the mean rate of each 1000 intervals) give the level most of
+       the file's time runs at (:func:`_level`: a time-weighted median, not one counted in samples, so 20 s at
+       400 Hz and 40 s at 200 Hz run at 200 Hz).
+    2. Stretches whose rate differs from it by more than :data:`RATE_CHANGE_TOLERANCE` for at least
+       :data:`RATE_CHANGE_MIN_S` are rate changes, reported from the sample where the intervals change
+       (:func:`_change_span`) with the mean rate of the intervals between its edges (gaps left out; the
+       rounding of a quantised clock averages out). When the changes at one rate outlast the rest of the
+       file, that rate is the file's and the changes are judged again from it.
+    3. The file's rate is ``1 / median interval`` of the samples outside the changes, unless those are
+       quantised (at most :data:`QUANTISED_LEVELS` distinct intervals, a clock's resolution apart, which is
+       at most half the median interval: a second rate or dropped samples lie an interval apart) and that
+       rate disagrees by more than :data:`QUANTISED_TOLERANCE` with the mean rate of the intervals within
+       1.5 resolutions of the median (the two levels the true interval lies between, and none of dropped
+       samples or of a part at another rate too short to be judged a change): the clock's resolution is
+       then too coarse for the rate (400 Hz in whole milliseconds: 2, 3, 2, 3 ms; 150 Hz: 6, 7, 7 ms gives
+       143 Hz) and that mean is the rate.
 
     Returns
     -------
     dict
-        ``median_interval_s``, ``rate_hz``, ``rate_rule`` (text), ``max_rate_hz``
+        ``median_interval_s`` (of the whole file), ``rate_hz``, ``rate_rule`` (text), ``max_rate_hz``
         (fastest stretch), ``rate_changes`` (``[[t_start_s, t_end_s, rate_hz], ...]``,
         s from the first timestamp).
     """
     t = np.asarray(t, dtype=float)
     dt = np.diff(t) if dt is None else dt
     med = float(np.median(dt)) if med is None else med
-    rate = 1.0 / med
-    starts, rates = _local_rates(t, dt, med)
-    good = np.isfinite(rates)
-    rule = "1 / median interval"
+    starts, rates, durs = _local_rates(t, dt, med)
+    good = np.isfinite(rates) & (durs > 0)
+    rate, rule, found = 1.0 / med, "1 / median interval", []
     if good.any():
-        r_med = float(np.median(rates[good]))
-        # distinct intervals among at most QUANTISED_SAMPLE of them, spread over the file
-        sample = dt[:: max(1, len(dt) // QUANTISED_SAMPLE)]
-        levels = np.unique(np.round(sample[sample <= GAP_FACTOR * med], 9))
-        # most stretches disagree with the median interval: quantised; a rate change leaves the stretches at the main rate
-        disagree = np.abs(rates[good] - rate) > QUANTISED_TOLERANCE * rates[good]
-        if len(levels) <= QUANTISED_LEVELS and abs(r_med - rate) > QUANTISED_TOLERANCE * r_med and disagree.mean() > 0.5:
-            res = float(np.min(np.diff(levels))) if len(levels) > 1 else float(levels[0])
-            rule = (
-                f"mean interval over stretches of {RATE_STRETCH_INTERVALS} samples (the timestamps are quantised to "
-                f"{res:.3g} s: the median interval gives {rate:.6g} Hz)"
-            )
-            rate = r_med
-    changes: list[list[float]] = []
-    if good.any():
-        off = good & (np.abs(rates - rate) > RATE_CHANGE_TOLERANCE * rate)
-        ends = np.append(starts[1:], t[-1])
-        w = len(dt) // len(rates)
-        i = 0
-        while i < len(off):
-            if not off[i]:
-                i += 1
-                continue
-            j = i
-            while j + 1 < len(off) and off[j + 1]:
-                j += 1
-            if ends[j] - starts[i] >= RATE_CHANGE_MIN_S:
-                a, b = _change_span(t, dt, med, w, len(rates), i, j)
-                span = dt[a:b]
-                span = span[span <= GAP_FACTOR * med]
-                r = float(len(span) / span.sum()) if span.sum() > 0 else float(np.median(rates[i : j + 1]))
-                changes.append([round(float(t[a] - t[0]), 6), round(float(t[b] - t[0]), 6), round(r, 3)])
-            i = j + 1
+        ref = _level(rates[good], durs[good])
+        found = _rate_changes(t, dt, med, starts, rates, ref)
+        # the changes at one rate last longer than the rest of the file: that rate is the file's
+        lasting = np.array([t[b] - t[a] for a, b, _ in found])
+        if len(found):
+            r_ch = np.array([r for _, _, r in found])
+            group = np.array([lasting[np.abs(r_ch - r) <= RATE_CHANGE_TOLERANCE * r].sum() for r in r_ch])
+            k = int(np.argmax(group))
+            if group[k] > (t[-1] - t[0]) - lasting.sum():
+                ref = float(r_ch[k])
+                found = _rate_changes(t, dt, med, starts, rates, ref)
+        main = dt
+        if found:
+            keep = np.ones(len(dt), dtype=bool)
+            for a, b, _ in found:
+                keep[a:b] = False
+            main = dt[keep]
+        main_med = float(np.median(main)) if found and len(main) else med
+        rate = 1.0 / main_med
+        # distinct intervals among at most QUANTISED_SAMPLE of them, spread over the samples at the main rate
+        sample = main[:: max(1, len(main) // QUANTISED_SAMPLE)]
+        levels = np.unique(np.round(sample[sample <= GAP_FACTOR * main_med], 9))
+        res = float(np.min(np.diff(levels))) if len(levels) > 1 else np.inf
+        if len(levels) <= QUANTISED_LEVELS and res <= 0.5 * main_med:
+            # the mean of the clock's levels next to the median: neither dropped samples (twice the interval)
+            # nor a part at another rate too short to be judged a change pull it
+            own = main[np.abs(main - main_med) <= 1.5 * res]
+            r_q = float(len(own) / own.sum())
+            if abs(r_q - rate) > QUANTISED_TOLERANCE * r_q:
+                rule = (
+                    f"mean of the intervals within {1.5 * res:.3g} s of the median{' outside the rate changes' if found else ''} "
+                    f"(the timestamps are quantised to {res:.3g} s: the median interval gives {rate:.6g} Hz)"
+                )
+                rate = r_q
+    changes = [[round(float(t[a] - t[0]), 6), round(float(t[b] - t[0]), 6), round(r, 3)] for a, b, r in found]
     max_rate = float(np.nanmax(rates)) if good.any() else rate
     return {"median_interval_s": med, "rate_hz": rate, "rate_rule": rule, "max_rate_hz": max(max_rate, rate), "rate_changes": changes}
 

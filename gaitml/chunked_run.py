@@ -456,6 +456,7 @@ def long_predict(
     correction: bool = True,
     chunk_s: float = DEFAULT_CHUNK_S,
     progress: bool = True,
+    run_min_cadence_hz: float | None = None,
     **read_kwargs,
 ) -> pd.DataFrame:
     """Per-window motion modes of a long recording with a saved model.
@@ -463,10 +464,14 @@ def long_predict(
     Features are computed chunk by chunk; the adjacent-window correction runs
     over the whole label sequence afterwards (it needs only the two previous
     windows, and the sequence of labels is small: 115,200 windows per day at
-    1.5 s / 50 %).
+    1.5 s / 50 %). The run-cadence rule (:func:`gaitml.models._predict.run_cadence_rule`,
+    ``run_min_cadence_hz``; None: :data:`~gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`, 0: off)
+    reads each chunk's steps (the chunk's windows' ``step_cadence_hz``) and runs again after the correction.
     """
     from gaitml.models import predict_recording
-    from gaitml.models._predict import SIDE_MODES, side_direction_unsure
+    from gaitml.models._predict import RUN_MODE, RUN_STRIDE_CADENCE_HZ, SIDE_MODES, run_cadence_threshold, side_direction_unsure
+
+    run_thr = run_cadence_threshold(run_min_cadence_hz) or 0.0
 
     parts, upright = [], []
     fs = float(model.sampling_rate_hz)
@@ -501,7 +506,7 @@ def long_predict(
             counted_to = max(counted_to, ch.offset + rec.n_samples)
         if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
-        table = predict_recording(model, rec, correction=False)
+        table = predict_recording(model, rec, correction=False, run_min_cadence_hz=run_thr)
         gstart = table["start"].to_numpy() + ch.offset
         keep = (gstart >= ch.core_start) & (gstart < ch.core_end)
         # the phone held upright in each window (a side step there has an unsure direction), for the corrected modes below
@@ -512,7 +517,15 @@ def long_predict(
         from gaitml.models._predict import STILL
         from gaitml.postprocess import adjacent_window_correction
 
-        corrected = np.asarray(adjacent_window_correction(out["mode_raw"].to_numpy())).astype(str)
+        raw = out["mode_raw"].to_numpy().astype(str)
+        corrected = np.asarray(adjacent_window_correction(raw)).astype(str)
+        if run_thr:  # the run-cadence rule on the corrected modes: a raw run's best other mode is the chunk's answer
+            with np.errstate(invalid="ignore"):
+                cad = out["step_cadence_hz"].to_numpy(float)
+                slow = (corrected == RUN_MODE) & (cad < float(run_thr)) & (cad >= RUN_STRIDE_CADENCE_HZ)
+            chunk_mode = out["mode"].to_numpy().astype(str)
+            corrected = np.where(slow, np.where(raw == RUN_MODE, chunk_mode, raw), corrected).astype(str)
+            out["run_at_walking_cadence"] = slow & ~out["still"].to_numpy(dtype=bool)
         out["mode"] = np.where(out["still"].to_numpy(dtype=bool), STILL, corrected)
         out["side_direction_unsure"] = np.concatenate(upright) & np.isin(out["mode"].to_numpy().astype(str), SIDE_MODES)
     # what a whole-file prediction table says about its rate (predict_recording's attrs)
@@ -522,6 +535,7 @@ def long_predict(
         correction=bool(correction),
         has_domain=dom is not None,
         acc_range=_sum_tallies(tallies, rng),
+        run_cadence={"min_cadence_hz": float(run_thr) if run_thr else None},
     )
     return out
 
@@ -606,6 +620,7 @@ def long_pdr(
     progress: bool = True,
     count_also: str | None = None,
     gyro_bias="auto",
+    run_min_cadence_hz: float | None = None,
     **read_kwargs,
 ):
     """Dead-reckon a long recording chunk by chunk: :func:`gaitml.pdr.run_pdr` in bounded memory.
@@ -670,7 +685,9 @@ def long_pdr(
 
     windows = None
     if modes == "model":
-        windows = long_predict(model, path, correction=True, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
+        windows = long_predict(
+            model, path, correction=True, chunk_s=chunk_s, progress=progress, run_min_cadence_hz=run_min_cadence_hz, **dict(read_kwargs)
+        )
 
     # the still-stretch gyroscope bias of the whole file (a first pass), as a whole-file run starts from
     att = source.attitude

@@ -1,7 +1,7 @@
 """The shipped default models on real recordings they were not trained on, and on untrained positions.
 
 ``python -m experiments.scripts.default_model [--data ../shared/data] [--models models/demo,models/demo-acc]
-[--out FILE]`` from the repository root.
+[--run-cadence on|off|HZ] [--out FILE]`` from the repository root.
 
 Every window goes through :func:`gaitml.models.predict_recording`, the path of ``gaitml predict``
 (adjacent-window correction, the still gate, the domain check). Per model and data set:
@@ -31,13 +31,15 @@ OXFORD_POSITIONS = ("InHand", "FrontPocket", "BackPocket", "SwingingArm", "Purse
 HELDOUT_SEED = 2024
 
 
-def score_walk(model, recs) -> dict:
-    """Counts over every window of ``recs`` (all walking): walk, still, flagged, silently wrong."""
+def score_walk(model, recs, run_min_cadence_hz: float | None = None) -> dict:
+    """Counts over every window of ``recs`` (all walking): walk, still, flagged, silently wrong.
+
+    ``run_min_cadence_hz``: predict's run-cadence rule (None: the library default, 0: off)."""
     from gaitml.models import predict_recording
 
     n = walk = still = flagged = 0
     for r in recs:
-        p = predict_recording(model, r)
+        p = predict_recording(model, r, run_min_cadence_hz=run_min_cadence_hz)
         out = np.array([v is False for v in p["in_domain"]], dtype=bool)
         mode = p["mode"].astype(str).to_numpy()
         n += len(p)
@@ -80,7 +82,11 @@ def main(argv=None) -> int:
     ap.add_argument("--data", type=Path, default=Path("../shared/data"))
     ap.add_argument("--models", default="models/demo,models/demo-acc", help="model folders, comma-separated")
     ap.add_argument("--out", type=Path, default=None)
+    ap.add_argument("--run-cadence", default=None, metavar="on|off|HZ", help="predict's run-cadence rule (default: the library's)")
     a = ap.parse_args(argv)
+    from gaitml.commands.predict import run_cadence_arg
+
+    run_cad = run_cadence_arg(a.run_cadence)
     models = {m: load_model(m) for m in a.models.split(",") if m}
     text: list[str] = []
 
@@ -100,14 +106,14 @@ def main(argv=None) -> int:
             for name, m in models.items():
                 if "gyro" in m.feature_set or not its:
                     continue
-                rows.append(_share_row(f"Oxford {pos} ({len(its)} walks)", name, score_walk(m, its)))
+                rows.append(_share_row(f"Oxford {pos} ({len(its)} walks)", name, score_walk(m, its, run_cad)))
                 print(f"[default_model] Oxford {pos}, {name}", file=sys.stderr)
     ifsm = a.data / "ifsm-flat-phone"
     if ifsm.exists():
         recs = [read_recording(f) for f in sorted(ifsm.glob("*.xlsx"))]
         for name, m in models.items():
             if "gyro" not in m.feature_set:
-                rows.append(_share_row(f"IFSM flat-held phone ({len(recs)} walks)", name, score_walk(m, recs)))
+                rows.append(_share_row(f"IFSM flat-held phone ({len(recs)} walks)", name, score_walk(m, recs, run_cad)))
     if rows:
         emit("### Real walking the models never saw (every window; no gyroscope: accelerometer-only models)\n")
         emit(md(pd.DataFrame(rows)))

@@ -369,13 +369,13 @@ def position_table(cfg, items: list[dict]) -> pd.DataFrame:
     return g.drop(columns=["right"])
 
 
-def sim_side_table(model, recs) -> pd.DataFrame:
+def sim_side_table(model, recs, gate: dict | None = None) -> pd.DataFrame:
     """Held-out simulated recordings: per position and mode, right / flagged / wrong, and read as a side step of either direction."""
     from gaitml.models import predict_recording
 
     rows = []
     for r in recs:
-        p = predict_recording(model, r)
+        p = predict_recording(model, r, **(gate or {}))
         inside = p["in_domain"].map(lambda v: v is not False).to_numpy(bool)
         side = inside & p["mode"].astype(str).isin(["side_left", "side_right"]).to_numpy()
         for m in ("walk", "run", *SIDE_MODES):
@@ -527,8 +527,25 @@ def main(argv=None) -> int:
         help="which windows are scored as moving: the body speed rule (default) or the walking rule (speed of the "
         "lever-corrected body point and step-band bounce); training uses the speed rule either way",
     )
+    ap.add_argument(
+        "--run-cadence",
+        default=None,
+        metavar="on|off|HZ",
+        help="the run-cadence rule (gaitml predict --run-cadence): on (gaitml.models._predict.RUN_MIN_CADENCE_HZ), off, or steps/s; "
+        "default: the library's",
+    )
+    ap.add_argument(
+        "--model-cache",
+        type=Path,
+        default=None,
+        help="keep each fold's model in DIR/<recipe>-<left out> and load it when present (delete DIR when the settings change)",
+    )
     a = ap.parse_args(argv)
     gate = {k: v for k, v in (("still_rule", a.still_rule), ("still_threshold_ms2", a.still_threshold)) if v is not None}
+    if a.run_cadence is not None:
+        from gaitml.commands.predict import run_cadence_arg
+
+        gate["run_min_cadence_hz"] = run_cadence_arg(a.run_cadence)
     cfg_full = load_config(a.config)
     if a.acc_range_ms2 is not None:
         cfg_full = cfg_full.with_values({"features.acc_range_ms2": a.acc_range_ms2})
@@ -598,20 +615,25 @@ def main(argv=None) -> int:
             train = [it for it in items if it["subject"] != person and (phone is None or it["phone"] != phone)]
             test = [it for it in items if it["subject"] == person and (phone is None or it["phone"] == phone)]
             person = person if phone is None else f"{person}/{phone}"
+            cached = None if a.model_cache is None else a.model_cache / f"{recipe}-{person.replace('/', '-')}"
             with tempfile.TemporaryDirectory() as tmp:
-                model, n_win = train_recipe(
-                    cfg,
-                    sim_train,
-                    train,
-                    recipe,
-                    Path(tmp) / "m",
-                    augment=turns,
-                    augment_positions=turn_positions,
-                    share_time=share_time,
-                    flips=flips,
-                    flip_positions=flip_positions,
-                    flip_simulated=a.flip_simulated,
-                )
+                if cached is not None and (cached / "model.json").exists():
+                    model = load_model(cached)
+                    n_win = model.info["training_data"]["n_windows"]
+                else:
+                    model, n_win = train_recipe(
+                        cfg,
+                        sim_train,
+                        train,
+                        recipe,
+                        cached or Path(tmp) / "m",
+                        augment=turns,
+                        augment_positions=turn_positions,
+                        share_time=share_time,
+                        flips=flips,
+                        flip_positions=flip_positions,
+                        flip_simulated=a.flip_simulated,
+                    )
             t = window_table(model, test, gate)
             t["model"], t["left_out"] = f"recipe {recipe} ({cfg['features']['set']})", person
             tabs.append(t)
@@ -619,7 +641,7 @@ def main(argv=None) -> int:
                 ts = window_table(model, [{k: v for k, v in it.items() if k != "score_recording"} for it in test], gate)
                 ts["model"], ts["left_out"] = f"recipe {recipe} ({cfg['features']['set']}), speed rule", person
                 tabs_speed.append(ts)
-            s = sim_side_table(model, [r for r in sim_test if r.meta["position"] in positions])
+            s = sim_side_table(model, [r for r in sim_test if r.meta["position"] in positions], gate)
             s["left_out"] = person
             sides.append(s)
             for row in untrained_table(model, sim_test, a.data):

@@ -25,6 +25,7 @@ from gaitml.commands._args import (
     step_detectors,
 )
 from gaitml.commands._util import emit_json, gait_check_note, is_large_input, load_input, log, long_read_kwargs
+from gaitml.commands.predict import add_run_cadence_option, run_cadence_arg
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 
@@ -62,6 +63,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "single-peak is paper 003's)",
     )
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
+    add_run_cadence_option(p)
     p.add_argument(
         "--gyro-bias",
         **choices("pdr", "--gyro-bias", gyro_bias_modes),
@@ -195,6 +197,7 @@ def run(args) -> int:
         step_length=step_length,
         initial_heading_rad=h0,
         gyro_bias=getattr(args, "gyro_bias", "auto"),
+        run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
     )
     notes += list(res.info["notes"])
     scored = _score(args, rec, res, truth_obj) if truth_obj is not None else None
@@ -284,6 +287,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
         step_length=step_length,
         initial_heading_rad=0.0 if h0 is None else h0,
         count_also=also,
+        run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
         progress=True,
         gyro_bias=getattr(args, "gyro_bias", "auto"),
         **long_read_kwargs(args),

@@ -24,29 +24,64 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="FILE")
     p.add_argument("--no-correction", action="store_true", help="skip the adjacent-window correction")
     p.add_argument("--json", action="store_true")
+    add_run_cadence_option(p)
     add_input_options(p)
+
+
+def add_run_cadence_option(p: argparse.ArgumentParser) -> None:
+    """``--run-cadence on|off|HZ``: the run-cadence rule (gaitml.models._predict.run_cadence_rule) of ``predict`` and ``pdr``.
+
+    Declared without importing gaitml.models (``gaitml --help`` stays fast); the value is read by :func:`run_cadence_arg`.
+    """
+    p.add_argument(
+        "--run-cadence",
+        metavar="on|off|HZ",
+        default=None,
+        help="a window read 'run' whose step cadence is under HZ steps/s takes the model's best other mode (on: 2.33 steps/s, "
+        "the walk-to-run transition's 140 steps/min); default: gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ (off)",
+    )
+
+
+def run_cadence_arg(value) -> float | None:
+    """``--run-cadence``'s threshold for the library: None (not given: the library default), 0 (off) or steps/s."""
+    from gaitml.errors import InputError
+    from gaitml.models._predict import RUN_MIN_CADENCE_HZ, run_cadence_threshold
+
+    if value is None:
+        return None
+    v = str(value).strip().lower()
+    if v == "on":
+        return RUN_MIN_CADENCE_HZ
+    if v == "off":
+        return 0.0
+    try:
+        hz = float(v)
+    except ValueError:
+        raise InputError(f"--run-cadence {value!r} is not on, off or a cadence in steps/s; give e.g. --run-cadence on.") from None
+    return run_cadence_threshold(hz) or 0.0
 
 
 def run(args) -> int:
     from gaitml.models import load_model
 
     model = load_model(args.model_dir)
+    run_cad = run_cadence_arg(getattr(args, "run_cadence", None))
     if model.window_by != "time":
         from gaitml.models import predict_step_windows
 
-        table = predict_step_windows(model, load_input(args), correction=not args.no_correction)
+        table = predict_step_windows(model, load_input(args), correction=not args.no_correction, run_min_cadence_hz=run_cad)
         unit = "strides" if model.window_by == "strides" else "steps"
         return _report(args, model, table, unit, {"window_by": model.window_by, "detector": model.window_detector})
     if is_large_input(args):
         from gaitml.chunked_run import long_predict
 
         kw = long_read_kwargs(args)  # judged at the file's own rate, as a file read whole
-        table = long_predict(model, args.input, correction=not args.no_correction, **kw)
+        table = long_predict(model, args.input, correction=not args.no_correction, run_min_cadence_hz=run_cad, **kw)
         log("gaitml predict: long input, processed in chunks of 10 min (bounded memory)")
     else:
         from gaitml.models import predict_recording
 
-        table = predict_recording(model, load_input(args), correction=not args.no_correction)
+        table = predict_recording(model, load_input(args), correction=not args.no_correction, run_min_cadence_hz=run_cad)
     return _report(args, model, table, "windows", {"window_s": model.length_s, "overlap": model.overlap})
 
 
@@ -75,6 +110,18 @@ def side_direction_warning(n_unsure: int, n: int, unit: str) -> str:
         f"{n_unsure} of {n} {unit} are side steps read from a phone held upright (its screen more than {FACE_UP_MAX_DEG:g} deg "
         "from facing up: a pocket, the swinging hand, the ear), where its placement can flip left and right; their direction "
         "is unsure (side_direction_unsure): read them as a side step."
+    )
+
+
+def run_cadence_warning(n_moved: int, n: int, unit: str, min_cadence_hz: float | None = None) -> str:
+    """One line: windows the model read ``run`` at a walking step cadence, answered with its best other mode (gaitml.models._predict.run_cadence_rule)."""
+    from gaitml.models._predict import RUN_MIN_CADENCE_HZ, RUN_STRIDE_CADENCE_HZ
+
+    thr = RUN_MIN_CADENCE_HZ if min_cadence_hz is None else float(min_cadence_hz)
+    return (
+        f"{n_moved} of {n} {unit} read as run have a walking step cadence ({RUN_STRIDE_CADENCE_HZ:g}-{thr:.3g} steps/s, under "
+        f"the walk-to-run transition's {60 * thr:.0f} steps/min); they are answered with the model's best other mode "
+        "(run_at_walking_cadence; mode_raw keeps the model's answer)."
     )
 
 
@@ -121,6 +168,10 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     n_unsure = int(table["side_direction_unsure"].sum()) if "side_direction_unsure" in table else 0
     if n_unsure:
         log(f"gaitml: warning: {side_direction_warning(n_unsure, len(table), unit)}")
+    n_moved = int(table["run_at_walking_cadence"].sum()) if "run_at_walking_cadence" in table else 0
+    run_cadence = table.attrs.get("run_cadence")
+    if n_moved:
+        log(f"gaitml: warning: {run_cadence_warning(n_moved, len(table), unit, (run_cadence or {}).get('min_cadence_hz'))}")
     acc_range = table.attrs.get("acc_range")
     if acc_range and acc_range.get("wider"):
         log(f"gaitml predict: {acc_range_note(acc_range)}")
@@ -141,6 +192,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                         "in_domain": None if r.in_domain is None else bool(r.in_domain),
                         "out_of_domain_reason": (getattr(r, "out_of_domain_reason", "") or None),
                         "side_direction_unsure": bool(getattr(r, "side_direction_unsure", False)),
+                        "run_at_walking_cadence": bool(getattr(r, "run_at_walking_cadence", False)),
                     }
                     for r in table.itertuples()
                 ],
@@ -150,6 +202,8 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 "still_fraction": n_still / len(table) if len(table) else None,
                 "still_gate": table.attrs.get("still_gate", default_still_gate()),
                 "side_direction_unsure_count": n_unsure,
+                "run_at_walking_cadence_count": n_moved,
+                "run_cadence": run_cadence,
                 "acc_range": acc_range,
             }
         )

@@ -179,6 +179,7 @@ def input_spec(model) -> dict:
             **_CORRECTION,
             "still": _still_spec(),
             "side_direction": _side_direction_spec(),
+            "run_cadence": _run_cadence_spec(),
         },
     }
     rng = getattr(model, "acc_range_ms2", None)
@@ -238,6 +239,30 @@ def _side_direction_spec() -> dict:
             "of its acceleration samples (gravity in the phone frame) is more than face_up_max_deg from the phone's +z axis "
             "(mean_z / |mean| < cos(face_up_max_deg)): the phone is held upright (pocket, swinging hand, ear), where its "
             "placement flips left and right; the label stays."
+        ),
+    }
+
+
+def _run_cadence_spec() -> dict:
+    """The run-cadence rule (gaitml.models._predict.run_cadence_rule, default threshold) as the JSON export states it."""
+    from gaitml.models._predict import RUN_CADENCE_REACH_S, RUN_MIN_CADENCE_HZ, RUN_MODE, RUN_STRIDE_CADENCE_HZ, run_cadence_threshold
+
+    default = run_cadence_threshold(None)
+    return {
+        "in_force": default is not None,
+        "mode": RUN_MODE,
+        "min_cadence_hz": RUN_MIN_CADENCE_HZ if default is None else default,
+        "stride_cadence_hz": RUN_STRIDE_CADENCE_HZ,
+        "reach_s": RUN_CADENCE_REACH_S,
+        "rule": (
+            "Applied by gaitml predict by default when in_force is true (else on request). "
+            "After the still gate: a window labelled 'mode' whose local step cadence c (steps/s: the median cadence of the "
+            "highest cadence of the steps whose peak lies in the window or within reach_s of it, from a step detector over the "
+            "recording; gaitml uses its adaptive detector, gaitml.steps) has stride_cadence_hz <= c < min_cadence_hz (a walking cadence: under the "
+            "walk-to-run transition's 140 steps/min, and not half a running one) gets the label with the highest vote score "
+            "other than 'mode' (voting.rule with 'mode' left out), or its raw label where the correction made it 'mode'. "
+            "A window with no step near it keeps its label. The cadence is not in this file: a stream needs its own step "
+            "detector; without one, leave the rule out."
         ),
     }
 

@@ -15,6 +15,9 @@ __all__ = [
     "domain_columns",
     "still_windows",
     "side_direction_unsure",
+    "window_step_cadence",
+    "best_other_modes",
+    "run_cadence_rule",
     "still_statistic",
     "describe_still_gate",
     "STILL",
@@ -25,6 +28,12 @@ __all__ = [
     "STILL_THRESHOLDS_MS2",
     "SIDE_MODES",
     "FACE_UP_MAX_DEG",
+    "RUN_MODE",
+    "RUN_MIN_CADENCE_HZ",
+    "RUN_CADENCE_REACH_S",
+    "RUN_STRIDE_CADENCE_HZ",
+    "RUN_CADENCE_DEFAULT_HZ",
+    "run_cadence_threshold",
     "DOMAIN_REASON",
     "foot_placement",
     "window_placement_reason",
@@ -64,6 +73,35 @@ SIDE_MODES = ("side_left", "side_right")
 #: trouser pocket, the swinging hand, at the ear) may face in or out and sit on either leg,
 #: which flips its lateral axis against the body, so its left / right is unsure there.
 FACE_UP_MAX_DEG = 60.0
+#: The mode the run-cadence rule checks (:func:`run_cadence_rule`).
+RUN_MODE = "run"
+#: A window read :data:`RUN_MODE` whose local step cadence (steps/s) is below this is answered with the
+#: model's best mode other than run (:func:`run_cadence_rule`). 140 steps/min is the cadence at which
+#: adults change from walking to running: Hansen et al. 2017 ("The role of stride frequency for
+#: walk-to-run transition in humans", *Sci. Rep.*, doi:10.1038/s41598-017-01972-1) measure the transition
+#: at 70.6 +- 3.2 strides/min (141 steps/min, at about 7.6 km/h), and on treadmill bouts of rising speed
+#: ("Cadence (steps/min) as an indicator of the walk-to-run transition", *Hum. Mov. Sci.* 90: 103117, 2023)
+#: a cadence of 140 steps/min told walking from running in 91 % of bouts against 55 % for the transition
+#: speed (2.1 m/s); their own data give 135-140 steps/min. Above the transition the running step frequency
+#: stays in a narrow band while the speed grows: Cavanagh and Kram 1989 (*Med. Sci. Sports Exerc.* 21:
+#: 467-479) find stride frequency up only 4 % from 3.15 to 4.12 m/s (stride length up 28 %). So a run does
+#: not come at a walking cadence, while a fast walk can shake a phone as hard as a slow run.
+RUN_MIN_CADENCE_HZ = 140.0 / 60.0
+#: The run-cadence threshold (steps/s) that predict uses when the caller gives none (``run_min_cadence_hz=None``
+#: in :func:`predict_recording`, :func:`gaitml.models.predict_step_windows`, :func:`gaitml.chunked_run.long_predict`
+#: and the PDR built on them); None: the rule is off unless asked for (:data:`RUN_MIN_CADENCE_HZ` turns it on
+#: in every path).
+RUN_CADENCE_DEFAULT_HZ: float | None = None
+#: A window cadence below this (steps/s) is no evidence of walking for the run-cadence rule: twice it is
+#: still a running step frequency (up to :data:`gaitml.steps.adaptive.MAX_STEP_HZ`, 3.5 steps/s, the
+#: fastest step the detector looks for), so it may be the stride of a run whose steps came in pairs (a
+#: phone in a pocket sees one leg, and the detector's stride-versus-step decision can miss). Half of
+#: :data:`gaitml.steps.adaptive.MAX_STEP_HZ`.
+RUN_STRIDE_CADENCE_HZ = 3.5 / 2
+#: The steps whose peak lies within this many seconds before the window's start or after its end
+#: count toward its local cadence (:func:`window_step_cadence`): a window falling between two steps
+#: of a slow walk still finds them.
+RUN_CADENCE_REACH_S = 0.5
 #: The ``out_of_domain_reason`` of a window the model's own domain check flags (:mod:`gaitml.models.domain`);
 #: a window the foot-placement rule flags gets :data:`gaitml.models._placement.FOOT_REASON`.
 DOMAIN_REASON = "unlike the training data"
@@ -264,7 +302,13 @@ def checked_domain_columns(dom, X: np.ndarray, gravity: np.ndarray | None, dynam
 
 
 def predict_recording(
-    model, recording: Recording, correction: bool = True, *, still_rule: str = STILL_RULE, still_threshold_ms2: float | None = None
+    model,
+    recording: Recording,
+    correction: bool = True,
+    *,
+    still_rule: str = STILL_RULE,
+    still_threshold_ms2: float | None = None,
+    run_min_cadence_hz: float | None = None,
 ) -> pd.DataFrame:
     """Predict the motion mode of every window of ``recording``.
 
@@ -281,6 +325,10 @@ def predict_recording(
     still_rule, still_threshold_ms2 : the still gate (:func:`still_windows`): ``"std"`` (the
         default, :data:`STILL_STD_MS2`) or ``"range"`` (the earlier gate, :data:`STILL_RANGE_MS2`),
         and its threshold (None: the rule's default).
+    run_min_cadence_hz : the run-cadence rule (:func:`run_cadence_rule`): a window read ``run`` whose
+        local step cadence is below this (steps/s; :data:`RUN_MIN_CADENCE_HZ` is the walk-to-run
+        transition cadence) gets the model's best other mode; None: :data:`RUN_CADENCE_DEFAULT_HZ`
+        (:func:`run_cadence_threshold`); 0 turns it off.
 
     Returns
     -------
@@ -288,7 +336,10 @@ def predict_recording(
         One row per window: ``start``, ``end`` (samples at the model's rate),
         ``t_start_s``, ``t_end_s``, ``mode_raw`` (model output), ``mode`` (after
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
-        gait in it, :func:`still_windows`), ``still``, ``in_domain`` (True/False from
+        gait in it, :func:`still_windows`; the model's best other mode for a window read ``run`` at a
+        walking cadence, :func:`run_cadence_rule`), ``still``, ``run_at_walking_cadence`` (the rule
+        moved the window), ``step_cadence_hz`` (the windows' local step cadence when some window is
+        read run, else NaN), ``in_domain`` (True/False from
         the model's domain record, :mod:`gaitml.models.domain`, and the foot-placement
         rule, :func:`foot_placement`; None when the model has no record),
         ``out_of_domain_reason`` (why a window is out of domain; empty in domain; None, as
@@ -332,6 +383,8 @@ def predict_recording(
         correction,
         still_rule=still_rule,
         still_threshold_ms2=still_threshold_ms2,
+        X=X,
+        run_min_cadence_hz=run_min_cadence_hz,
         has_domain=getattr(model, "domain", None) is not None,
         acc_range=tally,
     )
@@ -365,6 +418,121 @@ def side_direction_unsure(recording: Recording, windows: pd.DataFrame, modes, ma
     norm = np.linalg.norm(total, axis=1)
     cos_z = np.divide(total[:, 2], norm, out=np.zeros(n), where=norm > 0)
     return side & (cos_z < np.cos(np.radians(float(max_deg))))
+
+
+def window_step_cadence(recording: Recording, windows: pd.DataFrame, reach_s: float = RUN_CADENCE_REACH_S) -> np.ndarray:
+    """The local step cadence (steps/s) of each window (``start``, ``end`` samples of ``recording``).
+
+    The steps are :class:`gaitml.steps.adaptive.AdaptiveStepDetector`'s at its defaults, found once
+    over the whole recording (its cadence comes from 5 s autocorrelation windows and decides between a
+    step and a stride with the half-period and gyroscope checks); a window's cadence is the highest
+    ``cadence_hz`` of the steps whose peak lies in the window or within ``reach_s`` seconds of it, so
+    a window reads as walking only when every step near it does (a window at the start of a run,
+    whose first steps' 5 s cadence windows still hold the walk before it, keeps the run's cadence
+    of its later steps). NaN for a window with no step there, and for every window of a recording
+    too short for the detector.
+    """
+    from gaitml.steps import get_detector
+
+    n = len(windows)
+    out = np.full(n, np.nan)
+    if n == 0:
+        return out
+    try:
+        steps = get_detector("adaptive").detect(recording).steps_
+    except InputError:  # shorter than the detector's cadence window: no cadence
+        return out
+    if steps.empty:
+        return out
+    order = np.argsort(steps["peak"].to_numpy(np.int64), kind="stable")
+    peak = steps["peak"].to_numpy(np.int64)[order]
+    cad = steps["cadence_hz"].to_numpy(float)[order]
+    reach = int(round(float(reach_s) * recording.sampling_rate_hz))
+    lo = np.searchsorted(peak, windows["start"].to_numpy(np.int64) - reach, side="left")
+    hi = np.searchsorted(peak, windows["end"].to_numpy(np.int64) + reach, side="left")
+    for i in np.flatnonzero(hi > lo):
+        out[i] = float(np.max(cad[lo[i] : hi[i]]))
+    return out
+
+
+def best_other_modes(model, X, exclude: str = RUN_MODE) -> np.ndarray:
+    """The model's best mode other than ``exclude`` for every row of ``X`` (str).
+
+    Read from the estimator's class scores: ``decision_function`` (the linear OVO SVM: the one-vs-one
+    votes plus the squashed confidence sums whose argmax is its answer, :mod:`gaitml.models._svm`), else
+    ``predict_proba``; the class ``exclude`` is left out of the argmax. A model without ``exclude`` among
+    its classes gives its own answer.
+    """
+    est = model.estimator
+    classes = np.asarray(est.classes_).astype(str)
+    if len(classes) < 2:
+        return np.full(len(X), classes[0] if len(classes) else "", dtype=object).astype(str)
+    if hasattr(est, "decision_function"):
+        scores = np.asarray(est.decision_function(X), dtype=float)
+        if scores.ndim == 1:  # two classes: positive means classes_[1]
+            scores = np.column_stack([-scores, scores])
+    else:
+        scores = np.asarray(est.predict_proba(X), dtype=float)
+    scores = scores.copy()
+    scores[:, classes == str(exclude)] = -np.inf
+    return classes[np.argmax(scores, axis=1)]
+
+
+def run_cadence_rule(
+    modes,
+    modes_raw,
+    cadence_hz,
+    other_modes,
+    min_cadence_hz: float | None = RUN_MIN_CADENCE_HZ,
+    stride_cadence_hz: float = RUN_STRIDE_CADENCE_HZ,
+):
+    """The run-cadence rule: a window answered :data:`RUN_MODE` at a walking cadence gets another mode.
+
+    A window whose mode (after the correction) is ``run`` and whose local step cadence
+    (:func:`window_step_cadence`) is below ``min_cadence_hz`` (:data:`RUN_MIN_CADENCE_HZ`: people run
+    above the walk-to-run transition cadence, not below it) and at least ``stride_cadence_hz``
+    (:data:`RUN_STRIDE_CADENCE_HZ`: a lower cadence may be a run's stride) is answered with the model's
+    best mode other than run: its raw answer when that is not run (the correction made it run), else
+    ``other_modes`` (:func:`best_other_modes`). A window without a cadence (NaN: no step found near it)
+    keeps its mode. ``min_cadence_hz`` None or 0 turns the rule off.
+
+    Returns
+    -------
+    (ndarray of str, ndarray of bool)
+        The modes and which windows the rule moved.
+    """
+    modes = np.asarray(modes).astype(str)
+    moved = np.zeros(len(modes), dtype=bool)
+    if not min_cadence_hz or len(modes) == 0:
+        return modes, moved
+    cad = np.asarray(cadence_hz, dtype=float)
+    with np.errstate(invalid="ignore"):
+        moved = (modes == RUN_MODE) & (cad < float(min_cadence_hz)) & (cad >= float(stride_cadence_hz))
+    if not moved.any():
+        return modes, moved
+    raw = np.asarray(modes_raw).astype(str)
+    other = np.asarray(other_modes).astype(object)
+    out = modes.astype(object)
+    out[moved] = np.where(raw[moved] != RUN_MODE, raw[moved].astype(object), other[moved])
+    return out.astype(str), moved
+
+
+def run_cadence_threshold(min_cadence_hz: float | None = None) -> float | None:
+    """The run-cadence rule's threshold in force (steps/s), or None when the rule is off.
+
+    None: :data:`RUN_CADENCE_DEFAULT_HZ`; 0: off; else a finite number > 0 (an InputError names the fix).
+    """
+    if min_cadence_hz is None:
+        min_cadence_hz = RUN_CADENCE_DEFAULT_HZ
+        if min_cadence_hz is None:
+            return None
+    try:
+        thr = float(min_cadence_hz)
+    except (TypeError, ValueError):
+        thr = float("nan")
+    if not np.isfinite(thr) or thr < 0:
+        raise InputError(f"run cadence threshold {min_cadence_hz!r} steps/s is not a finite number >= 0; give one (0 turns the rule off).")
+    return thr or None
 
 
 def foot_rule_applies(model) -> bool:
@@ -455,6 +623,8 @@ def finish_predictions(
     *,
     still_rule: str = STILL_RULE,
     still_threshold_ms2: float | None = None,
+    X: np.ndarray | None = None,
+    run_min_cadence_hz: float | None = None,
     **attrs,
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
@@ -465,12 +635,20 @@ def finish_predictions(
     is None, a model without a domain record, whose windows are not checked).
 
     A window with no gait in it (:func:`still_windows` with ``still_rule``, ``still_threshold_ms2``) gets the mode :data:`STILL`
-    and ``still = True``; ``mode_raw`` keeps the model's answer. ``side_direction_unsure``
+    and ``still = True``; ``mode_raw`` keeps the model's answer. A window then answered ``run`` whose
+    local step cadence is below ``run_min_cadence_hz`` (:func:`run_cadence_threshold`; 0: off) gets
+    the model's best other mode (:func:`run_cadence_rule`, the best mode read from ``X``, the model's
+    inputs of ``windows``; None: the rule is not applied; ``run_min_cadence_hz`` None:
+    :data:`RUN_CADENCE_DEFAULT_HZ`) and ``run_at_walking_cadence = True``;
+    ``step_cadence_hz`` holds every window's local cadence (:func:`window_step_cadence`) when some
+    window of the recording is read run (raw or corrected), NaN otherwise. (A cadence under
+    :data:`RUN_STRIDE_CADENCE_HZ` may be a run's stride and moves nothing.) ``side_direction_unsure``
     marks side steps read from an upright phone (:func:`side_direction_unsure`).
 
     ``rec`` is ``recording`` at the model's rate (``recording`` itself when no resampling was needed).
     ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz`` (``recording``'s rate,
-    or None), ``correction``, ``still_gate`` (``statistic``, ``threshold_ms2``) and then the caller's own ``attrs``.
+    or None), ``correction``, ``still_gate`` (``statistic``, ``threshold_ms2``), ``run_cadence``
+    (``min_cadence_hz``: None when the rule is off) and then the caller's own ``attrs``.
     """
     for c, v in domain.items():
         out[c] = v
@@ -490,6 +668,23 @@ def finish_predictions(
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
     out["still"] = still_windows(rec, windows, still_rule, still_threshold_ms2)
     out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)
+    # a window read run at a walking cadence: the model's best other mode (the model's answer stays in mode_raw)
+    run_thr = run_cadence_threshold(run_min_cadence_hz)
+    modes = out["mode"].to_numpy().astype(str)
+    raw = out["mode_raw"].to_numpy().astype(str)
+    cadence = np.full(len(out), np.nan)
+    moved = np.zeros(len(out), dtype=bool)
+    if run_thr is not None and X is not None and ((modes == RUN_MODE) | (raw == RUN_MODE)).any():
+        cadence = window_step_cadence(rec, windows)
+        with np.errstate(invalid="ignore"):
+            slow = (modes == RUN_MODE) & (raw == RUN_MODE) & (cadence < run_thr) & (cadence >= RUN_STRIDE_CADENCE_HZ)
+        other = raw.astype(object)
+        if slow.any():
+            other[slow] = best_other_modes(model, np.asarray(X)[slow])
+        modes, moved = run_cadence_rule(modes, raw, cadence, other, run_thr)
+        out["mode"] = modes
+    out["step_cadence_hz"] = cadence
+    out["run_at_walking_cadence"] = moved
     # a side step read from an upright phone: its left / right is not tied to the walker's
     out["side_direction_unsure"] = side_direction_unsure(rec, windows, out["mode"].to_numpy())
     for c in ("label", "label_fraction"):
@@ -500,6 +695,7 @@ def finish_predictions(
         resampled_from_hz=None if rec is recording else recording.sampling_rate_hz,
         correction=bool(correction),
         still_gate={"statistic": still_rule, "threshold_ms2": _still_threshold(still_rule, still_threshold_ms2)},
+        run_cadence={"min_cadence_hz": run_thr},
         **attrs,
     )
     return out

@@ -166,14 +166,18 @@ def step_domain_columns(model, recording: Recording, windows: pd.DataFrame, X: n
     return {k: v[back] for k, v in cols.items()}
 
 
-def predict_step_windows(model, recording: Recording, correction: bool = True, *, spans: pd.DataFrame | None = None) -> pd.DataFrame:
+def predict_step_windows(
+    model, recording: Recording, correction: bool = True, *, spans: pd.DataFrame | None = None, run_min_cadence_hz: float | None = None
+) -> pd.DataFrame:
     """Motion mode of every detected step (stride) of ``recording`` with a step-window model.
 
     Resamples the recording to the model's rate, finds the steps with the model's
     detector (or takes ``spans``, sample spans at the model's rate from
     :func:`gaitml.features.step_windows.spans_from_steps`), classifies each step on
     its own samples and - unless ``correction=False`` - applies the adjacent-window
-    correction of paper 003 sec. 3.4 over the steps in time order.
+    correction of paper 003 sec. 3.4 over the steps in time order, then the finishing rules of
+    :func:`gaitml.models._predict.finish_predictions` (still gate, run-cadence rule with
+    ``run_min_cadence_hz``: None for :data:`gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`, 0 off; side direction).
 
     Returns
     -------
@@ -211,5 +215,17 @@ def predict_step_windows(model, recording: Recording, correction: bool = True, *
         out["mode"] = pd.Series(dtype=str)
     domain = step_domain_columns(model, seen, w, X if model.input_kind == "features" else None)
     return finish_predictions(
-        out, w, domain, model, recording, rec, correction, by=by, detector=det, n_short=int(w.attrs.get("n_short", 0)), acc_range=tally
+        out,
+        w,
+        domain,
+        model,
+        recording,
+        rec,
+        correction,
+        X=X,
+        run_min_cadence_hz=run_min_cadence_hz,
+        by=by,
+        detector=det,
+        n_short=int(w.attrs.get("n_short", 0)),
+        acc_range=tally,
     )

@@ -281,6 +281,7 @@ def run_pdr(
     hde: HeuristicDriftElimination | None = None,
     dwpca: DwPcaHeading | None = None,
     gyro_bias="auto",
+    run_min_cadence_hz: float | None = None,
 ) -> PdrResult:
     """Dead-reckon a recording into a 2-D trajectory.
 
@@ -323,6 +324,10 @@ def run_pdr(
         ``gyro_bias``, :class:`~gaitml.pdr.attitude.AttitudeEstimator`; ignored when
         ``attitude`` or the heading source brings its own). What was removed is in
         ``info['gyro_bias']``.
+    run_min_cadence_hz : float, optional
+        The model's run-cadence rule (:func:`gaitml.models._predict.run_cadence_rule`): a window read
+        ``run`` at a walking step cadence takes the model's best other mode. None:
+        :data:`gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`; 0: off.
 
     Returns
     -------
@@ -375,7 +380,9 @@ def run_pdr(
         from gaitml.models import predict_recording
 
         if getattr(model, "window_by", "time") != "time":  # step-window model: one prediction per step (gaitml.pdr.step_modes)
-            step_modes, note, step_flags, step_reasons = modes_from_step_model(model, recording, steps, with_reasons=True)
+            step_modes, note, step_flags, step_reasons = modes_from_step_model(
+                model, recording, steps, with_reasons=True, run_min_cadence_hz=run_min_cadence_hz
+            )
             notes.append(note)
             mode_boundaries = "per-step"
         elif mode_boundaries == "auto":
@@ -383,7 +390,7 @@ def run_pdr(
             if mode_boundaries == "nearest":
                 notes.append(f"step times are {event}, not peaks: modes from the nearest window, without boundary refinement")
         if mode_boundaries != "per-step":
-            windows = predict_recording(model, recording, correction=True)
+            windows = predict_recording(model, recording, correction=True, run_min_cadence_hz=run_min_cadence_hz)
             t_look = 0.5 * (t_step + next_step_times(t_step)) if mode_boundaries == "middle" and n > 1 else t_step
             step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
             if mode_boundaries == "refine" and n > 1:

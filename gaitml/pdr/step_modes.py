@@ -296,7 +296,9 @@ def refine_mode_boundaries(
     return out.astype(str)
 
 
-def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame, *, with_reasons: bool = False) -> tuple:
+def modes_from_step_model(
+    model, recording: Recording, steps: pd.DataFrame, *, with_reasons: bool = False, run_min_cadence_hz: float | None = None
+) -> tuple:
     """Mode of every step of ``steps`` from a step-window model (no window-to-step lookup).
 
     ``window.by = "steps"``: each step of the PDR's step table is one window (its
@@ -313,6 +315,7 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame, *, w
     model : TrainedModel with ``window.by`` steps or strides.
     recording : Recording
     steps : DataFrame, a step detector's table (``peak``, ``t_peak_s``) at the recording's rate.
+    run_min_cadence_hz : the run-cadence rule of :func:`gaitml.models.predict_step_windows` (None: its default, 0: off).
 
     Returns
     -------
@@ -339,7 +342,7 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame, *, w
             {"peak": np.clip(np.round(steps["peak"].to_numpy(float) * scale), 0, n_model - 1).astype(np.int64), "t_peak_s": t_step}
         )
         spans = spans_from_steps(at_model, n_model, fs)
-        table = predict_step_windows(model, recording, correction=True, spans=spans)
+        table = predict_step_windows(model, recording, correction=True, spans=spans, run_min_cadence_hz=run_min_cadence_hz)
         modes = np.full(n, "", dtype=object)
         modes[table["step"].to_numpy(dtype=np.int64)] = table["mode"].to_numpy().astype(str)
         missing = np.flatnonzero(modes == "")
@@ -354,7 +357,7 @@ def modes_from_step_model(model, recording: Recording, steps: pd.DataFrame, *, w
         if with_reasons:
             return modes.astype(str), note, in_domain, _reasons(_per_step(table, "out_of_domain_reason", n, missing, t_step))
         return modes.astype(str), note, in_domain
-    table = predict_step_windows(model, recording, correction=True)
+    table = predict_step_windows(model, recording, correction=True, run_min_cadence_hz=run_min_cadence_hz)
     if len(table) == 0:
         raise InputError(
             f"the model's zero-velocity detector {model.window_detector!r} found no strides; use --modes true or forward, or a step-window model."

@@ -139,8 +139,13 @@ def _info(ds, kind="linear-ovo-svm", input_kind="features", fset="all52"):
 
 
 # ------------------------------------------------------------------ JSON export in plain numpy
-def _numpy_predict_from_json(spec: dict, acc: np.ndarray, gyr: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Prediction from the exported JSON alone (features from gaitml.features, as the JSON specifies)."""
+def _numpy_predict_from_json(
+    spec: dict, acc: np.ndarray, gyr: np.ndarray | None, cadence_hz: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Prediction from the exported JSON alone (features from gaitml.features, as the JSON specifies).
+
+    ``cadence_hz``: each window's local step cadence (from a step detector: not in the JSON) for the
+    run-cadence rule; None leaves the rule out."""
     from gaitml.features import features_from_arrays
 
     length, hop = spec["window"]["length_samples"], spec["window"]["hop_samples"]
@@ -173,6 +178,13 @@ def _numpy_predict_from_json(spec: dict, acc: np.ndarray, gyr: np.ndarray | None
     stat = {"std": np.std, "range": np.ptp}[still["statistic"]]
     value = np.array([stat(mag[s : s + length]) for s in starts])
     out = [still["mode"] if v < still["threshold_ms2"] else m for m, v in zip(out, value, strict=True)]
+    run = spec["postprocess"]["run_cadence"]  # the run-cadence rule as the JSON states it
+    if cadence_hz is not None:
+        scores = votes + conf / (3 * (np.abs(conf) + 1))
+        scores[:, labels.index(run["mode"])] = -np.inf
+        for k, c in enumerate(cadence_hz):
+            if out[k] == run["mode"] and run["stride_cadence_hz"] <= c < run["min_cadence_hz"]:
+                out[k] = raw[k] if raw[k] != run["mode"] else labels[int(np.argmax(scores[k]))]
     side = spec["postprocess"]["side_direction"]  # the side-direction flag as the JSON states it
     g = np.array([acc[s : s + length].mean(axis=0) for s in starts])
     cos_z = g[:, 2] / np.linalg.norm(g, axis=1)
@@ -187,12 +199,17 @@ def _check_json_equals_predict(model, rec, tmp_path):
     assert main(["model", "export", str(model.path), "--format", "json", "--out", str(out)]) == 0
     spec = json.loads(out.read_text())
     rec = resample_recording(rec, spec["sampling_rate_hz"])  # the JSON's "resampling" step (a no-op at the model's rate)
-    raw, corrected, unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr)
-    table = predict_recording(model, rec)
-    assert len(raw) == len(table) > 20
-    np.testing.assert_array_equal(raw, table["mode_raw"].to_numpy())
-    np.testing.assert_array_equal(corrected, table["mode"].to_numpy())
-    np.testing.assert_array_equal(unsure, table["side_direction_unsure"].to_numpy(bool))
+    run = spec["postprocess"]["run_cadence"]
+    for on in (run["in_force"], not run["in_force"]):  # predict's default first, then the run-cadence rule the other way
+        table = predict_recording(
+            model, rec, **({} if on == run["in_force"] else {"run_min_cadence_hz": run["min_cadence_hz"] if on else 0})
+        )
+        cadence = table["step_cadence_hz"].to_numpy() if on else None  # the cadence is a step detector's, not in the JSON
+        raw, corrected, unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr, cadence)
+        assert len(raw) == len(table) > 20
+        np.testing.assert_array_equal(raw, table["mode_raw"].to_numpy())
+        np.testing.assert_array_equal(corrected, table["mode"].to_numpy())
+        np.testing.assert_array_equal(unsure, table["side_direction_unsure"].to_numpy(bool))
     return spec
 
 

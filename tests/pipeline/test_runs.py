@@ -146,7 +146,15 @@ def test_cli_evaluate_train_predict_json(tmp_path, capsys):
     assert main(["predict", str(tmp_path / "model"), str(tmp_path / "in.csv"), "--json", "--out", str(tmp_path / "pred.csv")]) == 0
     cap = capsys.readouterr()
     js = json.loads(cap.out)
-    assert set(js["windows"][0]) == {"t_start_s", "t_end_s", "mode", "in_domain", "out_of_domain_reason", "side_direction_unsure"}
+    assert set(js["windows"][0]) == {
+        "t_start_s",
+        "t_end_s",
+        "mode",
+        "in_domain",
+        "out_of_domain_reason",
+        "side_direction_unsure",
+        "run_at_walking_cadence",
+    }
     assert all((w["out_of_domain_reason"] is None) == w["in_domain"] for w in js["windows"])  # a reason for every flagged window
     assert all(isinstance(w["in_domain"], bool) for w in js["windows"]) and 0.0 <= js["out_of_domain_fraction"] <= 1.0
     assert sum(js["counts"].values()) == len(js["windows"])

@@ -38,7 +38,7 @@ def add_run_cadence_option(p: argparse.ArgumentParser) -> None:
         metavar="on|off|HZ",
         default=None,
         help="a window read 'run' whose step cadence is under HZ steps/s takes the model's best other mode (on: 2.33 steps/s, "
-        "the walk-to-run transition's 140 steps/min); default: gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ (off)",
+        "the walk-to-run transition's 140 steps/min); default: gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ (on)",
     )
 
 

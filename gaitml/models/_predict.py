@@ -89,9 +89,9 @@ RUN_MODE = "run"
 RUN_MIN_CADENCE_HZ = 140.0 / 60.0
 #: The run-cadence threshold (steps/s) that predict uses when the caller gives none (``run_min_cadence_hz=None``
 #: in :func:`predict_recording`, :func:`gaitml.models.predict_step_windows`, :func:`gaitml.chunked_run.long_predict`
-#: and the PDR built on them); None: the rule is off unless asked for (:data:`RUN_MIN_CADENCE_HZ` turns it on
-#: in every path).
-RUN_CADENCE_DEFAULT_HZ: float | None = None
+#: and the PDR built on them): :data:`RUN_MIN_CADENCE_HZ`, the rule on; None turns it off in every path
+#: unless a caller asks for it.
+RUN_CADENCE_DEFAULT_HZ: float | None = RUN_MIN_CADENCE_HZ
 #: A window cadence below this (steps/s) is no evidence of walking for the run-cadence rule: twice it is
 #: still a running step frequency (up to :data:`gaitml.steps.adaptive.MAX_STEP_HZ`, 3.5 steps/s, the
 #: fastest step the detector looks for), so it may be the stride of a run whose steps came in pairs (a

@@ -14,6 +14,9 @@ gyroscope (seed 7, ``duration`` s at 50 Hz), alternately, best of ``reps`` each:
   new window (features and gravity: one-window callers do not check the dynamics part), the
   foot-placement rule of the window (:func:`gaitml.models.window_placement_reason`) and the
   adjacent-window correction; ms per window.
+- ``predict, run-cadence rule off``: the new model's ``predict`` with ``run_min_cadence_hz=0``, so the
+  cost of the run-cadence rule (the ``adaptive`` step detector over the recording when some window
+  is read ``run``) is the ratio of the two ``predict`` times of the new model.
 
 Both run on one BLAS thread where threadpoolctl is available (as the domain rows of
 ``benchmarks/models.py``: a second BLAS thread on a shared 2-core machine only adds noise).
@@ -84,6 +87,7 @@ def main(argv=None) -> int:
     except ImportError:  # pragma: no cover - threadpoolctl comes with scikit-learn
         limit = contextlib.nullcontext()
     best = {k: {"predict": np.inf, "stream": np.inf} for k in models}
+    best_off = np.inf
     n_win = {}
     with limit:
         for m in models.values():  # warm-up
@@ -96,6 +100,9 @@ def main(argv=None) -> int:
                 n_win[k] = len(table)
                 ts, ns = stream_loop(rec, m)
                 best[k]["stream"] = min(best[k]["stream"], ts / ns)
+            t0 = time.perf_counter()
+            off = predict_recording(models["new"], rec, run_min_cadence_hz=0.0)
+            best_off = min(best_off, time.perf_counter() - t0)
     print(f"| model | feature set | dynamics part | predict: windows per s ({a.duration:g} s recording) | stream: ms per window |")
     print("|---|---|---|---|---|")
     for k, m in models.items():
@@ -108,6 +115,12 @@ def main(argv=None) -> int:
     r_p = best["old"]["predict"] / best["new"]["predict"]
     r_s = best["old"]["stream"] / best["new"]["stream"]
     print(f"\nnew / old speed: predict {r_p:.2f}x, stream {r_s:.2f}x (best of {a.reps}, alternated, one BLAS thread)")
+    moved = int(table["run_at_walking_cadence"].sum()) if "run_at_walking_cadence" in table else 0
+    print(
+        f"new model, run-cadence rule on / off: predict {best_off / best['new']['predict']:.2f}x the speed "
+        f"({1000 * best['new']['predict']:.0f} vs {1000 * best_off:.0f} ms; {int((off['mode'] == 'run').sum())} windows "
+        f"read run with it off, {moved} moved by it)"
+    )
     return 0
 
 

@@ -523,7 +523,10 @@ def long_predict(
         has_domain=dom is not None,
         acc_range=_sum_tallies(tallies, rng),
     )
-    return out
+    # the chunks come at the model's rate: the rate check reads the file's own (as predict_recording does)
+    from gaitml.models._predict import apply_rate_check
+
+    return apply_rate_check(out, model, own_hz)
 
 
 def _sum_tallies(tallies: list[dict], range_ms2: float | None) -> dict | None:

@@ -298,11 +298,13 @@ def train_recipe(
     flip_positions=None,
     flip_simulated=False,
     rates=(),
+    rate_sources="all",
 ):
     """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model.
 
     ``rates``: every training recording (simulated and real, copies included) also trains as a copy taken down to
-    each rate and back up (:func:`gaitml.pipeline.augment.rate_copies`, ``data.augment.rates``), as gaitml train does.
+    each rate and back up (:func:`gaitml.pipeline.augment.rate_copies`, ``data.augment.rates``), as gaitml train does;
+    ``rate_sources = "real"`` (lab): the real recordings only.
 
     ``augment``: rotated copies per real recording in ``augment_positions``
     (:func:`gaitml.pipeline.augment.augment_recordings`, the phone turned about its swing axis; seed ``cfg.seed``),
@@ -339,8 +341,9 @@ def train_recipe(
     if rates:
         from gaitml.pipeline.augment import rate_copies
 
-        extra = rate_copies(recs, rates)
-        groups = groups + [g for g in groups for _ in rates]
+        pick = [i for i, r in enumerate(recs) if rate_sources == "all" or r.meta.get("source") != "gaitml.simulate"]
+        extra = rate_copies([recs[i] for i in pick], rates)
+        groups = groups + [groups[i] for i in pick for _ in rates]
         recs = recs + extra
         notes.append(f"rate copies at {list(rates)} Hz")
     # features.acc_range_ms2: every training recording read through the range, as gaitml train does (after the turns)
@@ -463,7 +466,7 @@ def untrained_table(model, sim_recs, data: Path, fs: float | None = None) -> lis
     rows = []
     for pos in ("bag", "belt"):
         share, n = flagged_share([r for r in sim_recs if r.meta["position"] == pos])
-        rows.append({"what": f"simulator {pos} (seed {HELDOUT_SEED})", "windows": n, "flagged": share})
+        rows.append({"what": f"simulator {pos} (held-out seed)", "windows": n, "flagged": share})
     gm = data / "gaitmap-example" / "imu_sample.csv.gz"
     if gm.exists():
         share, n = flagged_share([read_recording(gm, sensor=s) for s in ("left", "right")])
@@ -608,6 +611,8 @@ def main(argv=None) -> int:
         help="comma-separated rates (Hz) the left-out people's recordings (and the held-out simulator) are scored at, "
         "as phones recording at that rate (default: the model's rate only)",
     )
+    ap.add_argument("--heldout-seed", type=int, default=HELDOUT_SEED, help="seed of the held-out simulated subjects (default %(default)s)")
+    ap.add_argument("--rate-sources", choices=("all", "real"), default="all", help="lab: which training recordings get the rate copies")
     ap.add_argument("--cache", type=Path, default=None, help="keep the trained fold models here and reuse them (e.g. /tmp/rates)")
     ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
@@ -696,7 +701,7 @@ def main(argv=None) -> int:
         emit(md(position_table(cfg, items)))
     positions = cfg["data"]["simulated"]["positions"]
     sim_train = _sim(cfg, cfg.seed, cfg["data"]["simulated"]["subjects"], positions)
-    sim_test = _sim(cfg, HELDOUT_SEED, 2, [*positions, "bag", "belt"])
+    sim_test = _sim(cfg, a.heldout_seed, 2, [*positions, "bag", "belt"])
     if a.holdout == "person":
         folds = [(p, None) for p in sorted({it["subject"] for it in items})]
     else:  # another person AND another phone: train on the other two people's other two phones
@@ -719,6 +724,7 @@ def main(argv=None) -> int:
                 flip_positions=flip_positions,
                 flip_simulated=a.flip_simulated,
                 rates=rates,
+                rate_sources=a.rate_sources,
             )
             with tempfile.TemporaryDirectory() as tmp:
                 mdir = Path(tmp) / "m"
@@ -796,7 +802,8 @@ def main(argv=None) -> int:
             else ""
         )
         if rates:
-            aug += f", every training recording also at {'/'.join(f'{r:g}' for r in rates)} Hz (data.augment.rates)"
+            which = "every training recording" if a.rate_sources == "all" else "every real training recording (not the simulated)"
+            aug += f", {which} also at {'/'.join(f'{r:g}' for r in rates)} Hz (data.augment.rates)"
         emit(f"\n### recipe {recipe} ({cfg['features']['set']}){aug}, {what}{rule}\n")
         emit(md(summarise(t, by="left_out")))
         if tabs_speed:
@@ -806,7 +813,7 @@ def main(argv=None) -> int:
             emit(md(summarise(ts, by="left_out")))
         ns, nf = t["n_still"].sum(), t["still_flagged"].sum()
         emit(f"\nstill windows of the left-out people flagged: {nf / max(ns, 1):.2f} of {ns}")
-        emit(f"\nheld-out simulator (seed {HELDOUT_SEED}, 2 subjects, windows summed over the {len(folds)} folds' models)\n")
+        emit(f"\nheld-out simulator (seed {a.heldout_seed}, 2 subjects, windows summed over the {len(folds)} folds' models)\n")
         emit(md(side_summary(sides)))
         emit(
             "\nnot trained on, flagged (one figure per fold, in the order "
@@ -824,10 +831,10 @@ def main(argv=None) -> int:
                 rows_all.append(to)
                 emit(f"\nthe same without the rate check (what the features alone answer at {sr:g} Hz):\n")
                 emit(md(summarise(to, by="left_out")))
-            emit(f"\nheld-out simulator recorded at {sr:g} Hz (seed {HELDOUT_SEED})\n")
+            emit(f"\nheld-out simulator recorded at {sr:g} Hz (seed {a.heldout_seed})\n")
             emit(md(side_summary(acc["sides"])))
             if acc["sides_off"]:
-                emit("\nthe same without the rate check:\n")
+                emit(f"\nthe same without the rate check (held-out simulator at {sr:g} Hz):\n")
                 emit(md(side_summary(acc["sides_off"])))
             emit(f"\nnot trained on, recorded at {sr:g} Hz, flagged (one figure per fold)\n")
             emit(md(untrained_summary(acc["untr"])))

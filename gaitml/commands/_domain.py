@@ -50,7 +50,8 @@ def domain_warning(model, in_domain, what: str = "windows", reasons=None) -> str
 
 
 def rate_clause(reasons) -> str:
-    """``": the recording's rate: <reason>"`` for the warning line when the rate check flagged (gaitml.models.rate_reason), else ``""``."""
+    """``", every one of them because of the recording's rate: ..."`` for the warning line when the rate check flagged
+    (:func:`gaitml.models.rate_reason`), else ``""``."""
     if reasons is None:
         return ""
     rates = sorted({str(r) for r in np.asarray(reasons, dtype=object).reshape(-1) if r and str(r).startswith("rate:")})

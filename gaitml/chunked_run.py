@@ -537,7 +537,10 @@ def long_predict(
         acc_range=_sum_tallies(tallies, rng),
         run_cadence={"min_cadence_hz": float(run_thr) if run_thr else None},
     )
-    return out
+    # the chunks come at the model's rate: the rate check reads the file's own (as predict_recording does)
+    from gaitml.models._predict import apply_rate_check
+
+    return apply_rate_check(out, model, own_hz)
 
 
 def _sum_tallies(tallies: list[dict], range_ms2: float | None) -> dict | None:

@@ -144,6 +144,47 @@ def load_tyrex_labelled(data: Path, fs: float = 50.0) -> list[dict]:
     return out
 
 
+def at_rate(items: list[dict], fs: float) -> list[dict]:
+    """``items`` as phones recording at ``fs`` Hz would give them: each recording resampled to ``fs``
+    (:func:`gaitml.models.resample_recording`), its labels (and the walking rule's) carried over by the nearest sample."""
+    from gaitml.models import resample_recording
+
+    out = []
+    for it in items:
+        new = dict(it)
+        for key in ("recording", "score_recording"):
+            if key not in it:
+                continue
+            rec = it[key]
+            if abs(rec.sampling_rate_hz - fs) <= 1e-9 * fs:
+                continue
+            low = resample_recording(rec, fs)
+            idx = np.clip(np.rint((low.t_s - rec.t_s[0]) * rec.sampling_rate_hz).astype(int), 0, rec.n_samples - 1)
+            new[key] = low.replace(labels=np.asarray(rec.labels, dtype=object)[idx], check_units=False)
+        out.append(new)
+    return out
+
+
+def without_rate_check(model):
+    """``model`` with its domain record's rate dropped (``min_rate_hz`` None): what the classifier and the feature
+    checks alone answer at any rate (a context manager)."""
+    import contextlib
+
+    @contextlib.contextmanager
+    def cm():
+        dom = getattr(model, "domain", None)
+        keep = None if dom is None else dom.min_rate_hz
+        if dom is not None:
+            dom.min_rate_hz = None
+        try:
+            yield model
+        finally:
+            if dom is not None:
+                dom.min_rate_hz = keep
+
+    return cm()
+
+
 def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataFrame:
     """Per recording: right / flagged / wrong counts over its moving windows, and its still windows flagged.
 
@@ -256,8 +297,14 @@ def train_recipe(
     flips=(),
     flip_positions=None,
     flip_simulated=False,
+    rates=(),
+    rate_sources="all",
 ):
     """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model.
+
+    ``rates``: every training recording (simulated and real, copies included) also trains as a copy taken down to
+    each rate and back up (:func:`gaitml.pipeline.augment.rate_copies`, ``data.augment.rates``), as gaitml train does;
+    ``rate_sources = "real"`` (lab): the real recordings only.
 
     ``augment``: rotated copies per real recording in ``augment_positions``
     (:func:`gaitml.pipeline.augment.augment_recordings`, the phone turned about its swing axis; seed ``cfg.seed``),
@@ -291,6 +338,14 @@ def train_recipe(
             recs.append(r)
             groups.append(f"tyrex-{r.meta['subject']}")
     notes = [f"recipe {recipe}"]
+    if rates:
+        from gaitml.pipeline.augment import rate_copies
+
+        pick = [i for i, r in enumerate(recs) if rate_sources == "all" or r.meta.get("source") != "gaitml.simulate"]
+        extra = rate_copies([recs[i] for i in pick], rates)
+        groups = groups + [groups[i] for i in pick for _ in rates]
+        recs = recs + extra
+        notes.append(f"rate copies at {list(rates)} Hz")
     # features.acc_range_ms2: every training recording read through the range, as gaitml train does (after the turns)
     recs = _through_acc_range(recs, cfg["features"]["acc_range_ms2"], notes)
     data = PreparedData(recs, groups, notes, keep_labels=list(MOTION_MODES))
@@ -392,16 +447,16 @@ def _oxford(folder: Path) -> tuple:
     return tuple(read_dataset(folder))
 
 
-def untrained_table(model, sim_recs, data: Path) -> list[dict]:
-    """Share of windows flagged out of domain on what the recipes were not trained on."""
+def untrained_table(model, sim_recs, data: Path, fs: float | None = None) -> list[dict]:
+    """Share of windows flagged out of domain on what the recipes were not trained on (``fs``: recorded at that rate)."""
     from gaitml.io import read_recording
-    from gaitml.models import predict_recording
+    from gaitml.models import predict_recording, resample_recording
 
     def flagged_share(recs):
         n = k = 0
         for r in recs:
             try:
-                p = predict_recording(model, r)
+                p = predict_recording(model, r if fs is None else resample_recording(r, fs))
             except Exception as exc:  # a model that needs a gyroscope cannot read an accelerometer-only set
                 return f"n/a ({type(exc).__name__})", 0
             n += len(p)
@@ -411,7 +466,7 @@ def untrained_table(model, sim_recs, data: Path) -> list[dict]:
     rows = []
     for pos in ("bag", "belt"):
         share, n = flagged_share([r for r in sim_recs if r.meta["position"] == pos])
-        rows.append({"what": f"simulator {pos} (seed {HELDOUT_SEED})", "windows": n, "flagged": share})
+        rows.append({"what": f"simulator {pos} (held-out seed)", "windows": n, "flagged": share})
     gm = data / "gaitmap-example" / "imu_sample.csv.gz"
     if gm.exists():
         share, n = flagged_share([read_recording(gm, sensor=s) for s in ("left", "right")])
@@ -423,6 +478,35 @@ def untrained_table(model, sim_recs, data: Path) -> list[dict]:
             share, n = flagged_share([r for r in recs if str(r.meta.get("position", "")).lower() == key])
             rows.append({"what": f"Oxford {name} (no gyroscope)", "windows": n, "flagged": share})
     return rows
+
+
+def rate_flags(model, fs: float) -> bool:
+    """Whether ``model``'s rate check flags a recording made at ``fs`` Hz (:func:`gaitml.models.rate_reason`)."""
+    from gaitml.models import rate_reason
+
+    return bool(rate_reason(model, fs))
+
+
+def side_summary(sides: list) -> pd.DataFrame:
+    """The held-out simulator's table summed over folds: right / flagged / silently wrong per position and mode, right per fold."""
+    s = pd.concat(sides, ignore_index=True)
+    g = s.groupby(["position", "mode"], sort=False)[["n", "right", "flagged", "wrong", "side"]].sum().reset_index()
+    per = s.assign(r=s["right"] / s["n"]).groupby(["position", "mode"], sort=False)["r"].agg(["min", "max"]).reset_index()
+    g["right"] = g["right"] / g["n"]
+    g["flagged"] = g["flagged"] / g["n"]
+    g["silently wrong"] = g["wrong"] / g["n"]
+    g["side step, either direction"] = g.pop("side") / g["n"]
+    g["right over folds"] = [f"{lo:.2f}-{hi:.2f}" for lo, hi in zip(per["min"], per["max"], strict=True)]
+    return g.drop(columns=["wrong"])
+
+
+def untrained_summary(untr: list) -> pd.DataFrame:
+    """Flagged shares of the untrained positions, one figure per fold."""
+    u = pd.DataFrame(untr)
+    ug = u.groupby("what", sort=False).agg(
+        windows=("windows", "first"), flagged=("flagged", lambda v: "/".join(f"{x:.2f}" if isinstance(x, float) else str(x) for x in v))
+    )
+    return ug.reset_index()
 
 
 def md(df: pd.DataFrame) -> str:
@@ -515,6 +599,21 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--flip-simulated", action="store_true", help="lab: flip the simulated recordings in the flip positions too (every mode)"
     )
+    ap.add_argument(
+        "--rates",
+        default=None,
+        help="override data.augment.rates: comma-separated sampling rates (Hz) every training recording also trains at, "
+        "taken down and back up ('' = none; default: the config's)",
+    )
+    ap.add_argument(
+        "--score-rates",
+        default=None,
+        help="comma-separated rates (Hz) the left-out people's recordings (and the held-out simulator) are scored at, "
+        "as phones recording at that rate (default: the model's rate only)",
+    )
+    ap.add_argument("--heldout-seed", type=int, default=HELDOUT_SEED, help="seed of the held-out simulated subjects (default %(default)s)")
+    ap.add_argument("--rate-sources", choices=("all", "real"), default="all", help="lab: which training recordings get the rate copies")
+    ap.add_argument("--cache", type=Path, default=None, help="keep the trained fold models here and reuse them (e.g. /tmp/rates)")
     ap.add_argument("--no-positions", dest="positions", action="store_false", help="skip the position recognition table")
     ap.add_argument("--out", type=Path, default=None, help="write the markdown tables here too")
     ap.add_argument("--csv", type=Path, default=None, help="per-recording rows of every model and fold")
@@ -538,9 +637,11 @@ def main(argv=None) -> int:
         "--model-cache",
         type=Path,
         default=None,
-        help="keep each fold's model in DIR/<recipe>-<left out> and load it when present (delete DIR when the settings change)",
+        help="the same as --cache (kept for the run-cadence report's commands)",
     )
     a = ap.parse_args(argv)
+    if a.cache is None:
+        a.cache = a.model_cache
     gate = {k: v for k, v in (("still_rule", a.still_rule), ("still_threshold_ms2", a.still_threshold)) if v is not None}
     if a.run_cadence is not None:
         from gaitml.commands.predict import run_cadence_arg
@@ -557,6 +658,9 @@ def main(argv=None) -> int:
     flips, flip_positions = flips_of(cfg_full)
     if a.flips is not None:
         flips = [f for f in a.flips.split(",") if f]
+    rates = [float(r) for r in cfg_full["data"]["augment"]["rates"]]
+    if a.rates is not None:
+        rates = [float(r) for r in a.rates.split(",") if r]
     cfg = simulated_part(cfg_full)
     over = {}
     if a.features:
@@ -565,8 +669,10 @@ def main(argv=None) -> int:
         over["data.simulated.subjects"] = a.sim_subjects
     if over:
         cfg = cfg.with_values(over)
+    fs = float(cfg["data"]["resample_hz"])
+    score_rates = [fs] if a.score_rates is None else [float(r) for r in a.score_rates.split(",") if r]
     t0 = time.perf_counter()
-    items = load_tyrex_labelled(a.data, cfg["data"]["resample_hz"])
+    items = load_tyrex_labelled(a.data, fs)
     print(f"[tyrex_modes] {len(items)} tyrex recordings read ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
     if a.moving_rule == "walking":
         from experiments.scripts.tyrex_ar_moving import item_walking_labels
@@ -591,49 +697,75 @@ def main(argv=None) -> int:
         )
     for mdir in [m for m in a.baseline.split(",") if m]:
         model = load_model(mdir)
-        t = window_table(model, items, gate)
-        t["model"] = mdir
-        rows_all.append(t)
         seen = sorted(set((model.info.get("training_data") or {}).get("groups") or []) & {it["subject"] for it in items})
         how = f"in-sample: trained on {', '.join(seen)}" if seen else "trained on none of them"
-        emit(f"\n### {mdir} as it is, all 3 people ({how}){' (windows by the walking rule)' if a.moving_rule == 'walking' else ''}\n")
-        emit(md(summarise(t)))
+        for sr in score_rates:
+            t = window_table(model, items if sr == fs else at_rate(items, sr), gate)
+            t["model"], t["score_rate_hz"] = mdir, sr
+            rows_all.append(t)
+            at = "" if sr == fs else f", recorded at {sr:g} Hz"
+            emit(
+                f"\n### {mdir} as it is, all 3 people ({how}){at}{' (windows by the walking rule)' if a.moving_rule == 'walking' else ''}\n"
+            )
+            emit(md(summarise(t)))
+            if rate_flags(model, sr):
+                with without_rate_check(model):
+                    t2 = window_table(model, at_rate(items, sr), gate)
+                t2["model"], t2["score_rate_hz"] = f"{mdir} (rate check off)", sr
+                rows_all.append(t2)
+                emit("\nthe same without the rate check (every window above is flagged for the rate; what the features alone answer):\n")
+                emit(md(summarise(t2)))
     if a.positions and a.holdout == "person":
         emit(f"\n### position recognition ({cfg['features']['set']}, real tyrex moving windows only), each person left out in turn\n")
         emit(md(position_table(cfg, items)))
     positions = cfg["data"]["simulated"]["positions"]
     sim_train = _sim(cfg, cfg.seed, cfg["data"]["simulated"]["subjects"], positions)
-    sim_test = _sim(cfg, HELDOUT_SEED, 2, [*positions, "bag", "belt"])
+    sim_test = _sim(cfg, a.heldout_seed, 2, [*positions, "bag", "belt"])
     if a.holdout == "person":
         folds = [(p, None) for p in sorted({it["subject"] for it in items})]
     else:  # another person AND another phone: train on the other two people's other two phones
         folds = sorted({(it["subject"], it["phone"]) for it in items})
+    from gaitml.models import resample_recording
+
     for recipe in [r for r in a.recipes.split(",") if r]:
         tabs, sides, untr, tabs_speed = [], [], [], []
+        by_rate: dict = {sr: {"tabs": [], "off": [], "sides": [], "sides_off": [], "untr": []} for sr in score_rates if sr != fs}
         for person, phone in folds:
             t1 = time.perf_counter()
             train = [it for it in items if it["subject"] != person and (phone is None or it["phone"] != phone)]
             test = [it for it in items if it["subject"] == person and (phone is None or it["phone"] == phone)]
             person = person if phone is None else f"{person}/{phone}"
-            cached = None if a.model_cache is None else a.model_cache / f"{recipe}-{person.replace('/', '-')}"
+            kw = dict(
+                augment=turns,
+                augment_positions=turn_positions,
+                share_time=share_time,
+                flips=flips,
+                flip_positions=flip_positions,
+                flip_simulated=a.flip_simulated,
+                rates=rates,
+                rate_sources=a.rate_sources,
+            )
             with tempfile.TemporaryDirectory() as tmp:
-                if cached is not None and (cached / "model.json").exists():
-                    model = load_model(cached)
+                mdir = Path(tmp) / "m"
+                if a.cache is not None:
+                    import hashlib
+                    import json
+
+                    key = json.dumps(
+                        [cfg.resolved(), recipe, person, str(a.data), {k: list(v) if isinstance(v, tuple) else v for k, v in kw.items()}],
+                        sort_keys=True,
+                        default=str,
+                    )
+                    mdir = (
+                        a.cache
+                        / "models"
+                        / f"{cfg.name}-{recipe}-{person.replace('/', '_')}-{hashlib.sha256(key.encode()).hexdigest()[:12]}"
+                    )
+                if (mdir / "model.json").exists():
+                    model = load_model(mdir)
                     n_win = model.info["training_data"]["n_windows"]
                 else:
-                    model, n_win = train_recipe(
-                        cfg,
-                        sim_train,
-                        train,
-                        recipe,
-                        cached or Path(tmp) / "m",
-                        augment=turns,
-                        augment_positions=turn_positions,
-                        share_time=share_time,
-                        flips=flips,
-                        flip_positions=flip_positions,
-                        flip_simulated=a.flip_simulated,
-                    )
+                    model, n_win = train_recipe(cfg, sim_train, train, recipe, mdir, **kw)
             t = window_table(model, test, gate)
             t["model"], t["left_out"] = f"recipe {recipe} ({cfg['features']['set']})", person
             tabs.append(t)
@@ -641,11 +773,31 @@ def main(argv=None) -> int:
                 ts = window_table(model, [{k: v for k, v in it.items() if k != "score_recording"} for it in test], gate)
                 ts["model"], ts["left_out"] = f"recipe {recipe} ({cfg['features']['set']}), speed rule", person
                 tabs_speed.append(ts)
-            s = sim_side_table(model, [r for r in sim_test if r.meta["position"] in positions], gate)
+            sim_in = [r for r in sim_test if r.meta["position"] in positions]
+            s = sim_side_table(model, sim_in, gate)
             s["left_out"] = person
             sides.append(s)
             for row in untrained_table(model, sim_test, a.data):
                 untr.append({**row, "left_out": person})
+            for sr, acc in by_rate.items():  # the left-out person and the held-out simulator recorded at a lower rate
+                test_r = at_rate(test, sr)
+                sim_r = [resample_recording(r, sr) for r in sim_in]
+                t_r = window_table(model, test_r, gate)
+                t_r["model"], t_r["left_out"], t_r["score_rate_hz"] = f"recipe {recipe} ({cfg['features']['set']})", person, sr
+                acc["tabs"].append(t_r)
+                s_r = sim_side_table(model, sim_r, gate)
+                s_r["left_out"] = person
+                acc["sides"].append(s_r)
+                if rate_flags(model, sr):
+                    with without_rate_check(model):
+                        t_o = window_table(model, test_r, gate)
+                        s_o = sim_side_table(model, sim_r, gate)
+                    t_o["model"], t_o["left_out"], t_o["score_rate_hz"] = f"recipe {recipe} (rate check off)", person, sr
+                    s_o["left_out"] = person
+                    acc["off"].append(t_o)
+                    acc["sides_off"].append(s_o)
+                for row in untrained_table(model, sim_test, a.data, fs=sr):
+                    acc["untr"].append({**row, "left_out": person})
             print(
                 f"[tyrex_modes] recipe {recipe}, {person} left out: {n_win} training windows, {time.perf_counter() - t1:.0f} s",
                 file=sys.stderr,
@@ -668,6 +820,9 @@ def main(argv=None) -> int:
             if flips
             else ""
         )
+        if rates:
+            which = "every training recording" if a.rate_sources == "all" else "every real training recording (not the simulated)"
+            aug += f", {which} also at {'/'.join(f'{r:g}' for r in rates)} Hz (data.augment.rates)"
         emit(f"\n### recipe {recipe} ({cfg['features']['set']}){aug}, {what}{rule}\n")
         emit(md(summarise(t, by="left_out")))
         if tabs_speed:
@@ -677,26 +832,31 @@ def main(argv=None) -> int:
             emit(md(summarise(ts, by="left_out")))
         ns, nf = t["n_still"].sum(), t["still_flagged"].sum()
         emit(f"\nstill windows of the left-out people flagged: {nf / max(ns, 1):.2f} of {ns}")
-        s = pd.concat(sides, ignore_index=True)
-        g = s.groupby(["position", "mode"], sort=False)[["n", "right", "flagged", "wrong", "side"]].sum().reset_index()
-        per = s.assign(r=s["right"] / s["n"]).groupby(["position", "mode"], sort=False)["r"].agg(["min", "max"]).reset_index()
-        g["right"] = g["right"] / g["n"]
-        g["flagged"] = g["flagged"] / g["n"]
-        g["silently wrong"] = g["wrong"] / g["n"]
-        g["side step, either direction"] = g.pop("side") / g["n"]
-        g["right over folds"] = [f"{lo:.2f}-{hi:.2f}" for lo, hi in zip(per["min"], per["max"], strict=True)]
-        emit(f"\nheld-out simulator (seed {HELDOUT_SEED}, 2 subjects, windows summed over the {len(folds)} folds' models)\n")
-        emit(md(g.drop(columns=["wrong"])))
-        u = pd.DataFrame(untr)
-        ug = u.groupby("what", sort=False).agg(
-            windows=("windows", "first"), flagged=("flagged", lambda v: "/".join(f"{x:.2f}" if isinstance(x, float) else str(x) for x in v))
-        )
+        emit(f"\nheld-out simulator (seed {a.heldout_seed}, 2 subjects, windows summed over the {len(folds)} folds' models)\n")
+        emit(md(side_summary(sides)))
         emit(
             "\nnot trained on, flagged (one figure per fold, in the order "
             + ", ".join(p if q is None else f"{p}/{q}" for p, q in folds)
             + ")\n"
         )
-        emit(md(ug.reset_index()))
+        emit(md(untrained_summary(untr)))
+        for sr, acc in by_rate.items():
+            tr = pd.concat(acc["tabs"], ignore_index=True)
+            rows_all.append(tr)
+            emit(f"\n#### recipe {recipe}{aug}: the left-out people recorded at {sr:g} Hz ({what})\n")
+            emit(md(summarise(tr, by="left_out")))
+            if acc["off"]:
+                to = pd.concat(acc["off"], ignore_index=True)
+                rows_all.append(to)
+                emit(f"\nthe same without the rate check (what the features alone answer at {sr:g} Hz):\n")
+                emit(md(summarise(to, by="left_out")))
+            emit(f"\nheld-out simulator recorded at {sr:g} Hz (seed {a.heldout_seed})\n")
+            emit(md(side_summary(acc["sides"])))
+            if acc["sides_off"]:
+                emit(f"\nthe same without the rate check (held-out simulator at {sr:g} Hz):\n")
+                emit(md(side_summary(acc["sides_off"])))
+            emit(f"\nnot trained on, recorded at {sr:g} Hz, flagged (one figure per fold)\n")
+            emit(md(untrained_summary(acc["untr"])))
     if a.csv:
         pd.concat(rows_all, ignore_index=True).to_csv(a.csv, index=False)
     if a.out:

@@ -33,13 +33,15 @@ def test_silent_window_columns_on_a_synthetic_walk():
 
 @pytest.mark.realdata
 def test_the_worst_hand_held_oxford_walk_as_reported():
-    """The worst hand-held Oxford walk of experiments/reports/model-domain.md: at most the report's 12 of its 252 windows
-    silently wrong (5 %, so fewer passes), none of them outside the walking span, and the table's count is the report's."""
+    """The worst hand-held Oxford walk of experiments/reports/model-domain.md: at most 19 of its 252 windows silently
+    wrong (7.5 %, so fewer passes: the report's 12 before demo-acc trained with its 20 Hz copies, 19 with them,
+    experiments/reports/default-model.md "Sampling rates"), none of them outside the walking span, and the table's
+    count is the report's."""
     from gaitml.io import read_recording
 
     rec = read_recording(shared("oxford-step-counter", "optimisation", "data", "Samsung_Carmelo_Hard_InHand_2"))
     model = load_model(DEMO_ACC)
     d = silent_windows(model, rec)
     assert len(d) == 252  # the recording's windows
-    assert int(d["silent"].sum()) <= 12 and not (d["silent"] & d["outside_span"]).any()
+    assert int(d["silent"].sum()) <= 19 and not (d["silent"] & d["outside_span"]).any()
     assert score(model, rec)["silent"] == int(d["silent"].sum())  # the same count as the real-walking table's

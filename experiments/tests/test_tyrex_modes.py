@@ -119,3 +119,23 @@ def test_the_walking_rule_changes_what_is_scored_not_the_answers(monkeypatch):
     # the windows that left are counted apart, with what they were answered ('still' here)
     assert by_walking["n_notwalk"] >= by_speed["n"] - by_walking["n"] - 1 and by_speed["n_notwalk"] == 0
     assert by_walking["notwalk_still"] >= by_walking["n_notwalk"] - 1 and by_walking["notwalk_mode"] <= 1
+
+
+def test_at_rate_gives_the_recording_as_a_slower_phone_records_it_with_its_labels():
+    from experiments.scripts.tyrex_modes import at_rate
+    from gaitml.models import resample_recording
+    from gaitml.recording import Recording
+
+    fs, n = 50.0, 500
+    lab = np.where(np.arange(n) < 250, "still", "walk").astype(object)
+    acc = np.tile([0.0, 0.0, 9.81], (n, 1)) + np.outer(np.sin(np.arange(n) / 3.0), [1.0, 0.0, 0.0])
+    rec = Recording(acc=acc, sampling_rate_hz=fs, labels=lab)
+    (it,) = at_rate([{"recording": rec, "score_recording": rec, "mode": "walk"}], 20.0)
+    for key in ("recording", "score_recording"):
+        low = it[key]
+        assert low.sampling_rate_hz == 20.0
+        np.testing.assert_array_equal(low.acc, resample_recording(rec, 20.0).acc)
+        # the label of the nearest original sample: the switch stays at 5 s
+        t_switch = low.t_s[np.argmax(low.labels.astype(str) == "walk")]
+        assert abs(t_switch - 5.0) <= 1 / 20.0
+    assert at_rate([{"recording": rec}], 50.0)[0]["recording"] is rec  # at its own rate: unchanged

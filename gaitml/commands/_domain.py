@@ -22,7 +22,8 @@ def domain_warning(model, in_domain, what: str = "windows", reasons=None) -> str
     warning is given when more than :data:`OUT_OF_DOMAIN_WARN_FRACTION` of the
     ``what`` are out of domain. ``reasons`` (the ``out_of_domain_reason`` of each, optional):
     the line says how many rest between fast swings as a foot-mounted sensor does
-    (:data:`gaitml.models._placement.FOOT_REASON`).
+    (:data:`gaitml.models._placement.FOOT_REASON`), or that the recording was made below the
+    rates the model was trained at (:func:`gaitml.models.rate_reason`; then that alone).
     """
     from gaitml.models.domain import out_of_domain_fraction
 
@@ -35,11 +36,28 @@ def domain_warning(model, in_domain, what: str = "windows", reasons=None) -> str
     n = len(np.asarray(in_domain, dtype=object).reshape(-1))
     k = int(round(frac * n))
     positions = ", ".join(sorted(dom.positions)) or "unknown"
+    rate = rate_clause(reasons)
+    if rate:
+        return (
+            f"{100 * frac:.1f} % of the {what} ({k} of {n}) lie outside the model's training domain{rate}; their modes are unreliable: "
+            "record at the model's rates or use a model trained with data.augment.rates at this rate (docs/models.md: 'Sampling rates')"
+        )
     return (
         f"{100 * frac:.1f} % of the {what} ({k} of {n}) lie outside the model's training domain (positions {positions}, "
         f"{dom.frame} frame){foot_clause(reasons)}; their modes are unreliable: use a model trained on recordings like this one "
         "(docs/models.md: 'Is my recording in the model's domain?')"
     )
+
+
+def rate_clause(reasons) -> str:
+    """``", every one of them because of the recording's rate: ..."`` for the warning line when the rate check flagged
+    (:func:`gaitml.models.rate_reason`), else ``""``."""
+    if reasons is None:
+        return ""
+    rates = sorted({str(r) for r in np.asarray(reasons, dtype=object).reshape(-1) if r and str(r).startswith("rate:")})
+    if not rates:
+        return ""
+    return ", every one of them because of the recording's " + "; ".join(rates)
 
 
 def foot_clause(reasons) -> str:

@@ -142,7 +142,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     (:mod:`gaitml.features._range`): ``acc_range`` in the JSON (null for a model without
     one: the range, samples clipped, the largest |axis|), one stderr line when the
     recording reads well beyond it (a wider-range sensor; not for phones that clip near it),
-    else a note beside the plain summary.
+    else a note beside the plain summary. The rate check (:func:`gaitml.models.rate_reason`):
+    ``rate_check`` in the JSON (null when not checked), its reason on every flagged window and in
+    the warning line.
     """
     from gaitml.commands._domain import domain_warning
     from gaitml.io import write_csv
@@ -205,6 +207,8 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 "run_at_walking_cadence_count": n_moved,
                 "run_cadence": run_cadence,
                 "acc_range": acc_range,
+                # the rate check (gaitml.models.rate_reason): the recording's rate against the lowest the model was trained at
+                "rate_check": table.attrs.get("rate_check"),
             }
         )
     elif not args.out:

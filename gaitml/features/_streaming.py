@@ -90,12 +90,21 @@ class StreamingFeatureExtractor:
         check_frame(frame)
         self.length_samples_, self.hop_samples_ = window_params(length_s, overlap, float(sampling_rate_hz))
         self.feature_names_ = feature_names(self._subset)
+        self.rate_reason_: str | None = None  # the model's rate check (for_model with recorded_hz)
         self.reset()
 
     @classmethod
-    def for_model(cls, model) -> StreamingFeatureExtractor:
-        """The extractor of a saved time-window feature model: its rate, window, feature set, frame and accelerometer range."""
-        return cls(
+    def for_model(cls, model, recorded_hz: float | None = None) -> StreamingFeatureExtractor:
+        """The extractor of a saved time-window feature model: its rate, window, feature set, frame and accelerometer range.
+
+        ``recorded_hz``: the rate the stream's phone records at (its samples are resampled to the
+        model's rate before they are pushed). ``rate_reason_`` is then the model's rate check
+        (``model.rate_reason``, :func:`gaitml.models.rate_reason`): a reason string when the phone records below the
+        rates the model was trained at (every window of the stream is then out of domain, as
+        ``gaitml predict`` marks them), ``""`` when not, None when not checked (no rate given, or a
+        model without the record).
+        """
+        ext = cls(
             model.sampling_rate_hz,
             model.length_s,
             model.overlap,
@@ -103,6 +112,10 @@ class StreamingFeatureExtractor:
             frame=getattr(model, "frame", "phone"),
             acc_range_ms2=getattr(model, "acc_range_ms2", None),
         )
+        # the model's own method (gaitml.models.TrainedModel.rate_reason): this layer does not import the models
+        check = getattr(model, "rate_reason", None)
+        ext.rate_reason_ = check(recorded_hz) if callable(check) and recorded_hz is not None else None
+        return ext
 
     def reset(self) -> StreamingFeatureExtractor:
         """Forget all buffered samples; the next push starts a new stream."""

@@ -10,7 +10,8 @@
   :func:`export_onnx` give portable exports; :func:`predict_recording` gives
   per-window modes of a recording; :func:`predict_step_windows` per-step modes with a
   step-window model (``window.by`` steps/strides in model.json);
-  :func:`window_placement_reason` the foot-placement rule of one window, for a stream.
+  :func:`window_placement_reason` the foot-placement rule of one window, for a stream;
+  :func:`rate_reason` the rate check of a recording (made below the rates the model was trained at).
 """
 
 from gaitml.models._card import model_card
@@ -25,6 +26,7 @@ from gaitml.models._predict import (
     describe_still_gate,
     model_inputs,
     predict_recording,
+    rate_reason,
     still_windows,
     window_placement_reason,
 )
@@ -61,6 +63,7 @@ __all__ = [
     "ovo_vote",
     "predict_recording",
     "predict_step_windows",
+    "rate_reason",
     "raw_window_channels",
     "raw_windows",
     "read_model_json",

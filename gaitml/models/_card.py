@@ -216,7 +216,34 @@ def _domain_lines(info: dict) -> list[str]:
         "`gaitml pdr --model` moves out-of-domain steps forward along the facing heading (`out_of_domain_steps`)."
     )
     lines.append(_placement_line(pos))
+    lines.append(_rate_line(info, dom))
     return lines
+
+
+def _rate_line(info: dict, dom: dict) -> str:
+    """The sampling rates the model answers at (the rate check, gaitml.models.rate_reason)."""
+    from gaitml.models.domain import RATE_TOLERANCE
+
+    fs = float(info.get("sampling_rate_hz", 0.0))
+    low = dom.get("min_rate_hz")
+    if low is None:
+        return (
+            "- Sampling rates: not recorded (a model saved before gaitml kept its training rates): a recording made at any "
+            f"rate is resampled to {fs:g} Hz and not checked for its rate."
+        )
+    low = float(low)
+    rates = ((info.get("training_config") or {}).get("data", {}).get("augment") or {}).get("rates") or []
+    how = (
+        f" (its recordings also trained as copies taken down to {', '.join(f'{float(r):g}' for r in rates)} Hz and back up: "
+        "data.augment.rates)"
+        if rates
+        else ""
+    )
+    return (
+        f"- Sampling rates: trained on recordings carrying {low:g} Hz and above{how}; every recording is resampled to {fs:g} Hz. "
+        f"A recording made below {RATE_TOLERANCE * low:g} Hz ({RATE_TOLERANCE:g} x {low:g}) has every window out of domain with "
+        f"`out_of_domain_reason` 'rate: recorded at ... Hz, below the {low:.3g} Hz the model was trained at'."
+    )
 
 
 def _placement_line(positions) -> str:

@@ -185,6 +185,12 @@ class TrainedModel:
         v = self.info.get("acc_range_ms2")
         return None if v is None else float(v)
 
+    def rate_reason(self, recorded_hz: float | None) -> str | None:
+        """The rate check of a recording made at ``recorded_hz`` (:func:`gaitml.models.rate_reason`)."""
+        from gaitml.models._predict import rate_reason
+
+        return rate_reason(self, recorded_hz)
+
     @property
     def raw_channels(self) -> list[str]:
         return list(self.info.get("raw_channels", []))

@@ -36,6 +36,7 @@ __all__ = [
     "run_cadence_threshold",
     "DOMAIN_REASON",
     "foot_placement",
+    "rate_reason",
     "window_placement_reason",
 ]
 
@@ -612,6 +613,49 @@ def window_placement_reason(model, acc, gyr=None, sampling_rate_hz: float | None
     return FOOT_REASON if bool(foot_like_windows(a, g, fs, win)["foot_like"][0]) else ""
 
 
+def rate_reason(model, recorded_hz: float | None) -> str | None:
+    """The rate check of a recording made at ``recorded_hz`` (Hz): the ``out_of_domain_reason`` of every one of its windows.
+
+    A model whose domain record holds the lowest sampling rate it was trained at (``min_rate_hz``,
+    :class:`gaitml.models.domain.DomainModel`) answers a recording made below
+    :data:`gaitml.models.domain.RATE_TOLERANCE` times that rate with a reason like ``"rate: recorded at
+    12 Hz, below the 20 Hz the model was trained at"``: every window is out of domain, whatever its
+    features. ``""``: the rate is within the domain. None: not checked (no domain record, or a record
+    written before the rate was kept). A streaming loop, which resamples its samples to the model's
+    rate before :class:`gaitml.features.StreamingFeatureExtractor`, calls it once with the rate its
+    phone records at (:meth:`~gaitml.features.StreamingFeatureExtractor.for_model` with
+    ``recorded_hz`` keeps it as ``rate_reason_``).
+    """
+    from gaitml.models.domain import domain_rate_reason
+
+    return domain_rate_reason(getattr(model, "domain", None), recorded_hz)
+
+
+def rate_check(model, recorded_hz: float | None) -> dict | None:
+    """What a prediction table's ``attrs['rate_check']`` says: ``recorded_hz``, ``trained_min_hz``, ``tolerance``, ``below``; None when not checked."""
+    from gaitml.models.domain import RATE_TOLERANCE
+
+    reason = rate_reason(model, recorded_hz)
+    if reason is None:
+        return None
+    return {
+        "recorded_hz": float(recorded_hz),
+        "trained_min_hz": float(model.domain.min_rate_hz),
+        "tolerance": RATE_TOLERANCE,
+        "below": bool(reason),
+    }
+
+
+def apply_rate_check(out: pd.DataFrame, model, recorded_hz: float | None) -> pd.DataFrame:
+    """Mark every window of ``out`` out of domain with :func:`rate_reason` when the recording was made below the model's rates; ``attrs['rate_check']``."""
+    reason = rate_reason(model, recorded_hz)
+    if reason and len(out):
+        out["in_domain"] = np.full(len(out), False, dtype=object)
+        out["out_of_domain_reason"] = np.full(len(out), reason, dtype=object)
+    out.attrs["rate_check"] = rate_check(model, recorded_hz)
+    return out
+
+
 def finish_predictions(
     out: pd.DataFrame,
     windows: pd.DataFrame,
@@ -646,9 +690,13 @@ def finish_predictions(
     marks side steps read from an upright phone (:func:`side_direction_unsure`).
 
     ``rec`` is ``recording`` at the model's rate (``recording`` itself when no resampling was needed).
+    A recording made below the lowest rate the model was trained at (:func:`rate_reason` of ``recording``'s
+    own rate) has every window out of domain with that reason.
+
     ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz`` (``recording``'s rate,
     or None), ``correction``, ``still_gate`` (``statistic``, ``threshold_ms2``), ``run_cadence``
-    (``min_cadence_hz``: None when the rule is off) and then the caller's own ``attrs``.
+    (``min_cadence_hz``: None when the rule is off), ``rate_check`` (:func:`rate_check`) and then the
+    caller's own ``attrs``.
     """
     for c, v in domain.items():
         out[c] = v
@@ -665,6 +713,8 @@ def finish_predictions(
         reason[foot] = FOOT_REASON
         out["in_domain"] = flags
     out["out_of_domain_reason"] = reason
+    # a recording made below the lowest rate the model was trained at: every window, whatever its features
+    apply_rate_check(out, model, recording.sampling_rate_hz)
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
     out["still"] = still_windows(rec, windows, still_rule, still_threshold_ms2)
     out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)

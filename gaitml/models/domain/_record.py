@@ -26,7 +26,16 @@ from gaitml.models.domain._gravity import _nearest_angle
 from gaitml.models.domain._running import running_median
 from gaitml.parallel import one_blas_thread
 
-__all__ = ["ARRAY_PREFIX", "DOMAIN_VERSION", "ChunkContext", "DomainModel", "domain_from_model_info", "out_of_domain_fraction"]
+__all__ = [
+    "ARRAY_PREFIX",
+    "DOMAIN_VERSION",
+    "RATE_TOLERANCE",
+    "ChunkContext",
+    "DomainModel",
+    "domain_from_model_info",
+    "domain_rate_reason",
+    "out_of_domain_fraction",
+]
 
 DOMAIN_VERSION = 1
 #: Prefix of the domain arrays inside ``arrays.npz``.
@@ -92,6 +101,11 @@ class DomainModel:
         written before it), ``threshold`` (largest in-domain span median of the dynamics
         distance, held out) and ``threshold_in_sample``; its arrays ``dyn_center``, ``dyn_scale`` (13,),
         ``dyn_means`` (g, 13), ``dyn_precisions`` (g, 13, 13) are in ``arrays``.
+    min_rate_hz : float or None
+        The lowest sampling rate the model was trained at (Hz; the information rate of its
+        training recordings, :func:`gaitml.pipeline.runner.training_min_rate`): a recording made
+        below :data:`RATE_TOLERANCE` times it is out of domain (:func:`domain_rate_reason`). None in
+        records written before it: the rate is not checked.
     """
 
     feature_set: str
@@ -108,6 +122,7 @@ class DomainModel:
     arrays: dict
     summary: dict = dataclasses.field(default_factory=dict)
     dynamics: dict | None = None
+    min_rate_hz: float | None = None
 
     # ---- persistence (JSON + plain arrays; no pickle)
     def to_json(self) -> dict:
@@ -128,6 +143,7 @@ class DomainModel:
             "arrays": [ARRAY_PREFIX + k for k in self._array_names()],
             "summary": self.summary,
             **({"dynamics": dict(self.dynamics)} if self.dynamics is not None else {}),
+            **({"min_rate_hz": float(self.min_rate_hz)} if self.min_rate_hz is not None else {}),
         }
 
     def _array_names(self) -> tuple[str, ...]:
@@ -192,6 +208,8 @@ class DomainModel:
                 arrays=arr,
                 summary=dict(info.get("summary") or {}),
                 dynamics=dyn,
+                # records written before the rate was kept: None, the rate is not checked
+                min_rate_hz=None if info.get("min_rate_hz") is None else float(info["min_rate_hz"]),
             )
         except ModelError:
             raise
@@ -524,6 +542,28 @@ class DomainModel:
             "dynamics_distance": np.array([np.nan]),
             "in_domain": np.array([ok and ang <= self.gravity_threshold_rad]),
         }
+
+
+#: A recording is out of the rate domain below this fraction of the lowest training rate: phones state a
+#: nominal rate and deliver a few per cent less (timestamps' jitter, dropped samples), and a recording a
+#: few per cent slower than the training rate loses almost nothing of what the model reads.
+RATE_TOLERANCE = 0.9
+
+
+def domain_rate_reason(dom, recorded_hz: float | None) -> str | None:
+    """The ``out_of_domain_reason`` of every window of a recording made at ``recorded_hz``, for a model with record ``dom``.
+
+    ``"rate: recorded at 12 Hz, below the 20 Hz the model was trained at"`` when ``recorded_hz`` is below
+    :data:`RATE_TOLERANCE` times ``dom.min_rate_hz`` (the recording holds less of the signal than any
+    training recording: its fast detail is gone and predict's resampling interpolates it), ``""`` when
+    it is not, None when not checked (no record, a record without a rate, or no rate given).
+    """
+    if dom is None or getattr(dom, "min_rate_hz", None) is None or recorded_hz is None:
+        return None
+    low = float(dom.min_rate_hz)
+    if float(recorded_hz) < RATE_TOLERANCE * low:
+        return f"rate: recorded at {float(recorded_hz):.3g} Hz, below the {low:.3g} Hz the model was trained at"
+    return ""
 
 
 def domain_from_model_info(info: dict, arrays: dict[str, np.ndarray]) -> DomainModel | None:

@@ -172,8 +172,14 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
         log(f"gaitml: warning: {side_direction_warning(n_unsure, len(table), unit)}")
     n_moved = int(table["run_at_walking_cadence"].sum()) if "run_at_walking_cadence" in table else 0
     run_cadence = table.attrs.get("run_cadence")
-    if n_moved:
-        log(f"gaitml: warning: {run_cadence_warning(n_moved, len(table), unit, (run_cadence or {}).get('min_cadence_hz'))}")
+    # the line names the windows answered in domain; the out-of-domain ones are the domain warning's
+    n_moved_in = (
+        int(sum(bool(m) and d is not False for m, d in zip(table["run_at_walking_cadence"], in_domain, strict=True)))
+        if n_moved and len(in_domain)
+        else n_moved
+    )
+    if n_moved_in:
+        log(f"gaitml: warning: {run_cadence_warning(n_moved_in, len(table), unit, (run_cadence or {}).get('min_cadence_hz'))}")
     acc_range = table.attrs.get("acc_range")
     if acc_range and acc_range.get("wider"):
         log(f"gaitml predict: {acc_range_note(acc_range)}")

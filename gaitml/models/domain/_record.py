@@ -92,6 +92,15 @@ class DomainModel:
         written before it), ``threshold`` (largest in-domain span median of the dynamics
         distance, held out) and ``threshold_in_sample``; its arrays ``dyn_center``, ``dyn_scale`` (13,),
         ``dyn_means`` (g, 13), ``dyn_precisions`` (g, 13, 13) are in ``arrays``.
+    acc_range_ms2 : float or None
+        The accelerometer range (m/s^2 per axis) the record reads every recording through,
+        in its fit and in :func:`gaitml.models.predict_recording`, when the record alone has
+        one (``[train] domain_acc_range_ms2``; the classifier then reads the recording as it
+        comes): the features, gravity direction and orientation dynamics of the check are
+        computed on the accelerometer clipped to +-``acc_range_ms2``
+        (:func:`gaitml.features.clip_acc`), so a phone that reads beyond the narrowest
+        range in the training data is compared with training windows on what every training
+        phone could report. None (records without the key): the recording as the model reads it.
     """
 
     feature_set: str
@@ -108,6 +117,7 @@ class DomainModel:
     arrays: dict
     summary: dict = dataclasses.field(default_factory=dict)
     dynamics: dict | None = None
+    acc_range_ms2: float | None = None
 
     # ---- persistence (JSON + plain arrays; no pickle)
     def to_json(self) -> dict:
@@ -128,6 +138,7 @@ class DomainModel:
             "arrays": [ARRAY_PREFIX + k for k in self._array_names()],
             "summary": self.summary,
             **({"dynamics": dict(self.dynamics)} if self.dynamics is not None else {}),
+            **({"acc_range_ms2": float(self.acc_range_ms2)} if self.acc_range_ms2 is not None else {}),
         }
 
     def _array_names(self) -> tuple[str, ...]:
@@ -192,6 +203,7 @@ class DomainModel:
                 arrays=arr,
                 summary=dict(info.get("summary") or {}),
                 dynamics=dyn,
+                acc_range_ms2=_record_range(info.get("acc_range_ms2")),
             )
         except ModelError:
             raise
@@ -524,6 +536,22 @@ class DomainModel:
             "dynamics_distance": np.array([np.nan]),
             "in_domain": np.array([ok and ang <= self.gravity_threshold_rad]),
         }
+
+
+def _record_range(v) -> float | None:
+    """The record's ``acc_range_ms2`` (None when absent); ValueError when it is not an accelerometer range."""
+    if v is None:
+        return None
+    from gaitml.errors import InputError
+    from gaitml.features import check_acc_range
+
+    try:
+        r = check_acc_range(v)
+    except InputError as exc:
+        raise ValueError(f"acc_range_ms2 {v!r} is not an accelerometer range") from exc
+    if r is None:
+        raise ValueError(f"acc_range_ms2 {v!r} is not an accelerometer range")
+    return r
 
 
 def domain_from_model_info(info: dict, arrays: dict[str, np.ndarray]) -> DomainModel | None:

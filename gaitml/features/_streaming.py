@@ -117,6 +117,28 @@ class StreamingFeatureExtractor:
         ext.rate_reason_ = check(recorded_hz) if callable(check) and recorded_hz is not None else None
         return ext
 
+    @classmethod
+    def for_domain(cls, model) -> StreamingFeatureExtractor:
+        """The extractor of a saved time-window model's domain check: its rate and window, the domain record's feature set and frame,
+        and the accelerometer range the record reads through (its own ``acc_range_ms2``, else the model's).
+
+        Its rows (with :func:`gaitml.models.domain.feature_gravity` of them) are what
+        ``model.domain.check`` reads for a stream; they equal :meth:`for_model`'s rows when the record
+        reads the model's own features through the model's range.
+        """
+        dom = getattr(model, "domain", None)
+        if dom is None:
+            raise InputError("this model has no domain record (it was saved without one); a stream cannot check its domain.")
+        r = getattr(dom, "acc_range_ms2", None)
+        return cls(
+            model.sampling_rate_hz,
+            model.length_s,
+            model.overlap,
+            dom.feature_set,
+            frame=dom.frame,
+            acc_range_ms2=r if r is not None else getattr(model, "acc_range_ms2", None),
+        )
+
     def reset(self) -> StreamingFeatureExtractor:
         """Forget all buffered samples; the next push starts a new stream."""
         self._acc = np.zeros((0, 3))

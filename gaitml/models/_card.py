@@ -207,6 +207,12 @@ def _domain_lines(info: dict) -> list[str]:
                 f"recording{grid}; threshold {float(dyn['threshold']):.2f} (held-out {float(dom['quantile']):g} quantile; in-sample "
                 f"{float(dyn['threshold_in_sample']):.2f}): a stretch carried unlike every training position is out of domain"
             )
+        if dom.get("acc_range_ms2") is not None:
+            lines.append(
+                f"- Accelerometer range of the check: the three parts above read every recording clipped to +-{float(dom['acc_range_ms2']):g} "
+                "m/s^2 per axis, as they were fitted (the classifier reads it as it comes): a phone reading beyond the training "
+                "phones' narrowest range is compared on what every training phone could report"
+            )
     except (KeyError, TypeError, ValueError):
         lines.append("- (the domain record is incomplete)")
     if sm.get("recorded"):

@@ -244,6 +244,10 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
         return unchecked_domain_columns(dom, len(windows))
     from gaitml.models.domain import feature_gravity, window_gravity
 
+    recording, clipped = domain_view(dom, recording)  # a record with its own accelerometer range reads the recording through it
+    if clipped:
+        X = None  # the model's features read the unclipped recording
+
     starts = windows["start"].to_numpy(np.int64)
     length = int(round(model.length_s * model.sampling_rate_hz))
     same = (
@@ -263,6 +267,22 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
         if gravity is None:
             gravity = window_gravity(recording.acc, starts, length)
     return checked_domain_columns(dom, X, gravity, recording_dynamics(dom, recording, starts, starts + length))
+
+
+def domain_view(dom, recording: Recording) -> tuple[Recording, bool]:
+    """``recording`` as the domain record ``dom`` reads it, and whether that clipped any sample.
+
+    A record with its own accelerometer range (``dom.acc_range_ms2``, ``[train]
+    domain_acc_range_ms2``) was fitted on the training recordings clipped per axis to
+    +-that range (:func:`gaitml.features.clip_acc`) and reads every recording the same
+    way, while the classifier reads it as it comes; without one, ``recording`` itself.
+    """
+    from gaitml.features import acc_range_tally, clip_acc
+
+    r = getattr(dom, "acc_range_ms2", None)
+    if r is None or acc_range_tally(recording.acc, r)["n_samples_clipped"] == 0:
+        return recording, False
+    return recording.replace(acc=clip_acc(recording.acc, r), check_units=False), True
 
 
 def recording_dynamics(dom, recording: Recording, starts, ends) -> np.ndarray | None:

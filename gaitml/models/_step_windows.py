@@ -148,8 +148,12 @@ def step_domain_columns(model, recording: Recording, windows: pd.DataFrame, X: n
     if dom is None or len(windows) == 0:
         return unchecked_domain_columns(dom, len(windows))
     from gaitml.features.step_windows import extract_step_features
+    from gaitml.models._predict import domain_view
     from gaitml.models.domain import span_gravity
 
+    recording, clipped = domain_view(dom, recording)  # a record with its own accelerometer range reads the recording through it
+    if clipped:
+        X = None
     if X is None or model.input_kind != "features" or dom.feature_set != model.feature_set:
         X = extract_step_features(recording, windows, subset=dom.feature_set).to_numpy(dtype=float)
     gravity = (

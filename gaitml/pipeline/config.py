@@ -93,6 +93,9 @@ Keys (defaults in brackets) of ``task = "classification"``::
     cross_validate = true            # record CV scores in model.json
     domain_dynamics = true           # all52+gyro models: record the orientation-dynamics part of the
                                      # training domain (gaitml.models.domain); false: features and gravity only
+    domain_acc_range_ms2 = 0         # the domain record alone (feature distance, gravity, dynamics) reads every
+                                     # accelerometer through +-this per axis, in training and prediction; the
+                                     # classifier reads it as it comes; 0 = none (exclusive with acc_range_ms2)
     [card]                           # printed in the model card (MODEL.md) beside what training records
     licence = ""                     # the training data's licence(s)
     notes = []                       # lines for the card, e.g. where each mode's windows come from
@@ -210,6 +213,15 @@ def _check_labelling(values: dict) -> None:
         kind = f"step detector (data.labelling.snap = {lab['snap']!r})"
     if lab["detector"] not in DETECTORS:
         raise ConfigError(f"data.labelling.detector = {lab['detector']!r} is not a {kind}; allowed: {', '.join(map(repr, DETECTORS))}.")
+
+
+def _check_ranges(values: dict) -> None:
+    """``features.acc_range_ms2`` (classifier and domain record) and ``train.domain_acc_range_ms2`` (domain record only) exclude each other."""
+    if values.get("features", {}).get("acc_range_ms2") and values.get("train", {}).get("domain_acc_range_ms2"):
+        raise ConfigError(
+            "features.acc_range_ms2 already reads the domain record through the range; set train.domain_acc_range_ms2 = 0, "
+            "or features.acc_range_ms2 = 0 to range the domain record alone."
+        )
 
 
 def _window_by_names() -> tuple[str, ...]:
@@ -421,6 +433,7 @@ SCHEMA: dict[str, Any] = {
         "model_dir": _Leaf((str,), ""),
         "cross_validate": _Leaf((bool,), True),
         "domain_dynamics": _Leaf((bool,), True),
+        "domain_acc_range_ms2": _Leaf(_NUM, 0.0, check=_acc_range),
     },
     # what the model card (MODEL.md) states beside the recorded facts: the training data's licence and notes
     "card": {
@@ -533,6 +546,7 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "augment", "flips"): [],
     ("data", "augment", "flip_positions"): list(POCKET_POSITIONS_DEFAULT),
     ("data", "augment", "rates"): [],
+    ("train", "domain_acc_range_ms2"): 0.0,
 }
 
 
@@ -826,6 +840,7 @@ def parse_config(
     _check_model(values)
     _check_windows(values)
     _check_labelling(values)
+    _check_ranges(values)
     for point in sweep_grid(cfg):
         if point and any(k.startswith(("model.", "data.", "windows.by", "windows.detector", "features.frame")) for k in point):
             cfg.with_values(point)  # validates each grid point's model / data settings

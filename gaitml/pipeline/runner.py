@@ -731,6 +731,12 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     (:func:`training_min_rate`, over every training recording, rate copies included): a recording
     made at a lower rate is out of domain whatever its features say
     (:func:`gaitml.models.rate_reason`).
+
+    ``[train] domain_acc_range_ms2``: the record alone reads every training recording
+    through that accelerometer range (:func:`gaitml.features.clip_acc`; features, gravity
+    and dynamics of the clipped signal) and keeps it (``DomainModel.acc_range_ms2``), so
+    :func:`gaitml.models.predict_recording` reads every recording's check the same way;
+    the classifier keeps the recordings as they came.
     """
     dom = _fit_domain_of(cfg, data, ds, model)
     dom.min_rate_hz = training_min_rate(data.recordings, float(ds.sampling_rate_hz))
@@ -780,19 +786,27 @@ def _fit_domain_of(cfg: ExperimentConfig, data: PreparedData, ds, model):
     # the orientation-dynamics part needs the gyroscope (gaitml.models.domain; without it the check is weak)
     with_dynamics = fset == "all52+gyro" and cfg["train"]["domain_dynamics"]
     dynamics = np.zeros((len(ds), len(DYNAMICS_NAMES))) if with_dynamics else None
+    from gaitml.features import check_acc_range, clip_acc
+
+    dom_range = check_acc_range(cfg["train"]["domain_acc_range_ms2"])
+    if dom_range is not None and model.input_kind == "features":  # the model's features read the unclipped recordings
+        X = np.zeros((len(ds), len(feature_names(fset))))
     for i in np.unique(rec_idx):
         rows = np.flatnonzero(rec_idx == i)
         rec = data.recordings[int(i)]
+        if dom_range is not None:
+            rec = rec.replace(acc=clip_acc(rec.acc, dom_range), check_units=False)
         if dynamics is not None:
             dynamics[rows] = orientation_dynamics(rec.acc, rec.gyr, starts[rows], ends[rows], rec.sampling_rate_hz)
         gravity[rows] = span_gravity(rec.acc, starts[rows], ends[rows]) if by_steps else window_gravity(rec.acc, starts[rows], length)
         positions[rows] = str(rec.meta.get("position") or "unknown")
-        if model.input_kind != "features" and by_steps:
+        own = model.input_kind == "features" and dom_range is None  # the model's own feature matrix serves
+        if not own and by_steps:
             X[rows] = extract_step_features(rec, ds.windows.iloc[rows], subset=fset).to_numpy(dtype=float)
-        elif model.input_kind != "features":
+        elif not own:
             gyr = rec.gyr if fset == "all52+gyro" else None
             X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
-    return fit_domain(
+    record = fit_domain(
         X,
         ds.y,
         ds.groups,
@@ -805,6 +819,9 @@ def _fit_domain_of(cfg: ExperimentConfig, data: PreparedData, ds, model):
         dynamics=dynamics,
         sequence=rec_idx,
     )
+    if dom_range is not None:
+        record.acc_range_ms2 = dom_range
+    return record
 
 
 def window_sources(data: PreparedData, ds) -> list[dict]:

@@ -65,6 +65,15 @@ def test_real_windows_teach_walk_and_run_only_and_the_simulator_every_mode(name)
     """The card's promise, from what training recorded: real tyrex motions give walk and run, side steps and backward are simulated."""
     model = load_model(ROOT / "models" / name)
     sources = model.info["training_data"]["sources"]
+    # the rate copies (data.augment.rates): each source again, taken down to the rate and back, window for window
+    rates = load_config(CONFIGS[name], check_paths=False)["data"]["augment"]["rates"]
+    base = {(s["kind"], s["position"]): s["windows"] for s in sources if ", at " not in s["kind"]}
+    copies = [s for s in sources if ", at " in s["kind"]]
+    assert {s["kind"].rsplit(", at ", 1)[1] for s in copies} == {f"{r:g} Hz" for r in rates}
+    assert len(copies) == len(rates) * len(base)
+    for s in copies:
+        assert s["windows"] == base[(s["kind"].rsplit(", at ", 1)[0], s["position"])], (s["kind"], s["position"])
+    sources = [s for s in sources if ", at " not in s["kind"]]
     real = {s["position"]: s["windows"] for s in sources if s["kind"] == "real"}
     sim = {s["position"]: s["windows"] for s in sources if s["kind"] == "simulated"}
     turned = {s["position"]: s["windows"] for s in sources if s["kind"] == "real, turned"}

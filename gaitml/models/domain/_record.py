@@ -106,6 +106,15 @@ class DomainModel:
         training recordings, :func:`gaitml.pipeline.runner.training_min_rate`): a recording made
         below :data:`RATE_TOLERANCE` times it is out of domain (:func:`domain_rate_reason`). None in
         records written before it: the rate is not checked.
+    acc_range_ms2 : float or None
+        The accelerometer range (m/s^2 per axis) the record reads every recording through,
+        in its fit and in :func:`gaitml.models.predict_recording`, when the record alone has
+        one (``[train] domain_acc_range_ms2``; the classifier then reads the recording as it
+        comes): the features, gravity direction and orientation dynamics of the check are
+        computed on the accelerometer clipped to +-``acc_range_ms2``
+        (:func:`gaitml.features.clip_acc`), so a phone that reads beyond the narrowest
+        range in the training data is compared with training windows on what every training
+        phone could report. None (records without the key): the recording as the model reads it.
     """
 
     feature_set: str
@@ -123,6 +132,7 @@ class DomainModel:
     summary: dict = dataclasses.field(default_factory=dict)
     dynamics: dict | None = None
     min_rate_hz: float | None = None
+    acc_range_ms2: float | None = None
 
     # ---- persistence (JSON + plain arrays; no pickle)
     def to_json(self) -> dict:
@@ -144,6 +154,7 @@ class DomainModel:
             "summary": self.summary,
             **({"dynamics": dict(self.dynamics)} if self.dynamics is not None else {}),
             **({"min_rate_hz": float(self.min_rate_hz)} if self.min_rate_hz is not None else {}),
+            **({"acc_range_ms2": float(self.acc_range_ms2)} if self.acc_range_ms2 is not None else {}),
         }
 
     def _array_names(self) -> tuple[str, ...]:
@@ -210,6 +221,7 @@ class DomainModel:
                 dynamics=dyn,
                 # records written before the rate was kept: None, the rate is not checked
                 min_rate_hz=None if info.get("min_rate_hz") is None else float(info["min_rate_hz"]),
+                acc_range_ms2=_record_range(info.get("acc_range_ms2")),
             )
         except ModelError:
             raise
@@ -564,6 +576,22 @@ def domain_rate_reason(dom, recorded_hz: float | None) -> str | None:
     if float(recorded_hz) < RATE_TOLERANCE * low:
         return f"rate: recorded at {float(recorded_hz):.3g} Hz, below the {low:.3g} Hz the model was trained at"
     return ""
+
+
+def _record_range(v) -> float | None:
+    """The record's ``acc_range_ms2`` (None when absent); ValueError when it is not an accelerometer range."""
+    if v is None:
+        return None
+    from gaitml.errors import InputError
+    from gaitml.features import check_acc_range
+
+    try:
+        r = check_acc_range(v)
+    except InputError as exc:
+        raise ValueError(f"acc_range_ms2 {v!r} is not an accelerometer range") from exc
+    if r is None:
+        raise ValueError(f"acc_range_ms2 {v!r} is not an accelerometer range")
+    return r
 
 
 def domain_from_model_info(info: dict, arrays: dict[str, np.ndarray]) -> DomainModel | None:

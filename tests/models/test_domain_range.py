@@ -30,6 +30,16 @@ DOMAIN_COLS = ["domain_distance", "gravity_angle_deg", "dynamics_distance"]
 CLASSIFIER_COLS = ["mode_raw", "mode", "still"]
 
 
+def _plain(path=DEMO):
+    """The shipped model with its record read as the recording comes (``acc_range_ms2`` None): the twin's base."""
+    model = load_model(path)
+    return dataclasses.replace(model, domain=dataclasses.replace(model.domain, acc_range_ms2=None))
+
+
+def test_the_shipped_demo_reads_its_check_through_the_2g_range():
+    assert load_model(DEMO).domain.acc_range_ms2 == RANGE and load_model(DEMO).acc_range_ms2 is None
+
+
 def _dom_twin(model, range_ms2=RANGE):
     return dataclasses.replace(model, domain=dataclasses.replace(model.domain, acc_range_ms2=range_ms2))
 
@@ -46,7 +56,7 @@ def _clipped(rec):
 
 
 def test_the_check_reads_the_clipped_signal_and_the_classifier_the_raw_one():
-    model = load_model(DEMO)
+    model = _plain()
     assert model.domain.acc_range_ms2 is None
     twin = _dom_twin(model)
     rec = _vigorous()
@@ -66,13 +76,13 @@ def test_the_check_reads_the_clipped_signal_and_the_classifier_the_raw_one():
 
 
 def test_a_range_no_sample_reaches_changes_nothing():
-    model = load_model(DEMO)
+    model = _plain()
     rec = _vigorous(seed=6)
     pd.testing.assert_frame_equal(predict_recording(model, rec), predict_recording(_dom_twin(model, 1e4), rec))
 
 
 def test_the_foot_rule_reads_the_raw_accelerometer():
-    model = load_model(DEMO)
+    model = _plain()
     rec = simulate_foot(modes=("walk",), duration_s=40.0, sampling_rate_hz=model.sampling_rate_hz, seed=611)
     assert np.abs(rec.acc).max() > 2.5 * 9.81 > RANGE
     a = predict_recording(model, rec)
@@ -87,7 +97,7 @@ def test_chunked_prediction_equals_whole(tmp_path):
     from gaitml.chunked_run import long_predict
     from gaitml.io import read_recording, write_gaitml_csv
 
-    twin = _dom_twin(load_model(DEMO))
+    twin = _dom_twin(_plain())
     path = tmp_path / "run.csv"
     write_gaitml_csv(_vigorous(seed=7, duration_s=70.0), path)
     rec = read_recording(path)
@@ -100,7 +110,7 @@ def test_chunked_prediction_equals_whole(tmp_path):
 
 
 def test_streamed_domain_rows_give_the_whole_file_check():
-    model = load_model(DEMO)
+    model = _plain()
     twin = _dom_twin(model)
     rec = _vigorous(seed=9)
     ext = StreamingFeatureExtractor.for_domain(twin)
@@ -120,11 +130,11 @@ def test_streamed_domain_rows_give_the_whole_file_check():
 
 
 def test_the_record_keeps_its_range_and_refuses_a_bad_one():
-    dom = _dom_twin(load_model(DEMO)).domain
+    dom = _dom_twin(_plain()).domain
     info, arrays = dom.to_json(), dom.to_arrays()
     assert info["acc_range_ms2"] == RANGE
     assert DomainModel.from_json(info, arrays).acc_range_ms2 == RANGE
-    plain = load_model(DEMO).domain.to_json()
+    plain = _plain().domain.to_json()
     assert "acc_range_ms2" not in plain and DomainModel.from_json(plain, arrays).acc_range_ms2 is None
     for bad in (5.0, "x", -19.6):
         with pytest.raises(ModelError, match="acc_range_ms2"):

@@ -475,7 +475,13 @@ def long_predict(
 
     parts, upright = [], []
     fs = float(model.sampling_rate_hz)
+    original = {k: v for k, v in read_kwargs.items()}
     recording, own_hz = _at_model_rate(path, fs, read_kwargs)
+    # the still gate reads the file as recorded when it is resampled (still_statistic's ``recorded``): off in the chunks,
+    # applied to the whole table below from a pass over the file at its own rate
+    from gaitml.models._predict import STILL_RULE
+
+    gate_after = STILL_RULE == "std_lp" and abs(own_hz - fs) > 1e-9 * fs
     # a domain record with an orientation-dynamics part decides on the median over the last windows of the
     # dynamics of every `every`-th window (which keep every step-th sample): more context before each core,
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
@@ -506,13 +512,17 @@ def long_predict(
             counted_to = max(counted_to, ch.offset + rec.n_samples)
         if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
-        table = predict_recording(model, rec, correction=False, run_min_cadence_hz=run_thr)
+        table = predict_recording(
+            model, rec, correction=False, run_min_cadence_hz=run_thr, **({"still_threshold_ms2": 0.0} if gate_after else {})
+        )
         gstart = table["start"].to_numpy() + ch.offset
         keep = (gstart >= ch.core_start) & (gstart < ch.core_end)
         # the phone held upright in each window (a side step there has an unsure direction), for the corrected modes below
         upright.append(side_direction_unsure(rec, table, np.full(len(table), SIDE_MODES[0]))[keep])
         parts.append(_globalise_windows(table[keep].reset_index(drop=True), ch.offset, rec.sampling_rate_hz))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
+    if gate_after and len(out):
+        _still_as_recorded(out, path, fs, own_hz, recording, original, chunk_s, model.length_s)
     if correction and len(out):
         from gaitml.models._predict import STILL
         from gaitml.postprocess import adjacent_window_correction
@@ -541,6 +551,50 @@ def long_predict(
     from gaitml.models._predict import apply_rate_check
 
     return apply_rate_check(out, model, own_hz)
+
+
+def _still_as_recorded(
+    out: pd.DataFrame, path, fs: float, own_hz: float, recording, read_kwargs: dict, chunk_s: float, length_s: float
+) -> None:
+    """The still gate on ``out`` (global windows at the model's rate ``fs``) read from the file at its own rate ``own_hz``,
+    as :func:`~gaitml.models.predict_recording` reads a resampled recording (``recorded``): ``still``, ``mode`` (``still``
+    where the gate fires) and ``run_at_walking_cadence`` (never on a still window) are set in place.
+
+    ``recording``: the file at ``fs`` already read whole (a format other than gaitml-csv; the file is read whole again at its
+    own rate), or None: a gaitml-csv, read again chunk by chunk at its own rate. Each window reads only its own samples, so
+    the statistic is the whole-file run's.
+    """
+    from gaitml.io import read_recording
+    from gaitml.models._predict import STILL, still_statistic, still_windows
+
+    kw = {k: v for k, v in read_kwargs.items() if k != "recording"}  # a scan given by the caller is the file's own
+    if recording is not None:
+        made = read_kwargs.get("recording")
+        if made is None:
+            made = read_recording(path, **{k: v for k, v in kw.items() if k != "scan"})
+        still = still_windows(recording, out, recorded=made)
+    else:
+        stat = np.full(len(out), np.nan)
+        a = np.ceil(out["start"].to_numpy(np.int64) * own_hz / fs - 0.5 - 1e-9).astype(np.int64)
+        b = a + np.rint((out["end"].to_numpy(np.int64) - out["start"].to_numpy(np.int64)) * own_hz / fs).astype(np.int64)
+        for ch in iter_chunks(path, chunk_s=chunk_s, margin_s=2.0 * length_s, **kw):
+            n = ch.recording.n_samples
+            inside = np.isnan(stat) & (a >= ch.offset) & (b <= ch.offset + n)
+            if inside.any():
+                w = pd.DataFrame({"start": a[inside] - ch.offset, "end": b[inside] - ch.offset})
+                stat[inside] = still_statistic(ch.recording, w, "std_lp")
+        still = _below_gate(np.nan_to_num(stat, nan=np.inf))
+    out["still"] = still
+    out["mode"] = np.where(still, STILL, out["mode"].to_numpy(dtype=object)).astype(str)
+    if "run_at_walking_cadence" in out:
+        out["run_at_walking_cadence"] = out["run_at_walking_cadence"].to_numpy(dtype=bool) & ~still
+
+
+def _below_gate(stat: np.ndarray) -> np.ndarray:
+    """Whether the ``std_lp`` statistics ``stat`` fall under the default gate's threshold."""
+    from gaitml.models._predict import STILL_THRESHOLDS_MS2
+
+    return np.asarray(stat) < STILL_THRESHOLDS_MS2["std_lp"]
 
 
 def _sum_tallies(tallies: list[dict], range_ms2: float | None) -> dict | None:

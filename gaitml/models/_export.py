@@ -26,6 +26,10 @@ not read a version 2 export.
 each accelerometer axis to +-``range_ms2`` before the features. A reader of version 2 must not
 read a version 3 export (it would compute the features of a wide-range phone unclipped). A
 model without a range is exported as version 2, exactly as before.
+
+The still gate's ``statistic`` ``"std_lp"`` (the standard deviation of |acc| after a low-pass,
+``lowpass_hz``) is stated under the same versions: a reader that knows only ``"std"`` and
+``"range"`` must refuse any other ``statistic``.
 """
 
 from __future__ import annotations
@@ -207,9 +211,16 @@ def _acc_range_spec(range_ms2: float) -> dict:
 
 def _still_spec() -> dict:
     """The still gate (gaitml.models._predict.still_windows, default rule) as the JSON export states it."""
-    from gaitml.models._predict import STILL, STILL_RANGE_MS2, STILL_RULE, STILL_THRESHOLDS_MS2
+    from gaitml.models._predict import STILL, STILL_LOWPASS_HZ, STILL_LOWPASS_ORDER, STILL_RANGE_MS2, STILL_RULE, STILL_THRESHOLDS_MS2
 
     what = {
+        "std_lp": (
+            f"the standard deviation of |acc| (population form: divided by the number of samples) over the window's span of time "
+            f"in the samples as recorded (before any resampling), after a {STILL_LOWPASS_HZ:g} Hz low-pass of each axis over those "
+            f"samples (order-{STILL_LOWPASS_ORDER} Butterworth in second-order sections run forwards and backwards with an odd "
+            f"extension of 3 x (2 x sections + 1) samples at each end, at most the window's length - 1, as scipy's sosfiltfilt; "
+            "none when the recording's Nyquist frequency is not above it)"
+        ),
         "std": "the standard deviation of |acc| over its samples (population form: divided by the number of samples)",
         "range": "max - min of |acc| over its samples",
     }[STILL_RULE]
@@ -217,6 +228,8 @@ def _still_spec() -> dict:
         "mode": STILL,
         "statistic": STILL_RULE,
         "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE],
+        "lowpass_hz": STILL_LOWPASS_HZ if STILL_RULE == "std_lp" else None,
+        "lowpass_order": STILL_LOWPASS_ORDER if STILL_RULE == "std_lp" else None,
         # the earlier gate's threshold on max - min (format_version 1 named only this): null unless that rule is in force
         "range_ms2": STILL_RANGE_MS2 if STILL_RULE == "range" else None,
         "rule": (

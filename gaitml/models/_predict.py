@@ -23,6 +23,9 @@ __all__ = [
     "STILL",
     "STILL_RULE",
     "STILL_RULES",
+    "STILL_STD_LP_MS2",
+    "STILL_LOWPASS_HZ",
+    "STILL_LOWPASS_ORDER",
     "STILL_STD_MS2",
     "STILL_RANGE_MS2",
     "STILL_THRESHOLDS_MS2",
@@ -43,10 +46,33 @@ __all__ = [
 #: The mode reported for a window with no gait in it (a phone lying still, a person standing).
 STILL = "still"
 #: The statistics the still gate can read from a window's |acc| (see :func:`still_statistic`).
-STILL_RULES = ("std", "range")
-#: The default still gate: the standard deviation of |acc| over the window (:data:`STILL_STD_MS2`).
-STILL_RULE = "std"
-#: Rule ``"std"``: a window whose |acc| has a standard deviation below this (m/s^2) holds no
+STILL_RULES = ("std_lp", "std", "range")
+#: The default still gate: the standard deviation of |acc| after a :data:`STILL_LOWPASS_HZ` low-pass
+#: (:data:`STILL_STD_LP_MS2`), which reads about the same at every input rate from 20 Hz up.
+STILL_RULE = "std_lp"
+#: Rule ``"std_lp"``: the cut-off (Hz) of the low-pass applied to a window's acceleration before its
+#: |acc| standard deviation is taken. A recording made at 20 Hz reaches the model's rate through
+#: :func:`gaitml.models.resample_recording`, whose anti-alias filter cuts at 0.45 x 20 = 9 Hz, while a
+#: recording made at 50 Hz keeps its content up to 25 Hz: the same calm walk then has a smaller |acc|
+#: spread at 20 Hz. Cutting every input at the same 9 Hz removes that difference. It keeps the gait:
+#: the acceleration of walking and running repeats at the step frequency (1.5-3.5 steps/s, paper 003
+#: sec. 2.2) and carries its power in that frequency and its first harmonics (Antonsson and Mann 1985,
+#: "The frequency content of gait", *J. Biomech.* 18(1): 39-47, measure the frequency content of the
+#: walking of 12 subjects), while what lies above 9 Hz in a carried phone is mostly the short transient
+#: of a foot strike, a tap or a knock, which the standard deviation should not count as stepping.
+STILL_LOWPASS_HZ = 9.0
+#: Order of the :data:`STILL_LOWPASS_HZ` Butterworth low-pass (run forwards and backwards over the
+#: window's own samples, zero phase), the same filter as :func:`gaitml.models.resample_recording`'s
+#: anti-alias filter.
+STILL_LOWPASS_ORDER = 4
+#: Rule ``"std_lp"``: a window whose |acc|, after the :data:`STILL_LOWPASS_HZ` low-pass, has a standard
+#: deviation below this (m/s^2) holds no walking: the physics of rule ``"std"`` (:data:`STILL_STD_MS2`),
+#: read the same way at every input rate. The value is the one at which the standing windows of real
+#: hand-held and pocket phones are read still as often as with the ``"range"`` rule, chosen on
+#: recordings of real walkers (experiments/reports/still-gate.md).
+STILL_STD_LP_MS2 = 0.38
+#: Rule ``"std"`` (the default gate before ``"std_lp"``; unfiltered, so a recording made at a lower
+#: rate reads lower): a window whose |acc| has a standard deviation below this (m/s^2) holds no
 #: walking. A walker's steps make the acceleration magnitude oscillate at the step rate for the
 #: whole window (the vertical bounce of paper 003 sec. 2.2: a peak above gravity and a valley
 #: below it at every step), so its standard deviation measures the sustained stepping energy;
@@ -64,7 +90,7 @@ STILL_STD_MS2 = 0.41
 #: cannot hold one. Two extreme samples set it, so one jolt of a standing hand lifts it over the gate.
 STILL_RANGE_MS2 = 2.0
 #: The threshold (m/s^2) of each rule of the still gate.
-STILL_THRESHOLDS_MS2 = {"std": STILL_STD_MS2, "range": STILL_RANGE_MS2}
+STILL_THRESHOLDS_MS2 = {"std_lp": STILL_STD_LP_MS2, "std": STILL_STD_MS2, "range": STILL_RANGE_MS2}
 #: The side-step modes, whose name carries a direction (left / right of the walker).
 SIDE_MODES = ("side_left", "side_right")
 #: A side step's direction is read from the phone's own lateral axis (the phone-frame features
@@ -108,13 +134,22 @@ RUN_CADENCE_REACH_S = 0.5
 DOMAIN_REASON = "unlike the training data"
 
 
-def still_statistic(recording: Recording, windows: pd.DataFrame, rule: str = STILL_RULE) -> np.ndarray:
+def still_statistic(recording: Recording, windows: pd.DataFrame, rule: str = STILL_RULE, recorded: Recording | None = None) -> np.ndarray:
     """The still gate's statistic of each window (``start``, ``end`` samples of ``recording``), m/s^2.
 
-    ``rule`` ``"std"``: the standard deviation of |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2)) over
-    the window's samples (population form, divided by the number of samples); ``"range"``: its
-    max - min. An empty window gives 0. Only the window's own samples are read, so a recording
-    cut into chunks gives every window the same value.
+    ``rule`` ``"std_lp"``: the window's three acceleration axes low-passed at :data:`STILL_LOWPASS_HZ`
+    (:data:`STILL_LOWPASS_ORDER`-th order Butterworth, zero phase, over the window's own samples;
+    no filter when the recording's Nyquist frequency is not above the cut-off), then the standard
+    deviation of |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2); population form, divided by the number of
+    samples); ``"std"``: the standard deviation of the unfiltered |acc|; ``"range"``: its max - min.
+    An empty window gives 0. Only the window's own samples are read, so a recording cut into chunks
+    gives every window the same value.
+
+    ``recorded``: the recording as it was made, when ``recording`` is it resampled (to a model's rate,
+    :func:`gaitml.models.resample_recording`). Rule ``"std_lp"`` then reads each window's span of time
+    in ``recorded``'s own samples (the window's start time, and its length in samples scaled to
+    ``recorded``'s rate), so that the up-sampling's interpolation, which smooths |acc| further, does
+    not lower the statistic of a recording made at a lower rate. The other rules read ``recording``.
     """
     if rule not in STILL_RULES:
         raise InputError(f"unknown still rule {rule!r}; choose one of {', '.join(STILL_RULES)}.")
@@ -122,10 +157,23 @@ def still_statistic(recording: Recording, windows: pd.DataFrame, rule: str = STI
     out = np.zeros(n)
     if n == 0:
         return out
-    mag = np.sqrt(np.sum(np.square(recording.acc), axis=1))
+    if rule == "std_lp" and recorded is not None and recorded is not recording:
+        windows = _windows_as_recorded(recording, windows, recorded)
+        recording = recorded
+    acc = np.asarray(recording.acc, dtype=float)
+    mag = np.sqrt(np.sum(np.square(acc), axis=1))
     start = windows["start"].to_numpy(dtype=np.int64)
     end = np.minimum(windows["end"].to_numpy(dtype=np.int64), len(mag))
     lengths = end - start
+    if rule == "std_lp":
+        sos = _still_lowpass(recording.sampling_rate_hz)
+        if lengths.size and (lengths == lengths[0]).all() and lengths[0] > 0:
+            sub = np.lib.stride_tricks.sliding_window_view(acc, int(lengths[0]), axis=0)[start]  # (n, 3, length)
+            return _lowpassed_magnitude(sub, sos).std(axis=1)
+        for i, (a, b) in enumerate(zip(start, end, strict=True)):
+            if b > a:
+                out[i] = float(_lowpassed_magnitude(acc[a:b].T[None], sos).std())
+        return out
     if (lengths == lengths[0]).all() and lengths[0] > 0:
         sub = np.lib.stride_tricks.sliding_window_view(mag, int(lengths[0]))[start]
         return sub.std(axis=1) if rule == "std" else sub.max(axis=1) - sub.min(axis=1)
@@ -135,13 +183,55 @@ def still_statistic(recording: Recording, windows: pd.DataFrame, rule: str = STI
     return out
 
 
-def still_windows(recording: Recording, windows: pd.DataFrame, rule: str = STILL_RULE, threshold_ms2: float | None = None) -> np.ndarray:
+def _windows_as_recorded(recording: Recording, windows: pd.DataFrame, recorded: Recording) -> pd.DataFrame:
+    """``windows`` (samples of ``recording``) as the same spans of time in samples of ``recorded``."""
+    start = windows["start"].to_numpy(dtype=np.int64)
+    end = windows["end"].to_numpy(dtype=np.int64)
+    scale = recorded.sampling_rate_hz / recording.sampling_rate_hz
+    t = np.asarray(recording.t_s, dtype=float)
+    t_start = t[np.clip(start, 0, max(len(t) - 1, 0))] if len(t) else np.zeros(len(start))
+    t_rec = np.asarray(recorded.t_s, dtype=float)
+    a = np.searchsorted(t_rec, t_start - 0.5 / recorded.sampling_rate_hz)
+    b = a + np.rint((end - start) * scale).astype(np.int64)
+    return pd.DataFrame({"start": a, "end": np.minimum(b, len(t_rec))})
+
+
+def _still_lowpass(sampling_rate_hz: float):
+    """The ``"std_lp"`` rule's low-pass as second-order sections, or None when the rate's Nyquist frequency is not above the cut-off."""
+    import scipy.signal
+
+    if sampling_rate_hz / 2.0 <= STILL_LOWPASS_HZ:
+        return None
+    return scipy.signal.butter(STILL_LOWPASS_ORDER, STILL_LOWPASS_HZ, btype="lowpass", fs=sampling_rate_hz, output="sos")
+
+
+def _lowpassed_magnitude(sub: np.ndarray, sos) -> np.ndarray:
+    """|acc| of windows ``sub`` (shape (n, 3, length)) after the low-pass ``sos`` along each window (None: unfiltered)."""
+    import scipy.signal
+
+    if sos is not None:
+        length = sub.shape[-1]
+        pad = min(3 * (2 * len(sos) + 1), length - 1)
+        if length > 1:
+            sub = scipy.signal.sosfiltfilt(sos, sub, axis=-1, padtype="odd", padlen=pad)
+    return np.sqrt(np.sum(np.square(sub), axis=1))
+
+
+def still_windows(
+    recording: Recording,
+    windows: pd.DataFrame,
+    rule: str = STILL_RULE,
+    threshold_ms2: float | None = None,
+    recorded: Recording | None = None,
+) -> np.ndarray:
     """Whether each window (``start``, ``end`` samples of ``recording``) holds no gait.
 
     True where :func:`still_statistic` of ``rule`` is below ``threshold_ms2`` (None: the rule's
-    default, :data:`STILL_STD_MS2` for ``"std"``, :data:`STILL_RANGE_MS2` for ``"range"``).
+    default, :data:`STILL_STD_LP_MS2` for ``"std_lp"``, :data:`STILL_STD_MS2` for ``"std"``,
+    :data:`STILL_RANGE_MS2` for ``"range"``).
+    ``recorded``: the recording as it was made, when ``recording`` is it resampled (see :func:`still_statistic`).
     """
-    return still_statistic(recording, windows, rule) < _still_threshold(rule, threshold_ms2)
+    return still_statistic(recording, windows, rule, recorded) < _still_threshold(rule, threshold_ms2)
 
 
 def _still_threshold(rule: str, threshold_ms2) -> float:
@@ -162,7 +252,11 @@ def _still_threshold(rule: str, threshold_ms2) -> float:
 def describe_still_gate(rule: str = STILL_RULE, threshold_ms2: float | None = None) -> str:
     """The still gate in words, for messages: e.g. ``"the standard deviation of |acc| is under 0.41 m/s^2"``."""
     thr = _still_threshold(rule, threshold_ms2)
-    what = "the standard deviation of |acc| is" if rule == "std" else "|acc| swings by"
+    what = {
+        "std_lp": f"the standard deviation of |acc| (low-passed at {STILL_LOWPASS_HZ:g} Hz) is",
+        "std": "the standard deviation of |acc| is",
+        "range": "|acc| swings by",
+    }[rule]
     return f"{what} under {thr:g} m/s^2"
 
 
@@ -343,8 +437,9 @@ def predict_recording(
     model : TrainedModel (from :func:`gaitml.models.load_model`)
     recording : Recording
     correction : bool, default True
-    still_rule, still_threshold_ms2 : the still gate (:func:`still_windows`): ``"std"`` (the
-        default, :data:`STILL_STD_MS2`) or ``"range"`` (the earlier gate, :data:`STILL_RANGE_MS2`),
+    still_rule, still_threshold_ms2 : the still gate (:func:`still_windows`): ``"std_lp"`` (the
+        default, :data:`STILL_STD_LP_MS2`), ``"std"`` (the gate before it, unfiltered, :data:`STILL_STD_MS2`)
+        or ``"range"`` (the earliest gate, :data:`STILL_RANGE_MS2`),
         and its threshold (None: the rule's default).
     run_min_cadence_hz : the run-cadence rule (:func:`run_cadence_rule`): a window read ``run`` whose
         local step cadence is below this (steps/s; :data:`RUN_MIN_CADENCE_HZ` is the walk-to-run
@@ -736,7 +831,7 @@ def finish_predictions(
     # a recording made below the lowest rate the model was trained at: every window, whatever its features
     apply_rate_check(out, model, recording.sampling_rate_hz)
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
-    out["still"] = still_windows(rec, windows, still_rule, still_threshold_ms2)
+    out["still"] = still_windows(rec, windows, still_rule, still_threshold_ms2, recorded=recording)
     out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)
     # a window read run at a walking cadence: the model's best other mode (the model's answer stays in mode_raw)
     run_thr = run_cadence_threshold(run_min_cadence_hz)

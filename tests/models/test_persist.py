@@ -175,8 +175,17 @@ def _numpy_predict_from_json(
             out[k] = w2
     still = spec["postprocess"]["still"]  # the still gate as the JSON states it
     mag = np.linalg.norm(acc, axis=1)
-    stat = {"std": np.std, "range": np.ptp}[still["statistic"]]
-    value = np.array([stat(mag[s : s + length]) for s in starts])
+    if still["statistic"] == "std_lp":  # each window's axes low-passed over its own samples, then the std of |acc|
+        import scipy.signal
+
+        sos = scipy.signal.butter(still["lowpass_order"], still["lowpass_hz"], fs=spec["sampling_rate_hz"], output="sos")
+        pad = min(3 * (2 * len(sos) + 1), length - 1)
+        value = np.array(
+            [np.linalg.norm(scipy.signal.sosfiltfilt(sos, acc[s : s + length], axis=0, padlen=pad), axis=1).std() for s in starts]
+        )
+    else:
+        stat = {"std": np.std, "range": np.ptp}[still["statistic"]]
+        value = np.array([stat(mag[s : s + length]) for s in starts])
     out = [still["mode"] if v < still["threshold_ms2"] else m for m, v in zip(out, value, strict=True)]
     run = spec["postprocess"]["run_cadence"]  # the run-cadence rule as the JSON states it
     if cadence_hz is not None:

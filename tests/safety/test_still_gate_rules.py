@@ -49,7 +49,7 @@ def test_statistics_are_the_std_and_range_of_the_magnitude_in_each_window():
     # windows of unequal length take the per-window path and agree with it
     w2 = pd.DataFrame({"start": [0, 100, 300], "end": [75, 160, 390]})
     np.testing.assert_allclose(still_statistic(rec, w2, "std"), [np.std(mag[a:b]) for a, b in zip(w2["start"], w2["end"], strict=True)])
-    assert STILL_RULE == "std"
+    assert STILL_RULE == "std_lp"  # the default; "std" and "range" stay selectable
     with pytest.raises(InputError, match="still rule"):
         still_windows(rec, w, "peak")
 
@@ -87,7 +87,10 @@ def test_predict_takes_the_rule_and_threshold():
 
 
 def test_the_gate_in_words_names_the_rule_and_threshold():
-    assert describe_still_gate() == f"the standard deviation of |acc| is under {STILL_STD_MS2:g} m/s^2"
+    assert describe_still_gate("std") == f"the standard deviation of |acc| is under {STILL_STD_MS2:g} m/s^2"
+    assert (
+        describe_still_gate() == f"the standard deviation of |acc| (low-passed at 9 Hz) is under {STILL_THRESHOLDS_MS2['std_lp']:g} m/s^2"
+    )
     assert describe_still_gate("range") == "|acc| swings by under 2 m/s^2"
     with pytest.raises(InputError, match="still rule"):
         describe_still_gate("peak")

@@ -476,7 +476,7 @@ def long_predict(
     parts, upright = [], []
     fs = float(model.sampling_rate_hz)
     original = {k: v for k, v in read_kwargs.items()}
-    recording, own_hz = _at_model_rate(path, fs, read_kwargs)
+    recording, own_hz, own_meta = _at_model_rate(path, fs, read_kwargs)
     # the still gate reads the file as recorded when it is resampled (still_statistic's ``recorded``): off in the chunks,
     # applied to the whole table below from a pass over the file at its own rate
     from gaitml.models._predict import STILL_RULE
@@ -548,9 +548,9 @@ def long_predict(
         run_cadence={"min_cadence_hz": float(run_thr) if run_thr else None},
     )
     # the chunks come at the model's rate: the rate check reads the file's own (as predict_recording does)
-    from gaitml.models._predict import apply_rate_check
+    from gaitml.models._predict import apply_rate_check, recorded_rate_hz
 
-    return apply_rate_check(out, model, own_hz)
+    return apply_rate_check(out, model, recorded_rate_hz(own_hz, own_meta), own_meta.get("rate_changes"))
 
 
 def _still_as_recorded(
@@ -615,7 +615,7 @@ def _sum_tallies(tallies: list[dict], range_ms2: float | None) -> dict | None:
 
 def _at_model_rate(path, fs: float, read_kwargs: dict):
     """Make the chunks of ``path`` come at the model's rate ``fs``, as :func:`~gaitml.models.predict_recording`
-    resamples a whole recording to it; returns ``(recording, own_hz)``.
+    resamples a whole recording to it; returns ``(recording, own_hz, meta)`` (``meta``: the file's, as read).
 
     The file is read as a whole-file run reads it (``read_kwargs``: the user's format and rate, if any;
     a file without a time base, gaitmap or IFSM, at its own known rate, never at the model's), at
@@ -630,7 +630,7 @@ def _at_model_rate(path, fs: float, read_kwargs: dict):
 
     whole = read_kwargs.pop("recording", None)
     if whole is not None:
-        return resample_recording(whole, fs), float(whole.sampling_rate_hz)
+        return resample_recording(whole, fs), float(whole.sampling_rate_hz), dict(whole.meta)
     scan = read_kwargs.pop("scan", None)
     if scan is None:
         scan = scan_input(path, **read_kwargs)
@@ -638,9 +638,9 @@ def _at_model_rate(path, fs: float, read_kwargs: dict):
         same = abs(scan.sampling_rate_hz - fs) <= 1e-9 * fs
         read_kwargs["scan"] = scan if same else scan.at_rate(fs)
         read_kwargs["sampling_rate_hz"] = fs
-        return None, float(scan.sampling_rate_hz)
+        return None, float(scan.sampling_rate_hz), dict(scan.meta)
     rec = read_recording(path, **read_kwargs)
-    return resample_recording(rec, fs), float(rec.sampling_rate_hz)
+    return resample_recording(rec, fs), float(rec.sampling_rate_hz), dict(rec.meta)
 
 
 def _step_chunking(detector: str, detector_params, path, read_kwargs, margin_s: float, also: str | None = None) -> tuple[int, float]:

@@ -233,8 +233,9 @@ def _still_spec() -> dict:
         # the earlier gate's threshold on max - min (format_version 1 named only this): null unless that rule is in force
         "range_ms2": STILL_RANGE_MS2 if STILL_RULE == "range" else None,
         "rule": (
-            "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2, at the model's rate) has "
-            f"{what} below threshold_ms2 gets the label '{STILL}' (no gait in it: a phone lying still or a person standing; "
+            "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2"
+            + (", at the model's rate" if STILL_RULE != "std_lp" else "")
+            + f") has {what} below threshold_ms2 gets the label '{STILL}' (no gait in it: a phone lying still or a person standing; "
             "a walker's steps keep |acc| oscillating at the step rate, paper 003 sec. 2.2); the raw label is the classifier's."
         ),
     }
@@ -269,9 +270,10 @@ def _run_cadence_spec() -> dict:
         "reach_s": RUN_CADENCE_REACH_S,
         "rule": (
             "Applied by gaitml predict by default when in_force is true (else on request). "
-            "After the still gate: a window labelled 'mode' whose local step cadence c (steps/s: the median cadence of the "
-            "highest cadence of the steps whose peak lies in the window or within reach_s of it, from a step detector over the "
-            "recording; gaitml uses its adaptive detector, gaitml.steps) has stride_cadence_hz <= c < min_cadence_hz (a walking cadence: under the "
+            "After the still gate: a window labelled 'mode' whose local step cadence c (steps/s: the largest cadence estimate "
+            "among the steps whose peak lies in the window or within reach_s of it, from a step detector over the recording "
+            "that gives each step a cadence; gaitml uses its adaptive detector, gaitml.steps, whose cadence_hz is the "
+            "autocorrelation period of |acc| over 5 s windows, not the spacing of two steps) has stride_cadence_hz <= c < min_cadence_hz (a walking cadence: under the "
             "walk-to-run transition's 140 steps/min, and not half a running one) gets the label with the highest vote score "
             "other than 'mode' (voting.rule with 'mode' left out), or its raw label where the correction made it 'mode'. "
             "A window with no step near it keeps its label. The cadence is not in this file: a stream needs its own step "

@@ -636,7 +636,9 @@ def run_cadence_rule(
 def run_cadence_threshold(min_cadence_hz: float | None = None) -> float | None:
     """The run-cadence rule's threshold in force (steps/s), or None when the rule is off.
 
-    None: :data:`RUN_CADENCE_DEFAULT_HZ`; 0: off; else a finite number > 0 (an InputError names the fix).
+    None: :data:`RUN_CADENCE_DEFAULT_HZ`; 0: off; else steps/s above :data:`RUN_STRIDE_CADENCE_HZ` (below it
+    the rule could move nothing) and at most :data:`gaitml.steps.adaptive.MAX_STEP_HZ` (a number beyond it is
+    most likely steps/min); an InputError names the fix.
     """
     if min_cadence_hz is None:
         min_cadence_hz = RUN_CADENCE_DEFAULT_HZ
@@ -648,7 +650,16 @@ def run_cadence_threshold(min_cadence_hz: float | None = None) -> float | None:
         thr = float("nan")
     if not np.isfinite(thr) or thr < 0:
         raise InputError(f"run cadence threshold {min_cadence_hz!r} steps/s is not a finite number >= 0; give one (0 turns the rule off).")
-    return thr or None
+    if thr == 0:
+        return None
+    from gaitml.steps.adaptive import MAX_STEP_HZ
+
+    if not RUN_STRIDE_CADENCE_HZ < thr <= MAX_STEP_HZ:
+        raise InputError(
+            f"run cadence threshold {min_cadence_hz!r} is not in steps/s between {RUN_STRIDE_CADENCE_HZ:g} and {MAX_STEP_HZ:g}; "
+            f"give steps/s, e.g. {RUN_MIN_CADENCE_HZ:.3g} (= {60 * RUN_MIN_CADENCE_HZ:.0f} steps/min), or 0 to turn the rule off."
+        )
+    return thr
 
 
 def foot_rule_applies(model) -> bool:
@@ -761,12 +772,50 @@ def rate_check(model, recorded_hz: float | None) -> dict | None:
     }
 
 
-def apply_rate_check(out: pd.DataFrame, model, recorded_hz: float | None) -> pd.DataFrame:
-    """Mark every window of ``out`` out of domain with :func:`rate_reason` when the recording was made below the model's rates; ``attrs['rate_check']``."""
+def recorded_rate_hz(rate_hz: float, meta: dict | None) -> float:
+    """The rate a recording was made at (Hz): the lowest of its rate ``rate_hz`` and the rates its reader
+    or a caller resampled it from (``meta['original_rate_hz']``, the rate its timestamps were judged at;
+    ``meta['resampled_from_hz']``). A recording brought up to a higher rate holds no more of the signal
+    than it was recorded with, so the rate check reads the rate before any up-sampling."""
+    rates = [float(rate_hz)]
+    for k in ("original_rate_hz", "resampled_from_hz"):
+        v = (meta or {}).get(k)
+        try:
+            v = float(v)
+        except (TypeError, ValueError):
+            continue
+        if np.isfinite(v) and v > 0:
+            rates.append(v)
+    return min(rates)
+
+
+def apply_rate_check(out: pd.DataFrame, model, recorded_hz: float | None, rate_changes=None) -> pd.DataFrame:
+    """Mark every window of ``out`` out of domain with :func:`rate_reason` when the recording was made below the model's rates; ``attrs['rate_check']``.
+
+    ``rate_changes``: the reader's ``meta['rate_changes']`` (``[[t_start_s, t_end_s, rate_hz], ...]``, s
+    from the recording's first sample): the windows that overlap a stretch recorded below the model's
+    rates are out of domain with that stretch's reason, whatever the file's own rate.
+    """
     reason = rate_reason(model, recorded_hz)
     if reason and len(out):
         out["in_domain"] = np.full(len(out), False, dtype=object)
         out["out_of_domain_reason"] = np.full(len(out), reason, dtype=object)
+    elif reason == "" and len(out) and rate_changes and {"t_start_s", "t_end_s"} <= set(out.columns):
+        t0, t1 = out["t_start_s"].to_numpy(float), out["t_end_s"].to_numpy(float)
+        for a, b, hz in rate_changes:
+            why = rate_reason(model, float(hz))
+            if why:
+                hit = (t1 > float(a)) & (t0 < float(b))
+                if hit.any():
+                    if "in_domain" not in out:
+                        out["in_domain"] = np.full(len(out), True, dtype=object)
+                    if "out_of_domain_reason" not in out:
+                        out["out_of_domain_reason"] = np.full(len(out), "", dtype=object)
+                    flags = out["in_domain"].to_numpy(dtype=object).copy()
+                    reasons = out["out_of_domain_reason"].to_numpy(dtype=object).copy()
+                    flags[hit] = False
+                    reasons[hit] = why
+                    out["in_domain"], out["out_of_domain_reason"] = flags, reasons
     out.attrs["rate_check"] = rate_check(model, recorded_hz)
     return out
 
@@ -829,7 +878,7 @@ def finish_predictions(
         out["in_domain"] = flags
     out["out_of_domain_reason"] = reason
     # a recording made below the lowest rate the model was trained at: every window, whatever its features
-    apply_rate_check(out, model, recording.sampling_rate_hz)
+    apply_rate_check(out, model, recorded_rate_hz(recording.sampling_rate_hz, recording.meta), recording.meta.get("rate_changes"))
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
     out["still"] = still_windows(rec, windows, still_rule, still_threshold_ms2, recorded=recording)
     out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)

@@ -163,6 +163,34 @@ def test_a_recording_below_the_training_rates_is_flagged_in_every_window(models,
     assert not any(str(r).startswith("rate:") for r in native["out_of_domain_reason"])
 
 
+def test_a_recording_brought_up_to_a_higher_rate_is_judged_at_the_rate_it_was_made_at(models, walk, tmp_path, capsys):
+    """Up-sampling adds no signal: a 12 Hz walk resampled to 50 Hz by a caller, or read with --sampling-rate-hz 50, is still 12 Hz."""
+    m = load_model(models / "rates")
+    up = resample_recording(resample_recording(walk, 12.0), 50.0)
+    assert up.sampling_rate_hz == 50.0 and up.meta["resampled_from_hz"] == 12.0
+    p = predict_recording(m, up)
+    assert (p["in_domain"] == False).all() and p.attrs["rate_check"]["recorded_hz"] == 12.0  # noqa: E712
+    files = _files(tmp_path, walk, (12.0,))
+    assert main(["predict", str(models / "rates"), str(files[12.0]), "--sampling-rate-hz", "50", "--json"]) == 0
+    cap = capsys.readouterr()
+    d = json.loads(cap.out)
+    assert d["out_of_domain_fraction"] == 1.0 and d["rate_check"]["below"] is True
+    assert len([ln for ln in cap.err.splitlines() if "rate:" in ln]) == 1
+
+
+def test_the_windows_of_a_slower_stretch_are_flagged_and_the_rest_answered(models, walk):
+    """A file whose reader found a stretch at another rate (meta rate_changes) has that stretch's windows out of domain."""
+    m = load_model(models / "rates")
+    rec = walk.replace(meta={**walk.meta, "rate_changes": [[10.0, 20.0, 10.0]]}, check_units=False)
+    p = predict_recording(m, rec)
+    inside = (p["t_end_s"] > 10.0) & (p["t_start_s"] < 20.0)
+    reason = "rate: recorded at 10 Hz, below the 20 Hz the model was trained at"
+    assert inside.any() and (~inside).any()
+    assert (p.loc[inside, "out_of_domain_reason"] == reason).all() and (p.loc[inside, "in_domain"] == False).all()  # noqa: E712
+    assert not p.loc[~inside, "out_of_domain_reason"].astype(str).str.startswith("rate:").any()
+    assert p.attrs["rate_check"]["below"] is False
+
+
 def test_cli_predict_says_it_in_the_table_the_json_and_one_stderr_line(models, walk, tmp_path, capsys):
     files = _files(tmp_path, walk)
     out_csv = tmp_path / "t.csv"

@@ -75,6 +75,11 @@ def test_the_threshold_is_the_walk_to_run_transition_and_the_floor_half_the_fast
     for bad in (-1.0, float("nan"), "fast"):
         with pytest.raises(InputError, match="0 turns the rule off"):
             run_cadence_threshold(bad)
+    # steps/min given for steps/s (140), or a value under the floor that could move nothing (1.5): refused, not obeyed
+    for bad in (140, 1.5, RUN_STRIDE_CADENCE_HZ, MAX_STEP_HZ + 0.1):
+        with pytest.raises(InputError, match="steps/min"):
+            run_cadence_threshold(bad)
+    assert run_cadence_threshold(MAX_STEP_HZ) == MAX_STEP_HZ
 
 
 def test_a_run_at_walking_cadence_is_moved_and_nothing_else_is():
@@ -144,8 +149,10 @@ def test_a_run_at_running_cadence_is_left_alone(demo, slowed_run):
 def test_the_default_follows_the_named_default(demo, slowed_run, monkeypatch):
     default = predict_recording(demo, slowed_run)
     assert default.attrs["run_cadence"] == {"min_cadence_hz": RUN_CADENCE_DEFAULT_HZ}
-    monkeypatch.setattr(P, "RUN_CADENCE_DEFAULT_HZ", RUN_MIN_CADENCE_HZ)  # one constant turns it on in every path
-    assert predict_recording(demo, slowed_run)["run_at_walking_cadence"].sum() >= 10
+    assert default["run_at_walking_cadence"].sum() >= 10  # on by default
+    monkeypatch.setattr(P, "RUN_CADENCE_DEFAULT_HZ", None)  # one constant turns it off in every path
+    off = predict_recording(demo, slowed_run)
+    assert off.attrs["run_cadence"] == {"min_cadence_hz": None} and not off["run_at_walking_cadence"].any()
 
 
 def test_chunked_predict_moves_the_same_windows(demo, slowed_run, tmp_path):

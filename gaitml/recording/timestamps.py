@@ -58,6 +58,9 @@ QUANTISED_SAMPLE = 100_000
 #: this fraction, the stretch rate is the rate (:func:`judge_rate`). 1 %: a clock in whole ms
 #: puts the median interval's rate 2 % off at 60 Hz (17 ms) and 5 % off at 150 Hz (7 ms).
 QUANTISED_TOLERANCE = 0.01
+#: A part of a file at a faster rate than most of its time sets the file's rate (the rate it is resampled to,
+#: so that no part loses its signal) when it lasts at least this share of the file's time (:func:`judge_rate`).
+FAST_PART_MIN_SHARE = 0.2
 #: A stretch whose rate differs from the file's by more than this fraction is a rate change ...
 RATE_CHANGE_TOLERANCE = 0.2
 #: ... when it lasts at least this long (s).
@@ -311,15 +314,19 @@ def judge_rate(t: np.ndarray, dt: np.ndarray | None = None, med: float | None = 
     if good.any():
         ref = _level(rates[good], durs[good])
         found = _rate_changes(t, dt, med, starts, rates, ref)
-        # the changes at one rate last longer than the rest of the file: that rate is the file's
-        lasting = np.array([t[b] - t[a] for a, b, _ in found])
-        if len(found):
-            r_ch = np.array([r for _, _, r in found])
-            group = np.array([lasting[np.abs(r_ch - r) <= RATE_CHANGE_TOLERANCE * r].sum() for r in r_ch])
-            k = int(np.argmax(group))
-            if group[k] > (t[-1] - t[0]) - lasting.sum():
-                ref = float(r_ch[k])
-                found = _rate_changes(t, dt, med, starts, rates, ref)
+        # a faster part that lasts FAST_PART_MIN_SHARE of the file sets the file's rate: resampling to it keeps
+        # every part's signal (a slower part is up-sampled, and a model's rate check reads it from rate_changes);
+        # a brief faster burst does not multiply the whole file's samples
+        span = max(float(t[-1] - t[0]), 1e-12)
+        fast = [
+            r
+            for _, _, r in found
+            if r > (1 + RATE_CHANGE_TOLERANCE) * ref
+            and sum(t[b] - t[a] for a, b, q in found if abs(q - r) <= RATE_CHANGE_TOLERANCE * r) >= FAST_PART_MIN_SHARE * span
+        ]
+        if fast:
+            ref = float(max(fast))
+            found = _rate_changes(t, dt, med, starts, rates, ref)
         main = dt
         if found:
             keep = np.ones(len(dt), dtype=bool)

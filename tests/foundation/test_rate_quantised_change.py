@@ -48,24 +48,28 @@ def _assert_judged(judged: dict, main_hz: float, change: list[float]) -> None:
 @pytest.mark.parametrize(
     ("parts", "clock", "main_hz", "change"),
     [
-        # the two cases left by the last fix, on a clock in whole ms
-        (((400, 20), (200, 40)), "floor", 200.0, [0.0, 20.0, 400.0]),
+        # the two cases left by the last fix, on a clock in whole ms: the faster part, a third of the file or more,
+        # sets the rate (every part keeps its signal), the slower one is the change
+        (((400, 20), (200, 40)), "floor", 400.0, [20.0, 59.995, 200.0]),
         (((400, 30), (100, 30)), "floor", 400.0, [30.0, 59.99, 100.0]),
         # the same on the other clocks
-        (((400, 20), (200, 40)), "exact", 200.0, [0.0, 20.0, 400.0]),
+        (((400, 20), (200, 40)), "exact", 400.0, [20.0, 59.995, 200.0]),
         (((400, 30), (100, 30)), "jitter", 400.0, [30.0, 59.99, 100.0]),
         # a few of the synthetic grid (experiments/scripts/judge_rate_check.py)
-        (((50, 30), (200, 30)), "exact", 50.0, [30.0, 59.995, 200.0]),
-        (((400, 20), (50, 40)), "floor", 50.0, [0.0, 20.0, 400.0]),
+        (((50, 30), (200, 30)), "exact", 200.0, [0.0, 30.0, 50.0]),
+        (((400, 20), (50, 40)), "floor", 400.0, [20.0, 59.98, 50.0]),
         (((100, 30), (400, 90)), "round", 400.0, [0.0, 30.0, 100.0]),
-        (((200, 20), (100, 40)), "jitter", 100.0, [0.0, 20.0, 200.0]),
+        (((200, 20), (100, 40)), "jitter", 200.0, [20.0, 59.99, 100.0]),
+        # a faster burst under FAST_PART_MIN_SHARE of the file does not set its rate
         (((400, 5), (50, 55)), "floor", 50.0, [0.0, 5.0, 400.0]),
         (((50, 5), (200, 55)), "round", 200.0, [0.0, 5.0, 50.0]),
-        (((150, 20), (50, 40)), "floor", 50.0, [0.0, 20.0, 150.0]),
-        (((60, 40), (150, 20)), "round", 60.0, [40.0, 59.993, 150.0]),
-        # a 20 s island at 4x the rate, and one at a quarter of it
-        (((100, 20), (400, 20), (100, 40)), "floor", 100.0, [20.0, 40.0, 400.0]),
+        (((150, 20), (50, 40)), "floor", 150.0, [20.0, 59.98, 50.0]),
+        (((60, 40), (150, 20)), "round", 150.0, [0.0, 40.0, 60.0]),
+        # a 10 s island at 4x the rate (an eighth of the file), and a 20 s one at a quarter of it
+        (((100, 20), (400, 10), (100, 50)), "floor", 100.0, [20.0, 30.0, 400.0]),
         (((400, 20), (100, 20), (400, 40)), "floor", 400.0, [20.0, 40.0, 100.0]),
+        # a long slow part keeps the fast part's signal (the time-majority rule resampled the file to 10 Hz)
+        (((100, 40), (10, 60)), "exact", 100.0, [40.0, 99.9, 10.0]),
     ],
 )
 def test_main_rate_and_change_on_quantised_and_jittered_clocks(parts, clock, main_hz, change):
@@ -106,9 +110,9 @@ def test_ms_clock_with_a_rate_change_read_whole_and_scanned(tmp_path):
     whole = read_recording(p)
     scan = ch.scan_gaitml_csv(p, rows_per_read=1000)
     assert whole.meta["rate_changes"] == scan.meta["rate_changes"]
-    assert whole.sampling_rate_hz == scan.sampling_rate_hz == pytest.approx(200.0, rel=0.01)
+    assert whole.sampling_rate_hz == scan.sampling_rate_hz == pytest.approx(400.0, rel=0.01)
     start, end, hz = whole.meta["rate_changes"][0]
-    assert start == pytest.approx(0.0, abs=0.1) and end == pytest.approx(20.0, abs=0.1) and hz == pytest.approx(400.0, rel=0.02)
+    assert start == pytest.approx(20.0, abs=0.1) and end == pytest.approx(60.0, abs=0.1) and hz == pytest.approx(200.0, rel=0.02)
 
 
 @pytest.mark.parametrize("n_gaps", [1, 5])

@@ -59,8 +59,9 @@ QUANTISED_SAMPLE = 100_000
 #: puts the median interval's rate 2 % off at 60 Hz (17 ms) and 5 % off at 150 Hz (7 ms).
 QUANTISED_TOLERANCE = 0.01
 #: A part of a file at a faster rate than most of its time sets the file's rate (the rate it is resampled to,
-#: so that no part loses its signal) when it lasts at least this share of the file's time (:func:`judge_rate`).
-FAST_PART_MIN_SHARE = 0.2
+#: so that no part loses its signal) when it lasts at least this share of the file's time (:func:`judge_rate`):
+#: a quarter, so that a screen-on burst (a fifth of a day file at twice the rate) does not double every sample.
+FAST_PART_MIN_SHARE = 0.25
 #: A stretch whose rate differs from the file's by more than this fraction is a rate change ...
 RATE_CHANGE_TOLERANCE = 0.2
 #: ... when it lasts at least this long (s).

@@ -142,8 +142,10 @@ def _windows_still(recs, rule: str, thr: float, fs: float = 50.0) -> tuple[float
     return (k / n if n else float("nan")), n
 
 
-def other_data(data: Path, thresholds) -> pd.DataFrame:
-    """Share of windows read still, old rule and the ``std`` rule at ``thresholds``: non-gait, simulator walkers, Oxford."""
+def other_data_sets(data: Path) -> list[tuple[str, list]]:
+    """The model-free check's recordings, named: a phone on a table, simulated desk and gestures, simulator walkers
+    in seven positions, and the Oxford walks per position (when ``data`` holds them)."""
+    from gaitml.recording import Recording
     from gaitml.simulate import simulate_dataset
     from gaitml.simulate.nongait import simulate_nongait
 
@@ -151,8 +153,6 @@ def other_data(data: Path, thresholds) -> pd.DataFrame:
     rng = np.random.default_rng(3)
     n = 3000
     acc = np.column_stack([np.zeros(n), np.zeros(n), np.full(n, 9.80665)]) + rng.normal(0, 0.02, (n, 3))
-    from gaitml.recording import Recording
-
     sets.append(("phone lying on a table (noise 0.02 m/s^2)", [Recording(acc=acc, sampling_rate_hz=50.0)]))
     for kind in ("desk", "gestures"):
         sets.append((f"simulate_nongait {kind} (seeds 0-4, 120 s)", [simulate_nongait(kind, duration_s=120, seed=s) for s in range(5)]))
@@ -175,6 +175,12 @@ def other_data(data: Path, thresholds) -> pd.DataFrame:
         recs = list(read_dataset(ox))
         for pos in sorted({str(r.meta.get("position", "")) for r in recs}):
             sets.append((f"Oxford {pos} walks", [r for r in recs if str(r.meta.get("position", "")) == pos]))
+    return sets
+
+
+def other_data(data: Path, thresholds) -> pd.DataFrame:
+    """Share of windows read still, old rule and the ``std`` rule at ``thresholds``: non-gait, simulator walkers, Oxford."""
+    sets = other_data_sets(data)
     rows = []
     for name, recs in sets:
         old, nw = _windows_still(recs, "range", 2.0)

@@ -89,39 +89,12 @@ def rate_agreement(items, p50, p20) -> pd.DataFrame:
 
 def other_data_at(data: Path, gates, rate: float) -> pd.DataFrame:
     """Share of 1.5 s windows read still (model-free, as predict reads them at 50 Hz), the recordings made at ``rate``."""
+    from experiments.scripts.still_gate import other_data_sets
     from gaitml.features import make_windows
     from gaitml.models import resample_recording
     from gaitml.models._predict import still_windows
-    from gaitml.recording import Recording
-    from gaitml.simulate import simulate_dataset
-    from gaitml.simulate.nongait import simulate_nongait
 
-    sets = []
-    rng = np.random.default_rng(3)
-    n = 3000
-    acc = np.column_stack([np.zeros(n), np.zeros(n), np.full(n, 9.80665)]) + rng.normal(0, 0.02, (n, 3))
-    sets.append(("phone lying on a table (noise 0.02 m/s^2)", [Recording(acc=acc, sampling_rate_hz=50.0)]))
-    for kind in ("desk", "gestures"):
-        sets.append((f"simulate_nongait {kind} (seeds 0-4, 120 s)", [simulate_nongait(kind, duration_s=120, seed=s) for s in range(5)]))
-    sim = list(
-        simulate_dataset(
-            n_subjects=2,
-            duration_s=60.0,
-            modes=("walk", "run", "side_left", "side_right", "backward"),
-            sampling_rate_hz=50.0,
-            seed=2024,
-            pose="mixed",
-            positions=("hand-flat", "hand-tilted", "swinging-hand", "front-pocket", "back-pocket", "bag", "belt"),
-        )
-    )
-    sets.append(("simulator walkers, 7 positions, 5 modes (seed 2024)", sim))
-    ox = data / "oxford-step-counter" / "optimisation"
-    if ox.exists():
-        from gaitml.io import read_dataset
-
-        recs = list(read_dataset(ox))
-        for pos in sorted({str(r.meta.get("position", "")) for r in recs}):
-            sets.append((f"Oxford {pos} walks", [r for r in recs if str(r.meta.get("position", "")) == pos]))
+    sets = other_data_sets(data)
     rows = []
     for name, recs in sets:
         counts = {g: [0, 0] for g in gates}

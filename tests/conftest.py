@@ -11,6 +11,16 @@ ROOT = Path(__file__).resolve().parents[1]
 SHARED_DATA = Path(os.environ.get("GAITML_SHARED_DATA", ROOT.parent / "shared" / "data")).resolve()
 
 
+def with_domain_range(model, range_ms2: float | None):
+    """``model`` with its domain record read through ``range_ms2`` (``DomainModel.acc_range_ms2``; None: as the
+    recording comes). The shipped ``models/demo`` reads its check through 2 g; the range tests compare with it unranged."""
+    import dataclasses
+
+    if model.domain is None:
+        return model
+    return dataclasses.replace(model, domain=dataclasses.replace(model.domain, acc_range_ms2=range_ms2))
+
+
 def shared(*parts: str) -> Path:
     """Path below the shared real data; skips the test when it is not there."""
     p = SHARED_DATA.joinpath(*parts)

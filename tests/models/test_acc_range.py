@@ -24,7 +24,7 @@ from gaitml.models._placement import FOOT_REASON
 from gaitml.models._predict import model_view
 from gaitml.simulate import simulate_dataset
 from gaitml.simulate.foot import simulate_foot
-from tests.conftest import ROOT
+from tests.conftest import ROOT, with_domain_range
 
 DEMO = ROOT / "models" / "demo"
 DEMO_ACC = ROOT / "models" / "demo-acc"
@@ -34,10 +34,7 @@ RANGE = 19.6  # +-2 g, the range of the Nexus 5 and iPhone 4S
 def _load(path):
     """A shipped model with its domain record read as the recording comes (the shipped ``models/demo`` reads
     its check through the 2 g range, ``[train] domain_acc_range_ms2``): the unranged model these tests compare with."""
-    model = load_model(path)
-    if model.domain is not None and model.domain.acc_range_ms2 is not None:
-        model = dataclasses.replace(model, domain=dataclasses.replace(model.domain, acc_range_ms2=None))
-    return model
+    return with_domain_range(load_model(path), None)
 
 
 def _twin(model, range_ms2=RANGE):

@@ -22,7 +22,7 @@ from gaitml.models._placement import FOOT_REASON
 from gaitml.models.domain import DomainModel, feature_gravity
 from gaitml.simulate import simulate_dataset
 from gaitml.simulate.foot import simulate_foot
-from tests.conftest import ROOT
+from tests.conftest import ROOT, with_domain_range
 
 DEMO = ROOT / "models" / "demo"
 RANGE = 19.6  # +-2 g, the range of the Nexus 5 and iPhone 4S
@@ -32,8 +32,7 @@ CLASSIFIER_COLS = ["mode_raw", "mode", "still"]
 
 def _plain(path=DEMO):
     """The shipped model with its record read as the recording comes (``acc_range_ms2`` None): the twin's base."""
-    model = load_model(path)
-    return dataclasses.replace(model, domain=dataclasses.replace(model.domain, acc_range_ms2=None))
+    return with_domain_range(load_model(path), None)
 
 
 def test_the_shipped_demo_reads_its_check_through_the_2g_range():
@@ -41,7 +40,7 @@ def test_the_shipped_demo_reads_its_check_through_the_2g_range():
 
 
 def _dom_twin(model, range_ms2=RANGE):
-    return dataclasses.replace(model, domain=dataclasses.replace(model.domain, acc_range_ms2=range_ms2))
+    return with_domain_range(model, range_ms2)
 
 
 def _vigorous(seed=5, duration_s=40.0):
@@ -201,7 +200,7 @@ def test_step_window_model_reads_the_check_through_the_range(tmp_path):
     from gaitml.models._step_windows import step_domain_columns
 
     got = predict_step_windows(model, rec)
-    plain = dataclasses.replace(model, domain=dataclasses.replace(model.domain, acc_range_ms2=None))
+    plain = with_domain_range(model, None)
     raw = predict_step_windows(plain, rec)
     # the steps are found on the recording as it is: the plain record on the clipped recording, over the same spans
     clip = pd.DataFrame(step_domain_columns(plain, _clipped(rec), got[["start", "end"]].reset_index(drop=True)))

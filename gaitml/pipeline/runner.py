@@ -750,11 +750,12 @@ def training_min_rate(recs, model_rate_hz: float) -> float:
     ``min(f, model rate)``: its own rate when it was up-sampled (``meta['resampled_from_hz']``,
     the rate copies of ``data.augment.rates`` included), the model's when it was recorded faster
     and down-sampled (the anti-alias filter keeps nothing above the model's rate). The minimum
-    over ``recs``.
+    over ``recs``, each read as predict's rate check reads a recording
+    (:func:`gaitml.models._predict.recorded_rate_hz`).
     """
-    rates = [
-        min(float(model_rate_hz), float(r.meta.get("resampled_from_hz") or r.sampling_rate_hz), float(r.sampling_rate_hz)) for r in recs
-    ]
+    from gaitml.models._predict import recorded_rate_hz
+
+    rates = [min(float(model_rate_hz), recorded_rate_hz(r.sampling_rate_hz, r.meta)) for r in recs]
     return min(rates) if rates else float(model_rate_hz)
 
 

@@ -801,21 +801,16 @@ def apply_rate_check(out: pd.DataFrame, model, recorded_hz: float | None, rate_c
         out["in_domain"] = np.full(len(out), False, dtype=object)
         out["out_of_domain_reason"] = np.full(len(out), reason, dtype=object)
     elif reason == "" and len(out) and rate_changes and {"t_start_s", "t_end_s"} <= set(out.columns):
+        # a checked rate ("") means a domain record, so the domain columns are there
         t0, t1 = out["t_start_s"].to_numpy(float), out["t_end_s"].to_numpy(float)
+        flags = out["in_domain"].to_numpy(dtype=object).copy()
+        reasons = out["out_of_domain_reason"].to_numpy(dtype=object).copy()
         for a, b, hz in rate_changes:
             why = rate_reason(model, float(hz))
-            if why:
-                hit = (t1 > float(a)) & (t0 < float(b))
-                if hit.any():
-                    if "in_domain" not in out:
-                        out["in_domain"] = np.full(len(out), True, dtype=object)
-                    if "out_of_domain_reason" not in out:
-                        out["out_of_domain_reason"] = np.full(len(out), "", dtype=object)
-                    flags = out["in_domain"].to_numpy(dtype=object).copy()
-                    reasons = out["out_of_domain_reason"].to_numpy(dtype=object).copy()
-                    flags[hit] = False
-                    reasons[hit] = why
-                    out["in_domain"], out["out_of_domain_reason"] = flags, reasons
+            hit = (t1 > float(a)) & (t0 < float(b))
+            if why and hit.any():
+                flags[hit], reasons[hit] = False, why
+        out["in_domain"], out["out_of_domain_reason"] = flags, reasons
     out.attrs["rate_check"] = rate_check(model, recorded_hz)
     return out
 

@@ -86,19 +86,25 @@ def run(args) -> int:
 
 
 def default_still_gate() -> dict:
-    """The still gate in force when a table does not carry its own (``statistic``, ``threshold_ms2``)."""
-    from gaitml.models._predict import STILL_RULE, STILL_THRESHOLDS_MS2
+    """The still gate in force when a table does not carry its own (``statistic``, ``threshold_ms2``, ``step_veto_min_steps``)."""
+    from gaitml.models._predict import STILL_RULE, STILL_THRESHOLDS_MS2, still_step_veto_threshold
 
-    return {"statistic": STILL_RULE, "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE]}
+    return {
+        "statistic": STILL_RULE,
+        "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE],
+        "step_veto_min_steps": still_step_veto_threshold(None),
+    }
 
 
-def still_warning(n_still: int, n: int, unit: str) -> str:
-    """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows)."""
+def still_warning(n_still: int, n: int, unit: str, n_vetoed: int = 0) -> str:
+    """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows), and
+    how many more the step veto kept in their mode (``n_vetoed``, gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS)."""
     from gaitml.models._predict import describe_still_gate
 
+    kept = f" ({n_vetoed} more vary |acc| as little but hold detected steps and keep their mode: still_vetoed)" if n_vetoed else ""
     return (
         f"{n_still} of {n} {unit} hold no step ({describe_still_gate()}: lying still or standing); "
-        "they are reported as 'still', not as one of the model's motion modes (mode_raw keeps the model's answer)."
+        f"they are reported as 'still', not as one of the model's motion modes (mode_raw keeps the model's answer){kept}."
     )
 
 
@@ -165,8 +171,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     if warning:
         log(f"gaitml: warning: {warning}")
     n_still = int(table["still"].sum()) if "still" in table else 0
+    n_vetoed = int(table["still_vetoed"].sum()) if "still_vetoed" in table else 0
     if n_still:
-        log(f"gaitml: warning: {still_warning(n_still, len(table), unit)}")
+        log(f"gaitml: warning: {still_warning(n_still, len(table), unit, n_vetoed)}")
     n_unsure = int(table["side_direction_unsure"].sum()) if "side_direction_unsure" in table else 0
     if n_unsure:
         log(f"gaitml: warning: {side_direction_warning(n_unsure, len(table), unit)}")
@@ -201,6 +208,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                         "out_of_domain_reason": (getattr(r, "out_of_domain_reason", "") or None),
                         "side_direction_unsure": bool(getattr(r, "side_direction_unsure", False)),
                         "run_at_walking_cadence": bool(getattr(r, "run_at_walking_cadence", False)),
+                        "still_vetoed": bool(getattr(r, "still_vetoed", False)),
                     }
                     for r in table.itertuples()
                 ],
@@ -209,6 +217,8 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 "out_of_domain_reasons": reason_counts(reasons),
                 "still_fraction": n_still / len(table) if len(table) else None,
                 "still_gate": table.attrs.get("still_gate", default_still_gate()),
+                # windows whose |acc| statistic read still but in which the default detector found steps (the step veto)
+                "still_vetoed_count": n_vetoed,
                 "side_direction_unsure_count": n_unsure,
                 "run_at_walking_cadence_count": n_moved,
                 "run_cadence": run_cadence,

@@ -211,7 +211,16 @@ def _acc_range_spec(range_ms2: float) -> dict:
 
 def _still_spec() -> dict:
     """The still gate (gaitml.models._predict.still_windows, default rule) as the JSON export states it."""
-    from gaitml.models._predict import STILL, STILL_LOWPASS_HZ, STILL_LOWPASS_ORDER, STILL_RANGE_MS2, STILL_RULE, STILL_THRESHOLDS_MS2
+    from gaitml.models._predict import (
+        STILL,
+        STILL_LOWPASS_HZ,
+        STILL_LOWPASS_ORDER,
+        STILL_RANGE_MS2,
+        STILL_RULE,
+        STILL_STEP_VETO_MIN_STEPS,
+        STILL_THRESHOLDS_MS2,
+        still_step_veto_threshold,
+    )
 
     what = {
         "std_lp": (
@@ -236,7 +245,25 @@ def _still_spec() -> dict:
             "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2"
             + (", at the model's rate" if STILL_RULE != "std_lp" else "")
             + f") has {what} below threshold_ms2 gets the label '{STILL}' (no gait in it: a phone lying still or a person standing; "
-            "a walker's steps keep |acc| oscillating at the step rate, paper 003 sec. 2.2); the raw label is the classifier's."
+            "a walker's steps keep |acc| oscillating at the step rate, paper 003 sec. 2.2); the raw label is the classifier's. "
+            "Unless step_veto says otherwise."
+        ),
+        "step_veto": _step_veto_spec(STILL_STEP_VETO_MIN_STEPS, still_step_veto_threshold(None)),
+    }
+
+
+def _step_veto_spec(min_steps: int, default: int | None) -> dict:
+    """The still gate's step veto (gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS) as the JSON export states it."""
+    return {
+        "in_force": default is not None,
+        "min_steps": min_steps if default is None else default,
+        "rule": (
+            "Applied by gaitml predict by default when in_force is true (else on request). A window whose |acc| statistic is "
+            "below threshold_ms2 keeps its label (it is not still) when a step detector run over the whole recording finds at "
+            "least min_steps steps whose peak lies inside the window (start <= peak < end, samples at sampling_rate_hz): a calm "
+            "walker's phone at the ear varies |acc| as little as a standing hand, but its steps repeat. gaitml uses its adaptive "
+            "detector with its gait check (gaitml.steps), at the model's rate. The steps are not in this file: a stream needs "
+            "its own step detector; without one, leave the veto out."
         ),
     }
 

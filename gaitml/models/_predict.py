@@ -105,7 +105,7 @@ STILL_THRESHOLDS_MS2 = {"std_lp": STILL_STD_LP_MS2, "std": STILL_STD_MS2, "range
 #: inside, or steps just outside, is what the last step of a walk that has just stopped leaves; the detector keeps
 #: only bouts of at least :data:`gaitml.steps.adaptive.MIN_BOUT_STEPS` steps that pass its gait check, so a jolt of a
 #: standing hand gives none. Fixed by that reasoning before it was measured (experiments/reports/still-gate.md,
-#: "The step veto": held out on tyrex, Phoning's silently wrong windows 0.075 -> 0.058).
+#: "The step veto": each tyrex person left out, by a rule fixed before the measurement).
 STILL_STEP_VETO_MIN_STEPS = 2
 #: The step veto predict applies when the caller gives none (``still_step_veto=None``): :data:`STILL_STEP_VETO_MIN_STEPS`,
 #: the veto on; None turns it off in every path by default (:func:`still_step_veto_threshold`).

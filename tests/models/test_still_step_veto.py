@@ -156,6 +156,16 @@ def test_the_predict_command_reports_the_vetoed_windows(demo, tmp_path, capsys):
     n_vetoed = sum(w["still_vetoed"] for w in out["windows"])
     assert out["still_vetoed_count"] == n_vetoed > 30 and out["still_gate"]["step_veto_min_steps"] == STILL_STEP_VETO_DEFAULT
     assert "hold detected steps and keep their mode" in cap.err and "fewer than 2 steps are detected" in cap.err
+    # --still-step-veto off: the gate alone, and the line says so
+    assert main(["predict", str(ROOT / "models" / "demo"), str(path), "--json", "--still-step-veto", "off"]) == 0
+    cap = capsys.readouterr()
+    off = json.loads(cap.out)
+    assert off["still_vetoed_count"] == 0 and off["still_gate"]["step_veto_min_steps"] is None
+    assert off["still_fraction"] > out["still_fraction"] + 0.3 and "steps are detected" not in cap.err
+    for bad in ("many", "1.5", "-1"):
+        assert main(["predict", str(ROOT / "models" / "demo"), str(path), "--still-step-veto", bad]) != 0
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and ("--still-step-veto" in err[0] or "whole number of steps" in err[0])
 
 
 def test_the_portable_export_states_the_veto(demo):

@@ -24,7 +24,7 @@ from gaitml.commands._args import (
     mode_sources,
     step_detectors,
 )
-from gaitml.commands._util import emit_json, gait_check_note, is_large_input, load_input, log, long_read_kwargs
+from gaitml.commands._util import emit_json, gait_check_note, is_large_input, load_input, log, long_read_kwargs, rate_check_note
 from gaitml.commands.predict import add_run_cadence_option, run_cadence_arg
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
@@ -230,6 +230,7 @@ def run(args) -> int:
     for note in notes:
         log(f"note: {note}")
     gait_check_note(res.info.get("gait_check"), detector)
+    rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
     _warn_out_of_domain(model, modes, res.steps)
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
@@ -311,6 +312,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
     for note in notes:
         log(f"note: {note}")
     gait_check_note(res.info.get("gait_check"), detector)
+    rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
     _warn_out_of_domain(model, modes, res.steps)
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:
@@ -484,6 +486,12 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         )
     if res.info.get("gyro_bias"):
         lines.append(f"  {res.info['gyro_bias']['note']}")
+    rate = res.info.get("rate_check")
+    if rate and rate["n_steps_below"]:
+        lines.append(
+            f"  steps recorded below the {rate['floor_hz']:g} Hz down to which {rate['detector']}'s step count holds: "
+            f"{rate['n_steps_below']} of {rate['n_steps']}"
+        )
     lines.extend(_reference_lines(res, truth))
     lines.extend(extra_lines)
     if args.out:

@@ -43,6 +43,7 @@ from gaitml.pdr.step_modes import (
 )
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
 from gaitml.recording import Recording
+from gaitml.steps._rate import rate_record
 from gaitml.steps._table import gait_check_record
 
 __all__ = ["HEADING_SOURCES", "MODE_SOURCES", "PdrResult", "modes_from_labels", "modes_from_windows", "run_pdr"]
@@ -97,7 +98,9 @@ class PdrResult:
         domain record), and ``foot_mounted_steps`` (steps whose window rests between fast swings as a
         foot-mounted sensor does, :mod:`gaitml.models._placement`) when that rule ran (a model with a domain
         record and no foot in its training positions); without a model they are absent. ``gait_check``: the step detector's
-        gait-evidence account (steps left out in bouts without gait evidence), when it ran.
+        gait-evidence account (steps left out in bouts without gait evidence), when it ran. ``rate_check``: the step
+        table's rate check (:func:`gaitml.steps.rate_record`: was the recording made below the lowest rate the step
+        detector's count holds at?), null for a step table without one (steps given by the caller).
         """
         traj = self.trajectory
         rows = [
@@ -126,6 +129,7 @@ class PdrResult:
             out["gyro_bias"] = self.info["gyro_bias"]
         if self.info.get("gait_check") is not None:
             out["gait_check"] = self.info["gait_check"]
+        out["rate_check"] = self.info.get("rate_check")
         return out
 
 
@@ -333,7 +337,8 @@ def run_pdr(
     -------
     PdrResult, with ``info['gait_check']`` the step table's gait-evidence account (the default
     ``adaptive`` detector leaves out bouts of steps without gait evidence,
-    :mod:`gaitml.steps._gait_evidence`; None when the detector ran no such test).
+    :mod:`gaitml.steps._gait_evidence`; None when the detector ran no such test) and
+    ``info['rate_check']`` its rate check (:func:`gaitml.steps.rate_record`; None for given steps without one).
     """
     if not isinstance(recording, Recording):
         raise InputError(f"`recording` must be a gaitml Recording, got {type(recording).__name__}.")
@@ -364,6 +369,7 @@ def run_pdr(
     steps = steps.reset_index(drop=True).copy()
     steps.attrs["event"] = event
     gait = gait_check_record(steps.attrs.get("gait_check"))  # before the tables are joined (attrs do not survive)
+    rate = rate_record(steps)  # the step detector's rate check (gaitml.steps._rate)
     t_step = steps[event].to_numpy(float)
     start = steps["start"].to_numpy(np.int64)
     end = steps["end"].to_numpy(np.int64)
@@ -459,6 +465,7 @@ def run_pdr(
             "initial_heading_rad": float(initial_heading_rad),
             "gyro_bias": _bias_record(source),
             "gait_check": gait,
+            "rate_check": rate,
             "notes": notes,
         },
     )

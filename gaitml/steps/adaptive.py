@@ -870,10 +870,11 @@ def adaptive_steps(
     return {"peak": pk.astype(np.int64), "y": y, "s": s, "period_s": T / fs, "correlation": R, "confidence": conf, "cadence": cad}
 
 
-#: lowest recording rate (Hz) adaptive's count holds at: measured on tyrex, within 0.031 of the phones' own rate
-#: in every motion down to 10 Hz, the lowest rate measured (below it nothing is known); the floor rule, its
-#: held-out check (one person's running in a pocket loses 0.14 at 10 Hz) and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
-RATE_FLOOR_HZ = 10.0
+#: lowest recording rate (Hz) adaptive's count holds at: measured on tyrex, the highest floor any
+#: leave-one-person-out fold gives (pooled the count holds within 0.031 down to 10 Hz, but one person's running
+#: in a pocket loses 0.14 there; every person within 0.043 of the phones' own rate at 15 Hz and above).
+#: The floor rule, its held-out check and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+RATE_FLOOR_HZ = 15.0
 
 
 class AdaptiveStepDetector(BaseStepDetector):

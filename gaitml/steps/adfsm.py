@@ -103,9 +103,11 @@ def adfsm_steps(
     return np.asarray(out, dtype=np.int64).reshape(-1, 2)
 
 
-#: lowest recording rate (Hz) adfsm's count holds at: measured on tyrex, within 0.041 down to 25 Hz, -0.118 at
-#: 20 Hz (paper 000's rate is 50 Hz); the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
-RATE_FLOOR_HZ = 25.0
+#: lowest recording rate (Hz) adfsm's count holds at: measured on tyrex, the highest floor any leave-one-person-out
+#: fold gives (pooled within 0.041 down to 25 Hz, but one person loses 0.08 at 25 Hz; every person within 0.050
+#: at 30 Hz and above; paper 000's rate is 50 Hz); the floor rule and the Oxford check:
+#: experiments/reports/tyrex-steps.md, 'rate floors'
+RATE_FLOOR_HZ = 30.0
 
 
 class ADFSMStepDetector(BaseStepDetector):

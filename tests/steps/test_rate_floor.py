@@ -17,7 +17,7 @@ from gaitml.simulate import Subject, simulate_recording
 from gaitml.steps import DETECTORS, RATE_TOLERANCE, get_detector, rate_flags, rate_floors, rate_record, rate_warning
 from tests.conftest import shared
 
-FLOORED = "single-peak"  # floor 50 Hz: a 20 Hz phone is below it, adaptive (10 Hz) is not
+FLOORED = "single-peak"  # floor 50 Hz: a 20 Hz phone is below it, adaptive (15 Hz) is not
 WARN = "down to which"  # the words of the stderr line (and of every reason)
 
 
@@ -143,7 +143,7 @@ def test_steps_cli_flags_below_the_floor_in_the_table_the_json_and_one_stderr_li
 
 
 def test_steps_cli_at_or_above_the_floor_says_nothing(files, tmp_path, capsys):
-    for path, det in ((files[50.0], FLOORED), (files[10.0], "adaptive")):
+    for path, det in ((files[50.0], FLOORED), (files[20.0], "adaptive")):
         out = tmp_path / "steps.csv"
         assert main(["steps", str(path), "--detector", det, "--json", "--out", str(out)]) == 0
         cap = capsys.readouterr()
@@ -213,7 +213,7 @@ def test_pdr_segment_and_label_flag_below_the_floor_and_not_above(command, files
 def test_tyrex_pocket_walks_are_flagged_where_single_peaks_count_falls():
     """The tyrex trouser-pocket walks of the Nexus 5 (3 people, front and back, 2 takes) taken down to 10 Hz:
     single-peak's count falls (back pocket 0.927 -> 0.352 of the motion capture's over all phones,
-    experiments/reports/tyrex-steps.md) and is flagged; at 50 Hz it holds and is not; adaptive holds at 10 Hz
+    experiments/reports/tyrex-steps.md) and is flagged; at 50 Hz it holds and is not; adaptive holds at 15 Hz
     and is not flagged."""
     from gaitml.io.tyrex import list_tyrex_folders, read_tyrex
 
@@ -221,7 +221,7 @@ def test_tyrex_pocket_walks_are_flagged_where_single_peaks_count_falls():
     folders = [f for f in list_tyrex_folders(root) if "_Nexus5_" in f.name and f.name.endswith(("_BackPocket", "_FrontPocket"))]
     if not folders:
         pytest.skip("no tyrex Nexus 5 pocket walk in the shared data")
-    counts = {k: 0 for k in ("native", "50", "10", "adaptive native", "adaptive 10")}
+    counts = {k: 0 for k in ("native", "50", "10", "adaptive native", "adaptive 15")}
     for folder in folders:
         for rec in read_tyrex(folder, segments=True):
             if rec.duration_s < 10.0:  # a scrap between two gaps of the log
@@ -231,12 +231,12 @@ def test_tyrex_pocket_walks_are_flagged_where_single_peaks_count_falls():
                 steps = get_detector(det).detect(rec if fs is None else resample_recording(rec, fs)).steps_
                 assert steps.attrs["rate_check"]["below"] is (key == "10")
                 counts[key] += len(steps)
-            for key, fs in (("adaptive native", None), ("adaptive 10", 10.0)):
+            for key, fs in (("adaptive native", None), ("adaptive 15", 15.0)):
                 steps = get_detector("adaptive").detect(rec if fs is None else resample_recording(rec, fs)).steps_
                 assert steps.attrs["rate_check"]["below"] is False
                 counts[key] += len(steps)
     assert counts["native"] > 100
     assert counts["10"] < 0.7 * counts["native"]  # flagged: the count falls
     assert abs(counts["50"] - counts["native"]) < 0.05 * counts["native"]  # not flagged: it holds
-    assert abs(counts["adaptive 10"] - counts["adaptive native"]) < 0.1 * counts["adaptive native"]
+    assert abs(counts["adaptive 15"] - counts["adaptive native"]) < 0.1 * counts["adaptive native"]
     assert np.isfinite(list(counts.values())).all()

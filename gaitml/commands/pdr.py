@@ -351,8 +351,9 @@ def _load_truth(args, rec):
     if not spec:
         return None
     from gaitml.io.truth import read_truth, truth_of_recording, tyrex_truth
+    from gaitml.io.tyrex import is_tyrex_truth_file
 
-    if rec.meta.get("format") == "tyrex" and (spec == "self" or _is_qualisys(spec)):
+    if rec.meta.get("format") == "tyrex" and (spec == "self" or is_tyrex_truth_file(spec)):
         from gaitml.evaluation.trajectory import BODY_CUTOFF_HZ, body_track
 
         note = f"the phone's path low-passed at {BODY_CUTOFF_HZ:g} Hz to follow the walker (arm swing removed)"
@@ -363,17 +364,6 @@ def _load_truth(args, rec):
     if same and rec.reference.get("landmarks") is not None:
         return truth_of_recording(rec)
     return read_truth(spec, t0_original_s=float(rec.meta.get("t0_original_s", 0.0)))
-
-
-def _is_qualisys(spec: str) -> bool:
-    """Whether a truth file is a tyrex motion-capture CSV (its header has the rotation columns)."""
-    from gaitml.io._common import head_lines
-
-    try:
-        lines = [ln for ln in head_lines(Path(spec), 3) if not ln.startswith("#")]
-    except Exception:  # noqa: BLE001 - the reader reports unreadable files itself
-        return False
-    return bool(lines) and "rot0" in lines[0]
 
 
 def _score(args, rec, res, truth) -> dict:

@@ -126,6 +126,8 @@ class StepLengthModel(BaseAlgorithm):
     ----------
     coefficients_ : dict mode -> (kind, params) in use.
     fitted_modes_ : list of modes whose coefficients were fitted or calibrated.
+    calibration_ : dict, optional; how a calibration from truth fitted them (steps per mode, residuals;
+        :func:`gaitml.pdr.calibrate.fit_step_lengths`), saved with the model.
 
     References
     ----------
@@ -248,6 +250,7 @@ class StepLengthModel(BaseAlgorithm):
             "format": "gaitml-step-length-v1",
             "coefficients": {m: {"kind": k, "params": list(p)} for m, (k, p) in self.coefficients_in_use().items()},
             "fitted_modes": list(getattr(self, "fitted_modes_", [])),
+            **({"calibration": self.calibration_} if getattr(self, "calibration_", None) else {}),
         }
 
     @classmethod
@@ -259,6 +262,8 @@ class StepLengthModel(BaseAlgorithm):
         model = cls({m: (c["kind"], tuple(c["params"])) for m, c in d["coefficients"].items()})
         model.coefficients_ = model._configured()
         model.fitted_modes_ = list(d.get("fitted_modes", []))
+        if isinstance(d.get("calibration"), dict):
+            model.calibration_ = d["calibration"]
         return model
 
     def save(self, path) -> Path:

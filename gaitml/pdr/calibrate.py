@@ -428,7 +428,9 @@ def main(argv: list[str] | None = None) -> int:
       (``self``), or a dense ``t,x_m,y_m`` CSV on the input's clock (as ``gaitml pdr --truth``).
       ``--mode`` (once, or once per input; default ``walk``) says what the steps of each input
       are: ``walk`` (eq. 12), ``run`` (eq. 13), ``backward``, ``side_left``, ``side_right``, or
-      ``labels`` (the input's own labels). Inputs are read in segments (a sensor gap splits one).
+      ``labels`` (the input's own labels). With a motion capture or a truth file, an input is read in
+      segments (a sensor gap splits it; no step pair spans the gap); a reference path travels with a
+      whole read only (a gap there is refused with the reader's message).
     - ``--distance-m D``: scale the defaults so that INPUT (one walk, every step ``--mode``) sums to D.
     - neither: fit per mode on INPUT's reference steps (one simulated or surveyed recording).
 
@@ -494,6 +496,8 @@ def _run_cli(args, read_recording, read_segments) -> StepLengthModel:
     """The work of :func:`main` (its arguments checked before any reading); the model to save."""
     import sys
 
+    from gaitml.io import detect_format
+    from gaitml.io._common import require_file
     from gaitml.pdr.step_length import WEINBERG_MODES
     from gaitml.steps import get_detector
 
@@ -528,7 +532,10 @@ def _run_cli(args, read_recording, read_segments) -> StepLengthModel:
     modes = _per_input(args.mode, n, "--mode", "walk")
     recs, rec_modes, rec_truths = [], [], []
     for path, mode, truth in zip(args.inputs, modes, truths, strict=True):
-        segs = read_segments(path, format=args.format)
+        # a truth outside the recording (motion capture, a truth file) is read on the original clock, so every
+        # stretch between sensor gaps is used; a reference path travels only with a whole read
+        whole = truth == "self" and (args.format or detect_format(require_file(path))) != "tyrex"
+        segs = [read_recording(path, format=args.format)] if whole else read_segments(path, format=args.format)
         recs += segs
         rec_modes += [mode] * len(segs)
         rec_truths += [truth] * len(segs)

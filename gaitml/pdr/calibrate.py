@@ -66,6 +66,9 @@ MAX_TRUTH_GAP_S = 0.5
 #: Fewest steps with a true length a mode needs to be fitted from truth (three coefficients of
 #: eq. 12 from at least ~10 s of walking; stated, not from the paper).
 MIN_CALIBRATION_STEPS = 20
+#: A stretch between sensor gaps shorter than this (s) is left out of a calibration from truth (a few steps
+#: at most, and shorter than the detectors' own windows); said on stderr.
+MIN_SEGMENT_S = 5.0
 #: The modes a recording's steps can be given as (paper 003's five), or ``labels``: the recording's
 #: own per-sample labels, majority over each step (a simulated or labelled recording).
 CALIBRATION_MODES = ("walk", "run", "backward", "side_left", "side_right", "labels")
@@ -360,7 +363,7 @@ def fit_step_lengths(samples: pd.DataFrame, *, modes=None, min_steps: int = MIN_
         info[m] = {
             "n_steps": int(sel.sum()),
             "n_detected": int((mode_arr == m).sum()),
-            "n_recordings": int(len(set(recs[(mode_arr == m)]))),
+            "n_recordings": int(len({str(r).split("#")[0] for r in recs[mode_arr == m]})),  # stretches of one recording count once
             "mean_true_length_m": float(L.mean()),
             "rms_residual_m": float(np.sqrt(np.mean((P - L) ** 2))),
             "fitted_over_true_total": float(P.sum() / L.sum()),
@@ -536,6 +539,15 @@ def _run_cli(args, read_recording, read_segments) -> StepLengthModel:
         # stretch between sensor gaps is used; a reference path travels only with a whole read
         whole = truth == "self" and (args.format or detect_format(require_file(path))) != "tyrex"
         segs = [read_recording(path, format=args.format)] if whole else read_segments(path, format=args.format)
+        if len(segs) > 1:
+            short = [g for g in segs if g.duration_s < MIN_SEGMENT_S]
+            segs = [g for g in segs if g.duration_s >= MIN_SEGMENT_S]
+            if short:
+                print(
+                    f"note: {Path(path).name}: {len(short)} stretch(es) between sensor gaps shorter than {MIN_SEGMENT_S:g} s left out "
+                    f"({sum(g.duration_s for g in short):.1f} s); {len(segs)} used",
+                    file=sys.stderr,
+                )
         recs += segs
         rec_modes += [mode] * len(segs)
         rec_truths += [truth] * len(segs)

@@ -209,3 +209,17 @@ def test_tyrex_lengths_fitted_on_two_people_carry_to_the_third(shared_data):
         ratio = pred[sel].sum() / true_m
         assert 0.75 <= ratio <= 1.25, (mode, ratio)
         assert abs(ratio - 1) < abs(uncal[sel].sum() / true_m - 1)  # better than the uncalibrated lengths (1.3-1.9 x)
+
+
+def test_cli_on_a_tyrex_recording_with_a_sensor_gap_uses_its_stretches(shared_data, tmp_path, capsys):
+    """Thibaud_Nexus5_Dist_FrontPocket has a sensor gap: read in stretches, the 0.1 s one left out and said so."""
+    folder = shared_data / "tyrex-attitude" / "android" / "Thibaud_Nexus5_Dist_FrontPocket"
+    if not folder.is_dir():
+        pytest.skip("tyrex-attitude not in the shared data")
+    out = tmp_path / "sl.json"
+    assert main([str(folder), "--truth", "self", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "shorter than 5 s left out" in err and "walk: linear" in err
+    info = json.loads(out.read_text())["calibration"]["modes"]["walk"]
+    assert info["n_recordings"] == 1 and info["n_steps"] > 50
+    assert 0.3 < info["mean_true_length_m"] < 0.7  # a walker's step in a 5 m room (0.39-0.54 m)

@@ -168,6 +168,15 @@ def _positions(run: dict, lengths) -> np.ndarray:
     return forward_update(lengths, run["theta"])
 
 
+def _outside_share(run: dict, length: str, models, motion: str) -> float:
+    """Share of the steps outside the inputs the length model was fitted on (what ``gaitml pdr`` warns about)."""
+    if length == "default" or not len(run["t_step"]):
+        return float("nan")
+    m = models["perpos"].get(motion, models["cal"]) if length == "perpos" else models[length]
+    flags = m.outside_fit(run["features"], run["modes"])
+    return float(np.mean(flags)) if flags is not None else float("nan")
+
+
 def score(prep, item, run_name: str, length: str, models) -> dict:
     """One recording, one run, one step length: the walk scores of issue 27."""
     from gaitml.evaluation.trajectory import walk_scores
@@ -179,7 +188,12 @@ def score(prep, item, run_name: str, length: str, models) -> dict:
     if t[-1] < prep["t_end"]:
         t, xy = np.append(t, prep["t_end"]), np.vstack([xy, xy[-1:]])
     tt, txy = _truth_on_recording(item)
-    return {**walk_scores(t, xy, tt, txy), "n_steps": len(run["t_step"]), "mean_length_m": float(np.mean(lengths)) if len(lengths) else 0.0}
+    return {
+        **walk_scores(t, xy, tt, txy),
+        "n_steps": len(run["t_step"]),
+        "mean_length_m": float(np.mean(lengths)) if len(lengths) else 0.0,
+        "outside_fit_share": _outside_share(run, length, models, item["motion"]),
+    }
 
 
 def check_same_path(item, prep, run_name: str, models, model) -> float:
@@ -412,6 +426,14 @@ def main(argv: list[str] | None = None) -> int:
                 md(person_range(table, metric, shown, fmt)),
                 "",
             ]
+    held = table[table["held_out"] & table["variant"].isin(["fwd/cal", "model/cal", "fwd/pooled"])]
+    share = held.pivot_table(index="variant", columns="motion", values="outside_fit_share", aggfunc="mean")
+    share = share.reindex(columns=[m for m in MOTION_ORDER if m in share.columns])
+    lines += [
+        "### steps outside the inputs the length model was fitted on (gaitml pdr's warning), mean share, held out",
+        md(share, "{:.3f}"),
+        "",
+    ]
     for v, fwd in (("fwd/cal", "fwd/cal"), ("model/cal", "fwd/cal"), ("fwd-gyro/cal", "fwd-gyro/cal"), ("model-gyro/cal", "fwd-gyro/cal")):
         if v in set(table["variant"]):
             lines += [f"### issue 27 targets, {v}, held out (NoDist medians)", md(targets(table, v, fwd)), ""]

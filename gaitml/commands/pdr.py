@@ -231,6 +231,7 @@ def run(args) -> int:
         log(f"note: {note}")
     gait_check_note(res.info.get("gait_check"), detector)
     _warn_out_of_domain(model, modes, res.steps)
+    _warn_outside_fit(res)
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
     from gaitml.steps.crosscheck import count_warning
@@ -312,6 +313,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
         log(f"note: {note}")
     gait_check_note(res.info.get("gait_check"), detector)
     _warn_out_of_domain(model, modes, res.steps)
+    _warn_outside_fit(res)
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:
         log(f"gaitml: warning: {count_msg}")
@@ -426,6 +428,20 @@ def _truth_lines(truth, scored) -> list[str]:
     return lines
 
 
+def _warn_outside_fit(res) -> None:
+    """One warning line when steps lie outside the inputs a calibrated step-length model was fitted on."""
+    n_out = res.info.get("step_length_outside_fit")
+    if not n_out:
+        return
+    per_mode = res.steps.loc[res.steps["step_length_outside_fit"].astype(bool), "mode"].astype(str).value_counts()
+    which = ", ".join(f"{n} {m}" for m, n in per_mode.items())
+    log(
+        f"gaitml: warning: {n_out} of {res.n_steps} steps ({which}) lie outside the cadence / acceleration the step-length model "
+        "was calibrated on: their lengths are extrapolated; calibrate on recordings like this one (runs as --mode run with "
+        "--model, or as --mode walk for forward-only dead reckoning)"
+    )
+
+
 def _warn_out_of_domain(model, modes: str, steps) -> None:
     """One warning line when model modes were used and steps lie outside the model's training domain."""
     if model is None or modes != "model":
@@ -474,6 +490,10 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         )
     if res.info.get("gyro_bias"):
         lines.append(f"  {res.info['gyro_bias']['note']}")
+    if res.info.get("step_length_outside_fit"):
+        lines.append(
+            f"  step lengths extrapolated (outside the calibration's inputs): {res.info['step_length_outside_fit']} of {res.n_steps} steps"
+        )
     lines.extend(_reference_lines(res, truth))
     lines.extend(extra_lines)
     if args.out:

@@ -367,9 +367,26 @@ def fit_step_lengths(samples: pd.DataFrame, *, modes=None, min_steps: int = MIN_
             "mean_true_length_m": float(L.mean()),
             "rms_residual_m": float(np.sqrt(np.mean((P - L) ** 2))),
             "fitted_over_true_total": float(P.sum() / L.sum()),
+            "fitted_range": _fitted_range(feats[keep].reset_index(drop=True)[sel], m),
         }
     model.calibration_ = {"source": "truth trajectory", "modes": info}
     return model
+
+
+def _fitted_range(feats: pd.DataFrame, mode: str) -> dict:
+    """The band of a mode's fitted inputs (:data:`gaitml.pdr.step_length.FIT_RANGE_PERCENTILES`): what
+    :meth:`StepLengthModel.outside_fit` checks a step against."""
+    from gaitml.pdr.step_length import FIT_RANGE_PERCENTILES, WEINBERG_MODES
+
+    cols = (
+        {"range_ms2": (feats["a_max_ms2"] - feats["a_min_ms2"]).to_numpy(float)}
+        if mode in WEINBERG_MODES
+        else {
+            "freq_hz": feats["freq_hz"].to_numpy(float),
+            "var_ms2sq": feats["var_ms2sq"].to_numpy(float),
+        }
+    )
+    return {k: [float(v) for v in np.percentile(x, FIT_RANGE_PERCENTILES)] for k, x in cols.items()}
 
 
 def calibrate_from_truth(

@@ -60,6 +60,12 @@ DEFAULT_WEINBERG_K = 0.55
 #: Modes that use the Weinberg model (paper 003 sec. 4.1).
 WEINBERG_MODES = ("run",)
 FEATURE_COLUMNS = ("freq_hz", "var_ms2sq", "a_max_ms2", "a_min_ms2")
+#: A calibration records, per mode, the band of its inputs between these percentiles of the fitted steps
+#: (eq. 12: cadence and variance; eq. 13: the magnitude range) ...
+FIT_RANGE_PERCENTILES = (2.5, 97.5)
+#: ... and a step whose input lies beyond the band by more than this fraction of its width is outside the
+#: fit (its length is extrapolated: said by ``gaitml pdr``). Stated, not from the paper.
+FIT_RANGE_MARGIN = 0.25
 
 
 def linear_step_length(freq_hz, var_ms2sq, a: float, b: float, c: float) -> np.ndarray:
@@ -243,6 +249,34 @@ class StepLengthModel(BaseAlgorithm):
             else:
                 out[sel] = linear_step_length(f["freq_hz"], f["var_ms2sq"], *p)
         return np.clip(out, 0.0, None)
+
+    def outside_fit(self, features: pd.DataFrame, modes) -> np.ndarray | None:
+        """Which steps lie outside the inputs the model was calibrated on (shape (n,)); None without a record.
+
+        A calibration from truth (:func:`gaitml.pdr.calibrate.fit_step_lengths`) keeps, per mode, the band of
+        its inputs (:data:`FIT_RANGE_PERCENTILES`: cadence and variance for eq. 12, the magnitude range for
+        eq. 13); a step of a mode with a band is outside when an input lies beyond it by more than
+        :data:`FIT_RANGE_MARGIN` of its width (e.g. running steps given the walk line, forward-only).
+        """
+        record = getattr(self, "calibration_", None) or {}
+        bands = {m: d.get("fitted_range") for m, d in (record.get("modes") or {}).items() if isinstance(d, dict) and d.get("fitted_range")}
+        if not bands:
+            return None
+        feats = _check_features(features)
+        modes = np.asarray(modes).astype(str).reshape(-1)
+        values = {
+            "freq_hz": feats["freq_hz"].to_numpy(float),
+            "var_ms2sq": feats["var_ms2sq"].to_numpy(float),
+            "range_ms2": (feats["a_max_ms2"] - feats["a_min_ms2"]).to_numpy(float),
+        }
+        out = np.zeros(len(feats), dtype=bool)
+        for m, band in bands.items():
+            sel = modes == m
+            for name, (lo, hi) in band.items():
+                pad = FIT_RANGE_MARGIN * (hi - lo)
+                x = values[name][sel]
+                out[sel] |= (x < lo - pad) | (x > hi + pad)
+        return out
 
     # ------------------------------------------------------------ persistence
     def to_dict(self) -> dict:

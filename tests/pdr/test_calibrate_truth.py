@@ -223,3 +223,30 @@ def test_cli_on_a_tyrex_recording_with_a_sensor_gap_uses_its_stretches(shared_da
     info = json.loads(out.read_text())["calibration"]["modes"]["walk"]
     assert info["n_recordings"] == 1 and info["n_steps"] > 50
     assert 0.3 < info["mean_true_length_m"] < 0.7  # a walker's step in a 5 m room (0.39-0.54 m)
+
+
+def test_steps_outside_the_calibration_are_said(subject, tmp_path, capsys):
+    """A walk-only calibration given running steps (forward-only) extrapolates: the steps are flagged, in the
+    step table, the JSON and one warning line; another walk of the same walker is (nearly) not flagged."""
+    from gaitml.cli import main as gaitml_main
+
+    model = calibrate_from_truth([_sim(subject, "walk", 1)], "walk")
+    band = model.calibration_["modes"]["walk"]["fitted_range"]
+    assert set(band) == {"freq_hz", "var_ms2sq"} and band["freq_hz"][0] < subject.walk_cadence_hz < band["freq_hz"][1]
+    walk, run = _sim(subject, "walk", 3), _sim(subject, "run", 4)
+    res_walk = run_pdr(walk, modes="forward", step_length=model)
+    res_run = run_pdr(run, modes="forward", step_length=model)
+    assert res_walk.steps["step_length_outside_fit"].mean() < 0.1
+    assert res_run.steps["step_length_outside_fit"].mean() > 0.9
+    assert res_run.info["step_length_outside_fit"] == int(res_run.steps["step_length_outside_fit"].sum())
+    assert "step_length_outside_fit" not in run_pdr(run, modes="forward").steps  # no calibration record: no flags
+    # through the command line: JSON count and one warning line
+    out = tmp_path / "walk-only.json"
+    model.save(out)
+    assert StepLengthModel.load(out).outside_fit(res_run.steps, res_run.steps["mode"]).mean() > 0.9  # the record is saved
+    (rec_file,) = write_simulation([run], tmp_path / "run")
+    assert gaitml_main(["pdr", str(rec_file), "--modes", "forward", "--step-length", str(out), "--json"]) == 0
+    cap = capsys.readouterr()
+    assert json.loads(cap.out)["step_length_outside_fit"] > 0.9 * json.loads(cap.out)["n_steps"]
+    lines = [ln for ln in cap.err.splitlines() if "outside the cadence / acceleration" in ln]
+    assert len(lines) == 1 and "extrapolated" in lines[0]

@@ -72,6 +72,8 @@ MIN_SEGMENT_S = 5.0
 #: The modes a recording's steps can be given as (paper 003's five), or ``labels``: the recording's
 #: own per-sample labels, majority over each step (a simulated or labelled recording).
 CALIBRATION_MODES = ("walk", "run", "backward", "side_left", "side_right", "labels")
+#: The motion modes of paper 003 (a labelled step of another class, e.g. standing, is not fitted).
+MOTION_MODES = CALIBRATION_MODES[:-1]
 
 
 class Calibration:
@@ -403,7 +405,9 @@ def calibrate_from_truth(
     Parameters
     ----------
     recordings : sequence of Recording (a recording read in segments: every segment, each with its truth).
-    modes : one mode for all (:data:`CALIBRATION_MODES`) or a list, one per recording.
+    modes : one mode for all (:data:`CALIBRATION_MODES`) or a list, one per recording. With ``labels``, every
+        motion mode of the labels with at least ``min_steps`` steps is fitted; the other labels' steps (too few, or
+        not a motion mode, e.g. standing) are left out and listed in ``calibration_['labels_left_out']``.
     truths : ``'self'`` / a file / ``(t_s, xy)`` for all, or a list, one per recording (:func:`truth_track`).
     detector : the step detector the PDR will use.
     min_steps, cutoff_hz : see :func:`fit_step_lengths` and :func:`step_length_samples`.
@@ -422,11 +426,29 @@ def calibrate_from_truth(
         for r, m, t in zip(recs, mode_list, truth_list, strict=True)
     ]
     samples = pd.concat(parts, ignore_index=True)
-    wanted = sorted({m for m in mode_list if m != "labels"} | (set(samples["mode"]) if "labels" in mode_list else set()))
-    model = fit_step_lengths(samples, modes=wanted, min_steps=min_steps)
+    given = {m for m in mode_list if m != "labels"}
+    skipped = {}
+    if "labels" in mode_list:  # a label's mode is fitted where it has enough steps; other labels (e.g. standing) are left out
+        from_labels = np.concatenate([np.full(len(p), m == "labels") for p, m in zip(parts, mode_list, strict=True)])
+        labelled = samples[from_labels & np.isfinite(samples["true_length_m"].to_numpy(float))]
+        counts = labelled["mode"].value_counts()
+        for m in sorted(set(samples.loc[from_labels, "mode"]) - given):
+            if m in MOTION_MODES and counts.get(m, 0) >= min_steps:
+                given.add(m)
+            else:
+                skipped[m] = int(counts.get(m, 0))
+        samples = samples[~(from_labels & samples["mode"].isin(list(skipped)).to_numpy())].reset_index(drop=True)
+        if not given:
+            raise InputError(
+                f"no labelled mode has {min_steps} steps with a true length (labels found: {skipped}); give the recordings' "
+                "modes (--mode walk or run) or use longer recordings."
+            )
+    model = fit_step_lengths(samples, modes=sorted(given), min_steps=min_steps)
     model.calibration_.update(
         {"detector": detector if isinstance(detector, str) else type(detector).__name__, "body_cutoff_hz": float(cutoff_hz)}
     )
+    if skipped:
+        model.calibration_["labels_left_out"] = skipped  # label -> steps with a true length (too few, or not a motion mode)
     return model
 
 
@@ -569,6 +591,8 @@ def _run_cli(args, read_recording, read_segments) -> StepLengthModel:
         rec_modes += [mode] * len(segs)
         rec_truths += [truth] * len(segs)
     model = calibrate_from_truth(recs, rec_modes, truths=rec_truths, detector=args.detector, min_steps=args.min_steps)
+    if model.calibration_.get("labels_left_out"):
+        print(f"note: labelled steps left out (label: steps with a true length): {model.calibration_['labels_left_out']}", file=sys.stderr)
     model.calibration_["inputs"] = [
         {"input": str(p), "mode": m, "truth": str(t)} for p, m, t in zip(args.inputs, modes, truths, strict=True)
     ]

@@ -98,6 +98,8 @@ class PdrResult:
         foot-mounted sensor does, :mod:`gaitml.models._placement`) when that rule ran (a model with a domain
         record and no foot in its training positions); without a model they are absent. ``gait_check``: the step detector's
         gait-evidence account (steps left out in bouts without gait evidence), when it ran.
+        ``step_length_outside_fit``: with a calibrated step-length model that records its fitted inputs, how many
+        steps lie outside them (their lengths extrapolated; :meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`).
         """
         traj = self.trajectory
         rows = [

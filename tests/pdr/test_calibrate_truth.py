@@ -79,6 +79,13 @@ def test_labels_give_the_modes_of_a_mixed_recording(subject):
     run_mean = samples.loc[samples["mode"] == "run", "true_length_m"].mean()
     walk_mean = samples.loc[samples["mode"] == "walk", "true_length_m"].mean()
     assert run_mean > walk_mean * 1.2  # the simulated runner strides longer than he walks
+    # fitted from the labels: every motion mode with enough steps; a paused walk's standing steps are left out
+    paused = simulate_recording(subject, route="straight", duration_s=120.0, modes=("walk", "run"), seed=7, pauses=True)
+    model = calibrate_from_truth([paused], "labels", min_steps=10)
+    assert {"walk", "run"} <= set(model.fitted_modes_)
+    assert set(model.calibration_.get("labels_left_out", {})) <= set(np.unique(paused.labels)) - {"walk", "run"}
+    with pytest.raises(InputError, match="no labelled mode has"):
+        calibrate_from_truth([paused], "labels", min_steps=10_000)
 
 
 def test_cli_fits_several_inputs_per_mode_and_gaitml_pdr_reads_the_json(subject, tmp_path, capsys):

@@ -868,6 +868,7 @@ def long_pdr(
         model_modes=model_modes,
         model=model,
         step_reasons=step_reasons,
+        outside_fit=slm.outside_fit(feats, step_modes),
         info={
             "detector": detector,
             "heading": heading,

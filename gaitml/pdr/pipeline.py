@@ -101,6 +101,8 @@ class PdrResult:
         gait-evidence account (steps left out in bouts without gait evidence), when it ran. ``rate_check``: the step
         table's rate check (:func:`gaitml.steps.rate_record`: was the recording made below the lowest rate the step
         detector's count holds at?), null for a step table without one (steps given by the caller).
+        ``step_length_outside_fit``: with a calibrated step-length model that records its fitted inputs, how many
+        steps lie outside them (their lengths extrapolated; :meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`).
         """
         traj = self.trajectory
         rows = [
@@ -130,6 +132,8 @@ class PdrResult:
         if self.info.get("gait_check") is not None:
             out["gait_check"] = self.info["gait_check"]
         out["rate_check"] = self.info.get("rate_check")
+        if self.info.get("step_length_outside_fit") is not None:
+            out["step_length_outside_fit"] = int(self.info["step_length_outside_fit"])
         return out
 
 
@@ -428,6 +432,7 @@ def run_pdr(
     else:
         lengths = slm.predict(feats, step_modes)
     lengths = np.where(np.isfinite(lengths), lengths, 0.0)
+    outside_fit = None if slm is None else slm.outside_fit(feats, step_modes)
 
     # ---- heading
     heading_steps = steps.assign(mode=step_modes, mode_offset_rad=offsets if update == "multi" else np.zeros(n))
@@ -455,6 +460,7 @@ def run_pdr(
         model_modes=model_modes,
         model=model,
         step_reasons=step_reasons,
+        outside_fit=outside_fit,
         info={
             "detector": det_name,
             "heading": heading if isinstance(heading, str) else source.name or type(source).__name__,
@@ -494,6 +500,7 @@ def assemble_result(
     model,
     info: dict,
     step_reasons=None,
+    outside_fit=None,
 ) -> PdrResult:
     """The positions (multi-state update, paper 003 eq. 11, or forward-only, eq. 10) and the
     :class:`PdrResult` of per-step modes, lengths and headings; shared by :func:`run_pdr` and the
@@ -501,7 +508,10 @@ def assemble_result(
     tables and summary. ``step_reasons``: the ``out_of_domain_reason`` of each step (None: not known);
     the step table gets the column (with ``in_domain``: a step whose ``in_domain`` is None, e.g. every step
     of a model without a domain record, has the reason None, unknown, not the empty reason of a step in domain) and ``info`` the count ``foot_mounted_steps`` of
-    :data:`gaitml.models._placement.FOOT_REASON` when the foot-placement rule ran for ``model``."""
+    :data:`gaitml.models._placement.FOOT_REASON` when the foot-placement rule ran for ``model``. ``outside_fit``:
+    per step, whether its step-length inputs lie outside what a calibrated step-length model was fitted on
+    (:meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`; None: no calibration record), kept as the step
+    table's ``step_length_outside_fit`` and counted in ``info['step_length_outside_fit']``."""
     step_modes = np.asarray(step_modes).astype(str)
     if update == "multi":
         xy = multi_state_update(lengths, theta, step_modes, start_xy_m=start_xy_m, unknown="forward")
@@ -545,6 +555,9 @@ def assemble_result(
         )
     )
     info = {**info, "out_of_domain_steps": n_ood, "side_direction_unsure_steps": n_unsure}
+    if outside_fit is not None:
+        steps["step_length_outside_fit"] = np.asarray(outside_fit, dtype=bool)
+        info["step_length_outside_fit"] = int(np.sum(outside_fit))
     if step_reasons is not None and step_in_domain is not None:
         from gaitml.models._placement import FOOT_REASON
         from gaitml.models._predict import foot_rule_applies

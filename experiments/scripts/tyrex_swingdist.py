@@ -165,8 +165,11 @@ def decompose(samples: pd.DataFrame, pred: np.ndarray, true_m: float) -> dict:
     }
 
 
-def build(items, preps, ext) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
-    """Per-recording rows (held out and in sample) and the per-step table with the person's held-out prediction."""
+def build(items, preps, ext, *, max_fit_hz: float | None = None) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
+    """Per-recording rows (held out and in sample) and the per-step table with the person's held-out prediction.
+
+    ``max_fit_hz``: fit the candidate lines (not the library's) only on training steps below this cadence.
+    """
     from gaitml.evaluation.trajectory import walked_distance_ratio
 
     people = sorted({it["subject"] for it in items})
@@ -176,6 +179,8 @@ def build(items, preps, ext) -> tuple[pd.DataFrame, pd.DataFrame, dict]:
             s = pr["samples"].reset_index(drop=True)
             samples_all.append(pd.concat([s, ex["cand"]], axis=1).assign(subject=it["subject"], motion=it["motion"]))
     train = pd.concat(samples_all, ignore_index=True)
+    if max_fit_hz is not None:
+        train = train[train["freq_hz"] < max_fit_hz]
     fits = {
         fold: {name: _fit(train[train["subject"].isin([p for p in people if p != fold])], cols) for name, cols in CANDIDATES.items()}
         for fold in [*people, "all"]
@@ -257,14 +262,31 @@ def adoption(table: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
-def _plot(steps: pd.DataFrame, fits: dict, out: Path) -> Path:
+#: walking-speed bands (m/s, the recording's true distance over its scored span) of the bias-by-speed table
+SPEED_BANDS_MS = (0.0, 0.6, 0.75, 0.9, 1.2)
+
+
+def speed_bands(held: pd.DataFrame, column: str) -> pd.DataFrame:
+    """Median of ``column`` per motion and walking-speed band, with the number of recordings: 'median (n)'."""
+    band = pd.cut(held["speed_ms"], list(SPEED_BANDS_MS))
+    g = held.assign(band=band).groupby(["band", "motion"], observed=True)[column]
+    med, n = g.median().unstack(), g.count().unstack()
+    out = pd.DataFrame(index=med.index, columns=[m for m in WALK_MOTIONS if m in med.columns], dtype=object)
+    for b in out.index:
+        for m in out.columns:
+            out.loc[b, m] = f"{med.loc[b, m]:.2f} ({int(n.loc[b, m])})" if np.isfinite(med.loc[b, m]) else "-"
+    out.index = [f"{iv.left:g}-{iv.right:g} m/s" for iv in out.index]
+    return out
+
+
+def _plot(steps: pd.DataFrame, fits: dict, held: pd.DataFrame, out: Path) -> Path:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     out.mkdir(parents=True, exist_ok=True)
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    fig, axes = plt.subplots(1, 3, figsize=(17, 4.5))
     colours = dict(zip(WALK_MOTIONS, ("C0", "C1", "C3", "C2", "C4"), strict=True))
     st = steps[np.isfinite(steps["true_length_m"])]
     for m in WALK_MOTIONS:
@@ -280,6 +302,14 @@ def _plot(steps: pd.DataFrame, fits: dict, out: Path) -> Path:
     axes[0].legend(fontsize=7)
     axes[1].set(xlabel="held-out eq. 12 length / true length, per step", ylabel="steps")
     axes[1].legend(fontsize=7)
+    for m in WALK_MOTIONS:
+        g = held[held["motion"] == m]
+        for dist, marker in (("NoDist", "o"), ("Dist", "x")):
+            gd = g[g["disturbance"] == dist]
+            axes[2].scatter(gd["speed_ms"], gd["lib_bias"], color=colours[m], marker=marker, label=f"{m} {dist}")
+    axes[2].axhline(1.0, color="k", lw=0.5)
+    axes[2].set(xlabel="walking speed of the recording (m/s)", ylabel="held-out eq. 12 lengths / true lengths (recording)")
+    axes[2].legend(fontsize=6, ncol=2)
     fig.tight_layout()
     path = out / "tyrex-swingdist.png"
     fig.savefig(path, dpi=110)
@@ -293,6 +323,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--steplen-cache", metavar="FILE", help="tyrex_steplen's --cache pickle (its steps and runs are reused)")
     p.add_argument("--cache", metavar="FILE", help="pickle of this script's per-recording extras: read if present, else written")
     p.add_argument("--csv", metavar="FILE", help="write the per-recording table")
+    p.add_argument(
+        "--max-fit-hz",
+        type=float,
+        metavar="HZ",
+        help="post hoc (chosen after the plot): fit the candidate lines only on steps below this cadence (e.g. 2.0: the octave errors)",
+    )
     p.add_argument("--plot", metavar="DIR", help="write tyrex-swingdist.png (true length against cadence; prediction / truth)")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
@@ -319,7 +355,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.cache:
             with open(args.cache, "wb") as fh:
                 pickle.dump(ext, fh)
-    table, steps, fits = build(items, preps, ext)
+    table, steps, fits = build(items, preps, ext, max_fit_hz=args.max_fit_hz)
     if args.csv:
         table.to_csv(args.csv, index=False)
     held = table[table["held_out"]]
@@ -333,8 +369,21 @@ def main(argv: list[str] | None = None) -> int:
     lines = ["### step counts per recording: the command line, the PDR study and the motion capture (NoDist medians; sums over all 18)"]
     cnt = ["n_cli_steps", "n_cli_pdr", "n_pdr_stretch", "n_pdr", "n_mocap", "cadence_det_hz", "cadence_mocap_hz"]
     sums = held.groupby("motion")[["n_cli_steps", "n_cli_pdr", "n_pdr", "n_mocap"]].sum().reindex(order)
-    same = held.groupby("motion").apply(lambda g: int((g["n_cli_steps"] == g["n_cli_pdr"]).sum()), include_groups=False).reindex(order)
-    lines += [md(med(nd, cnt), "{:.2f}"), "", "sums (all 18 recordings): ", md(sums.assign(cli_steps_eq_cli_pdr=same), "{:.0f}"), ""]
+    read = held[held["n_cli_steps"] >= 0]
+    same = read.groupby("motion").apply(lambda g: int((g["n_cli_steps"] == g["n_cli_pdr"]).sum()), include_groups=False).reindex(order)
+    same2 = read.groupby("motion").apply(lambda g: int((g["n_cli_steps"] == g["n_pdr_stretch"]).sum()), include_groups=False).reindex(order)
+    lines += [
+        md(med(nd, cnt), "{:.2f}"),
+        "",
+        "sums (all 18 recordings; a command line refusing a recording counts -1): ",
+        md(
+            sums.assign(readable=read.groupby("motion").size().reindex(order), cli_steps_eq_cli_pdr=same, cli_steps_eq_study_stretch=same2),
+            "{:.0f}",
+        ),
+        "",
+        "refused by the command line: " + (", ".join(held.loc[held["n_cli_steps"] < 0, "file"]) or "none"),
+        "",
+    ]
     lines += [
         "### distance ratio = coverage x bias x extra, the library's eq. 12 line, NoDist medians: held out / in sample",
     ]
@@ -382,6 +431,28 @@ def main(argv: list[str] | None = None) -> int:
         ),
         "",
     ]
+    lines += [
+        "### the line's bias (its lengths / true lengths, steps with a true length) by the recording's walking speed, held out, "
+        "all recordings: median (recordings)"
+    ]
+    lines += [md(speed_bands(held, "lib_bias")), ""]
+    lines += ["correlation over the recordings of speed with the line's bias / with the true m per motion-capture step / with the cadence:"]
+    lines += [
+        "; ".join(
+            f"{m} {np.corrcoef(g['speed_ms'], g['lib_bias'])[0, 1]:.2f} / {np.corrcoef(g['speed_ms'], g['true_m_per_mocap_step'])[0, 1]:.2f}"
+            f" / {np.corrcoef(g['speed_ms'], g['f_med_hz'])[0, 1]:.2f}"
+            for m, g in ((m, held[held["motion"] == m]) for m in order)
+        ),
+        "",
+    ]
+    lines += ["### by disturbance (held out, medians over 9 recordings)"]
+    lines += [
+        md(
+            held.groupby(["motion", "disturbance"])[["speed_ms", "true_m_per_mocap_step", "f_med_hz", "lib_bias", "lib_ratio"]].median(),
+            "{:.3f}",
+        ),
+        "",
+    ]
     chk = held.groupby("motion")["eq12_ratio"].median().reindex(order) - held.groupby("motion")["lib_ratio"].median().reindex(order)
     lines += [f"check: this script's eq12 refit equals the library's line (largest median difference {np.nanmax(np.abs(chk)):.1e})", ""]
     coef = pd.DataFrame(
@@ -412,7 +483,7 @@ def main(argv: list[str] | None = None) -> int:
     lines += ["### candidates: range over the left-out people of their median (all recordings)", md(rng), ""]
     lines += ["### adoption rule (fixed before measuring; module docstring)", md(adoption(table)), ""]
     if args.plot:
-        lines += [f"plot: {_plot(steps, fits, Path(args.plot))}"]
+        lines += [f"plot: {_plot(steps, fits, held, Path(args.plot))}"]
     print("\n".join(lines))
     print(f"done in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
     return 0

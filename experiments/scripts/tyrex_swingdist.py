@@ -252,8 +252,8 @@ def adoption(table: pd.DataFrame) -> pd.DataFrame:
         p, p0 = per[f"{name}_ratio"].median(), per["eq12_ratio"].median()
         toward = int(np.sum(np.abs(p - 1) < np.abs(p0 - 1)))
         out[name] = {
-            **{f"{m} (NoDist median)": f"{r[m]:.2f}" for m in WALK_MOTIONS},
-            "Swinging per left-out person": " / ".join(f"{p[s]:.2f}" for s in p.index),
+            **{f"{m} (NoDist median)": f"{r[m]:.3f}" for m in WALK_MOTIONS},
+            "Swinging per left-out person": ", ".join(f"{s} {p[s]:.2f}" for s in p.index),
             "(1) Swinging 0.9-1.1": "yes" if c1 else "no",
             "(2) others in band or within 0.02 of eq12": "yes" if not bad else "no (" + ", ".join(bad) + ")",
             "(3) Swinging nearer 1 for >= 2 people": f"{'yes' if toward >= 2 else 'no'} ({toward})",

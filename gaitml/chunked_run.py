@@ -766,7 +766,7 @@ def long_pdr(
     from gaitml.pdr.step_length import step_length_features
     from gaitml.pdr.step_modes import modes_from_windows, next_step_times
     from gaitml.pdr.update import mode_offsets_rad
-    from gaitml.steps import get_detector
+    from gaitml.steps import get_detector, rate_record
     from gaitml.steps._table import gait_check_record
 
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
@@ -907,6 +907,7 @@ def long_pdr(
         model_modes=model_modes,
         model=model,
         step_reasons=step_reasons,
+        outside_fit=slm.outside_fit(feats, step_modes),
         info={
             "detector": detector,
             "heading": heading,
@@ -917,6 +918,7 @@ def long_pdr(
             "initial_heading_rad": float(initial_heading_rad),
             "gyro_bias": None if first_bias is None else _bias_summary(first_bias, still_bias, bias_parts, fs),
             "gait_check": gait,
+            "rate_check": rate_record(steps),  # the whole file's (each chunk carries the file's rates and rate changes)
             "notes": notes,
         },
     )

@@ -21,7 +21,9 @@ a few columns of the front end: ``event_s`` (the step's time, ``attrs['event']``
 of the step table) for steps; ``stance_end_s`` and ``swing_end_s`` for strides.
 ``attrs`` carry ``by``, ``detector`` and ``sampling_rate_hz``, and for steps from a detector
 that tests gait evidence (``adaptive``, :mod:`gaitml.steps._gait_evidence`) ``gait_check``: how
-many steps it left out in bouts without gait evidence.
+many steps it left out in bouts without gait evidence. Steps also carry ``rate_check`` in ``attrs``
+(:func:`gaitml.steps.rate_record`: was the recording made below the lowest rate the detector's count holds
+at?) and, when a step was, a ``rate_reason`` column (:func:`gaitml.steps.rate_flags`).
 
 >>> from gaitml.segment import segment
 >>> segment(recording, by="strides", detector="pseudo-std")   # doctest: +SKIP
@@ -35,6 +37,7 @@ import pandas as pd
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.recording import Recording
+from gaitml.steps._rate import rate_flags, rate_record
 from gaitml.steps._table import gait_check_record
 
 __all__ = ["BY", "SEGMENT_COLUMNS", "DEFAULT_DETECTORS", "segment", "resolve_detector"]
@@ -172,4 +175,9 @@ def segment(recording: Recording, by: str = "steps", detector=None, *, max_strid
     out.attrs.update({"by": by, "detector": name, "sampling_rate_hz": fs})
     if by == "steps" and steps.attrs.get("gait_check") is not None:  # steps left out in bouts without gait evidence
         out.attrs["gait_check"] = gait_check_record(steps.attrs["gait_check"])
+    if by == "steps" and steps.attrs.get("rate_check") is not None:  # recorded below the detector's rate floor
+        out.attrs["rate_check"] = rate_record(steps)
+        flagged, why = rate_flags(steps)
+        if flagged.any():
+            out["rate_reason"] = why
     return out

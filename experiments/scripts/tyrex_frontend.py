@@ -10,7 +10,8 @@ so a rerun only rescores). For every tyrex recording with motion capture
   not (``-nobias``, paper 003);
 - step length: ``default`` (the uncalibrated :class:`gaitml.pdr.step_length.StepLengthModel`),
   ``linear`` (paper 003 eq. 12, ``A + B f + C var``, fitted by least squares on the training
-  people's steps against the true body distance between consecutive steps), ``constant``
+  people's steps against the true body distance between consecutive steps,
+  :func:`gaitml.pdr.calibrate.true_step_lengths`), ``constant``
   (true body distance over steps found, training people);
 
 a forward-only trajectory is built from ``gaitml pdr``'s steps and headings and scored with
@@ -34,6 +35,7 @@ import numpy as np
 import pandas as pd
 
 from experiments.scripts.tyrex_pdr import MOTION_ORDER, load_tyrex, md
+from gaitml.pdr.calibrate import true_step_lengths  # the library's (moved there); re-exported for the lab
 
 __all__ = ["main", "step_tables", "true_step_lengths"]
 
@@ -50,20 +52,6 @@ OLD_DEFAULTS = ("single-peak", "hde-nobias", "default")
 LENGTHS = ("default", "linear", "constant")
 FEATURES = ("freq_hz", "var_ms2sq", "a_max_ms2", "a_min_ms2")
 SCORED_MOTIONS = tuple(m for m in MOTION_ORDER if m != "AR")
-#: Steps further apart than this (s) follow a pause: no true length is taken for them.
-MAX_STEP_INTERVAL_S = 1.5
-
-
-def true_step_lengths(t_step_s, true_t_s, body_xy) -> np.ndarray:
-    """Body path length walked between consecutive steps (m); NaN for the first step, after a pause or outside the capture."""
-    t = np.asarray(t_step_s, dtype=float)
-    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(body_xy, axis=0), axis=1))])
-    s = np.interp(t, true_t_s, cum, left=np.nan, right=np.nan)
-    out = np.full(len(t), np.nan)
-    if len(t) > 1:
-        out[1:] = np.diff(s)
-        out[1:][np.diff(t) > MAX_STEP_INTERVAL_S] = np.nan
-    return out
 
 
 def step_tables(item) -> list[dict]:

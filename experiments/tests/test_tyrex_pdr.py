@@ -32,14 +32,3 @@ def test_gyro_heading_about_gravity_turns_left_by_the_integrated_rate(up_axis):
     rec = Recording.from_arrays(acc, FS, gyr=gyr)
     psi = gyro_heading_about_gravity(rec)
     assert psi[-1] == pytest.approx(-1.0, abs=0.01)
-
-
-def test_true_step_lengths_follow_the_walker_and_skip_pauses():
-    from experiments.scripts.tyrex_frontend import true_step_lengths
-
-    t = np.arange(0, 20, 1 / 60)
-    body = np.column_stack([t * 1.0, np.zeros_like(t)])  # 1 m/s east
-    steps = np.array([1.0, 1.5, 2.0, 2.5, 5.0, 5.5, 25.0])
-    out = true_step_lengths(steps, t, body)
-    assert np.isnan(out[0]) and np.isnan(out[4]) and np.isnan(out[6])  # first, after a 2.5 s pause, outside the capture
-    np.testing.assert_allclose(out[[1, 2, 3, 5]], 0.5, atol=1e-9)

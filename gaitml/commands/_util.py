@@ -74,6 +74,17 @@ def read_kwargs(args) -> dict:
     }
 
 
+def rate_check_note(record: dict | None) -> str | None:
+    """One stderr warning line when the recording (or a stretch of it) was made below the step detector's rate floor
+    (:func:`gaitml.steps.rate_record`, :mod:`gaitml.steps._rate`); returns the line (None: nothing printed)."""
+    from gaitml.steps import rate_warning
+
+    line = rate_warning(record)
+    if line:
+        log(f"gaitml: warning: {line}")
+    return line
+
+
 def gait_check_note(account: dict | None, detector: str) -> None:
     """One stderr note when the step detector left out steps in bouts without gait evidence
     (``steps.attrs['gait_check']``, :func:`gaitml.steps._gait_evidence.gait_check`), or when it could not test them

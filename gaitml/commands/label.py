@@ -11,7 +11,7 @@ import argparse
 from pathlib import Path
 
 from gaitml.commands._args import add_input_options
-from gaitml.commands._util import emit_json, gait_check_note, load_input, log
+from gaitml.commands._util import emit_json, gait_check_note, load_input, log, rate_check_note
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 
@@ -101,6 +101,7 @@ def run(args) -> int:
         plot_label_report(lab, args.report)
     r = lab.report_
     gait_check_note(r.get("gait_check"), r["detector"])
+    rate_check_note(r.get("rate_check"))  # steps recorded below the detector's rate floor (gaitml.steps._rate)
     if args.json:
         emit_json(
             {"out": str(out), "step_labels": str(side), "report_png": args.report, "intervals": lab.intervals_.to_dict("records"), **r}
@@ -120,6 +121,12 @@ def run(args) -> int:
         lines.append(f"  boundary at {t:.3f} s kept as written: {status}")
     lines.append("  samples per label: " + ", ".join(f"{k} {v}" for k, v in r["labels"].items()))
     lines.append(f"  {r['n_steps']} {unit} labelled ({r['n_mixed_steps']} span a boundary: label_fraction < 1)")
+    rate = r.get("rate_check")
+    if rate and rate["n_steps_below"]:
+        lines.append(
+            f"  {rate['n_steps_below']} steps recorded below the {rate['floor_hz']:g} Hz down to which {rate['detector']}'s "
+            f"step count holds (rate_reason in {side.name})"
+        )
     if rec.labels is not None:
         lines.append("  note: the input's own labels were replaced by the intervals'")
     lines.append(f"  written: {out}, {side}" + (f", {args.report}" if args.report else ""))

@@ -24,7 +24,7 @@ from gaitml.commands._args import (
     mode_sources,
     step_detectors,
 )
-from gaitml.commands._util import emit_json, gait_check_note, is_large_input, load_input, log, long_read_kwargs
+from gaitml.commands._util import emit_json, gait_check_note, is_large_input, load_input, log, long_read_kwargs, rate_check_note
 from gaitml.commands.predict import add_run_cadence_option, run_cadence_arg
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
@@ -230,7 +230,9 @@ def run(args) -> int:
     for note in notes:
         log(f"note: {note}")
     gait_check_note(res.info.get("gait_check"), detector)
+    rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
     _warn_out_of_domain(model, modes, res.steps)
+    _warn_outside_fit(res)
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
     from gaitml.steps.crosscheck import count_warning
@@ -311,7 +313,9 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
     for note in notes:
         log(f"note: {note}")
     gait_check_note(res.info.get("gait_check"), detector)
+    rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
     _warn_out_of_domain(model, modes, res.steps)
+    _warn_outside_fit(res)
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:
         log(f"gaitml: warning: {count_msg}")
@@ -351,8 +355,9 @@ def _load_truth(args, rec):
     if not spec:
         return None
     from gaitml.io.truth import read_truth, truth_of_recording, tyrex_truth
+    from gaitml.io.tyrex import is_tyrex_truth_file
 
-    if rec.meta.get("format") == "tyrex" and (spec == "self" or _is_qualisys(spec)):
+    if rec.meta.get("format") == "tyrex" and (spec == "self" or is_tyrex_truth_file(spec)):
         from gaitml.evaluation.trajectory import BODY_CUTOFF_HZ, body_track
 
         note = f"the phone's path low-passed at {BODY_CUTOFF_HZ:g} Hz to follow the walker (arm swing removed)"
@@ -363,17 +368,6 @@ def _load_truth(args, rec):
     if same and rec.reference.get("landmarks") is not None:
         return truth_of_recording(rec)
     return read_truth(spec, t0_original_s=float(rec.meta.get("t0_original_s", 0.0)))
-
-
-def _is_qualisys(spec: str) -> bool:
-    """Whether a truth file is a tyrex motion-capture CSV (its header has the rotation columns)."""
-    from gaitml.io._common import head_lines
-
-    try:
-        lines = [ln for ln in head_lines(Path(spec), 3) if not ln.startswith("#")]
-    except Exception:  # noqa: BLE001 - the reader reports unreadable files itself
-        return False
-    return bool(lines) and "rot0" in lines[0]
 
 
 def _score(args, rec, res, truth) -> dict:
@@ -436,6 +430,20 @@ def _truth_lines(truth, scored) -> list[str]:
     return lines
 
 
+def _warn_outside_fit(res) -> None:
+    """One warning line when steps lie outside the inputs a calibrated step-length model was fitted on."""
+    n_out = res.info.get("step_length_outside_fit")
+    if not n_out:
+        return
+    per_mode = res.steps.loc[res.steps["step_length_outside_fit"].astype(bool), "mode"].astype(str).value_counts()
+    which = ", ".join(f"{n} {m}" for m, n in per_mode.items())
+    log(
+        f"gaitml: warning: {n_out} of {res.n_steps} steps ({which}) lie outside the cadence / acceleration the step-length model "
+        "was calibrated on: their lengths are extrapolated; calibrate on recordings like this one (runs as --mode run with "
+        "--model, or as --mode walk for forward-only dead reckoning)"
+    )
+
+
 def _warn_out_of_domain(model, modes: str, steps) -> None:
     """One warning line when model modes were used and steps lie outside the model's training domain."""
     if model is None or modes != "model":
@@ -484,6 +492,16 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         )
     if res.info.get("gyro_bias"):
         lines.append(f"  {res.info['gyro_bias']['note']}")
+    rate = res.info.get("rate_check")
+    if rate and rate["n_steps_below"]:
+        lines.append(
+            f"  steps recorded below the {rate['floor_hz']:g} Hz down to which {rate['detector']}'s step count holds: "
+            f"{rate['n_steps_below']} of {rate['n_steps']}"
+        )
+    if res.info.get("step_length_outside_fit"):
+        lines.append(
+            f"  step lengths extrapolated (outside the calibration's inputs): {res.info['step_length_outside_fit']} of {res.n_steps} steps"
+        )
     lines.extend(_reference_lines(res, truth))
     lines.extend(extra_lines)
     if args.out:

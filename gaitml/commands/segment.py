@@ -12,7 +12,7 @@ import argparse
 import math
 
 from gaitml.commands._args import add_input_options
-from gaitml.commands._util import emit_json, gait_check_note, load_input, log
+from gaitml.commands._util import emit_json, gait_check_note, load_input, log, rate_check_note
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 
 #: The command's one-line description in ``gaitml --help``.
@@ -62,6 +62,9 @@ def run(args) -> int:
     name = table.attrs["detector"]
     gait = table.attrs.get("gait_check")
     gait_check_note(gait, name)
+    rate = table.attrs.get("rate_check")  # steps recorded below the detector's rate floor (gaitml.steps._rate)
+    rate_check_note(rate)
+    flagged = "rate_reason" in table.columns
     if args.json:
         emit_json(
             {
@@ -71,10 +74,19 @@ def run(args) -> int:
                 "n_segments": int(len(table)),
                 "out": str(args.out),
                 "segments": [
-                    {"start_s": float(a), "end_s": float(b), "duration_s": float(d), "confidence": _num(c)}
-                    for a, b, d, c in zip(table["start_s"], table["end_s"], table["duration_s"], table["confidence"], strict=True)
+                    {
+                        "start_s": float(a),
+                        "end_s": float(b),
+                        "duration_s": float(d),
+                        "confidence": _num(c),
+                        **({"rate_reason": str(table["rate_reason"].iloc[i]) or None} if flagged else {}),
+                    }
+                    for i, (a, b, d, c) in enumerate(
+                        zip(table["start_s"], table["end_s"], table["duration_s"], table["confidence"], strict=True)
+                    )
                 ],
                 **({"gait_check": gait} if gait is not None else {}),
+                **({"rate_check": rate} if args.by == "steps" else {}),
             }
         )
         return 0
@@ -83,6 +95,10 @@ def run(args) -> int:
     line = f"{rec.name}: {len(table)} {what} ({name})"
     if len(table):
         line += f", duration median {dur.median():.3f} s (min {dur.min():.3f}, max {dur.max():.3f})"
+    if flagged:
+        line += (
+            f"; {rate['n_steps_below']} recorded below the {rate['floor_hz']:g} Hz down to which {name}'s step count holds (rate_reason)"
+        )
     print(line)
     log(f"wrote {len(table)} segments to {args.out}")
     return 0

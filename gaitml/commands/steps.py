@@ -15,6 +15,13 @@ confident, K unsure", the JSON keys ``n_confident``, ``n_unsure``,
 steps are unsure ("no confident gait found" when none is confident). Nothing is
 dropped; the written step table gets a ``confident`` column. A long input read in
 chunks gets the same verdict: it reads only the global step table.
+
+A recording made below the lowest rate the detector's count holds at (its rate floor,
+:mod:`gaitml.steps._rate`; the rate read before any up-sampling) is counted as always and
+flagged: one stderr warning line naming the rate, the floor and the fix, ``rate_check`` in the
+JSON (with ``rate_reason`` per step when a step is flagged), a ``rate_reason`` column in the
+written table and a summary line. A stretch recorded below it (``meta['rate_changes']``) flags
+the steps in it.
 """
 
 from __future__ import annotations
@@ -24,7 +31,7 @@ import argparse
 import numpy as np
 
 from gaitml.commands._args import add_input_options, choices, step_detectors
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs, rate_check_note
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 
 #: The stderr note of a recording in which the detector found no step.
@@ -145,8 +152,40 @@ def _unsure_note(sure: dict, duration_s: float | None = None, period_s: float | 
 
 
 def _with_confident(steps, confident):
-    """The step table to write: with a ``confident`` column where the detector's steps got a verdict."""
-    return steps if confident is None else steps.assign(confident=np.asarray(confident, dtype=bool))
+    """The step table to write: with a ``confident`` column where the detector's steps got a verdict, and a
+    ``rate_reason`` column when a step was recorded below the detector's rate floor (:func:`gaitml.steps.rate_flags`)."""
+    from gaitml.steps import rate_flags
+
+    out = steps if confident is None else steps.assign(confident=np.asarray(confident, dtype=bool))
+    flagged, why = rate_flags(steps)
+    return out.assign(rate_reason=why) if flagged.any() else out
+
+
+def _rate_notes(steps) -> tuple[dict | None, str | None]:
+    """The rate check of the step table (:func:`gaitml.steps.rate_record`), its one stderr line, and the summary line
+    (None when no step was recorded below the detector's rate floor)."""
+    from gaitml.steps import rate_record
+
+    rate = rate_record(steps)
+    if rate_check_note(rate) is None:
+        return rate, None
+    if rate["below"]:
+        return rate, f"  rate: {rate['reason'][len('rate: ') :]}; every step flagged (rate_reason)"
+    return rate, (
+        f"  rate: {rate['n_steps_below']} of {rate['n_steps']} steps in stretches recorded below the {rate['floor_hz']:g} Hz "
+        f"down to which {rate['detector']}'s step count holds (rate_reason)"
+    )
+
+
+def _json_rate(obj: dict, steps, rate: dict | None) -> None:
+    """Add ``rate_check`` and, when a step is flagged, each step's ``rate_reason`` to the JSON object."""
+    from gaitml.steps import rate_flags
+
+    obj["rate_check"] = rate
+    flagged, why = rate_flags(steps)
+    if flagged.any():
+        for step, r in zip(obj["steps"], why, strict=True):
+            step["rate_reason"] = str(r) or None
 
 
 def _notes(steps, checked: dict | None, duration_s: float | None = None) -> tuple[str | None, dict | None, np.ndarray | None]:
@@ -202,6 +241,7 @@ def run(args) -> int:
             steps = gait_check_recording(steps, rec)
     checked = steps.attrs.get("gait_check") if gait else None
     gait_line, sure, confident = _notes(steps, checked, rec.duration_s)
+    rate, rate_line = _rate_notes(steps)
     if args.out:
         write_csv(args.out, _with_confident(steps, confident))
     ev = _evaluation(rec, steps)
@@ -219,6 +259,7 @@ def run(args) -> int:
         if warning:
             obj["warnings"] = [warning]
         _json_verdicts(obj, checked, sure, confident)
+        _json_rate(obj, steps, rate)
         cadence = _json_cadence(getattr(det, "cadence_", None))
         if cadence is not None:
             obj["cadence"] = cadence
@@ -251,6 +292,8 @@ def run(args) -> int:
             lines.append(f"  rate: {rate}")
     if gait_line:
         lines.append(f"  gait check: {gait_line}")
+    if rate_line:
+        lines.append(rate_line)
     if ev is not None:
         s = f"  reference: {ev['n_true']} steps, count accuracy {100 * ev['count_accuracy']:.2f} %"
         if "f1" in ev:
@@ -287,6 +330,7 @@ def _run_long(args) -> int:
     checked = steps.attrs.get("gait_check") if gait else None
     # the verdict reads only the global step table (times and periods), so it is the whole file's
     gait_line, sure, confident = _notes(steps, checked)
+    rate, rate_line = _rate_notes(steps)
     fs = float(steps.attrs.get("sampling_rate_hz", 0.0))
     if args.out:
         write_csv(args.out, _with_confident(steps, confident))
@@ -305,6 +349,7 @@ def _run_long(args) -> int:
         if warning:
             obj["warnings"] = [warning]
         _json_verdicts(obj, checked, sure, confident)
+        _json_rate(obj, steps, rate)
         cad = steps.attrs.get("cadence")
         cadence = _json_cadence(None if cad is None else pd.DataFrame(cad))
         if cadence is not None:
@@ -320,6 +365,8 @@ def _run_long(args) -> int:
         print(_confidence_line(sure, len(steps)))
     if gait_line:
         print(f"  gait check: {gait_line}")
+    if rate_line:
+        print(rate_line)
     if args.out:
         print(f"  step table written to {args.out}")
     if not len(steps):

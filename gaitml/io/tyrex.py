@@ -79,6 +79,7 @@ __all__ = [
     "read_tyrex",
     "read_tyrex_truth",
     "tyrex_truth_path",
+    "is_tyrex_truth_file",
     "tyrex_sensor_gaps",
     "body_rates",
     "estimate_mount_rotation",
@@ -350,6 +351,15 @@ def tyrex_truth_path(folder: str | os.PathLike) -> Path | None:
         if f.name.lower() in (f"{want}.csv.gz", f"{want}.csv"):
             return f
     return None
+
+
+def is_tyrex_truth_file(path: str | os.PathLike) -> bool:
+    """Whether a file is a tyrex motion-capture CSV (its header has the rotation columns ``rot0..rot8``)."""
+    try:
+        lines = [ln for ln in head_lines(Path(path), 3) if not ln.startswith("#")]
+    except Exception:  # noqa: BLE001 - the reader reports unreadable files itself
+        return False
+    return bool(lines) and "rot0" in lines[0]
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

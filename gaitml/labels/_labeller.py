@@ -14,6 +14,7 @@ from gaitml.errors import InputError
 from gaitml.labels._evidence import change_at, step_character
 from gaitml.labels._intervals import check_intervals, read_intervals
 from gaitml.recording import Recording
+from gaitml.steps._rate import rate_flags, rate_record
 from gaitml.steps._table import gait_check_record
 
 __all__ = ["BOUNDARY_KINDS", "SNAP_MODES", "SNAP_RULES", "UNLABELLED", "IntervalLabeller", "label_recording"]
@@ -143,7 +144,8 @@ class IntervalLabeller(BaseAlgorithm):
         One row per detected step (or stride): ``t_s`` (the step event / stride
         start), ``span_start_s``, ``span_end_s`` (the samples the step covers,
         ``[start, end)``), ``label`` (the majority label of those samples) and
-        ``label_fraction`` (its share; 1 when a step lies inside one interval).
+        ``label_fraction`` (its share; 1 when a step lies inside one interval); ``rate_reason`` when a step was
+        recorded below the step detector's rate floor (:func:`gaitml.steps.rate_flags`; the column is there only then).
     report_ : dict
         Counts for a summary: ``n_intervals``, ``n_boundaries``, ``n_snapped``,
         ``not_snapped`` (list of ``[t_s, status]``), ``mean_abs_shift_s``,
@@ -152,7 +154,8 @@ class IntervalLabeller(BaseAlgorithm):
         ``max_snap_s``, ``boundary``, ``noise_s``, ``rule``, and ``gait_check``: the step
         detector's gait-evidence account (steps left out in bouts without gait evidence,
         :func:`gaitml.steps._gait_evidence.gait_check`; None for strides and for a detector
-        that ran no such test).
+        that ran no such test), ``rate_check``: the step detector's rate check (:func:`gaitml.steps.rate_record`: was
+        the recording made below the lowest rate its count holds at? None for strides).
     """
 
     _action_method = "label"
@@ -289,6 +292,9 @@ class IntervalLabeller(BaseAlgorithm):
             {"t_s": b_t, "snapped_t_s": new_k / fs, "shift_s": np.where(status == "snapped", shift, 0.0), "status": status}
         )
         self.steps_ = self._unit_table(units, span_s, span_e, labels, fs)
+        flagged, why = rate_flags(units) if self.snap != "strides" else (np.zeros(0, dtype=bool), None)
+        if flagged.any() and len(flagged) == len(self.steps_):
+            self.steps_["rate_reason"] = why
         self.recording_ = rec.replace(
             labels=labels, meta={**rec.meta, "labelled_from": iv.attrs.get("source", "intervals"), "label_snap": self.snap}
         )
@@ -312,6 +318,7 @@ class IntervalLabeller(BaseAlgorithm):
             "n_mixed_steps": int((self.steps_["label_fraction"] < 1.0).sum()) if len(self.steps_) else 0,
             "labels": {str(k): int(v) for k, v in zip(*np.unique(labels, return_counts=True), strict=True)},
             "gait_check": gait_check_record(units.attrs.get("gait_check")) if self.snap != "strides" else None,
+            "rate_check": rate_record(units) if self.snap != "strides" else None,
         }
         return self
 

@@ -27,9 +27,12 @@ each accelerometer axis to +-``range_ms2`` before the features. A reader of vers
 read a version 3 export (it would compute the features of a wide-range phone unclipped). A
 model without a range is exported as version 2, exactly as before.
 
-The still gate's ``statistic`` ``"std_lp"`` (the standard deviation of |acc| after a low-pass,
-``lowpass_hz``) is stated under the same versions: a reader that knows only ``"std"`` and
-``"range"`` must refuse any other ``statistic``.
+``format_version`` 4 is written for every model: it adds ``postprocess.run_cadence`` (a rule
+``gaitml predict`` applies by default) and the still gate's ``statistic`` ``"std_lp"`` (the
+standard deviation of |acc| after a low-pass, ``lowpass_hz``). A reader of versions 2 or 3 must not
+read a version 4 export: it would leave out the run-cadence rule and misread the still gate. In
+version 4 the ``acc_range`` entry is optional: present (and to be applied) exactly when the model has
+an accelerometer range.
 """
 
 from __future__ import annotations
@@ -45,10 +48,11 @@ from gaitml.errors import ModelError
 __all__ = ["export_json", "export_onnx", "input_spec", "PORTABLE_FORMAT", "PORTABLE_FORMAT_VERSION", "PORTABLE_RANGE_FORMAT_VERSION"]
 
 PORTABLE_FORMAT = "gaitml-portable-model"
-#: Version of the portable layout of a model without an accelerometer range (see the module docstring for what changed in 2).
-PORTABLE_FORMAT_VERSION = 2
-#: Version of the portable layout of a model with an accelerometer range (its ``acc_range`` entry, new in 3).
-PORTABLE_RANGE_FORMAT_VERSION = 3
+#: Version of the portable layout (see the module docstring for what changed in 2, 3 and 4).
+PORTABLE_FORMAT_VERSION = 4
+#: Version of the portable layout of a model with an accelerometer range (its ``acc_range`` entry, new in 3;
+#: from version 4 on the same version as a model without one, the entry being optional).
+PORTABLE_RANGE_FORMAT_VERSION = 4
 ONNX_HINT = "install the optional extra: pip install 'gaitml[onnx]'"
 
 _VOTING = {

@@ -7,6 +7,7 @@ import pandas as pd
 
 from gaitml.errors import InputError
 from gaitml.recording import Recording
+from gaitml.recording.timestamps import recorded_rate_hz  # the rate check's reading of a recording's rate (shared with the step detectors)
 
 __all__ = [
     "predict_recording",
@@ -845,23 +846,6 @@ def rate_check(model, recorded_hz: float | None) -> dict | None:
         "tolerance": RATE_TOLERANCE,
         "below": bool(reason),
     }
-
-
-def recorded_rate_hz(rate_hz: float, meta: dict | None) -> float:
-    """The rate a recording was made at (Hz): the lowest of its rate ``rate_hz`` and the rates its reader
-    or a caller resampled it from (``meta['original_rate_hz']``, the rate its timestamps were judged at;
-    ``meta['resampled_from_hz']``). A recording brought up to a higher rate holds no more of the signal
-    than it was recorded with, so the rate check reads the rate before any up-sampling."""
-    rates = [float(rate_hz)]
-    for k in ("original_rate_hz", "resampled_from_hz"):
-        v = (meta or {}).get(k)
-        try:
-            v = float(v)
-        except (TypeError, ValueError):
-            continue
-        if np.isfinite(v) and v > 0:
-            rates.append(v)
-    return min(rates)
 
 
 def apply_rate_check(out: pd.DataFrame, model, recorded_hz: float | None, rate_changes=None) -> pd.DataFrame:

@@ -8,12 +8,13 @@
 - :mod:`~gaitml.pdr.update`: multi-state and forward-only position updates.
 - :mod:`~gaitml.pdr.step_modes`: per-step modes from window predictions, mode-boundary refinement.
 - :mod:`~gaitml.pdr.pipeline`: :func:`run_pdr`, recording -> trajectory.
-- :mod:`~gaitml.pdr.calibrate`: per-subject step length / DW-PCA calibration.
+- :mod:`~gaitml.pdr.calibrate`: per-subject step length / DW-PCA calibration (from true steps, a truth
+  trajectory such as motion capture, or a known distance).
 - :mod:`~gaitml.pdr.plot`; the simulated-route report is ``python -m experiments.scripts.pdr_report`` (source checkout).
 """
 
 from gaitml.pdr.attitude import AttitudeEstimator, compass_heading, initial_attitude, integrate_gyro, step_headings, wrap_angle
-from gaitml.pdr.calibrate import Calibration, calibrate_from_reference, calibrate_walk_distance
+from gaitml.pdr.calibrate import Calibration, calibrate_from_reference, calibrate_from_truth, calibrate_walk_distance
 from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading, dwpca_check_and_average, pca_step_directions
 from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate, hde_correct, hde_heading
 from gaitml.pdr.heading import BaseHeadingSource, GyroHeading
@@ -37,6 +38,7 @@ __all__ = [
     "PdrResult",
     "StepLengthModel",
     "calibrate_from_reference",
+    "calibrate_from_truth",
     "calibrate_walk_distance",
     "compass_heading",
     "dead_reckon",

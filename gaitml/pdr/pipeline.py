@@ -43,6 +43,7 @@ from gaitml.pdr.step_modes import (
 )
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
 from gaitml.recording import Recording
+from gaitml.steps._rate import rate_record
 from gaitml.steps._table import gait_check_record
 
 __all__ = ["HEADING_SOURCES", "MODE_SOURCES", "PdrResult", "modes_from_labels", "modes_from_windows", "run_pdr"]
@@ -97,7 +98,11 @@ class PdrResult:
         domain record), and ``foot_mounted_steps`` (steps whose window rests between fast swings as a
         foot-mounted sensor does, :mod:`gaitml.models._placement`) when that rule ran (a model with a domain
         record and no foot in its training positions); without a model they are absent. ``gait_check``: the step detector's
-        gait-evidence account (steps left out in bouts without gait evidence), when it ran.
+        gait-evidence account (steps left out in bouts without gait evidence), when it ran. ``rate_check``: the step
+        table's rate check (:func:`gaitml.steps.rate_record`: was the recording made below the lowest rate the step
+        detector's count holds at?), null for a step table without one (steps given by the caller).
+        ``step_length_outside_fit``: with a calibrated step-length model that records its fitted inputs, how many
+        steps lie outside them (their lengths extrapolated; :meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`).
         """
         traj = self.trajectory
         rows = [
@@ -126,6 +131,9 @@ class PdrResult:
             out["gyro_bias"] = self.info["gyro_bias"]
         if self.info.get("gait_check") is not None:
             out["gait_check"] = self.info["gait_check"]
+        out["rate_check"] = self.info.get("rate_check")
+        if self.info.get("step_length_outside_fit") is not None:
+            out["step_length_outside_fit"] = int(self.info["step_length_outside_fit"])
         return out
 
 
@@ -333,7 +341,8 @@ def run_pdr(
     -------
     PdrResult, with ``info['gait_check']`` the step table's gait-evidence account (the default
     ``adaptive`` detector leaves out bouts of steps without gait evidence,
-    :mod:`gaitml.steps._gait_evidence`; None when the detector ran no such test).
+    :mod:`gaitml.steps._gait_evidence`; None when the detector ran no such test) and
+    ``info['rate_check']`` its rate check (:func:`gaitml.steps.rate_record`; None for given steps without one).
     """
     if not isinstance(recording, Recording):
         raise InputError(f"`recording` must be a gaitml Recording, got {type(recording).__name__}.")
@@ -364,6 +373,7 @@ def run_pdr(
     steps = steps.reset_index(drop=True).copy()
     steps.attrs["event"] = event
     gait = gait_check_record(steps.attrs.get("gait_check"))  # before the tables are joined (attrs do not survive)
+    rate = rate_record(steps)  # the step detector's rate check (gaitml.steps._rate)
     t_step = steps[event].to_numpy(float)
     start = steps["start"].to_numpy(np.int64)
     end = steps["end"].to_numpy(np.int64)
@@ -422,6 +432,7 @@ def run_pdr(
     else:
         lengths = slm.predict(feats, step_modes)
     lengths = np.where(np.isfinite(lengths), lengths, 0.0)
+    outside_fit = None if slm is None else slm.outside_fit(feats, step_modes)
 
     # ---- heading
     heading_steps = steps.assign(mode=step_modes, mode_offset_rad=offsets if update == "multi" else np.zeros(n))
@@ -449,6 +460,7 @@ def run_pdr(
         model_modes=model_modes,
         model=model,
         step_reasons=step_reasons,
+        outside_fit=outside_fit,
         info={
             "detector": det_name,
             "heading": heading if isinstance(heading, str) else source.name or type(source).__name__,
@@ -459,6 +471,7 @@ def run_pdr(
             "initial_heading_rad": float(initial_heading_rad),
             "gyro_bias": _bias_record(source),
             "gait_check": gait,
+            "rate_check": rate,
             "notes": notes,
         },
     )
@@ -487,6 +500,7 @@ def assemble_result(
     model,
     info: dict,
     step_reasons=None,
+    outside_fit=None,
 ) -> PdrResult:
     """The positions (multi-state update, paper 003 eq. 11, or forward-only, eq. 10) and the
     :class:`PdrResult` of per-step modes, lengths and headings; shared by :func:`run_pdr` and the
@@ -494,7 +508,10 @@ def assemble_result(
     tables and summary. ``step_reasons``: the ``out_of_domain_reason`` of each step (None: not known);
     the step table gets the column (with ``in_domain``: a step whose ``in_domain`` is None, e.g. every step
     of a model without a domain record, has the reason None, unknown, not the empty reason of a step in domain) and ``info`` the count ``foot_mounted_steps`` of
-    :data:`gaitml.models._placement.FOOT_REASON` when the foot-placement rule ran for ``model``."""
+    :data:`gaitml.models._placement.FOOT_REASON` when the foot-placement rule ran for ``model``. ``outside_fit``:
+    per step, whether its step-length inputs lie outside what a calibrated step-length model was fitted on
+    (:meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`; None: no calibration record), kept as the step
+    table's ``step_length_outside_fit`` and counted in ``info['step_length_outside_fit']``."""
     step_modes = np.asarray(step_modes).astype(str)
     if update == "multi":
         xy = multi_state_update(lengths, theta, step_modes, start_xy_m=start_xy_m, unknown="forward")
@@ -538,6 +555,9 @@ def assemble_result(
         )
     )
     info = {**info, "out_of_domain_steps": n_ood, "side_direction_unsure_steps": n_unsure}
+    if outside_fit is not None:
+        steps["step_length_outside_fit"] = np.asarray(outside_fit, dtype=bool)
+        info["step_length_outside_fit"] = int(np.sum(outside_fit))
     if step_reasons is not None and step_in_domain is not None:
         from gaitml.models._placement import FOOT_REASON
         from gaitml.models._predict import foot_rule_applies

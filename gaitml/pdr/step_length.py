@@ -60,6 +60,12 @@ DEFAULT_WEINBERG_K = 0.55
 #: Modes that use the Weinberg model (paper 003 sec. 4.1).
 WEINBERG_MODES = ("run",)
 FEATURE_COLUMNS = ("freq_hz", "var_ms2sq", "a_max_ms2", "a_min_ms2")
+#: A calibration records, per mode, the band of its inputs between these percentiles of the fitted steps
+#: (eq. 12: cadence and variance; eq. 13: the magnitude range) ...
+FIT_RANGE_PERCENTILES = (2.5, 97.5)
+#: ... and a step whose input lies beyond the band by more than this fraction of its width is outside the
+#: fit (its length is extrapolated: said by ``gaitml pdr``). Stated, not from the paper.
+FIT_RANGE_MARGIN = 0.25
 
 
 def linear_step_length(freq_hz, var_ms2sq, a: float, b: float, c: float) -> np.ndarray:
@@ -126,6 +132,8 @@ class StepLengthModel(BaseAlgorithm):
     ----------
     coefficients_ : dict mode -> (kind, params) in use.
     fitted_modes_ : list of modes whose coefficients were fitted or calibrated.
+    calibration_ : dict, optional; how a calibration from truth fitted them (steps per mode, residuals;
+        :func:`gaitml.pdr.calibrate.fit_step_lengths`), saved with the model.
 
     References
     ----------
@@ -242,12 +250,41 @@ class StepLengthModel(BaseAlgorithm):
                 out[sel] = linear_step_length(f["freq_hz"], f["var_ms2sq"], *p)
         return np.clip(out, 0.0, None)
 
+    def outside_fit(self, features: pd.DataFrame, modes) -> np.ndarray | None:
+        """Which steps lie outside the inputs the model was calibrated on (shape (n,)); None without a record.
+
+        A calibration from truth (:func:`gaitml.pdr.calibrate.fit_step_lengths`) keeps, per mode, the band of
+        its inputs (:data:`FIT_RANGE_PERCENTILES`: cadence and variance for eq. 12, the magnitude range for
+        eq. 13); a step of a mode with a band is outside when an input lies beyond it by more than
+        :data:`FIT_RANGE_MARGIN` of its width (e.g. running steps given the walk line, forward-only).
+        """
+        record = getattr(self, "calibration_", None) or {}
+        bands = {m: d.get("fitted_range") for m, d in (record.get("modes") or {}).items() if isinstance(d, dict) and d.get("fitted_range")}
+        if not bands:
+            return None
+        feats = _check_features(features)
+        modes = np.asarray(modes).astype(str).reshape(-1)
+        values = {
+            "freq_hz": feats["freq_hz"].to_numpy(float),
+            "var_ms2sq": feats["var_ms2sq"].to_numpy(float),
+            "range_ms2": (feats["a_max_ms2"] - feats["a_min_ms2"]).to_numpy(float),
+        }
+        out = np.zeros(len(feats), dtype=bool)
+        for m, band in bands.items():
+            sel = modes == m
+            for name, (lo, hi) in band.items():
+                pad = FIT_RANGE_MARGIN * (hi - lo)
+                x = values[name][sel]
+                out[sel] |= (x < lo - pad) | (x > hi + pad)
+        return out
+
     # ------------------------------------------------------------ persistence
     def to_dict(self) -> dict:
         return {
             "format": "gaitml-step-length-v1",
             "coefficients": {m: {"kind": k, "params": list(p)} for m, (k, p) in self.coefficients_in_use().items()},
             "fitted_modes": list(getattr(self, "fitted_modes_", [])),
+            **({"calibration": self.calibration_} if getattr(self, "calibration_", None) else {}),
         }
 
     @classmethod
@@ -259,6 +296,8 @@ class StepLengthModel(BaseAlgorithm):
         model = cls({m: (c["kind"], tuple(c["params"])) for m, c in d["coefficients"].items()})
         model.coefficients_ = model._configured()
         model.fitted_modes_ = list(d.get("fitted_modes", []))
+        if isinstance(d.get("calibration"), dict):
+            model.calibration_ = d["calibration"]
         return model
 
     def save(self, path) -> Path:

@@ -21,6 +21,7 @@ from gaitml.recording.timestamps import (
     check_rate,
     check_timed_samples,
     max_bridge_s,
+    recorded_rate_hz,
     split_points,
 )
 from gaitml.recording.units import check_acc_unit, check_gyr_unit, check_units, convert_units, note_conversions
@@ -32,6 +33,7 @@ __all__ = [
     "check_range",
     "check_rate",
     "max_bridge_s",
+    "recorded_rate_hz",
     "resample_uniform",
     "split_points",
     "MIN_RATE_HZ",

@@ -22,6 +22,7 @@ __all__ = [
     "judge_rate",
     "judge_timestamps",
     "local_rates",
+    "recorded_rate_hz",
     "max_bridge_s",
     "split_points",
     "MIN_RATE_HZ",
@@ -432,3 +433,21 @@ def judge_timestamps(
         meta["rate_changes"] = judged["rate_changes"]
         warnings.append(rate_change_warning(judged["rate_changes"], original_rate, fs))
     return {"fs": fs, "resampled": resampled, "max_rate_hz": judged["max_rate_hz"], "meta": meta, "warnings": warnings}
+
+
+def recorded_rate_hz(rate_hz: float, meta: dict | None) -> float:
+    """The rate a recording was made at (Hz): the lowest of its rate ``rate_hz`` and the rates its reader
+    or a caller resampled it from (``meta['original_rate_hz']``, the rate its timestamps were judged at;
+    ``meta['resampled_from_hz']``). A recording brought up to a higher rate holds no more of the signal
+    than it was recorded with, so a rate check (a model's, :func:`gaitml.models.rate_reason`; a step detector's,
+    :func:`gaitml.steps.rate_check`) reads the rate before any up-sampling."""
+    rates = [float(rate_hz)]
+    for k in ("original_rate_hz", "resampled_from_hz"):
+        v = (meta or {}).get(k)
+        try:
+            v = float(v)
+        except (TypeError, ValueError):
+            continue
+        if np.isfinite(v) and v > 0:
+            rates.append(v)
+    return min(rates)

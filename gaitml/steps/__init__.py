@@ -2,11 +2,14 @@
 
 ``DETECTORS`` maps the CLI names of DESIGN sec. 5 to classes; every class takes
 its parameters in ``__init__`` and has ``detect(recording) -> self`` leaving the
-DESIGN step table in ``steps_``.
+DESIGN step table in ``steps_``. Each class declares ``rate_floor_hz``, the lowest
+recording rate its count holds at; ``steps_.attrs['rate_check']`` says whether the
+recording was made below it (:mod:`gaitml.steps._rate`, :func:`rate_floors`).
 """
 
 from gaitml.steps._base import BaseStepDetector
-from gaitml.steps._registry import DETECTORS, detect_steps, detector_names, get_detector
+from gaitml.steps._rate import RATE_TOLERANCE, rate_check, rate_flags, rate_reason, rate_record, rate_warning
+from gaitml.steps._registry import DETECTORS, detect_steps, detector_names, get_detector, rate_floors
 from gaitml.steps._table import empty_step_table, make_step_table
 from gaitml.steps._unsure import CONFIDENT_BOUT_STEPS, CONFIDENT_WINDOW_S, confident_steps, gait_confidence
 from gaitml.steps.adaptive import AdaptiveStepDetector
@@ -21,6 +24,7 @@ __all__ = [
     "CONFIDENT_BOUT_STEPS",
     "CONFIDENT_WINDOW_S",
     "DETECTORS",
+    "RATE_TOLERANCE",
     "ADFSMStepDetector",
     "AdaptiveStepDetector",
     "AutocorrStepDetector",
@@ -37,4 +41,10 @@ __all__ = [
     "gait_confidence",
     "get_detector",
     "make_step_table",
+    "rate_check",
+    "rate_flags",
+    "rate_floors",
+    "rate_reason",
+    "rate_record",
+    "rate_warning",
 ]

@@ -10,6 +10,7 @@ an empty grid (the paper detectors) is scored as it is.
 
 from __future__ import annotations
 
+import functools
 import itertools
 from collections.abc import Callable, Sequence
 from typing import ClassVar
@@ -20,6 +21,8 @@ from sklearn.base import clone
 
 from gaitml._base import BaseAlgorithm
 from gaitml.errors import InputError
+from gaitml.recording import Recording, recorded_rate_hz
+from gaitml.steps._rate import rate_check
 
 __all__ = ["BaseStepDetector", "count_accuracy"]
 
@@ -31,15 +34,49 @@ def count_accuracy(n_detected: float, n_true: float) -> float:
     return 1.0 - abs(float(n_detected) - float(n_true)) / float(n_true)
 
 
+def _with_rate_check(detect):
+    """``detect`` that then sets ``steps_.attrs['rate_check']`` (:func:`gaitml.steps.rate_check`): the recording's
+    rate (:func:`gaitml.recording.recorded_rate_hz`, the rate before any up-sampling) against the detector's
+    ``rate_floor_hz``. Nothing is printed and no step changes."""
+
+    @functools.wraps(detect)
+    def checked(self, recording, *args, **kwargs):
+        out = detect(self, recording, *args, **kwargs)
+        steps = getattr(self, "steps_", None)
+        if isinstance(steps, pd.DataFrame) and isinstance(recording, Recording):
+            meta = recording.meta
+            steps.attrs["rate_check"] = rate_check(
+                self.name or type(self).__name__,
+                self.rate_floor_hz,
+                recorded_rate_hz(recording.sampling_rate_hz, meta),
+                (meta or {}).get("rate_changes"),
+            )
+        return out
+
+    return checked
+
+
 class BaseStepDetector(BaseAlgorithm):
-    """Base of every step detector: one result, the DESIGN step table in ``steps_``."""
+    """Base of every step detector: one result, the DESIGN step table in ``steps_``.
+
+    Every subclass's ``detect`` also leaves the rate check in ``steps_.attrs['rate_check']``
+    (:mod:`gaitml.steps._rate`): whether the recording was made below ``rate_floor_hz``, the lowest rate at which
+    the detector's count was measured to hold.
+    """
 
     _action_method: ClassVar[str] = "detect"
     #: registry name (DESIGN sec. 5)
     name: ClassVar[str] = ""
     #: settings an evaluation may choose on training data: parameter -> candidate values (empty: none)
     param_grid: ClassVar[dict[str, tuple]] = {}
+    #: the lowest recording rate (Hz) the detector's count holds at (its module's ``RATE_FLOOR_HZ``); None: not checked
+    rate_floor_hz: ClassVar[float | None] = None
     steps_: pd.DataFrame
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if "detect" in cls.__dict__:
+            cls.detect = _with_rate_check(cls.__dict__["detect"])
 
     def detect(self, recording):  # pragma: no cover - abstract
         """Detect steps in ``recording``; sets ``steps_`` and returns ``self``."""

@@ -13,7 +13,7 @@ from gaitml.steps.ifsm import IFSMLiteralStepDetector, IFSMStepDetector
 from gaitml.steps.single_peak import SinglePeakStepDetector
 from gaitml.steps.zupt_magnitude import ZuptMagnitudeStepDetector
 
-__all__ = ["DETECTORS", "get_detector", "detect_steps", "detector_names"]
+__all__ = ["DETECTORS", "get_detector", "detect_steps", "detector_names", "rate_floors"]
 
 #: CLI name -> step detector class
 DETECTORS: Registry = Registry(
@@ -35,6 +35,12 @@ DETECTORS: Registry = Registry(
 def detector_names() -> tuple[str, ...]:
     """All registered step detector names."""
     return DETECTORS.names()
+
+
+def rate_floors() -> dict[str, float | None]:
+    """Each registered detector's rate floor (Hz): the lowest recording rate its count holds at
+    (``rate_floor_hz``; :mod:`gaitml.steps._rate`)."""
+    return {name: DETECTORS[name].rate_floor_hz for name in DETECTORS.names()}
 
 
 def get_detector(name: str, **params) -> BaseStepDetector:

@@ -144,6 +144,7 @@ from gaitml.steps._gait_evidence import gait_check
 from gaitml.steps._table import make_step_table
 
 __all__ = [
+    "RATE_FLOOR_HZ",
     "AdaptiveStepDetector",
     "local_cadence",
     "cadence_decimation",
@@ -869,6 +870,13 @@ def adaptive_steps(
     return {"peak": pk.astype(np.int64), "y": y, "s": s, "period_s": T / fs, "correlation": R, "confidence": conf, "cadence": cad}
 
 
+#: lowest recording rate (Hz) adaptive's count holds at: measured on tyrex, the highest floor any
+#: leave-one-person-out fold gives (pooled the count holds within 0.031 down to 10 Hz, but one person's running
+#: in a pocket loses 0.14 there; every person within 0.043 of the phones' own rate at 15 Hz and above).
+#: The floor rule, its held-out check and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+RATE_FLOOR_HZ = 15.0
+
+
 class AdaptiveStepDetector(BaseStepDetector):
     """Step detector for any carrying position: band-pass, cadence with stride/step disambiguation, left/right fold, peaks, bout edges.
 
@@ -1033,6 +1041,7 @@ class AdaptiveStepDetector(BaseStepDetector):
     """
 
     name = "adaptive"
+    rate_floor_hz = RATE_FLOOR_HZ
     _parameter_constraints: ClassVar[dict[str, list]] = {
         "window_s": [POSITIVE],
         "hop_s": [POSITIVE],

@@ -30,7 +30,7 @@ from gaitml.steps._common import (
 )
 from gaitml.steps._table import make_step_table
 
-__all__ = ["ADFSMStepDetector", "adfsm_steps"]
+__all__ = ["RATE_FLOOR_HZ", "ADFSMStepDetector", "adfsm_steps"]
 
 #: our choice (paper 000 gives none): consecutive rising differences that confirm a climb (50 Hz samples)
 MIN_RISES = 5
@@ -103,6 +103,13 @@ def adfsm_steps(
     return np.asarray(out, dtype=np.int64).reshape(-1, 2)
 
 
+#: lowest recording rate (Hz) adfsm's count holds at: measured on tyrex, the highest floor any leave-one-person-out
+#: fold gives (pooled within 0.041 down to 25 Hz, but one person loses 0.08 at 25 Hz; every person within 0.050
+#: at 30 Hz and above; paper 000's rate is 50 Hz); the floor rule and the Oxford check:
+#: experiments/reports/tyrex-steps.md, 'rate floors'
+RATE_FLOOR_HZ = 30.0
+
+
 class ADFSMStepDetector(BaseStepDetector):
     """AD-FSM step detector (paper 000's baseline, its ref. [24]).
 
@@ -139,6 +146,7 @@ class ADFSMStepDetector(BaseStepDetector):
     """
 
     name = "adfsm"
+    rate_floor_hz = RATE_FLOOR_HZ
     _parameter_constraints: ClassVar[dict[str, list]] = {
         "min_rises": [POSITIVE_INTEGER],
         "min_falls": [POSITIVE_INTEGER],

@@ -35,7 +35,7 @@ from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, check_positive
 from gaitml.steps._table import make_step_table
 
-__all__ = ["AutocorrStepDetector", "window_step_periods", "autocorr_steps"]
+__all__ = ["RATE_FLOOR_HZ", "AutocorrStepDetector", "window_step_periods", "autocorr_steps"]
 
 WINDOW_S = 2.0  #: our choice: fixed analysis window (s)
 MIN_PERIOD_S = 0.3  #: our choice: shortest step period searched (s), 3.3 steps/s
@@ -99,6 +99,11 @@ def autocorr_steps(period_samples_per_window: np.ndarray, window_samples: int, n
     return ends.astype(np.int64), per[ends]
 
 
+#: lowest recording rate (Hz) autocorr's count holds at: measured on tyrex, within 0.041 down to 30 Hz, -0.127
+#: at 25 Hz (paper 000's rate is 50 Hz); the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+RATE_FLOOR_HZ = 30.0
+
+
 class AutocorrStepDetector(BaseStepDetector):
     """Autocorrelation step counter (paper 000's baseline, its ref. [14]).
 
@@ -135,6 +140,7 @@ class AutocorrStepDetector(BaseStepDetector):
     """
 
     name = "autocorr"
+    rate_floor_hz = RATE_FLOOR_HZ
     _parameter_constraints: ClassVar[dict[str, list]] = {
         "window_s": [POSITIVE],
         "min_period_s": [POSITIVE],

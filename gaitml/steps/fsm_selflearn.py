@@ -34,7 +34,7 @@ from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, check_positive, segment_argmax
 from gaitml.steps._table import make_step_table
 
-__all__ = ["SelfLearningFSMStepDetector", "selflearn_fsm_run", "learn_thresholds", "FSM_STATES"]
+__all__ = ["RATE_FLOOR_HZ", "SelfLearningFSMStepDetector", "selflearn_fsm_run", "learn_thresholds", "FSM_STATES"]
 
 #: paper 002 Table 1 initial values (m/s^2)
 THR_MS2 = 10.3
@@ -315,6 +315,11 @@ def learn_thresholds(a, thresholds, *, max_step_samples, end_timeout_samples, al
     return th, hist
 
 
+#: lowest recording rate (Hz) fsm-selflearn's count holds at: measured on tyrex, within 0.035 down to 30 Hz,
+#: -0.052 at 25 Hz and -0.141 at 20 Hz; the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+RATE_FLOOR_HZ = 30.0
+
+
 class SelfLearningFSMStepDetector(BaseStepDetector):
     """FSM step detector with threshold self-learning (paper 002 sec. 2).
 
@@ -371,6 +376,7 @@ class SelfLearningFSMStepDetector(BaseStepDetector):
     """
 
     name = "fsm-selflearn"
+    rate_floor_hz = RATE_FLOOR_HZ
     _parameter_constraints: ClassVar[dict[str, list]] = {
         "lowpass_hz": [POSITIVE],
         "max_step_s": [POSITIVE],

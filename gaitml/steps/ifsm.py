@@ -27,7 +27,7 @@ from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, map_indices, resample_signal
 from gaitml.steps._table import make_step_table
 
-__all__ = ["IFSMStepDetector", "IFSMLiteralStepDetector", "ifsm_steps", "IFSM_READINGS"]
+__all__ = ["RATE_FLOOR_HZ", "LITERAL_RATE_FLOOR_HZ", "IFSMStepDetector", "IFSMLiteralStepDetector", "ifsm_steps", "IFSM_READINGS"]
 
 #: paper 000 Table 1: A_Thr = 9.81 m/s^2 (enter s1)
 MAGNITUDE_THRESHOLD_MS2 = 9.81
@@ -176,6 +176,12 @@ def ifsm_steps(
     return np.asarray(out, dtype=np.int64).reshape(-1, 4)
 
 
+#: lowest recording rate (Hz) ifsm's count holds at: paper 000 records at 50 Hz (sec. 3.1) and the machine runs
+#: on a 50 Hz resampling, and measured on tyrex it holds down to 10 Hz, the lowest rate measured (worst motion
+#: -0.010); the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+RATE_FLOOR_HZ = 10.0
+
+
 class IFSMStepDetector(BaseStepDetector):
     """Improved finite state machine step detector (paper 000 sec. 2, Table 1).
 
@@ -245,6 +251,7 @@ class IFSMStepDetector(BaseStepDetector):
     """
 
     name = "ifsm"
+    rate_floor_hz = RATE_FLOOR_HZ
     _parameter_constraints: ClassVar[dict[str, list]] = {
         "first_climbs": [POSITIVE_INTEGER],
         "descents": [POSITIVE_INTEGER],
@@ -304,6 +311,11 @@ class IFSMStepDetector(BaseStepDetector):
         return self
 
 
+#: lowest recording rate (Hz) ifsm-literal's count holds at: measured on tyrex, within 0.013 down to 15 Hz,
+#: -0.055 at 10 Hz (paper 000's rate is 50 Hz); the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+LITERAL_RATE_FLOOR_HZ = 15.0
+
+
 class IFSMLiteralStepDetector(IFSMStepDetector):
     """The IFSM of paper 000 with its text read literally (see :class:`IFSMStepDetector` Notes).
 
@@ -331,6 +343,7 @@ class IFSMLiteralStepDetector(IFSMStepDetector):
     """
 
     name = "ifsm-literal"
+    rate_floor_hz = LITERAL_RATE_FLOOR_HZ
 
     def __init__(
         self,

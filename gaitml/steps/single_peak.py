@@ -43,7 +43,7 @@ from gaitml.steps._base import BaseStepDetector
 from gaitml.steps._common import acc_magnitude, as_recording, check_positive
 from gaitml.steps._table import make_step_table
 
-__all__ = ["SinglePeakStepDetector", "single_peak_steps", "zero_points"]
+__all__ = ["RATE_FLOOR_HZ", "SinglePeakStepDetector", "single_peak_steps", "zero_points"]
 
 #: paper 003 sec. 2.2: peak threshold sigma1 = 2 m/s^2
 PEAK_THRESHOLD_MS2 = 2.0
@@ -182,6 +182,13 @@ def single_peak_steps(
     return {"peak": peaks.astype(np.int64), "start": left, "end": right, "left_found": lf, "right_found": rf, "a": a}
 
 
+#: lowest recording rate (Hz) single-peak's count holds at: paper 003 designs it at 50 Hz (sec. 2, its
+#: windows are samples at 50 Hz), and measured on tyrex it holds at 50 Hz (worst motion -0.017) but not at 30 Hz
+#: (Phoning 0.398 -> 0.336) nor in the pockets at 15 / 10 Hz (BackPocket 0.927 -> 0.775 / 0.352); the floor rule
+#: and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+RATE_FLOOR_HZ = 50.0
+
+
 class SinglePeakStepDetector(BaseStepDetector):
     """Single-peak step detector with zero points (paper 003 sec. 2.2).
 
@@ -225,6 +232,7 @@ class SinglePeakStepDetector(BaseStepDetector):
     """
 
     name = "single-peak"
+    rate_floor_hz = RATE_FLOOR_HZ
     _parameter_constraints: ClassVar[dict[str, list]] = {
         "min_peak_distance_s": [POSITIVE],
         "smoothing_s": [POSITIVE],

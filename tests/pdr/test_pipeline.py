@@ -77,7 +77,10 @@ def test_cli_json_plot_and_out(rec, tmp_path, capsys):
     assert main(["pdr", str(path), "--json", "--plot", str(png), "--out", str(out), "--heading", "gyro", *argv]) == 0
     cap = capsys.readouterr()
     obj = json.loads(cap.out)
-    assert set(obj) == {"n_steps", "distance_m", "end_xy_m", "trajectory", "gyro_bias"}
+    assert set(obj) == {"n_steps", "distance_m", "end_xy_m", "trajectory", "gyro_bias", "rate_check"}
+    # the step detector's rate check (gaitml.steps._rate): the synthetic walk's rate is not below single-peak's floor
+    assert obj["rate_check"]["detector"] == "single-peak" and obj["rate_check"]["below"] is False
+    assert obj["rate_check"]["n_steps_below"] == 0
     assert obj["n_steps"] == 68 and len(obj["trajectory"]) == 69
     assert set(obj["trajectory"][0]) == {"t_s", "x_m", "y_m", "heading_rad", "mode"}
     assert "labels" in cap.err  # it says where the modes came from

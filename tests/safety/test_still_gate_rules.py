@@ -131,6 +131,19 @@ def test_the_portable_export_states_the_gate_under_a_new_format_version():
     assert still["range_ms2"] is None if STILL_RULE != "range" else still["range_ms2"] == STILL_RANGE_MS2
 
 
+def test_the_std_lp_gate_and_the_run_cadence_rule_are_exported_under_version_4():
+    """A version 2 or 3 reader knew neither the low-passed statistic nor the run-cadence rule
+    (which predict applies by default): an export carrying them must be a version it refuses."""
+    from gaitml.models._export import input_spec
+
+    spec = input_spec(load_model(ROOT / "models" / "demo"))
+    post = spec["postprocess"]
+    assert "run_cadence" in post and post["run_cadence"]["in_force"]
+    assert spec["format_version"] >= 4
+    if post["still"]["statistic"] == "std_lp":
+        assert post["still"]["lowpass_hz"] > 0
+
+
 def test_predict_json_says_which_gate_ran(tmp_path, capsys):
     import json
 

@@ -469,7 +469,9 @@ def long_predict(
     ``run_min_cadence_hz``; None: :data:`~gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`, 0: off)
     reads each chunk's steps (the chunk's windows' ``step_cadence_hz``) and runs again after the correction.
     The still gate's step veto (``still_step_veto``; None: :data:`~gaitml.models._predict.STILL_STEP_VETO_DEFAULT`, 0: off)
-    reads each chunk's steps too (the default detector's, found once per chunk and shared with the run-cadence rule).
+    reads each chunk's steps too (the default detector's, found once per chunk and shared with the run-cadence rule);
+    with either on, each chunk reads :data:`DEFAULT_MARGIN_S` of margin on each side for its detector, so that a window's
+    steps are the whole-file run's except where a bout or a 5 s cadence window reaches past the margin.
     """
     from gaitml.models import predict_recording
     from gaitml.models._predict import (
@@ -500,6 +502,14 @@ def long_predict(
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
     dom = getattr(model, "domain", None)
     extra, phase, grid = (0, 1, 1) if dom is None else dom.chunk_context(fs)
+    if veto_n is not None or run_thr:
+        # the step veto and the run-cadence rule read each chunk's steps: a margin of DEFAULT_MARGIN_S (as long_steps
+        # reads adaptive's chunks with) gives the detector the bouts around the core's windows, and chunks that start
+        # on adaptive's cadence grid give it the whole file's cadence windows (long_steps' rule)
+        from gaitml.steps.adaptive import cadence_hop_samples
+
+        extra = max(extra, math.ceil(DEFAULT_MARGIN_S / (model.length_s * (1.0 - model.overlap))))
+        phase = math.lcm(int(phase), int(cadence_hop_samples(fs)))
     chunks = _window_chunks(
         path,
         model.length_s,

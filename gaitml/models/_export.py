@@ -33,6 +33,11 @@ standard deviation of |acc| after a low-pass, ``lowpass_hz``). A reader of versi
 read a version 4 export: it would leave out the run-cadence rule and misread the still gate. In
 version 4 the ``acc_range`` entry is optional: present (and to be applied) exactly when the model has
 an accelerometer range.
+
+``format_version`` 5 adds the still gate's step veto (``postprocess.still.step_veto``: a window with at
+least ``min_steps`` detected steps is not still), which ``gaitml predict`` applies by default. A reader of
+version 4 must not read a version 5 export: it would answer ``still`` in a calm walker's windows that
+predict keeps in their mode.
 """
 
 from __future__ import annotations
@@ -48,11 +53,11 @@ from gaitml.errors import ModelError
 __all__ = ["export_json", "export_onnx", "input_spec", "PORTABLE_FORMAT", "PORTABLE_FORMAT_VERSION", "PORTABLE_RANGE_FORMAT_VERSION"]
 
 PORTABLE_FORMAT = "gaitml-portable-model"
-#: Version of the portable layout (see the module docstring for what changed in 2, 3 and 4).
-PORTABLE_FORMAT_VERSION = 4
+#: Version of the portable layout (see the module docstring for what changed in 2, 3, 4 and 5).
+PORTABLE_FORMAT_VERSION = 5
 #: Version of the portable layout of a model with an accelerometer range (its ``acc_range`` entry, new in 3;
 #: from version 4 on the same version as a model without one, the entry being optional).
-PORTABLE_RANGE_FORMAT_VERSION = 4
+PORTABLE_RANGE_FORMAT_VERSION = 5
 ONNX_HINT = "install the optional extra: pip install 'gaitml[onnx]'"
 
 _VOTING = {

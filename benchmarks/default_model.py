@@ -17,6 +17,11 @@ gyroscope (seed 7, ``duration`` s at 50 Hz), alternately, best of ``reps`` each:
 - ``predict, run-cadence rule off``: the new model's ``predict`` with ``run_min_cadence_hz=0``, so the
   cost of the run-cadence rule (the ``adaptive`` step detector over the recording when some window
   is read ``run``) is the ratio of the two ``predict`` times of the new model.
+- ``predict, step veto off``: the new model's ``predict`` with ``still_step_veto=0``, on the same recording,
+  on one with pauses (the same walker standing still between bouts, ``pauses=True``), where some windows read
+  still and the veto reads the ``adaptive`` detector's steps (found once per recording, shared with the
+  run-cadence rule), and on a walk with pauses with the run-cadence rule off in both runs (the detector runs for the
+  veto alone).
 
 Both run on one BLAS thread where threadpoolctl is available (as the domain rows of
 ``benchmarks/models.py``: a second BLAS thread on a shared 2-core machine only adds noise).
@@ -88,6 +93,17 @@ def main(argv=None) -> int:
         limit = contextlib.nullcontext()
     best = {k: {"predict": np.inf, "stream": np.inf} for k in models}
     best_off = np.inf
+    rec_p = resample_recording(
+        simulate_dataset(n_subjects=1, duration_s=a.duration, pose="mixed", seed=7, pauses=True)[0], models["new"].sampling_rate_hz
+    )
+    # walking only, with pauses: no window reads run, so the detector runs for the veto alone
+    rec_w = resample_recording(
+        simulate_dataset(n_subjects=1, duration_s=a.duration, pose="mixed", seed=7, pauses=True, modes=("walk",))[0],
+        models["new"].sampling_rate_hz,
+    )
+    recs_v = {"plain": rec, "pauses": rec_p, "walk": rec_w}
+    veto = {(r, v): np.inf for r in recs_v for v in ("on", "off")}
+    n_vetoed: dict[str, tuple[int, int, int]] = {}
     n_win = {}
     with limit:
         for m in models.values():  # warm-up
@@ -103,6 +119,15 @@ def main(argv=None) -> int:
             t0 = time.perf_counter()
             off = predict_recording(models["new"], rec, run_min_cadence_hz=0.0)
             best_off = min(best_off, time.perf_counter() - t0)
+            for r_name, r_rec in recs_v.items():
+                for v_name, v in (("on", None), ("off", 0)):
+                    t0 = time.perf_counter()
+                    # the walk: the run-cadence rule off in both, so that the detector runs for the veto alone
+                    cad = {"run_min_cadence_hz": 0.0} if r_name == "walk" else {}
+                    vt = predict_recording(models["new"], r_rec, still_step_veto=v, **cad)
+                    veto[(r_name, v_name)] = min(veto[(r_name, v_name)], time.perf_counter() - t0)
+                    if v is None:
+                        n_vetoed[r_name] = (int(vt["still"].sum()), int(vt["still_vetoed"].sum()), len(vt))
     print(f"| model | feature set | dynamics part | predict: windows per s ({a.duration:g} s recording) | stream: ms per window |")
     print("|---|---|---|---|---|")
     for k, m in models.items():
@@ -121,6 +146,15 @@ def main(argv=None) -> int:
         f"({1000 * best['new']['predict']:.0f} vs {1000 * best_off:.0f} ms; {int((off['mode'] == 'run').sum())} windows "
         f"read run with it off, {moved} moved by it)"
     )
+    what = {"plain": "as above", "pauses": "with pauses", "walk": "walking only, with pauses, run-cadence rule off in both"}
+    for r_name in recs_v:
+        on, off_v = veto[(r_name, "on")], veto[(r_name, "off")]
+        k_still, k_vet, k_n = n_vetoed[r_name]
+        print(
+            f"new model, still gate's step veto on / off, recording {what[r_name]}: "
+            f"predict {off_v / on:.2f}x the speed ({1000 * on:.0f} vs {1000 * off_v:.0f} ms; of {k_n} windows {k_still} still, "
+            f"{k_vet} kept by the veto)"
+        )
     return 0
 
 

@@ -457,6 +457,7 @@ def long_predict(
     chunk_s: float = DEFAULT_CHUNK_S,
     progress: bool = True,
     run_min_cadence_hz: float | None = None,
+    still_step_veto: int | None = None,
     **read_kwargs,
 ) -> pd.DataFrame:
     """Per-window motion modes of a long recording with a saved model.
@@ -467,11 +468,25 @@ def long_predict(
     1.5 s / 50 %). The run-cadence rule (:func:`gaitml.models._predict.run_cadence_rule`,
     ``run_min_cadence_hz``; None: :data:`~gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`, 0: off)
     reads each chunk's steps (the chunk's windows' ``step_cadence_hz``) and runs again after the correction.
+    The still gate's step veto (``still_step_veto``; None: :data:`~gaitml.models._predict.STILL_STEP_VETO_DEFAULT`, 0: off)
+    reads each chunk's steps too (the default detector's, found once per chunk and shared with the run-cadence rule);
+    with either on, each chunk reads :data:`DEFAULT_MARGIN_S` of margin on each side for its detector, so that a window's
+    steps are the whole-file run's except where a bout or a 5 s cadence window reaches past the margin.
     """
     from gaitml.models import predict_recording
-    from gaitml.models._predict import RUN_MODE, RUN_STRIDE_CADENCE_HZ, SIDE_MODES, run_cadence_threshold, side_direction_unsure
+    from gaitml.models._predict import (
+        RUN_MODE,
+        RUN_STRIDE_CADENCE_HZ,
+        SIDE_MODES,
+        recording_steps,
+        run_cadence_threshold,
+        side_direction_unsure,
+        still_step_veto_threshold,
+        window_step_counts,
+    )
 
     run_thr = run_cadence_threshold(run_min_cadence_hz) or 0.0
+    veto_n = still_step_veto_threshold(still_step_veto)
 
     parts, upright = [], []
     fs = float(model.sampling_rate_hz)
@@ -479,7 +494,7 @@ def long_predict(
     recording, own_hz, own_meta = _at_model_rate(path, fs, read_kwargs)
     # the still gate reads the file as recorded when it is resampled (still_statistic's ``recorded``): off in the chunks,
     # applied to the whole table below from a pass over the file at its own rate
-    from gaitml.models._predict import STILL_RULE
+    from gaitml.models._predict import STILL_RULE, STILL_THRESHOLDS_MS2
 
     gate_after = STILL_RULE == "std_lp" and abs(own_hz - fs) > 1e-9 * fs
     # a domain record with an orientation-dynamics part decides on the median over the last windows of the
@@ -487,6 +502,14 @@ def long_predict(
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
     dom = getattr(model, "domain", None)
     extra, phase, grid = (0, 1, 1) if dom is None else dom.chunk_context(fs)
+    if veto_n is not None or run_thr:
+        # the step veto and the run-cadence rule read each chunk's steps: a margin of DEFAULT_MARGIN_S (as long_steps
+        # reads adaptive's chunks with) gives the detector the bouts around the core's windows, and chunks that start
+        # on adaptive's cadence grid give it the whole file's cadence windows (long_steps' rule)
+        from gaitml.steps.adaptive import cadence_hop_samples
+
+        extra = max(extra, math.ceil(DEFAULT_MARGIN_S / (model.length_s * (1.0 - model.overlap))))
+        phase = math.lcm(int(phase), int(cadence_hop_samples(fs)))
     chunks = _window_chunks(
         path,
         model.length_s,
@@ -513,8 +536,19 @@ def long_predict(
         if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
         table = predict_recording(
-            model, rec, correction=False, run_min_cadence_hz=run_thr, **({"still_threshold_ms2": 0.0} if gate_after else {})
+            model,
+            rec,
+            correction=False,
+            run_min_cadence_hz=run_thr,
+            still_step_veto=veto_n or 0,
+            **({"still_threshold_ms2": 0.0} if gate_after else {}),
         )
+        if gate_after and veto_n is not None:
+            # the gate comes after the chunks (below): every window's steps for its veto, the chunk's steps found once
+            # (the run-cadence rule's when it ran)
+            counts = table["window_steps"].to_numpy(float)
+            if np.isnan(counts).all():
+                table["window_steps"] = window_step_counts(table, recording_steps(rec)).astype(float)
         gstart = table["start"].to_numpy() + ch.offset
         keep = (gstart >= ch.core_start) & (gstart < ch.core_end)
         # the phone held upright in each window (a side step there has an unsure direction), for the corrected modes below
@@ -522,7 +556,7 @@ def long_predict(
         parts.append(_globalise_windows(table[keep].reset_index(drop=True), ch.offset, rec.sampling_rate_hz))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     if gate_after and len(out):
-        _still_as_recorded(out, path, fs, own_hz, recording, original, chunk_s, model.length_s)
+        _still_as_recorded(out, path, fs, own_hz, recording, original, chunk_s, model.length_s, veto_n)
     if correction and len(out):
         from gaitml.models._predict import STILL
         from gaitml.postprocess import adjacent_window_correction
@@ -547,6 +581,7 @@ def long_predict(
         acc_range=_sum_tallies(tallies, rng),
         run_cadence={"min_cadence_hz": float(run_thr) if run_thr else None},
     )
+    out.attrs["still_gate"] = {"statistic": STILL_RULE, "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE], "step_veto_min_steps": veto_n}
     # the chunks come at the model's rate: the rate check reads the file's own (as predict_recording does)
     from gaitml.models._predict import apply_rate_check, recorded_rate_hz
 
@@ -554,11 +589,20 @@ def long_predict(
 
 
 def _still_as_recorded(
-    out: pd.DataFrame, path, fs: float, own_hz: float, recording, read_kwargs: dict, chunk_s: float, length_s: float
+    out: pd.DataFrame,
+    path,
+    fs: float,
+    own_hz: float,
+    recording,
+    read_kwargs: dict,
+    chunk_s: float,
+    length_s: float,
+    veto_n: int | None = None,
 ) -> None:
     """The still gate on ``out`` (global windows at the model's rate ``fs``) read from the file at its own rate ``own_hz``,
-    as :func:`~gaitml.models.predict_recording` reads a resampled recording (``recorded``): ``still``, ``mode`` (``still``
-    where the gate fires) and ``run_at_walking_cadence`` (never on a still window) are set in place.
+    as :func:`~gaitml.models.predict_recording` reads a resampled recording (``recorded``): ``still``, ``still_vetoed``,
+    ``mode`` (``still`` where the gate fires) and ``run_at_walking_cadence`` (never on a still window) are set in place.
+    ``veto_n``: the step veto in force (None: off); ``out``'s ``window_steps`` are then every window's steps (the chunks').
 
     ``recording``: the file at ``fs`` already read whole (a format other than gaitml-csv; the file is read whole again at its
     own rate), or None: a gaitml-csv, read again chunk by chunk at its own rate. Each window reads only its own samples, so
@@ -584,7 +628,12 @@ def _still_as_recorded(
                 w = pd.DataFrame({"start": a[inside] - ch.offset, "end": b[inside] - ch.offset})
                 stat[inside] = still_statistic(ch.recording, w, "std_lp")
         still = _below_gate(np.nan_to_num(stat, nan=np.inf))
+    vetoed = np.zeros(len(out), dtype=bool)
+    if veto_n is not None and "window_steps" in out:
+        vetoed = still & (np.nan_to_num(out["window_steps"].to_numpy(float), nan=0.0) >= veto_n)
+        still = still & ~vetoed
     out["still"] = still
+    out["still_vetoed"] = vetoed
     out["mode"] = np.where(still, STILL, out["mode"].to_numpy(dtype=object)).astype(str)
     if "run_at_walking_cadence" in out:
         out["run_at_walking_cadence"] = out["run_at_walking_cadence"].to_numpy(dtype=bool) & ~still

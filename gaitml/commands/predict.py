@@ -25,7 +25,33 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-correction", action="store_true", help="skip the adjacent-window correction")
     p.add_argument("--json", action="store_true")
     add_run_cadence_option(p)
+    p.add_argument(
+        "--still-step-veto",
+        metavar="on|off|N",
+        default=None,
+        help="a window the still gate reads still keeps its mode when the default step detector finds at least N steps in it "
+        "(on: 2, gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS; off: the gate alone); default: STILL_STEP_VETO_DEFAULT (on)",
+    )
     add_input_options(p)
+
+
+def still_step_veto_arg(value) -> int | None:
+    """``--still-step-veto``'s step count for the library: None (not given: the library default), 0 (off) or steps."""
+    from gaitml.errors import InputError
+    from gaitml.models._predict import STILL_STEP_VETO_MIN_STEPS, still_step_veto_threshold
+
+    if value is None:
+        return None
+    v = str(value).strip().lower()
+    if v == "on":
+        return STILL_STEP_VETO_MIN_STEPS
+    if v == "off":
+        return 0
+    try:
+        n = float(v)
+    except ValueError:
+        raise InputError(f"--still-step-veto {value!r} is not on, off or a number of steps; give e.g. --still-step-veto on.") from None
+    return still_step_veto_threshold(n) or 0
 
 
 def add_run_cadence_option(p: argparse.ArgumentParser) -> None:
@@ -66,39 +92,51 @@ def run(args) -> int:
 
     model = load_model(args.model_dir)
     run_cad = run_cadence_arg(getattr(args, "run_cadence", None))
+    veto = still_step_veto_arg(getattr(args, "still_step_veto", None))
     if model.window_by != "time":
         from gaitml.models import predict_step_windows
 
-        table = predict_step_windows(model, load_input(args), correction=not args.no_correction, run_min_cadence_hz=run_cad)
+        table = predict_step_windows(
+            model, load_input(args), correction=not args.no_correction, run_min_cadence_hz=run_cad, still_step_veto=veto
+        )
         unit = "strides" if model.window_by == "strides" else "steps"
         return _report(args, model, table, unit, {"window_by": model.window_by, "detector": model.window_detector})
     if is_large_input(args):
         from gaitml.chunked_run import long_predict
 
         kw = long_read_kwargs(args)  # judged at the file's own rate, as a file read whole
-        table = long_predict(model, args.input, correction=not args.no_correction, run_min_cadence_hz=run_cad, **kw)
+        table = long_predict(model, args.input, correction=not args.no_correction, run_min_cadence_hz=run_cad, still_step_veto=veto, **kw)
         log("gaitml predict: long input, processed in chunks of 10 min (bounded memory)")
     else:
         from gaitml.models import predict_recording
 
-        table = predict_recording(model, load_input(args), correction=not args.no_correction, run_min_cadence_hz=run_cad)
+        table = predict_recording(
+            model, load_input(args), correction=not args.no_correction, run_min_cadence_hz=run_cad, still_step_veto=veto
+        )
     return _report(args, model, table, "windows", {"window_s": model.length_s, "overlap": model.overlap})
 
 
 def default_still_gate() -> dict:
-    """The still gate in force when a table does not carry its own (``statistic``, ``threshold_ms2``)."""
-    from gaitml.models._predict import STILL_RULE, STILL_THRESHOLDS_MS2
+    """The still gate in force when a table does not carry its own (``statistic``, ``threshold_ms2``, ``step_veto_min_steps``)."""
+    from gaitml.models._predict import STILL_RULE, STILL_THRESHOLDS_MS2, still_step_veto_threshold
 
-    return {"statistic": STILL_RULE, "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE]}
+    return {
+        "statistic": STILL_RULE,
+        "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE],
+        "step_veto_min_steps": still_step_veto_threshold(None),
+    }
 
 
-def still_warning(n_still: int, n: int, unit: str) -> str:
-    """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows)."""
+def still_warning(n_still: int, n: int, unit: str, n_vetoed: int = 0, step_veto: int | None = None) -> str:
+    """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows), and
+    how many more the step veto kept in their mode (``n_vetoed``, gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS;
+    ``step_veto``: the veto in force, None the default, 0 off)."""
     from gaitml.models._predict import describe_still_gate
 
+    kept = f" ({n_vetoed} more vary |acc| as little but hold detected steps and keep their mode: still_vetoed)" if n_vetoed else ""
     return (
-        f"{n_still} of {n} {unit} hold no step ({describe_still_gate()}: lying still or standing); "
-        "they are reported as 'still', not as one of the model's motion modes (mode_raw keeps the model's answer)."
+        f"{n_still} of {n} {unit} hold no step ({describe_still_gate(step_veto=step_veto)}: lying still or standing); "
+        f"they are reported as 'still', not as one of the model's motion modes (mode_raw keeps the model's answer){kept}."
     )
 
 
@@ -165,8 +203,10 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     if warning:
         log(f"gaitml: warning: {warning}")
     n_still = int(table["still"].sum()) if "still" in table else 0
+    n_vetoed = int(table["still_vetoed"].sum()) if "still_vetoed" in table else 0
     if n_still:
-        log(f"gaitml: warning: {still_warning(n_still, len(table), unit)}")
+        veto_in_force = (table.attrs.get("still_gate") or default_still_gate()).get("step_veto_min_steps")
+        log(f"gaitml: warning: {still_warning(n_still, len(table), unit, n_vetoed, veto_in_force or 0)}")
     n_unsure = int(table["side_direction_unsure"].sum()) if "side_direction_unsure" in table else 0
     if n_unsure:
         log(f"gaitml: warning: {side_direction_warning(n_unsure, len(table), unit)}")
@@ -201,6 +241,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                         "out_of_domain_reason": (getattr(r, "out_of_domain_reason", "") or None),
                         "side_direction_unsure": bool(getattr(r, "side_direction_unsure", False)),
                         "run_at_walking_cadence": bool(getattr(r, "run_at_walking_cadence", False)),
+                        "still_vetoed": bool(getattr(r, "still_vetoed", False)),
                     }
                     for r in table.itertuples()
                 ],
@@ -209,6 +250,8 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 "out_of_domain_reasons": reason_counts(reasons),
                 "still_fraction": n_still / len(table) if len(table) else None,
                 "still_gate": table.attrs.get("still_gate", default_still_gate()),
+                # windows whose |acc| statistic read still but in which the default detector found steps (the step veto)
+                "still_vetoed_count": n_vetoed,
                 "side_direction_unsure_count": n_unsure,
                 "run_at_walking_cadence_count": n_moved,
                 "run_cadence": run_cadence,

@@ -33,6 +33,11 @@ standard deviation of |acc| after a low-pass, ``lowpass_hz``). A reader of versi
 read a version 4 export: it would leave out the run-cadence rule and misread the still gate. In
 version 4 the ``acc_range`` entry is optional: present (and to be applied) exactly when the model has
 an accelerometer range.
+
+``format_version`` 5 adds the still gate's step veto (``postprocess.still.step_veto``: a window with at
+least ``min_steps`` detected steps is not still), which ``gaitml predict`` applies by default. A reader of
+version 4 must not read a version 5 export: it would answer ``still`` in a calm walker's windows that
+predict keeps in their mode.
 """
 
 from __future__ import annotations
@@ -48,11 +53,11 @@ from gaitml.errors import ModelError
 __all__ = ["export_json", "export_onnx", "input_spec", "PORTABLE_FORMAT", "PORTABLE_FORMAT_VERSION", "PORTABLE_RANGE_FORMAT_VERSION"]
 
 PORTABLE_FORMAT = "gaitml-portable-model"
-#: Version of the portable layout (see the module docstring for what changed in 2, 3 and 4).
-PORTABLE_FORMAT_VERSION = 4
+#: Version of the portable layout (see the module docstring for what changed in 2, 3, 4 and 5).
+PORTABLE_FORMAT_VERSION = 5
 #: Version of the portable layout of a model with an accelerometer range (its ``acc_range`` entry, new in 3;
 #: from version 4 on the same version as a model without one, the entry being optional).
-PORTABLE_RANGE_FORMAT_VERSION = 4
+PORTABLE_RANGE_FORMAT_VERSION = 5
 ONNX_HINT = "install the optional extra: pip install 'gaitml[onnx]'"
 
 _VOTING = {
@@ -215,7 +220,16 @@ def _acc_range_spec(range_ms2: float) -> dict:
 
 def _still_spec() -> dict:
     """The still gate (gaitml.models._predict.still_windows, default rule) as the JSON export states it."""
-    from gaitml.models._predict import STILL, STILL_LOWPASS_HZ, STILL_LOWPASS_ORDER, STILL_RANGE_MS2, STILL_RULE, STILL_THRESHOLDS_MS2
+    from gaitml.models._predict import (
+        STILL,
+        STILL_LOWPASS_HZ,
+        STILL_LOWPASS_ORDER,
+        STILL_RANGE_MS2,
+        STILL_RULE,
+        STILL_STEP_VETO_MIN_STEPS,
+        STILL_THRESHOLDS_MS2,
+        still_step_veto_threshold,
+    )
 
     what = {
         "std_lp": (
@@ -240,7 +254,25 @@ def _still_spec() -> dict:
             "After the correction: a window whose |acc| (sqrt(acc_x^2 + acc_y^2 + acc_z^2), m/s^2"
             + (", at the model's rate" if STILL_RULE != "std_lp" else "")
             + f") has {what} below threshold_ms2 gets the label '{STILL}' (no gait in it: a phone lying still or a person standing; "
-            "a walker's steps keep |acc| oscillating at the step rate, paper 003 sec. 2.2); the raw label is the classifier's."
+            "a walker's steps keep |acc| oscillating at the step rate, paper 003 sec. 2.2); the raw label is the classifier's. "
+            "Unless step_veto says otherwise."
+        ),
+        "step_veto": _step_veto_spec(STILL_STEP_VETO_MIN_STEPS, still_step_veto_threshold(None)),
+    }
+
+
+def _step_veto_spec(min_steps: int, default: int | None) -> dict:
+    """The still gate's step veto (gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS) as the JSON export states it."""
+    return {
+        "in_force": default is not None,
+        "min_steps": min_steps if default is None else default,
+        "rule": (
+            "Applied by gaitml predict by default when in_force is true (else on request). A window whose |acc| statistic is "
+            "below threshold_ms2 keeps its label (it is not still) when a step detector run over the whole recording finds at "
+            "least min_steps steps whose peak lies inside the window (start <= peak < end, samples at sampling_rate_hz): a calm "
+            "walker's phone at the ear varies |acc| as little as a standing hand, but its steps repeat. gaitml uses its adaptive "
+            "detector with its gait check (gaitml.steps), at the model's rate. The steps are not in this file: a stream needs "
+            "its own step detector; without one, leave the veto out."
         ),
     }
 

@@ -30,6 +30,11 @@ __all__ = [
     "STILL_STD_MS2",
     "STILL_RANGE_MS2",
     "STILL_THRESHOLDS_MS2",
+    "STILL_STEP_VETO_MIN_STEPS",
+    "STILL_STEP_VETO_DEFAULT",
+    "still_step_veto_threshold",
+    "window_step_counts",
+    "recording_steps",
     "SIDE_MODES",
     "FACE_UP_MAX_DEG",
     "RUN_MODE",
@@ -92,6 +97,20 @@ STILL_STD_MS2 = 0.41
 STILL_RANGE_MS2 = 2.0
 #: The threshold (m/s^2) of each rule of the still gate.
 STILL_THRESHOLDS_MS2 = {"std_lp": STILL_STD_LP_MS2, "std": STILL_STD_MS2, "range": STILL_RANGE_MS2}
+#: The still gate's step veto: a window the |acc| statistic reads still in which the default step detector
+#: (:func:`recording_steps`: ``adaptive`` with its gait check, run once over the recording at the model's rate, the
+#: steps the run-cadence rule reads) finds at least this many steps with their peak inside the window is not still:
+#: it keeps the model's mode (the phone at the ear of a calm walker varies |acc| as little as a standing hand, but
+#: its steps repeat). Two, because a walk at 1.33 steps/s or faster (``adaptive``'s slowest step is 0.75 steps/s,
+#: :data:`gaitml.steps.adaptive.MIN_STEP_HZ`) puts at least two steps into every 1.5 s window, while one step
+#: inside, or steps just outside, is what the last step of a walk that has just stopped leaves; the detector keeps
+#: only bouts of at least :data:`gaitml.steps.adaptive.MIN_BOUT_STEPS` steps that pass its gait check, so a jolt of a
+#: standing hand gives none. Fixed by that reasoning before it was measured (experiments/reports/still-gate.md,
+#: "The step veto": each tyrex person left out, by a rule fixed before the measurement).
+STILL_STEP_VETO_MIN_STEPS = 2
+#: The step veto predict applies when the caller gives none (``still_step_veto=None``): :data:`STILL_STEP_VETO_MIN_STEPS`,
+#: the veto on; None turns it off in every path by default (:func:`still_step_veto_threshold`).
+STILL_STEP_VETO_DEFAULT: int | None = STILL_STEP_VETO_MIN_STEPS
 #: The side-step modes, whose name carries a direction (left / right of the walker).
 SIDE_MODES = ("side_left", "side_right")
 #: A side step's direction is read from the phone's own lateral axis (the phone-frame features
@@ -250,15 +269,51 @@ def _still_threshold(rule: str, threshold_ms2) -> float:
     return thr
 
 
-def describe_still_gate(rule: str = STILL_RULE, threshold_ms2: float | None = None) -> str:
-    """The still gate in words, for messages: e.g. ``"the standard deviation of |acc| is under 0.41 m/s^2"``."""
+def describe_still_gate(rule: str = STILL_RULE, threshold_ms2: float | None = None, step_veto: int | None = None) -> str:
+    """The still gate in words, for messages: e.g. ``"the standard deviation of |acc| is under 0.41 m/s^2"``, and with
+    the step veto (``step_veto``: None the default, :func:`still_step_veto_threshold`) ``"... and fewer than 2 steps are
+    detected in it"``."""
     thr = _still_threshold(rule, threshold_ms2)
     what = {
         "std_lp": f"the standard deviation of |acc| (low-passed at {STILL_LOWPASS_HZ:g} Hz) is",
         "std": "the standard deviation of |acc| is",
         "range": "|acc| swings by",
     }[rule]
-    return f"{what} under {thr:g} m/s^2"
+    veto = still_step_veto_threshold(step_veto)
+    return f"{what} under {thr:g} m/s^2" + ("" if veto is None else f" and fewer than {veto} steps are detected in it")
+
+
+def still_step_veto_threshold(min_steps: int | None = None) -> int | None:
+    """The step veto in force (:data:`STILL_STEP_VETO_MIN_STEPS`): the number of detected steps inside a window that keeps
+    it from being still, or None when the veto is off.
+
+    None: :data:`STILL_STEP_VETO_DEFAULT`; 0: off; else a whole number of steps >= 1; an InputError names the fix.
+    """
+    if min_steps is None:
+        return STILL_STEP_VETO_DEFAULT
+    if isinstance(min_steps, bool):
+        min_steps = float("nan")
+    try:
+        n = float(min_steps)
+    except (TypeError, ValueError):
+        n = float("nan")
+    if not np.isfinite(n) or n < 0 or n != int(n):
+        raise InputError(
+            f"still-gate step veto {min_steps!r} is not a whole number of steps >= 0; give e.g. {STILL_STEP_VETO_MIN_STEPS} (0 turns the veto off)."
+        )
+    return int(n) or None
+
+
+def window_step_counts(windows: pd.DataFrame, steps: pd.DataFrame | None) -> np.ndarray:
+    """The number of ``steps`` (a :func:`recording_steps` table of the same recording; None: no steps) whose ``peak`` lies
+    inside each window ``[start, end)`` (samples), as int."""
+    n = len(windows)
+    if steps is None or steps.empty or n == 0:
+        return np.zeros(n, dtype=np.int64)
+    peak = np.sort(steps["peak"].to_numpy(np.int64))
+    return np.searchsorted(peak, windows["end"].to_numpy(np.int64), side="left") - np.searchsorted(
+        peak, windows["start"].to_numpy(np.int64), side="left"
+    )
 
 
 def _windows_for(recording: Recording, length_s: float, overlap: float) -> pd.DataFrame:
@@ -425,6 +480,7 @@ def predict_recording(
     still_rule: str = STILL_RULE,
     still_threshold_ms2: float | None = None,
     run_min_cadence_hz: float | None = None,
+    still_step_veto: int | None = None,
 ) -> pd.DataFrame:
     """Predict the motion mode of every window of ``recording``.
 
@@ -442,6 +498,9 @@ def predict_recording(
         default, :data:`STILL_STD_LP_MS2`), ``"std"`` (the gate before it, unfiltered, :data:`STILL_STD_MS2`)
         or ``"range"`` (the earliest gate, :data:`STILL_RANGE_MS2`),
         and its threshold (None: the rule's default).
+    still_step_veto : the still gate's step veto (:data:`STILL_STEP_VETO_MIN_STEPS`): a window the gate reads still in
+        which the default step detector finds at least this many steps is not still; None:
+        :data:`STILL_STEP_VETO_DEFAULT` (:func:`still_step_veto_threshold`); 0 turns it off.
     run_min_cadence_hz : the run-cadence rule (:func:`run_cadence_rule`): a window read ``run`` whose
         local step cadence is below this (steps/s; :data:`RUN_MIN_CADENCE_HZ` is the walk-to-run
         transition cadence) gets the model's best other mode; None: :data:`RUN_CADENCE_DEFAULT_HZ`
@@ -453,8 +512,10 @@ def predict_recording(
         One row per window: ``start``, ``end`` (samples at the model's rate),
         ``t_start_s``, ``t_end_s``, ``mode_raw`` (model output), ``mode`` (after
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
-        gait in it, :func:`still_windows`; the model's best other mode for a window read ``run`` at a
-        walking cadence, :func:`run_cadence_rule`), ``still``, ``run_at_walking_cadence`` (the rule
+        gait in it, :func:`still_windows`, unless the step veto keeps it; the model's best other mode for a window
+        read ``run`` at a walking cadence, :func:`run_cadence_rule`), ``still``, ``still_vetoed`` (the gate's
+        statistic read the window still and the veto kept its mode), ``window_steps`` (the detector's steps inside
+        each window when it ran, for the veto or the run-cadence rule, else NaN), ``run_at_walking_cadence`` (the rule
         moved the window), ``step_cadence_hz`` (the windows' local step cadence when some window is
         read run, else NaN), ``in_domain`` (True/False from
         the model's domain record, :mod:`gaitml.models.domain`, and the foot-placement
@@ -500,6 +561,7 @@ def predict_recording(
         correction,
         still_rule=still_rule,
         still_threshold_ms2=still_threshold_ms2,
+        still_step_veto=still_step_veto,
         X=X,
         run_min_cadence_hz=run_min_cadence_hz,
         has_domain=getattr(model, "domain", None) is not None,
@@ -537,7 +599,24 @@ def side_direction_unsure(recording: Recording, windows: pd.DataFrame, modes, ma
     return side & (cos_z < np.cos(np.radians(float(max_deg))))
 
 
-def window_step_cadence(recording: Recording, windows: pd.DataFrame, reach_s: float = RUN_CADENCE_REACH_S) -> np.ndarray:
+def recording_steps(recording: Recording) -> pd.DataFrame:
+    """The steps of the default detector (:class:`gaitml.steps.adaptive.AdaptiveStepDetector` at its defaults, gait
+    check on) over the whole of ``recording``: its ``steps_`` table (``peak`` in samples, ``cadence_hz``, ...), empty for
+    a recording too short for the detector. The still gate's step veto (:data:`STILL_STEP_VETO_MIN_STEPS`) and the
+    run-cadence rule (:func:`window_step_cadence`) read the same steps, found once per recording."""
+    from gaitml.steps import get_detector
+
+    try:
+        return get_detector("adaptive").detect(recording).steps_
+    except InputError:  # shorter than the detector's cadence window: no steps
+        return pd.DataFrame({"start": [], "peak": [], "end": [], "cadence_hz": []}).astype(
+            {"start": np.int64, "peak": np.int64, "end": np.int64, "cadence_hz": float}
+        )
+
+
+def window_step_cadence(
+    recording: Recording, windows: pd.DataFrame, reach_s: float = RUN_CADENCE_REACH_S, steps: pd.DataFrame | None = None
+) -> np.ndarray:
     """The local step cadence (steps/s) of each window (``start``, ``end`` samples of ``recording``).
 
     The steps are :class:`gaitml.steps.adaptive.AdaptiveStepDetector`'s at its defaults, found once
@@ -547,18 +626,14 @@ def window_step_cadence(recording: Recording, windows: pd.DataFrame, reach_s: fl
     a window reads as walking only when every step near it does (a window at the start of a run,
     whose first steps' 5 s cadence windows still hold the walk before it, keeps the run's cadence
     of its later steps). NaN for a window with no step there, and for every window of a recording
-    too short for the detector.
+    too short for the detector. ``steps``: the recording's :func:`recording_steps` when already found (None: found here).
     """
-    from gaitml.steps import get_detector
-
     n = len(windows)
     out = np.full(n, np.nan)
     if n == 0:
         return out
-    try:
-        steps = get_detector("adaptive").detect(recording).steps_
-    except InputError:  # shorter than the detector's cadence window: no cadence
-        return out
+    if steps is None:
+        steps = recording_steps(recording)
     if steps.empty:
         return out
     order = np.argsort(steps["peak"].to_numpy(np.int64), kind="stable")
@@ -812,6 +887,7 @@ def finish_predictions(
     still_threshold_ms2: float | None = None,
     X: np.ndarray | None = None,
     run_min_cadence_hz: float | None = None,
+    still_step_veto: int | None = None,
     **attrs,
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
@@ -822,7 +898,11 @@ def finish_predictions(
     is None, a model without a domain record, whose windows are not checked).
 
     A window with no gait in it (:func:`still_windows` with ``still_rule``, ``still_threshold_ms2``) gets the mode :data:`STILL`
-    and ``still = True``; ``mode_raw`` keeps the model's answer. A window then answered ``run`` whose
+    and ``still = True``; ``mode_raw`` keeps the model's answer; unless the step veto (``still_step_veto``,
+    :func:`still_step_veto_threshold`) finds at least that many of the default detector's steps inside it
+    (:func:`recording_steps` of ``rec``, found once, only when some window reads still, and shared with the
+    run-cadence rule): then it keeps its mode, ``still_vetoed = True``. ``window_steps`` holds each window's steps
+    (:func:`window_step_counts`) when the detector ran, NaN otherwise. A window then answered ``run`` whose
     local step cadence is below ``run_min_cadence_hz`` (:func:`run_cadence_threshold`; 0: off) gets
     the model's best other mode (:func:`run_cadence_rule`, the best mode read from ``X``, the model's
     inputs of ``windows``; None: the rule is not applied; ``run_min_cadence_hz`` None:
@@ -837,7 +917,8 @@ def finish_predictions(
     own rate) has every window out of domain with that reason.
 
     ``attrs`` gets ``sampling_rate_hz`` (the model's), ``resampled_from_hz`` (``recording``'s rate,
-    or None), ``correction``, ``still_gate`` (``statistic``, ``threshold_ms2``), ``run_cadence``
+    or None), ``correction``, ``still_gate`` (``statistic``, ``threshold_ms2``, ``step_veto_min_steps``: None when the
+    veto is off), ``run_cadence``
     (``min_cadence_hz``: None when the rule is off), ``rate_check`` (:func:`rate_check`) and then the
     caller's own ``attrs``.
     """
@@ -859,8 +940,19 @@ def finish_predictions(
     # a recording made below the lowest rate the model was trained at: every window, whatever its features
     apply_rate_check(out, model, recorded_rate_hz(recording.sampling_rate_hz, recording.meta), recording.meta.get("rate_changes"))
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
-    out["still"] = still_windows(rec, windows, still_rule, still_threshold_ms2, recorded=recording)
-    out["mode"] = np.where(out["still"].to_numpy(), STILL, out["mode"].to_numpy(dtype=object)).astype(str)
+    still = still_windows(rec, windows, still_rule, still_threshold_ms2, recorded=recording)
+    # ... unless the default detector finds steps in it (a calm walker): the steps are found once, and only when needed
+    veto_n = still_step_veto_threshold(still_step_veto)
+    steps, n_steps, vetoed = None, np.full(len(out), np.nan), np.zeros(len(out), dtype=bool)
+    if veto_n is not None and still.any():
+        steps = recording_steps(rec)
+        counts = window_step_counts(windows, steps)
+        n_steps = counts.astype(float)
+        vetoed = still & (counts >= veto_n)
+        still = still & ~vetoed
+    out["still"] = still
+    out["still_vetoed"] = vetoed
+    out["mode"] = np.where(still, STILL, out["mode"].to_numpy(dtype=object)).astype(str)
     # a window read run at a walking cadence: the model's best other mode (the model's answer stays in mode_raw)
     run_thr = run_cadence_threshold(run_min_cadence_hz)
     modes = out["mode"].to_numpy().astype(str)
@@ -868,7 +960,10 @@ def finish_predictions(
     cadence = np.full(len(out), np.nan)
     moved = np.zeros(len(out), dtype=bool)
     if run_thr is not None and X is not None and ((modes == RUN_MODE) | (raw == RUN_MODE)).any():
-        cadence = window_step_cadence(rec, windows)
+        if steps is None:
+            steps = recording_steps(rec)
+            n_steps = window_step_counts(windows, steps).astype(float)
+        cadence = window_step_cadence(rec, windows, steps=steps)
         with np.errstate(invalid="ignore"):
             slow = (modes == RUN_MODE) & (raw == RUN_MODE) & (cadence < run_thr) & (cadence >= RUN_STRIDE_CADENCE_HZ)
         other = raw.astype(object)
@@ -877,6 +972,7 @@ def finish_predictions(
         modes, moved = run_cadence_rule(modes, raw, cadence, other, run_thr)
         out["mode"] = modes
     out["step_cadence_hz"] = cadence
+    out["window_steps"] = n_steps
     out["run_at_walking_cadence"] = moved
     # a side step read from an upright phone: its left / right is not tied to the walker's
     out["side_direction_unsure"] = side_direction_unsure(rec, windows, out["mode"].to_numpy())
@@ -887,7 +983,11 @@ def finish_predictions(
         sampling_rate_hz=model.sampling_rate_hz,
         resampled_from_hz=None if rec is recording else recording.sampling_rate_hz,
         correction=bool(correction),
-        still_gate={"statistic": still_rule, "threshold_ms2": _still_threshold(still_rule, still_threshold_ms2)},
+        still_gate={
+            "statistic": still_rule,
+            "threshold_ms2": _still_threshold(still_rule, still_threshold_ms2),
+            "step_veto_min_steps": veto_n,
+        },
         run_cadence={"min_cadence_hz": run_thr},
         **attrs,
     )

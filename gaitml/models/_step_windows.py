@@ -171,7 +171,13 @@ def step_domain_columns(model, recording: Recording, windows: pd.DataFrame, X: n
 
 
 def predict_step_windows(
-    model, recording: Recording, correction: bool = True, *, spans: pd.DataFrame | None = None, run_min_cadence_hz: float | None = None
+    model,
+    recording: Recording,
+    correction: bool = True,
+    *,
+    spans: pd.DataFrame | None = None,
+    run_min_cadence_hz: float | None = None,
+    still_step_veto: int | None = None,
 ) -> pd.DataFrame:
     """Motion mode of every detected step (stride) of ``recording`` with a step-window model.
 
@@ -182,6 +188,9 @@ def predict_step_windows(
     correction of paper 003 sec. 3.4 over the steps in time order, then the finishing rules of
     :func:`gaitml.models._predict.finish_predictions` (still gate, run-cadence rule with
     ``run_min_cadence_hz``: None for :data:`gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`, 0 off; side direction).
+    The still gate's step veto (``still_step_veto``: None for :data:`gaitml.models._predict.STILL_STEP_VETO_DEFAULT`,
+    0 off) counts the default detector's steps inside each step window as in a time window; a step window spans
+    about one step (a stride two), so it reaches :data:`~gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS` seldom.
 
     Returns
     -------
@@ -228,6 +237,7 @@ def predict_step_windows(
         correction,
         X=X,
         run_min_cadence_hz=run_min_cadence_hz,
+        still_step_veto=still_step_veto,
         by=by,
         detector=det,
         n_short=int(w.attrs.get("n_short", 0)),

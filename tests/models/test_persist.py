@@ -140,12 +140,13 @@ def _info(ds, kind="linear-ovo-svm", input_kind="features", fset="all52"):
 
 # ------------------------------------------------------------------ JSON export in plain numpy
 def _numpy_predict_from_json(
-    spec: dict, acc: np.ndarray, gyr: np.ndarray | None, cadence_hz: np.ndarray | None = None
+    spec: dict, acc: np.ndarray, gyr: np.ndarray | None, cadence_hz: np.ndarray | None = None, window_steps: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Prediction from the exported JSON alone (features from gaitml.features, as the JSON specifies).
 
     ``cadence_hz``: each window's local step cadence (from a step detector: not in the JSON) for the
-    run-cadence rule; None leaves the rule out."""
+    run-cadence rule; None leaves the rule out. ``window_steps``: each window's detected steps (a step
+    detector's, not in the JSON) for the still gate's step veto; None leaves the veto out."""
     from gaitml.features import features_from_arrays
 
     length, hop = spec["window"]["length_samples"], spec["window"]["hop_samples"]
@@ -186,7 +187,9 @@ def _numpy_predict_from_json(
     else:
         stat = {"std": np.std, "range": np.ptp}[still["statistic"]]
         value = np.array([stat(mag[s : s + length]) for s in starts])
-    out = [still["mode"] if v < still["threshold_ms2"] else m for m, v in zip(out, value, strict=True)]
+    veto = still["step_veto"]  # the step veto as the JSON states it
+    kept = np.zeros(len(value), dtype=bool) if window_steps is None else np.asarray(window_steps) >= veto["min_steps"]
+    out = [still["mode"] if v < still["threshold_ms2"] and not k else m for m, v, k in zip(out, value, kept, strict=True)]
     run = spec["postprocess"]["run_cadence"]  # the run-cadence rule as the JSON states it
     if cadence_hz is not None:
         scores = votes + conf / (3 * (np.abs(conf) + 1))
@@ -214,7 +217,10 @@ def _check_json_equals_predict(model, rec, tmp_path):
             model, rec, **({} if on == run["in_force"] else {"run_min_cadence_hz": run["min_cadence_hz"] if on else 0})
         )
         cadence = table["step_cadence_hz"].to_numpy() if on else None  # the cadence is a step detector's, not in the JSON
-        raw, corrected, unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr, cadence)
+        # so are the steps of the still gate's veto (counted when the detector ran; NaN where nothing needed it)
+        steps = table["window_steps"].to_numpy(float)
+        steps = np.nan_to_num(steps, nan=0.0) if spec["postprocess"]["still"]["step_veto"]["in_force"] else None
+        raw, corrected, unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr, cadence, steps)
         assert len(raw) == len(table) > 20
         np.testing.assert_array_equal(raw, table["mode_raw"].to_numpy())
         np.testing.assert_array_equal(corrected, table["mode"].to_numpy())

@@ -13,6 +13,7 @@ from gaitml.models._predict import (
     STILL_RULE,
     STILL_RULES,
     STILL_STD_LP_MS2,
+    STILL_STEP_VETO_DEFAULT,
     still_statistic,
     still_windows,
 )
@@ -103,7 +104,11 @@ def test_the_rule_is_selectable():
     rec = Recording(acc=acc, gyr=rng.normal(0, 0.002, (len(t), 3)), sampling_rate_hz=50.0)
     lp = predict_recording(model, rec)
     old = predict_recording(model, rec, still_rule="std")
-    assert lp.attrs["still_gate"] == {"statistic": "std_lp", "threshold_ms2": STILL_STD_LP_MS2}
+    assert lp.attrs["still_gate"] == {
+        "statistic": "std_lp",
+        "threshold_ms2": STILL_STD_LP_MS2,
+        "step_veto_min_steps": STILL_STEP_VETO_DEFAULT,
+    }
     assert old.attrs["still_gate"]["statistic"] == "std"
     assert lp["still"].all() and not old["still"].any()
     w = make_windows(rec, 1.5, 0.5, min_label_fraction=0.0)

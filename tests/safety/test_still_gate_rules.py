@@ -12,6 +12,7 @@ from gaitml.models._predict import (
     STILL_RANGE_MS2,
     STILL_RULE,
     STILL_STD_MS2,
+    STILL_STEP_VETO_DEFAULT,
     STILL_THRESHOLDS_MS2,
     describe_still_gate,
     still_statistic,
@@ -74,24 +75,32 @@ def test_predict_takes_the_rule_and_threshold():
     model = load_model(ROOT / "models" / "demo")
     t = np.arange(1500) / FS
     rec = _rec(0.35 * np.sqrt(2) * np.sin(2 * np.pi * 1.6 * t))  # std 0.35 (under 0.41), max - min 0.99 (under 2)
-    default = predict_recording(model, rec)
+    default = predict_recording(model, rec, still_step_veto=0)  # the gate alone (the step veto off)
     assert default["still"].all() and (default["mode"] == "still").all()
+    # with the step veto (the default) the detector finds the bounce's steps: a calm walker, not still
+    vetoed = predict_recording(model, rec)
+    assert (vetoed["still_vetoed"] | ~default["still"]).mean() > 0.9 and vetoed["still"].mean() < 0.1
     off = predict_recording(model, rec, still_threshold_ms2=0.0)
     assert not off["still"].any() and (off["mode"] != "still").all()
     lower = predict_recording(model, rec, still_threshold_ms2=0.3)
     assert not lower["still"].any()
-    old = predict_recording(model, rec, still_rule="range")
+    old = predict_recording(model, rec, still_rule="range", still_step_veto=0)
     assert old["still"].all()
     pd.testing.assert_series_equal(default["mode_raw"], off["mode_raw"])
     assert STILL_STD_MS2 < STILL_RANGE_MS2 / np.sqrt(8)  # the std gate passes a sinusoidal bounce the range gate reads still
 
 
 def test_the_gate_in_words_names_the_rule_and_threshold():
-    assert describe_still_gate("std") == f"the standard deviation of |acc| is under {STILL_STD_MS2:g} m/s^2"
+    assert describe_still_gate("std", step_veto=0) == f"the standard deviation of |acc| is under {STILL_STD_MS2:g} m/s^2"
     assert (
-        describe_still_gate() == f"the standard deviation of |acc| (low-passed at 9 Hz) is under {STILL_THRESHOLDS_MS2['std_lp']:g} m/s^2"
+        describe_still_gate(step_veto=0)
+        == f"the standard deviation of |acc| (low-passed at 9 Hz) is under {STILL_THRESHOLDS_MS2['std_lp']:g} m/s^2"
     )
-    assert describe_still_gate("range") == "|acc| swings by under 2 m/s^2"
+    assert describe_still_gate("range", step_veto=0) == "|acc| swings by under 2 m/s^2"
+    # the default names the step veto in force
+    assert describe_still_gate() == describe_still_gate(step_veto=0) + (
+        "" if STILL_STEP_VETO_DEFAULT is None else f" and fewer than {STILL_STEP_VETO_DEFAULT} steps are detected in it"
+    )
     with pytest.raises(InputError, match="still rule"):
         describe_still_gate("peak")
 
@@ -142,9 +151,14 @@ def test_predict_json_says_which_gate_ran(tmp_path, capsys):
     from gaitml.io import write_gaitml_csv
 
     t = np.arange(1500) / FS
-    path = tmp_path / "bounce.csv"
-    write_gaitml_csv(_rec(0.35 * np.sqrt(2) * np.sin(2 * np.pi * 1.6 * t)), path)
+    path = tmp_path / "standing.csv"
+    # a standing hand: tremor, no step
+    write_gaitml_csv(_rec(0.05 * np.sin(2 * np.pi * 0.7 * t)), path)
     assert main(["predict", str(ROOT / "models" / "demo"), str(path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["still_gate"] == {"statistic": STILL_RULE, "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE]}
-    assert out["still_fraction"] == 1.0
+    assert out["still_gate"] == {
+        "statistic": STILL_RULE,
+        "threshold_ms2": STILL_THRESHOLDS_MS2[STILL_RULE],
+        "step_veto_min_steps": STILL_STEP_VETO_DEFAULT,
+    }
+    assert out["still_fraction"] == 1.0 and out["still_vetoed_count"] == 0

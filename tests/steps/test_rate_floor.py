@@ -90,6 +90,24 @@ def test_a_recording_resampled_up_is_judged_at_the_rate_it_was_made_at(walk):
     assert get_detector("adaptive").detect(up).steps_.attrs["rate_check"]["below"] is False
 
 
+def test_a_recording_resampled_up_twice_keeps_the_rate_it_was_made_at(walk):
+    """Each resampling used to record only the rate just before it: a 20 Hz walk brought to 50 then 100 Hz read
+    as made at 50 Hz (single-peak's floor: not flagged), a 10 Hz walk brought to 20 then 50 Hz as 20 Hz (adaptive's
+    15 Hz floor: not flagged, where one tyrex person's count loses 0.14)."""
+    twice = resample_recording(resample_recording(resample_recording(walk, 20.0), 50.0), 100.0)
+    assert twice.sampling_rate_hz == 100.0 and twice.meta["resampled_from_hz"] == 20.0
+    check = get_detector(FLOORED).detect(twice).steps_.attrs["rate_check"]
+    assert check["below"] is True and check["recorded_hz"] == 20.0
+    slow = resample_recording(resample_recording(resample_recording(walk, 10.0), 20.0), 50.0)
+    check = get_detector("adaptive").detect(slow).steps_.attrs["rate_check"]
+    assert check["below"] is True and check["recorded_hz"] == 10.0
+    # taken down and back up: the rate it passed through; a plain down-sampling: its own rate
+    assert resample_recording(resample_recording(walk, 20.0), 50.0).meta["resampled_from_hz"] == 20.0
+    down = resample_recording(walk, 20.0)
+    assert down.meta["resampled_from_hz"] == 50.0
+    assert get_detector("adaptive").detect(down).steps_.attrs["rate_check"]["recorded_hz"] == 20.0
+
+
 def test_a_slow_stretch_flags_only_its_steps(walk):
     rec = walk.replace(meta={**walk.meta, "rate_changes": [[10.0, 20.0, 20.0]]}, check_units=False)
     steps = get_detector(FLOORED).detect(rec).steps_

@@ -252,8 +252,18 @@ def test_steps_outside_the_calibration_are_said(subject, tmp_path, capsys):
     model.save(out)
     assert StepLengthModel.load(out).outside_fit(res_run.steps, res_run.steps["mode"]).mean() > 0.9  # the record is saved
     (rec_file,) = write_simulation([run], tmp_path / "run")
-    assert gaitml_main(["pdr", str(rec_file), "--modes", "forward", "--step-length", str(out), "--json"]) == 0
+    traj_csv = tmp_path / "traj.csv"
+    argv = ["pdr", str(rec_file), "--modes", "forward", "--step-length", str(out), "--json", "--out", str(traj_csv)]
+    assert gaitml_main(argv) == 0
     cap = capsys.readouterr()
-    assert json.loads(cap.out)["step_length_outside_fit"] > 0.9 * json.loads(cap.out)["n_steps"]
+    obj = json.loads(cap.out)
+    assert obj["step_length_outside_fit"] > 0.9 * obj["n_steps"]
     lines = [ln for ln in cap.err.splitlines() if "outside the cadence / acceleration" in ln]
     assert len(lines) == 1 and "extrapolated" in lines[0]
+    # which steps: per row of the JSON trajectory and a column of the written trajectory (the start row has none)
+    rows = obj["trajectory"]
+    assert rows[0]["step_length_outside_fit"] is None
+    assert sum(bool(r["step_length_outside_fit"]) for r in rows[1:]) == obj["step_length_outside_fit"]
+    table = pd.read_csv(traj_csv)
+    assert len(table) == obj["n_steps"] + 1 and pd.isna(table["step_length_outside_fit"].iloc[0])
+    assert int(table["step_length_outside_fit"].iloc[1:].astype(bool).sum()) == obj["step_length_outside_fit"]

@@ -204,6 +204,8 @@ def test_pdr_segment_and_label_flag_below_the_floor_and_not_above(command, files
         argv = [command, str(path), "--detector", FLOORED, "--json"]
         if command == "segment":
             argv += ["--out", str(tmp_path / "seg.csv")]
+        if command == "pdr":
+            argv += ["--out", str(tmp_path / "traj.csv")]
         if command == "label":
             (tmp_path / "iv.csv").write_text("start_s,end_s,label\n0,20,a\n20,39,b\n")
             argv += ["--intervals", str(tmp_path / "iv.csv"), "--out", str(tmp_path / "lab.csv")]
@@ -219,10 +221,18 @@ def test_pdr_segment_and_label_flag_below_the_floor_and_not_above(command, files
         assert pd.read_csv(tmp_path / "seg.csv")["rate_reason"].notna().all()
     if command == "label":
         assert pd.read_csv(tmp_path / "lab.step-labels.csv")["rate_reason"].notna().all()
+    if command == "pdr":  # the trajectory's step rows (JSON and --out), not its start row
+        rows = d["trajectory"]
+        assert rows[0]["rate_reason"] is None and all(r["rate_reason"].startswith("rate: recorded at 20 Hz") for r in rows[1:])
+        traj = pd.read_csv(tmp_path / "traj.csv")
+        assert pd.isna(traj["rate_reason"].iloc[0]) and traj["rate_reason"].iloc[1:].str.startswith("rate: recorded at 20 Hz").all()
     d, lines = run(files[50.0])
     assert d["rate_check"]["below"] is False and not lines
     if command == "segment":
         assert "rate_reason" not in pd.read_csv(tmp_path / "seg.csv").columns
+    if command == "pdr":
+        assert all("rate_reason" not in r for r in d["trajectory"])
+        assert "rate_reason" not in pd.read_csv(tmp_path / "traj.csv").columns
 
 
 # ---- real recordings: the flag is set where the measured count falls

@@ -24,7 +24,16 @@ from gaitml.commands._args import (
     mode_sources,
     step_detectors,
 )
-from gaitml.commands._util import emit_json, gait_check_note, is_large_input, load_input, log, long_read_kwargs, rate_check_note
+from gaitml.commands._util import (
+    emit_json,
+    gait_check_note,
+    is_large_input,
+    load_input,
+    log,
+    long_read_kwargs,
+    rate_check_note,
+    rate_check_summary,
+)
 from gaitml.commands.predict import add_run_cadence_option, run_cadence_arg
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
@@ -492,12 +501,9 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         )
     if res.info.get("gyro_bias"):
         lines.append(f"  {res.info['gyro_bias']['note']}")
-    rate = res.info.get("rate_check")
-    if rate and rate["n_steps_below"]:
-        lines.append(
-            f"  steps recorded below the {rate['floor_hz']:g} Hz down to which {rate['detector']}'s step count holds: "
-            f"{rate['n_steps_below']} of {rate['n_steps']}"
-        )
+    rate = rate_check_summary(res.info.get("rate_check"))  # the stderr warning's summary (gaitml.steps._rate)
+    if rate:
+        lines.append(f"  {rate}")
     if res.info.get("step_length_outside_fit"):
         lines.append(
             f"  step lengths extrapolated (outside the calibration's inputs): {res.info['step_length_outside_fit']} of {res.n_steps} steps"

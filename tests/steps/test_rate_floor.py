@@ -235,6 +235,46 @@ def test_pdr_segment_and_label_flag_below_the_floor_and_not_above(command, files
         assert "rate_reason" not in pd.read_csv(tmp_path / "traj.csv").columns
 
 
+@pytest.fixture(scope="module")
+def still_then_walk(walk, tmp_path_factory):
+    """A logger file: 50 s lying still at 20 Hz, then the walk at 50 Hz (the reader's rate change: the slow stretch
+    holds no step)."""
+    rng = np.random.default_rng(0)
+    t0 = np.arange(0, 50, 1 / 20)
+    acc0 = np.tile([0.0, 0.0, 9.81], (len(t0), 1)) + 0.02 * rng.standard_normal((len(t0), 3))
+    gyr0 = 0.002 * rng.standard_normal((len(t0), 3))
+    t = np.r_[t0, 50.0 + walk.t_s]
+    acc, gyr = np.r_[acc0, walk.acc], np.r_[gyr0, walk.gyr]
+    df = pd.DataFrame({"time_ms": 1000.0 * t})
+    for i, ax in enumerate("xyz"):
+        df[f"a{ax}"] = acc[:, i]
+    for i, ax in enumerate("xyz"):
+        df[f"g{ax}"] = gyr[:, i]
+    d = tmp_path_factory.mktemp("still")
+    df.to_csv(d / "logger.csv", index=False)
+    (d / "iv.csv").write_text("start_s,end_s,label\n0,50,still\n50,89,walk\n")
+    return d
+
+
+@pytest.mark.parametrize("command", ["steps", "pdr", "segment", "label"])
+def test_a_slow_stretch_without_steps_is_in_the_summary_as_on_stderr(command, still_then_walk, capsys):
+    """The stderr line names a slow stretch even when it holds no step (the count there may be short); every
+    command's summary says it too (pdr, segment and label used to say nothing on stdout)."""
+    d = still_then_walk
+    argv = [command, str(d / "logger.csv"), "--columns", "t=time_ms,acc_x=ax,acc_y=ay,acc_z=az,gyr_x=gx,gyr_y=gy,gyr_z=gz"]
+    argv += ["--time-unit", "ms", "--detector", FLOORED]
+    if command == "segment":
+        argv += ["--out", str(d / "seg.csv")]
+    if command == "label":
+        argv += ["--intervals", str(d / "iv.csv"), "--out", str(d / "lab.csv")]
+    assert main(argv) == 0
+    cap = capsys.readouterr()
+    lines = _warn_lines(cap.err)
+    assert len(lines) == 1 and "0 of its" in lines[0] and "20 Hz" in lines[0]
+    summary = [ln for ln in cap.out.splitlines() if WARN in ln]
+    assert len(summary) == 1 and "0 of" in summary[0] and "20 Hz" in summary[0], cap.out
+
+
 # ---- real recordings: the flag is set where the measured count falls
 
 

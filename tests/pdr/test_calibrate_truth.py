@@ -128,6 +128,7 @@ def _write_one(subject, tmp_path, *, trajectory: bool = True, mode="walk", seed=
         ("several-no-truth", "pass --truth self"),
         ("distance-and-truth", "give one of them"),
         ("bad-mode-labels", "labels needs per-sample labels"),
+        ("uneven-truth", "uneven.csv"),  # which input's truth cannot be used, with the reason
     ],
 )
 def test_cli_errors_are_one_line_and_leave_nothing(subject, tmp_path, capsys, case, expect):
@@ -143,6 +144,12 @@ def test_cli_errors_are_one_line_and_leave_nothing(subject, tmp_path, capsys, ca
         short = tmp_path / "short.csv"
         tr[tr["t"] < 4.0].rename(columns={"t": "t_s"}).to_csv(short, index=False)
         args = [str(f), "--truth", str(short), "--out", str(out)]
+    elif case == "uneven-truth":  # a dense truth whose times are not on a uniform grid (every other point dropped at first)
+        tr = pd.read_csv(f.with_suffix(".trajectory.csv")).rename(columns={"t": "t_s"})
+        keep = np.r_[np.arange(0, 200, 2), np.arange(200, len(tr))]
+        uneven = tmp_path / "uneven.csv"
+        tr.iloc[keep].to_csv(uneven, index=False)
+        args = [str(f), "--truth", str(uneven), "--out", str(out)]
     elif case == "mode-count":
         args = [str(f), str(f), "--truth", "self", "--mode", "walk", "--mode", "run", "--mode", "walk", "--out", str(out)]
     elif case == "several-no-truth":
@@ -161,6 +168,8 @@ def test_cli_errors_are_one_line_and_leave_nothing(subject, tmp_path, capsys, ca
     assert main(args) == 2
     err = capsys.readouterr().err.strip()
     assert expect in err and len(err.splitlines()) == 1 and err.startswith("error: ")
+    if case == "uneven-truth":
+        assert f.stem in err and "uniform rate" in err
     assert not out.exists()
 
 

@@ -448,8 +448,9 @@ def _warn_outside_fit(res) -> None:
     which = ", ".join(f"{n} {m}" for m, n in per_mode.items())
     log(
         f"gaitml: warning: {n_out} of {res.n_steps} steps ({which}) lie outside the cadence / acceleration the step-length model "
-        "was calibrated on: their lengths are extrapolated; calibrate on recordings like this one (runs as --mode run with "
-        "--model, or as --mode walk for forward-only dead reckoning)"
+        "was calibrated on, or are of a mode it was not calibrated for (the stated default length): their lengths are "
+        "extrapolated; calibrate on recordings like this one (runs as --mode run with --model, or as --mode walk for "
+        "forward-only dead reckoning)"
     )
 
 
@@ -506,7 +507,7 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         lines.append(f"  {rate}")
     if res.info.get("step_length_outside_fit"):
         lines.append(
-            f"  step lengths extrapolated (outside the calibration's inputs): {res.info['step_length_outside_fit']} of {res.n_steps} steps"
+            f"  step lengths extrapolated (outside the calibration's inputs or modes): {res.info['step_length_outside_fit']} of {res.n_steps} steps"
         )
     lines.extend(_reference_lines(res, truth))
     lines.extend(extra_lines)

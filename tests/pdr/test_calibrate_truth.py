@@ -276,3 +276,22 @@ def test_steps_outside_the_calibration_are_said(subject, tmp_path, capsys):
     table = pd.read_csv(traj_csv)
     assert len(table) == obj["n_steps"] + 1 and pd.isna(table["step_length_outside_fit"].iloc[0])
     assert int(table["step_length_outside_fit"].iloc[1:].astype(bool).sum()) == obj["step_length_outside_fit"]
+
+
+def test_steps_of_a_mode_the_calibration_did_not_fit_are_said(subject):
+    """A walk-only calibration with the modes given (as --model gives them): the run steps take the stated
+    default K (uncalibrated, 1.5 x the distance on tyrex) and used to go unflagged because run had no band;
+    with run calibrated too they are (nearly) not flagged. A step of a mode without coefficients takes the
+    walk line and is checked against the walk band."""
+    walk_only = calibrate_from_truth([_sim(subject, "walk", 1)], "walk")
+    both = calibrate_from_truth([_sim(subject, "walk", 1), _sim(subject, "run", 2)], ["walk", "run"])
+    run = _sim(subject, "run", 4)
+    res = run_pdr(run, modes="true", step_length=walk_only)
+    is_run = (res.steps["mode"] == "run").to_numpy()
+    assert is_run.mean() > 0.8
+    assert res.steps["step_length_outside_fit"].to_numpy()[is_run].all()
+    assert run_pdr(run, modes="true", step_length=both).steps["step_length_outside_fit"].mean() < 0.1
+    walk = run_pdr(_sim(subject, "walk", 3), modes="forward", step_length=walk_only)
+    feats = walk.steps[["freq_hz", "var_ms2sq", "a_max_ms2", "a_min_ms2"]]
+    as_walk = walk_only.outside_fit(feats, np.full(len(feats), "walk"))
+    np.testing.assert_array_equal(walk_only.outside_fit(feats, np.full(len(feats), "shuffle")), as_walk)

@@ -308,3 +308,13 @@ def test_tyrex_pocket_walks_are_flagged_where_single_peaks_count_falls():
     assert abs(counts["50"] - counts["native"]) < 0.05 * counts["native"]  # not flagged: it holds
     assert abs(counts["adaptive 15"] - counts["adaptive native"]) < 0.1 * counts["adaptive native"]
     assert np.isfinite(list(counts.values())).all()
+
+
+def test_adaptive_refuses_a_recording_too_slow_for_its_band_naming_the_fix(walk, tmp_path, capsys):
+    """At 8 Hz adaptive's 0.5-4 Hz band does not fit under half the rate (docs/steps-and-zupt.md: 'at 8 Hz or below it
+    refuses the recording'): one error line that says the rate is too low and what to do, not only the parameter."""
+    slow = tmp_path / "walk8.csv"
+    write_gaitml_csv(resample_recording(walk, 8.0), slow)
+    assert main(["steps", str(slow), "--detector", "adaptive"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "8 Hz" in err and f"record at {DETECTORS['adaptive'].rate_floor_hz:g} Hz or more" in err

@@ -242,6 +242,7 @@ def run(args) -> int:
     rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
     _warn_out_of_domain(model, modes, res.steps)
     _warn_outside_fit(res)
+    _warn_calibration_detector(res)
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
     from gaitml.steps.crosscheck import count_warning
@@ -325,6 +326,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
     rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
     _warn_out_of_domain(model, modes, res.steps)
     _warn_outside_fit(res)
+    _warn_calibration_detector(res)
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:
         log(f"gaitml: warning: {count_msg}")
@@ -454,6 +456,20 @@ def _warn_outside_fit(res) -> None:
     )
 
 
+def _warn_calibration_detector(res) -> None:
+    """One warning line when the step-length calibration was fitted on another step detector's steps
+    (:func:`gaitml.pdr.pipeline.calibration_detector_check`)."""
+    check = res.info.get("step_length_detector")
+    if not check:
+        return
+    cal, det = check["calibrated_with"], check["detector"]
+    log(
+        f"gaitml: warning: the step-length model was calibrated with {cal}'s steps and this run detects them with {det}: "
+        f"its lengths carry {cal}'s missed and extra steps, so the distance may be off by the ratio of the two counts; "
+        f"run with --detector {cal}, or calibrate with --detector {det}"
+    )
+
+
 def _warn_out_of_domain(model, modes: str, steps) -> None:
     """One warning line when model modes were used and steps lie outside the model's training domain."""
     if model is None or modes != "model":
@@ -509,6 +525,9 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         lines.append(
             f"  step lengths extrapolated (outside the calibration's inputs or modes): {res.info['step_length_outside_fit']} of {res.n_steps} steps"
         )
+    if res.info.get("step_length_detector"):
+        check = res.info["step_length_detector"]
+        lines.append(f"  step lengths calibrated with {check['calibrated_with']}, steps detected with {check['detector']}")
     lines.extend(_reference_lines(res, truth))
     lines.extend(extra_lines)
     if args.out:

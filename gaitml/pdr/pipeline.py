@@ -107,7 +107,9 @@ class PdrResult:
         was, every trajectory row has ``rate_reason`` (null for the start row and a step that was not).
         ``step_length_outside_fit``: with a calibrated step-length model that records its fitted inputs, how many
         steps lie outside them (their lengths extrapolated; :meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`),
-        and per trajectory row whether its step does (null for the start row).
+        and per trajectory row whether its step does (null for the start row). ``step_length_detector``
+        (``calibrated_with``, ``detector``): present when the calibration was fitted on another step detector's
+        steps (:func:`calibration_detector_check`).
         """
         traj = self.trajectory
         rows = [
@@ -145,6 +147,8 @@ class PdrResult:
         out["rate_check"] = self.info.get("rate_check")
         if self.info.get("step_length_outside_fit") is not None:
             out["step_length_outside_fit"] = int(self.info["step_length_outside_fit"])
+        if self.info.get("step_length_detector") is not None:
+            out["step_length_detector"] = self.info["step_length_detector"]
         return out
 
 
@@ -265,6 +269,21 @@ def _resolve_step_length(step_length) -> tuple[StepLengthModel | None, str]:
     if isinstance(step_length, (str, Path)):
         return StepLengthModel.load(step_length), f"file {step_length}"
     raise InputError(f"`step_length` must be None, a StepLengthModel, a JSON path or 'reference', got {type(step_length).__name__}.")
+
+
+def calibration_detector_check(step_length: StepLengthModel | None, detector: str | None) -> dict | None:
+    """``{"calibrated_with", "detector"}`` when a calibration from truth was fitted on another step detector's steps
+    than ``detector`` (the one the PDR runs), else None.
+
+    The true length of a calibration step is the walker's path since the detected step before
+    (:func:`gaitml.pdr.calibrate.true_step_lengths`), so the fitted lengths absorb that detector's missed and extra
+    steps: with another detector the distance is off by the ratio of the two counts. None too for given steps and
+    a model without a record of its detector.
+    """
+    calibrated = (getattr(step_length, "calibration_", None) or {}).get("detector")
+    if not calibrated or detector in (None, "given") or str(calibrated) == str(detector):
+        return None
+    return {"calibrated_with": str(calibrated), "detector": str(detector)}
 
 
 def reference_step_lengths(recording: Recording, step_t_s) -> np.ndarray:
@@ -483,6 +502,7 @@ def run_pdr(
             "gyro_bias": _bias_record(source),
             "gait_check": gait,
             "rate_check": rate,
+            "step_length_detector": calibration_detector_check(slm, det_name),
             "notes": notes,
         },
     )

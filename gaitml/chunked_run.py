@@ -771,6 +771,7 @@ def long_pdr(
         _resolve_step_length,
         _step_reasons,
         assemble_result,
+        calibration_detector_check,
         modes_from_labels,
     )
     from gaitml.pdr.step_length import step_length_features
@@ -929,6 +930,7 @@ def long_pdr(
             "gyro_bias": None if first_bias is None else _bias_summary(first_bias, still_bias, bias_parts, fs),
             "gait_check": gait,
             "rate_check": rate_record(steps),  # the whole file's (each chunk carries the file's rates and rate changes)
+            "step_length_detector": calibration_detector_check(slm, detector),
             "notes": notes,
         },
     )

@@ -85,6 +85,25 @@ def rate_check_note(record: dict | None) -> str | None:
     return line
 
 
+def rate_check_summary(record: dict | None) -> str | None:
+    """The summary line (stdout) of a rate check whose warning :func:`rate_check_note` prints, else None: every
+    step flagged when the recording was made below the detector's rate floor, else how many of its steps lie in
+    the stretches recorded below it (named even when none does: the count there may be short)."""
+    from gaitml.steps import rate_warning
+
+    if rate_warning(record) is None:
+        return None
+    if record["below"]:
+        return f"rate: {record['reason'][len('rate: ') :]}; every step flagged (rate_reason)"
+    stretches = record["stretches_below"]
+    n_below = record["n_steps_below"]
+    return (
+        f"rate: {n_below} of {record['n_steps']} steps in {len(stretches)} stretch(es) recorded at down to "
+        f"{min(s[2] for s in stretches):.3g} Hz, below the {record['floor_hz']:g} Hz down to which {record['detector']}'s "
+        "step count holds" + (" (rate_reason)" if n_below else "")
+    )
+
+
 def gait_check_note(account: dict | None, detector: str) -> None:
     """One stderr note when the step detector left out steps in bouts without gait evidence
     (``steps.attrs['gait_check']``, :func:`gaitml.steps._gait_evidence.gait_check`), or when it could not test them

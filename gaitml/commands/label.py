@@ -11,7 +11,7 @@ import argparse
 from pathlib import Path
 
 from gaitml.commands._args import add_input_options
-from gaitml.commands._util import emit_json, gait_check_note, load_input, log, rate_check_note
+from gaitml.commands._util import emit_json, gait_check_note, load_input, log, rate_check_note, rate_check_summary
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 
@@ -121,12 +121,9 @@ def run(args) -> int:
         lines.append(f"  boundary at {t:.3f} s kept as written: {status}")
     lines.append("  samples per label: " + ", ".join(f"{k} {v}" for k, v in r["labels"].items()))
     lines.append(f"  {r['n_steps']} {unit} labelled ({r['n_mixed_steps']} span a boundary: label_fraction < 1)")
-    rate = r.get("rate_check")
-    if rate and rate["n_steps_below"]:
-        lines.append(
-            f"  {rate['n_steps_below']} steps recorded below the {rate['floor_hz']:g} Hz down to which {rate['detector']}'s "
-            f"step count holds (rate_reason in {side.name})"
-        )
+    rate = rate_check_summary(r.get("rate_check"))  # the stderr warning's summary (gaitml.steps._rate)
+    if rate:
+        lines.append(f"  {rate.replace('(rate_reason)', f'(rate_reason in {side.name})')}")
     if rec.labels is not None:
         lines.append("  note: the input's own labels were replaced by the intervals'")
     lines.append(f"  written: {out}, {side}" + (f", {args.report}" if args.report else ""))

@@ -24,7 +24,16 @@ from gaitml.commands._args import (
     mode_sources,
     step_detectors,
 )
-from gaitml.commands._util import emit_json, gait_check_note, is_large_input, load_input, log, long_read_kwargs, rate_check_note
+from gaitml.commands._util import (
+    emit_json,
+    gait_check_note,
+    is_large_input,
+    load_input,
+    log,
+    long_read_kwargs,
+    rate_check_note,
+    rate_check_summary,
+)
 from gaitml.commands.predict import add_run_cadence_option, run_cadence_arg
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
@@ -233,6 +242,7 @@ def run(args) -> int:
     rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
     _warn_out_of_domain(model, modes, res.steps)
     _warn_outside_fit(res)
+    _warn_calibration_detector(res)
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
     from gaitml.steps.crosscheck import count_warning
@@ -316,6 +326,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
     rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
     _warn_out_of_domain(model, modes, res.steps)
     _warn_outside_fit(res)
+    _warn_calibration_detector(res)
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:
         log(f"gaitml: warning: {count_msg}")
@@ -439,8 +450,23 @@ def _warn_outside_fit(res) -> None:
     which = ", ".join(f"{n} {m}" for m, n in per_mode.items())
     log(
         f"gaitml: warning: {n_out} of {res.n_steps} steps ({which}) lie outside the cadence / acceleration the step-length model "
-        "was calibrated on: their lengths are extrapolated; calibrate on recordings like this one (runs as --mode run with "
-        "--model, or as --mode walk for forward-only dead reckoning)"
+        "was calibrated on, or are of a mode it was not calibrated for (the stated default length): their lengths are "
+        "extrapolated; calibrate on recordings like this one (runs as --mode run with --model, or as --mode walk for "
+        "forward-only dead reckoning)"
+    )
+
+
+def _warn_calibration_detector(res) -> None:
+    """One warning line when the step-length calibration was fitted on another step detector's steps
+    (:func:`gaitml.pdr.pipeline.calibration_detector_check`)."""
+    check = res.info.get("step_length_detector")
+    if not check:
+        return
+    cal, det = check["calibrated_with"], check["detector"]
+    log(
+        f"gaitml: warning: the step-length model was calibrated with {cal}'s steps and this run detects them with {det}: "
+        f"its lengths carry {cal}'s missed and extra steps, so the distance may be off by the ratio of the two counts; "
+        f"run with --detector {cal}, or calibrate with --detector {det}"
     )
 
 
@@ -492,16 +518,16 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         )
     if res.info.get("gyro_bias"):
         lines.append(f"  {res.info['gyro_bias']['note']}")
-    rate = res.info.get("rate_check")
-    if rate and rate["n_steps_below"]:
-        lines.append(
-            f"  steps recorded below the {rate['floor_hz']:g} Hz down to which {rate['detector']}'s step count holds: "
-            f"{rate['n_steps_below']} of {rate['n_steps']}"
-        )
+    rate = rate_check_summary(res.info.get("rate_check"))  # the stderr warning's summary (gaitml.steps._rate)
+    if rate:
+        lines.append(f"  {rate}")
     if res.info.get("step_length_outside_fit"):
         lines.append(
-            f"  step lengths extrapolated (outside the calibration's inputs): {res.info['step_length_outside_fit']} of {res.n_steps} steps"
+            f"  step lengths extrapolated (outside the calibration's inputs or modes): {res.info['step_length_outside_fit']} of {res.n_steps} steps"
         )
+    if res.info.get("step_length_detector"):
+        check = res.info["step_length_detector"]
+        lines.append(f"  step lengths calibrated with {check['calibrated_with']}, steps detected with {check['detector']}")
     lines.extend(_reference_lines(res, truth))
     lines.extend(extra_lines)
     if args.out:

@@ -12,7 +12,7 @@ import argparse
 import math
 
 from gaitml.commands._args import add_input_options
-from gaitml.commands._util import emit_json, gait_check_note, load_input, log, rate_check_note
+from gaitml.commands._util import emit_json, gait_check_note, load_input, log, rate_check_note, rate_check_summary
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 
 #: The command's one-line description in ``gaitml --help``.
@@ -95,10 +95,9 @@ def run(args) -> int:
     line = f"{rec.name}: {len(table)} {what} ({name})"
     if len(table):
         line += f", duration median {dur.median():.3f} s (min {dur.min():.3f}, max {dur.max():.3f})"
-    if flagged:
-        line += (
-            f"; {rate['n_steps_below']} recorded below the {rate['floor_hz']:g} Hz down to which {name}'s step count holds (rate_reason)"
-        )
+    summary = rate_check_summary(rate)  # the stderr warning's summary (gaitml.steps._rate)
+    if summary:
+        line += f"; {summary}"
     print(line)
     log(f"wrote {len(table)} segments to {args.out}")
     return 0

@@ -31,7 +31,7 @@ import argparse
 import numpy as np
 
 from gaitml.commands._args import add_input_options, choices, step_detectors
-from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs, rate_check_note
+from gaitml.commands._util import emit_json, is_large_input, load_input, log, long_read_kwargs, rate_check_note, rate_check_summary
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 
 #: The stderr note of a recording in which the detector found no step.
@@ -167,14 +167,9 @@ def _rate_notes(steps) -> tuple[dict | None, str | None]:
     from gaitml.steps import rate_record
 
     rate = rate_record(steps)
-    if rate_check_note(rate) is None:
-        return rate, None
-    if rate["below"]:
-        return rate, f"  rate: {rate['reason'][len('rate: ') :]}; every step flagged (rate_reason)"
-    return rate, (
-        f"  rate: {rate['n_steps_below']} of {rate['n_steps']} steps in stretches recorded below the {rate['floor_hz']:g} Hz "
-        f"down to which {rate['detector']}'s step count holds (rate_reason)"
-    )
+    rate_check_note(rate)
+    line = rate_check_summary(rate)
+    return rate, None if line is None else f"  {line}"
 
 
 def _json_rate(obj: dict, steps, rate: dict | None) -> None:

@@ -15,7 +15,7 @@ import pandas as pd
 
 from gaitml.consts import GRAVITY_MS2
 from gaitml.errors import InputError
-from gaitml.recording import Recording
+from gaitml.recording import Recording, recorded_rate_hz
 
 __all__ = ["WindowDataset", "build_window_dataset", "raw_windows", "raw_window_channels", "resample_recording"]
 
@@ -74,7 +74,10 @@ def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recordi
     Down-sampling first low-passes at 0.45 x the new rate (4th-order Butterworth,
     zero phase) against aliasing; then every channel is linearly interpolated onto
     the new grid (labels: sample-and-hold), as :meth:`Recording.from_timestamps`
-    does. ``meta['resampled_from_hz']`` records the original rate.
+    does. ``meta['resampled_from_hz']`` records the rate the recording was made at: the lowest of
+    ``recording``'s rate and the rates it was itself resampled from
+    (:func:`gaitml.recording.recorded_rate_hz`), so a recording brought up twice (20 -> 50 -> 100 Hz)
+    still reads as made at 20 Hz in the rate checks of a model and of a step detector.
     """
     fs0 = recording.sampling_rate_hz
     if abs(fs0 - sampling_rate_hz) <= 1e-9 * fs0:
@@ -92,7 +95,7 @@ def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recordi
         gyr=gyr,
         labels=recording.labels,
         sampling_rate_hz=sampling_rate_hz,
-        meta={**recording.meta, "resampled_from_hz": fs0},
+        meta={**recording.meta, "resampled_from_hz": recorded_rate_hz(fs0, recording.meta)},
         reference=recording.reference,
         anti_alias=False,  # low-passed above
     )

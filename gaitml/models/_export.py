@@ -24,8 +24,8 @@ not read a version 2 export.
 ``format_version`` 3 is written for a model with an accelerometer range (``acc_range_ms2``,
 :mod:`gaitml.features._range`): its ``acc_range`` entry (``range_ms2``, ``rule``) says to clip
 each accelerometer axis to +-``range_ms2`` before the features. A reader of version 2 must not
-read a version 3 export (it would compute the features of a wide-range phone unclipped). A
-model without a range is exported as version 2, exactly as before.
+read a version 3 export (it would compute the features of a wide-range phone unclipped). Until
+version 4, a model without a range was exported as version 2.
 
 ``format_version`` 4 is written for every model: it adds ``postprocess.run_cadence`` (a rule
 ``gaitml predict`` applies by default) and the still gate's ``statistic`` ``"std_lp"`` (the

@@ -284,9 +284,12 @@ def step_length_samples(
         raise InputError(f"unknown step mode {mode!r}; use one of {', '.join(CALIBRATION_MODES)}.")
     if mode == "labels" and recording.labels is None:
         raise InputError(f"--mode labels needs per-sample labels but {recording.name} has none; give its mode (--mode walk or run).")
-    t_true, xy, _ = truth_track(recording, truth)
+    t_true, xy, truth_name = truth_track(recording, truth)
     lost = ~np.isfinite(xy).all(axis=1)
-    body = body_track(t_true, xy, cutoff_hz=cutoff_hz)
+    try:
+        body = body_track(t_true, xy, cutoff_hz=cutoff_hz)
+    except InputError as exc:  # name the input whose truth it is (several are calibrated at once)
+        raise InputError(f"the truth of {recording.name} ({truth_name}): {exc}") from None
     if steps is None:
         steps, _ = _detect(recording, detector)
     event = steps.attrs.get("event", "t_peak_s")

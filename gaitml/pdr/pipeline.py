@@ -43,7 +43,7 @@ from gaitml.pdr.step_modes import (
 )
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
 from gaitml.recording import Recording
-from gaitml.steps._rate import rate_record
+from gaitml.steps._rate import rate_flags, rate_record
 from gaitml.steps._table import gait_check_record
 
 __all__ = ["HEADING_SOURCES", "MODE_SOURCES", "PdrResult", "modes_from_labels", "modes_from_windows", "run_pdr"]
@@ -68,7 +68,10 @@ class PdrResult:
     trajectory : DataFrame, one row per step preceded by the start point: ``t_s``, ``x_m``,
         ``y_m``, ``heading_rad`` (facing heading of the step; the start row has the
         initial heading), ``mode`` (``start`` for the first row), ``step_length_m`` (0 at
-        the start).
+        the start); ``in_domain`` with model modes; ``rate_reason`` when a step was recorded below the step
+        detector's rate floor (:func:`gaitml.steps.rate_flags`; ``""`` for a step that was not); and
+        ``step_length_outside_fit`` with a calibrated step-length model that records its fitted inputs
+        (:meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`). The start row has None in these.
     steps : DataFrame, the step table with the per-step ``mode``, ``step_length_m``,
         ``heading_rad``, ``gyro_heading_rad`` and step-length features.
     distance_m : float, sum of the step lengths.
@@ -100,9 +103,13 @@ class PdrResult:
         record and no foot in its training positions); without a model they are absent. ``gait_check``: the step detector's
         gait-evidence account (steps left out in bouts without gait evidence), when it ran. ``rate_check``: the step
         table's rate check (:func:`gaitml.steps.rate_record`: was the recording made below the lowest rate the step
-        detector's count holds at?), null for a step table without one (steps given by the caller).
+        detector's count holds at?), null for a step table without one (steps given by the caller); when a step
+        was, every trajectory row has ``rate_reason`` (null for the start row and a step that was not).
         ``step_length_outside_fit``: with a calibrated step-length model that records its fitted inputs, how many
-        steps lie outside them (their lengths extrapolated; :meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`).
+        steps lie outside them (their lengths extrapolated; :meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`),
+        and per trajectory row whether its step does (null for the start row). ``step_length_detector``
+        (``calibrated_with``, ``detector``): present when the calibration was fitted on another step detector's
+        steps (:func:`calibration_detector_check`).
         """
         traj = self.trajectory
         rows = [
@@ -116,6 +123,12 @@ class PdrResult:
                 for row, r in zip(rows[1:], self.steps["out_of_domain_reason"], strict=True):
                     row["out_of_domain_reason"] = str(r) if r else None
                 rows[0]["out_of_domain_reason"] = None
+        if "rate_reason" in traj:  # per step, when a step was recorded below the detector's rate floor
+            for row, v in zip(rows, traj["rate_reason"], strict=True):
+                row["rate_reason"] = None if pd.isna(v) else str(v) or None
+        if "step_length_outside_fit" in traj:  # per step, with a calibration that records its fitted inputs
+            for row, v in zip(rows, traj["step_length_outside_fit"], strict=True):
+                row["step_length_outside_fit"] = None if pd.isna(v) else bool(v)
         out = {
             "n_steps": int(self.n_steps),
             "distance_m": float(self.distance_m),
@@ -134,6 +147,8 @@ class PdrResult:
         out["rate_check"] = self.info.get("rate_check")
         if self.info.get("step_length_outside_fit") is not None:
             out["step_length_outside_fit"] = int(self.info["step_length_outside_fit"])
+        if self.info.get("step_length_detector") is not None:
+            out["step_length_detector"] = self.info["step_length_detector"]
         return out
 
 
@@ -254,6 +269,21 @@ def _resolve_step_length(step_length) -> tuple[StepLengthModel | None, str]:
     if isinstance(step_length, (str, Path)):
         return StepLengthModel.load(step_length), f"file {step_length}"
     raise InputError(f"`step_length` must be None, a StepLengthModel, a JSON path or 'reference', got {type(step_length).__name__}.")
+
+
+def calibration_detector_check(step_length: StepLengthModel | None, detector: str | None) -> dict | None:
+    """``{"calibrated_with", "detector"}`` when a calibration from truth was fitted on another step detector's steps
+    than ``detector`` (the one the PDR runs), else None.
+
+    The true length of a calibration step is the walker's path since the detected step before
+    (:func:`gaitml.pdr.calibrate.true_step_lengths`), so the fitted lengths absorb that detector's missed and extra
+    steps: with another detector the distance is off by the ratio of the two counts. None too for given steps and
+    a model without a record of its detector.
+    """
+    calibrated = (getattr(step_length, "calibration_", None) or {}).get("detector")
+    if not calibrated or detector in (None, "given") or str(calibrated) == str(detector):
+        return None
+    return {"calibrated_with": str(calibrated), "detector": str(detector)}
 
 
 def reference_step_lengths(recording: Recording, step_t_s) -> np.ndarray:
@@ -472,6 +502,7 @@ def run_pdr(
             "gyro_bias": _bias_record(source),
             "gait_check": gait,
             "rate_check": rate,
+            "step_length_detector": calibration_detector_check(slm, det_name),
             "notes": notes,
         },
     )
@@ -530,6 +561,12 @@ def assemble_result(
     )
     if step_in_domain is not None:  # modes from a model: the out-of-domain flag of every step
         traj["in_domain"] = np.concatenate([[None], step_in_domain]).astype(object)
+    # steps recorded below the step detector's rate floor (gaitml.steps._rate): the same column as gaitml steps --out
+    rate_flagged, rate_why = rate_flags(steps, info.get("rate_check"))
+    if rate_flagged.any():
+        traj["rate_reason"] = np.concatenate([[None], rate_why]).astype(object)
+    if outside_fit is not None:  # each step's length extrapolated beyond the calibration's inputs, or not
+        traj["step_length_outside_fit"] = np.concatenate([[None], np.asarray(outside_fit, dtype=bool)]).astype(object)
     steps = pd.concat([steps, feats], axis=1)
     steps["mode"] = step_modes
     steps["step_length_m"] = lengths
@@ -555,6 +592,8 @@ def assemble_result(
         )
     )
     info = {**info, "out_of_domain_steps": n_ood, "side_direction_unsure_steps": n_unsure}
+    if rate_flagged.any():
+        steps["rate_reason"] = rate_why
     if outside_fit is not None:
         steps["step_length_outside_fit"] = np.asarray(outside_fit, dtype=bool)
         info["step_length_outside_fit"] = int(np.sum(outside_fit))

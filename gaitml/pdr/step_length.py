@@ -255,8 +255,11 @@ class StepLengthModel(BaseAlgorithm):
 
         A calibration from truth (:func:`gaitml.pdr.calibrate.fit_step_lengths`) keeps, per mode, the band of
         its inputs (:data:`FIT_RANGE_PERCENTILES`: cadence and variance for eq. 12, the magnitude range for
-        eq. 13); a step of a mode with a band is outside when an input lies beyond it by more than
-        :data:`FIT_RANGE_MARGIN` of its width (e.g. running steps given the walk line, forward-only).
+        eq. 13); a step is outside when an input lies beyond the band of the mode whose coefficients it takes
+        (its own, or the walk line for a mode without coefficients, as :meth:`predict`) by more than
+        :data:`FIT_RANGE_MARGIN` of its width (e.g. running steps given the walk line, forward-only), or when
+        that mode has no band: the calibration did not fit it and its length is the stated default (e.g. run
+        steps from a model's modes after a calibration on walks only).
         """
         record = getattr(self, "calibration_", None) or {}
         bands = {m: d.get("fitted_range") for m, d in (record.get("modes") or {}).items() if isinstance(d, dict) and d.get("fitted_range")}
@@ -264,14 +267,22 @@ class StepLengthModel(BaseAlgorithm):
             return None
         feats = _check_features(features)
         modes = np.asarray(modes).astype(str).reshape(-1)
+        if len(modes) != len(feats):
+            raise InputError(f"`modes` must have one entry per step ({len(feats)}), got {len(modes)}.")
+        coef = self.coefficients_in_use()
+        used = np.array([m if m in coef else "walk" for m in modes], dtype=object)  # the coefficients each step takes
         values = {
             "freq_hz": feats["freq_hz"].to_numpy(float),
             "var_ms2sq": feats["var_ms2sq"].to_numpy(float),
             "range_ms2": (feats["a_max_ms2"] - feats["a_min_ms2"]).to_numpy(float),
         }
         out = np.zeros(len(feats), dtype=bool)
-        for m, band in bands.items():
-            sel = modes == m
+        for m in map(str, np.unique(used)):
+            sel = used == m
+            band = bands.get(m)
+            if band is None:  # a mode the calibration did not fit: the stated default length
+                out[sel] = True
+                continue
             for name, (lo, hi) in band.items():
                 pad = FIT_RANGE_MARGIN * (hi - lo)
                 x = values[name][sel]

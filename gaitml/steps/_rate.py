@@ -28,7 +28,8 @@ __all__ = ["RATE_TOLERANCE", "rate_check", "rate_flags", "rate_reason", "rate_re
 #: few per cent less (timestamps' jitter, dropped samples). The same fraction as a model's rate check
 #: (:data:`gaitml.models.domain.RATE_TOLERANCE`).
 RATE_TOLERANCE = 0.9
-#: the detector named in the fix of the warning line: the one whose floor is lowest (``adaptive``, 10 Hz)
+#: the detector named in the fix of the warning line: ``adaptive``, the default, built for any carrying position
+#: (floor 15 Hz since the leave-one-person-out check; not the lowest floor: ``ifsm``'s is 10 Hz)
 FALLBACK_DETECTOR = "adaptive"
 
 

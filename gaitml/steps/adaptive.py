@@ -1143,6 +1143,12 @@ class AdaptiveStepDetector(BaseStepDetector):
         rec = as_recording(recording, "adaptive step detection", min_duration_s=2.0)
         fs = rec.sampling_rate_hz
         lo, hi = (float(v) for v in self.band_hz)
+        if 0 < lo < hi and hi >= fs / 2:  # a valid band that the recording's rate cannot carry
+            raise InputError(
+                f"adaptive step detection needs a rate above twice its band's upper edge ({hi:g} Hz), got a recording at {fs:g} Hz; "
+                f"record at {RATE_FLOOR_HZ:g} Hz or more (the lowest rate its count was measured to hold at), or give "
+                f"`band_hz` an upper edge below {fs / 2:g} Hz."
+            )
         if not 0 < lo < hi < fs / 2:
             raise InputError(f"`band_hz` must be (low, high) with 0 < low < high < {fs / 2:g} Hz (half the rate), got {self.band_hz!r}.")
         if self.min_step_hz >= self.max_step_hz:

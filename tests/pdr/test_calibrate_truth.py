@@ -128,6 +128,7 @@ def _write_one(subject, tmp_path, *, trajectory: bool = True, mode="walk", seed=
         ("several-no-truth", "pass --truth self"),
         ("distance-and-truth", "give one of them"),
         ("bad-mode-labels", "labels needs per-sample labels"),
+        ("uneven-truth", "uneven.csv"),  # which input's truth cannot be used, with the reason
     ],
 )
 def test_cli_errors_are_one_line_and_leave_nothing(subject, tmp_path, capsys, case, expect):
@@ -143,6 +144,12 @@ def test_cli_errors_are_one_line_and_leave_nothing(subject, tmp_path, capsys, ca
         short = tmp_path / "short.csv"
         tr[tr["t"] < 4.0].rename(columns={"t": "t_s"}).to_csv(short, index=False)
         args = [str(f), "--truth", str(short), "--out", str(out)]
+    elif case == "uneven-truth":  # a dense truth whose times are not on a uniform grid (every other point dropped at first)
+        tr = pd.read_csv(f.with_suffix(".trajectory.csv")).rename(columns={"t": "t_s"})
+        keep = np.r_[np.arange(0, 200, 2), np.arange(200, len(tr))]
+        uneven = tmp_path / "uneven.csv"
+        tr.iloc[keep].to_csv(uneven, index=False)
+        args = [str(f), "--truth", str(uneven), "--out", str(out)]
     elif case == "mode-count":
         args = [str(f), str(f), "--truth", "self", "--mode", "walk", "--mode", "run", "--mode", "walk", "--out", str(out)]
     elif case == "several-no-truth":
@@ -161,6 +168,8 @@ def test_cli_errors_are_one_line_and_leave_nothing(subject, tmp_path, capsys, ca
     assert main(args) == 2
     err = capsys.readouterr().err.strip()
     assert expect in err and len(err.splitlines()) == 1 and err.startswith("error: ")
+    if case == "uneven-truth":
+        assert f.stem in err and "uniform rate" in err
     assert not out.exists()
 
 
@@ -252,8 +261,64 @@ def test_steps_outside_the_calibration_are_said(subject, tmp_path, capsys):
     model.save(out)
     assert StepLengthModel.load(out).outside_fit(res_run.steps, res_run.steps["mode"]).mean() > 0.9  # the record is saved
     (rec_file,) = write_simulation([run], tmp_path / "run")
-    assert gaitml_main(["pdr", str(rec_file), "--modes", "forward", "--step-length", str(out), "--json"]) == 0
+    traj_csv = tmp_path / "traj.csv"
+    argv = ["pdr", str(rec_file), "--modes", "forward", "--step-length", str(out), "--json", "--out", str(traj_csv)]
+    assert gaitml_main(argv) == 0
     cap = capsys.readouterr()
-    assert json.loads(cap.out)["step_length_outside_fit"] > 0.9 * json.loads(cap.out)["n_steps"]
+    obj = json.loads(cap.out)
+    assert obj["step_length_outside_fit"] > 0.9 * obj["n_steps"]
     lines = [ln for ln in cap.err.splitlines() if "outside the cadence / acceleration" in ln]
     assert len(lines) == 1 and "extrapolated" in lines[0]
+    # which steps: per row of the JSON trajectory and a column of the written trajectory (the start row has none)
+    rows = obj["trajectory"]
+    assert rows[0]["step_length_outside_fit"] is None
+    assert sum(bool(r["step_length_outside_fit"]) for r in rows[1:]) == obj["step_length_outside_fit"]
+    table = pd.read_csv(traj_csv)
+    assert len(table) == obj["n_steps"] + 1 and pd.isna(table["step_length_outside_fit"].iloc[0])
+    assert int(table["step_length_outside_fit"].iloc[1:].astype(bool).sum()) == obj["step_length_outside_fit"]
+
+
+def test_steps_of_a_mode_the_calibration_did_not_fit_are_said(subject):
+    """A walk-only calibration with the modes given (as --model gives them): the run steps take the stated
+    default K (uncalibrated, 1.5 x the distance on tyrex) and used to go unflagged because run had no band;
+    with run calibrated too they are (nearly) not flagged. A step of a mode without coefficients takes the
+    walk line and is checked against the walk band."""
+    walk_only = calibrate_from_truth([_sim(subject, "walk", 1)], "walk")
+    both = calibrate_from_truth([_sim(subject, "walk", 1), _sim(subject, "run", 2)], ["walk", "run"])
+    run = _sim(subject, "run", 4)
+    res = run_pdr(run, modes="true", step_length=walk_only)
+    is_run = (res.steps["mode"] == "run").to_numpy()
+    assert is_run.mean() > 0.8
+    assert res.steps["step_length_outside_fit"].to_numpy()[is_run].all()
+    assert run_pdr(run, modes="true", step_length=both).steps["step_length_outside_fit"].mean() < 0.1
+    walk = run_pdr(_sim(subject, "walk", 3), modes="forward", step_length=walk_only)
+    feats = walk.steps[["freq_hz", "var_ms2sq", "a_max_ms2", "a_min_ms2"]]
+    as_walk = walk_only.outside_fit(feats, np.full(len(feats), "walk"))
+    np.testing.assert_array_equal(walk_only.outside_fit(feats, np.full(len(feats), "shuffle")), as_walk)
+
+
+def test_a_calibration_used_with_another_step_detector_is_said(subject, tmp_path, capsys):
+    """The true length of a step is the body's path since the detected step before, so a calibration holds for
+    the detector it was fitted with (on tyrex, fitted with adaptive and run with autocorr a front-pocket walk came
+    out 0.83 x, silently). gaitml pdr says so: the JSON, one warning line, the summary; not with the same one."""
+    from gaitml.cli import main as gaitml_main
+
+    model = calibrate_from_truth([_sim(subject, "walk", 1)], "walk")
+    assert model.calibration_["detector"] == "adaptive"
+    out = tmp_path / "walk.json"
+    model.save(out)
+    (rec_file,) = write_simulation([_sim(subject, "walk", 3)], tmp_path / "walk")
+    for det, said in (("single-peak", True), ("adaptive", False)):
+        assert gaitml_main(["pdr", str(rec_file), "--modes", "forward", "--step-length", str(out), "--detector", det, "--json"]) == 0
+        cap = capsys.readouterr()
+        obj = json.loads(cap.out)
+        lines = [ln for ln in cap.err.splitlines() if "calibrated with" in ln]
+        if said:
+            assert obj["step_length_detector"] == {"calibrated_with": "adaptive", "detector": det}
+            assert len(lines) == 1 and lines[0].startswith("gaitml: warning:") and "--detector adaptive" in lines[0]
+        else:
+            assert "step_length_detector" not in obj and not lines
+    assert gaitml_main(["pdr", str(rec_file), "--modes", "forward", "--step-length", str(out), "--detector", "single-peak"]) == 0
+    assert "calibrated with adaptive" in capsys.readouterr().out
+    res = run_pdr(_sim(subject, "walk", 3), modes="forward", step_length=model, detector="single-peak")
+    assert res.info["step_length_detector"] == {"calibrated_with": "adaptive", "detector": "single-peak"}

@@ -90,6 +90,24 @@ def test_a_recording_resampled_up_is_judged_at_the_rate_it_was_made_at(walk):
     assert get_detector("adaptive").detect(up).steps_.attrs["rate_check"]["below"] is False
 
 
+def test_a_recording_resampled_up_twice_keeps_the_rate_it_was_made_at(walk):
+    """Each resampling used to record only the rate just before it: a 20 Hz walk brought to 50 then 100 Hz read
+    as made at 50 Hz (single-peak's floor: not flagged), a 10 Hz walk brought to 20 then 50 Hz as 20 Hz (adaptive's
+    15 Hz floor: not flagged, where one tyrex person's count loses 0.14)."""
+    twice = resample_recording(resample_recording(resample_recording(walk, 20.0), 50.0), 100.0)
+    assert twice.sampling_rate_hz == 100.0 and twice.meta["resampled_from_hz"] == 20.0
+    check = get_detector(FLOORED).detect(twice).steps_.attrs["rate_check"]
+    assert check["below"] is True and check["recorded_hz"] == 20.0
+    slow = resample_recording(resample_recording(resample_recording(walk, 10.0), 20.0), 50.0)
+    check = get_detector("adaptive").detect(slow).steps_.attrs["rate_check"]
+    assert check["below"] is True and check["recorded_hz"] == 10.0
+    # taken down and back up: the rate it passed through; a plain down-sampling: its own rate
+    assert resample_recording(resample_recording(walk, 20.0), 50.0).meta["resampled_from_hz"] == 20.0
+    down = resample_recording(walk, 20.0)
+    assert down.meta["resampled_from_hz"] == 50.0
+    assert get_detector("adaptive").detect(down).steps_.attrs["rate_check"]["recorded_hz"] == 20.0
+
+
 def test_a_slow_stretch_flags_only_its_steps(walk):
     rec = walk.replace(meta={**walk.meta, "rate_changes": [[10.0, 20.0, 20.0]]}, check_units=False)
     steps = get_detector(FLOORED).detect(rec).steps_
@@ -186,6 +204,8 @@ def test_pdr_segment_and_label_flag_below_the_floor_and_not_above(command, files
         argv = [command, str(path), "--detector", FLOORED, "--json"]
         if command == "segment":
             argv += ["--out", str(tmp_path / "seg.csv")]
+        if command == "pdr":
+            argv += ["--out", str(tmp_path / "traj.csv")]
         if command == "label":
             (tmp_path / "iv.csv").write_text("start_s,end_s,label\n0,20,a\n20,39,b\n")
             argv += ["--intervals", str(tmp_path / "iv.csv"), "--out", str(tmp_path / "lab.csv")]
@@ -201,10 +221,58 @@ def test_pdr_segment_and_label_flag_below_the_floor_and_not_above(command, files
         assert pd.read_csv(tmp_path / "seg.csv")["rate_reason"].notna().all()
     if command == "label":
         assert pd.read_csv(tmp_path / "lab.step-labels.csv")["rate_reason"].notna().all()
+    if command == "pdr":  # the trajectory's step rows (JSON and --out), not its start row
+        rows = d["trajectory"]
+        assert rows[0]["rate_reason"] is None and all(r["rate_reason"].startswith("rate: recorded at 20 Hz") for r in rows[1:])
+        traj = pd.read_csv(tmp_path / "traj.csv")
+        assert pd.isna(traj["rate_reason"].iloc[0]) and traj["rate_reason"].iloc[1:].str.startswith("rate: recorded at 20 Hz").all()
     d, lines = run(files[50.0])
     assert d["rate_check"]["below"] is False and not lines
     if command == "segment":
         assert "rate_reason" not in pd.read_csv(tmp_path / "seg.csv").columns
+    if command == "pdr":
+        assert all("rate_reason" not in r for r in d["trajectory"])
+        assert "rate_reason" not in pd.read_csv(tmp_path / "traj.csv").columns
+
+
+@pytest.fixture(scope="module")
+def still_then_walk(walk, tmp_path_factory):
+    """A logger file: 50 s lying still at 20 Hz, then the walk at 50 Hz (the reader's rate change: the slow stretch
+    holds no step)."""
+    rng = np.random.default_rng(0)
+    t0 = np.arange(0, 50, 1 / 20)
+    acc0 = np.tile([0.0, 0.0, 9.81], (len(t0), 1)) + 0.02 * rng.standard_normal((len(t0), 3))
+    gyr0 = 0.002 * rng.standard_normal((len(t0), 3))
+    t = np.r_[t0, 50.0 + walk.t_s]
+    acc, gyr = np.r_[acc0, walk.acc], np.r_[gyr0, walk.gyr]
+    df = pd.DataFrame({"time_ms": 1000.0 * t})
+    for i, ax in enumerate("xyz"):
+        df[f"a{ax}"] = acc[:, i]
+    for i, ax in enumerate("xyz"):
+        df[f"g{ax}"] = gyr[:, i]
+    d = tmp_path_factory.mktemp("still")
+    df.to_csv(d / "logger.csv", index=False)
+    (d / "iv.csv").write_text("start_s,end_s,label\n0,50,still\n50,89,walk\n")
+    return d
+
+
+@pytest.mark.parametrize("command", ["steps", "pdr", "segment", "label"])
+def test_a_slow_stretch_without_steps_is_in_the_summary_as_on_stderr(command, still_then_walk, capsys):
+    """The stderr line names a slow stretch even when it holds no step (the count there may be short); every
+    command's summary says it too (pdr, segment and label used to say nothing on stdout)."""
+    d = still_then_walk
+    argv = [command, str(d / "logger.csv"), "--columns", "t=time_ms,acc_x=ax,acc_y=ay,acc_z=az,gyr_x=gx,gyr_y=gy,gyr_z=gz"]
+    argv += ["--time-unit", "ms", "--detector", FLOORED]
+    if command == "segment":
+        argv += ["--out", str(d / "seg.csv")]
+    if command == "label":
+        argv += ["--intervals", str(d / "iv.csv"), "--out", str(d / "lab.csv")]
+    assert main(argv) == 0
+    cap = capsys.readouterr()
+    lines = _warn_lines(cap.err)
+    assert len(lines) == 1 and "0 of its" in lines[0] and "20 Hz" in lines[0]
+    summary = [ln for ln in cap.out.splitlines() if WARN in ln]
+    assert len(summary) == 1 and "0 of" in summary[0] and "20 Hz" in summary[0], cap.out
 
 
 # ---- real recordings: the flag is set where the measured count falls
@@ -240,3 +308,13 @@ def test_tyrex_pocket_walks_are_flagged_where_single_peaks_count_falls():
     assert abs(counts["50"] - counts["native"]) < 0.05 * counts["native"]  # not flagged: it holds
     assert abs(counts["adaptive 15"] - counts["adaptive native"]) < 0.1 * counts["adaptive native"]
     assert np.isfinite(list(counts.values())).all()
+
+
+def test_adaptive_refuses_a_recording_too_slow_for_its_band_naming_the_fix(walk, tmp_path, capsys):
+    """At 8 Hz adaptive's 0.5-4 Hz band does not fit under half the rate (docs/steps-and-zupt.md: 'at 8 Hz or below it
+    refuses the recording'): one error line that says the rate is too low and what to do, not only the parameter."""
+    slow = tmp_path / "walk8.csv"
+    write_gaitml_csv(resample_recording(walk, 8.0), slow)
+    assert main(["steps", str(slow), "--detector", "adaptive"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "8 Hz" in err and f"record at {DETECTORS['adaptive'].rate_floor_hz:g} Hz or more" in err

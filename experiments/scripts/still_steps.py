@@ -7,7 +7,7 @@ The still gate (:func:`gaitml.models._predict.still_windows`, rule ``std_lp``) a
 low-passed |acc| varies little. A calm walker with the phone at the ear varies it little too: every silently wrong
 Phoning window of the held-out tyrex people is the gate's ``still``. The step veto: a window in which the default step
 detector (``adaptive``, gait check on, run once over the recording at the model's rate, as the run-cadence rule runs
-it: :func:`gaitml.models._predict.window_steps`) finds steps is not still. What the study does:
+it: :func:`gaitml.models._predict.recording_steps`) finds steps is not still. What the study does:
 
 1. The three fold models and the gate-off predictions of the left-out people at 50 Hz and as a 20 Hz phone would
    record them are :mod:`experiments.scripts.still_rate`'s (the shipped recipe with its augmentation, cached under

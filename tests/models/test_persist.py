@@ -140,13 +140,14 @@ def _info(ds, kind="linear-ovo-svm", input_kind="features", fset="all52"):
 
 # ------------------------------------------------------------------ JSON export in plain numpy
 def _numpy_predict_from_json(
-    spec: dict, acc: np.ndarray, gyr: np.ndarray | None, cadence_hz: np.ndarray | None = None, window_steps: np.ndarray | None = None
+    spec: dict, acc: np.ndarray, gyr: np.ndarray | None, cadence_hz: np.ndarray | None = None, step_peaks: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Prediction from the exported JSON alone (features from gaitml.features, as the JSON specifies).
 
     ``cadence_hz``: each window's local step cadence (from a step detector: not in the JSON) for the
-    run-cadence rule; None leaves the rule out. ``window_steps``: each window's detected steps (a step
-    detector's, not in the JSON) for the still gate's step veto; None leaves the veto out."""
+    run-cadence rule; None leaves the rule out. ``step_peaks``: the peaks (samples at the JSON's
+    ``sampling_rate_hz``) of a step detector run over the whole recording (not in the JSON) for the still
+    gate's step veto, counted per window as the JSON's rule states; None leaves the veto out."""
     from gaitml.features import features_from_arrays
 
     length, hop = spec["window"]["length_samples"], spec["window"]["hop_samples"]
@@ -188,7 +189,10 @@ def _numpy_predict_from_json(
         stat = {"std": np.std, "range": np.ptp}[still["statistic"]]
         value = np.array([stat(mag[s : s + length]) for s in starts])
     veto = still["step_veto"]  # the step veto as the JSON states it
-    kept = np.zeros(len(value), dtype=bool) if window_steps is None else np.asarray(window_steps) >= veto["min_steps"]
+    kept = np.zeros(len(value), dtype=bool)
+    if step_peaks is not None:  # "at least min_steps steps whose peak lies inside the window (start <= peak < end)"
+        peaks = np.asarray(step_peaks, dtype=np.int64)
+        kept = np.array([np.sum((peaks >= s) & (peaks < s + length)) >= veto["min_steps"] for s in starts], dtype=bool)
     out = [still["mode"] if v < still["threshold_ms2"] and not k else m for m, v, k in zip(out, value, kept, strict=True)]
     run = spec["postprocess"]["run_cadence"]  # the run-cadence rule as the JSON states it
     if cadence_hz is not None:
@@ -206,6 +210,7 @@ def _numpy_predict_from_json(
 
 def _check_json_equals_predict(model, rec, tmp_path):
     from gaitml.cli import main
+    from gaitml.models._predict import recording_steps
 
     out = tmp_path / "model.export.json"
     assert main(["model", "export", str(model.path), "--format", "json", "--out", str(out)]) == 0
@@ -217,10 +222,11 @@ def _check_json_equals_predict(model, rec, tmp_path):
             model, rec, **({} if on == run["in_force"] else {"run_min_cadence_hz": run["min_cadence_hz"] if on else 0})
         )
         cadence = table["step_cadence_hz"].to_numpy() if on else None  # the cadence is a step detector's, not in the JSON
-        # so are the steps of the still gate's veto (counted when the detector ran; NaN where nothing needed it)
-        steps = table["window_steps"].to_numpy(float)
-        steps = np.nan_to_num(steps, nan=0.0) if spec["postprocess"]["still"]["step_veto"]["in_force"] else None
-        raw, corrected, unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr, cadence, steps)
+        # so are the steps of the still gate's veto: gaitml's detector (the JSON names it, with its swing stage's
+        # setting where the recording has a gyroscope) over the whole recording
+        veto = spec["postprocess"]["still"]["step_veto"]
+        peaks = recording_steps(rec, veto["swing_periodicity"] if rec.has_gyr else 0.0)["peak"].to_numpy() if veto["in_force"] else None
+        raw, corrected, unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr, cadence, peaks)
         assert len(raw) == len(table) > 20
         np.testing.assert_array_equal(raw, table["mode_raw"].to_numpy())
         np.testing.assert_array_equal(corrected, table["mode"].to_numpy())
@@ -262,6 +268,21 @@ def test_json_export_in_plain_numpy_equals_predict_on_real_recordings(tmp_path):
     rec = read_recording(shared("ifsm-flat-phone", "acceleration_flat_holding_1.xlsx"))
     assert rec.sampling_rate_hz == 50.0
     _check_json_equals_predict(load_model(tmp_path / "acc"), rec, tmp_path)
+
+
+def test_json_export_in_plain_numpy_applies_the_step_veto(tmp_path):
+    """A calm walker whose |acc| the still gate's statistic reads still between two standing stretches: the plain reader
+    applies the step veto from the JSON's words (the detector's peaks counted per window) and equals predict, and the
+    veto is what keeps those windows in their mode (the reader without it answers them still)."""
+    from tests.models.test_still_step_veto import calm_walker
+
+    model, rec = load_model(DEMO), calm_walker(40.0, stand_s=15.0)
+    table = predict_recording(model, rec)
+    vetoed = table["still_vetoed"].to_numpy(bool)
+    assert vetoed.sum() > 30 and table["still"].sum() > 10  # the veto and the gate both answer here
+    spec = _check_json_equals_predict(model, rec, tmp_path)
+    _raw, without, _unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr)
+    assert (without[vetoed] == spec["postprocess"]["still"]["mode"]).all()
 
 
 def test_json_export_refuses_torch_kinds(tmp_path):

@@ -19,9 +19,10 @@ gyroscope (seed 7, ``duration`` s at 50 Hz), alternately, best of ``reps`` each:
   is read ``run``) is the ratio of the two ``predict`` times of the new model.
 - ``predict, step veto off``: the new model's ``predict`` with ``still_step_veto=0``, on the same recording,
   on one with pauses (the same walker standing still between bouts, ``pauses=True``), where some windows read
-  still and the veto reads the ``adaptive`` detector's steps (found once per recording, shared with the
-  run-cadence rule), and on a walk with pauses with the run-cadence rule off in both runs (the detector runs for the
-  veto alone).
+  still and the veto reads the ``adaptive`` detector's steps with its swing stage
+  (:func:`gaitml.models._predict.veto_steps`, found once per recording; on a recording with a gyroscope they are not
+  the run-cadence rule's, which keeps ``adaptive``'s defaults: the detector then runs once for each), and on a walk
+  with pauses with the run-cadence rule off in both runs (the detector runs for the veto alone).
 
 Both run on one BLAS thread where threadpoolctl is available (as the domain rows of
 ``benchmarks/models.py``: a second BLAS thread on a shared 2-core machine only adds noise).

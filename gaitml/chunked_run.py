@@ -469,7 +469,8 @@ def long_predict(
     ``run_min_cadence_hz``; None: :data:`~gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`, 0: off)
     reads each chunk's steps (the chunk's windows' ``step_cadence_hz``) and runs again after the correction.
     The still gate's step veto (``still_step_veto``; None: :data:`~gaitml.models._predict.STILL_STEP_VETO_DEFAULT`, 0: off)
-    reads each chunk's steps too (the default detector's, found once per chunk and shared with the run-cadence rule);
+    reads each chunk's steps too (:func:`~gaitml.models._predict.veto_steps`, found once per chunk; shared with the
+    run-cadence rule where they are the same steps);
     with either on, each chunk reads :data:`DEFAULT_MARGIN_S` of margin on each side for its detector, so that a window's
     steps are the whole-file run's except where a bout or a 5 s cadence window reaches past the margin. ``still``,
     ``still_vetoed`` and ``mode`` are then the whole-file run's; the ``window_steps`` column is the chunk's: NaN in a
@@ -481,10 +482,10 @@ def long_predict(
         RUN_MODE,
         RUN_STRIDE_CADENCE_HZ,
         SIDE_MODES,
-        recording_steps,
         run_cadence_threshold,
         side_direction_unsure,
         still_step_veto_threshold,
+        veto_steps,
         window_step_counts,
     )
 
@@ -547,11 +548,11 @@ def long_predict(
             **({"still_threshold_ms2": 0.0} if gate_after else {}),
         )
         if gate_after and veto_n is not None:
-            # the gate comes after the chunks (below): every window's steps for its veto, the chunk's steps found once
-            # (the run-cadence rule's when it ran)
+            # the gate comes after the chunks (below): every window's count of the veto's steps, the chunk's steps found
+            # once (predict's when it found them: the run-cadence rule's, when the veto reads the same steps)
             counts = table["window_steps"].to_numpy(float)
             if np.isnan(counts).all():
-                table["window_steps"] = window_step_counts(table, recording_steps(rec)).astype(float)
+                table["window_steps"] = window_step_counts(table, veto_steps(rec)).astype(float)
         gstart = table["start"].to_numpy() + ch.offset
         keep = (gstart >= ch.core_start) & (gstart < ch.core_end)
         # the phone held upright in each window (a side step there has an unsure direction), for the corrected modes below

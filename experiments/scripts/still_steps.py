@@ -93,7 +93,8 @@ def vetoed_standing_threshold(std_standing, range_standing, veto, range_ms2: flo
 
 
 def _steps_of(rec) -> np.ndarray:
-    """The default detector's step peaks on ``rec`` (the library's own step finder of the still gate)."""
+    """The default detector's step peaks on ``rec`` (``adaptive`` at its defaults: the still gate's veto as this study
+    adopted it; the veto now reads the swing stage's steps, :func:`gaitml.models._predict.veto_steps`)."""
     from gaitml.models._predict import recording_steps
 
     return recording_steps(rec)["peak"].to_numpy(np.int64)

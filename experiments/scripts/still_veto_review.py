@@ -112,9 +112,9 @@ def check_pdr(data: Path, model) -> None:
     recs = [r for _, r in _tyrex(data, ("Phoning",))]
     real, calls = P.recording_steps, [0]
 
-    def counting(rec):
+    def counting(rec, swing_periodicity=0.0):  # the veto's steps (swing stage) and the run-cadence rule's, each counted
         calls[0] += 1
-        return real(rec)
+        return real(rec, swing_periodicity)
 
     default = P.STILL_STEP_VETO_DEFAULT
     best, runs, res = {}, {}, {}

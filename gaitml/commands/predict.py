@@ -29,7 +29,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--still-step-veto",
         metavar="on|off|N",
         default=None,
-        help="a window the still gate reads still keeps its mode when the default step detector finds at least N steps in it "
+        help="a window the still gate reads still keeps its mode when the step detector (adaptive; its swing stage on where "
+        "there is a gyroscope, gaitml.models._predict.STILL_STEP_SWING_PERIODICITY) finds at least N steps in it "
         "(on: 2, gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS; off: the gate alone); default: STILL_STEP_VETO_DEFAULT (on)",
     )
     add_input_options(p)

@@ -262,17 +262,28 @@ def _still_spec() -> dict:
 
 
 def _step_veto_spec(min_steps: int, default: int | None) -> dict:
-    """The still gate's step veto (gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS) as the JSON export states it."""
+    """The still gate's step veto (gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS) as the JSON export states it, with
+    the swing stage its step finder runs (gaitml.models._predict.STILL_STEP_SWING_PERIODICITY)."""
+    from gaitml.models._predict import STILL_STEP_SWING_PERIODICITY
+
+    swing = float(STILL_STEP_SWING_PERIODICITY)
     return {
         "in_force": default is not None,
         "min_steps": min_steps if default is None else default,
+        "swing_periodicity": swing,
         "rule": (
             "Applied by gaitml predict by default when in_force is true (else on request). A window whose |acc| statistic is "
             "below threshold_ms2 keeps its label (it is not still) when a step detector run over the whole recording finds at "
             "least min_steps steps whose peak lies inside the window (start <= peak < end, samples at sampling_rate_hz): a calm "
             "walker's phone at the ear varies |acc| as little as a standing hand, but its steps repeat. gaitml uses its adaptive "
-            "detector with its gait check (gaitml.steps), at the model's rate. The steps are not in this file: a stream needs "
-            "its own step detector; without one, leave the veto out."
+            "detector with its gait check (gaitml.steps), at the model's rate"
+            + (
+                f", with its swing stage (gyro_swing_min_periodicity = swing_periodicity, {swing:g}) where the recording has a "
+                "gyroscope: where |acc| repeats too weakly, the phone's regular turning once per stride sets the step period"
+                if swing > 0
+                else ""
+            )
+            + ". The steps are not in this file: a stream needs its own step detector; without one, leave the veto out."
         ),
     }
 

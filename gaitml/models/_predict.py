@@ -32,9 +32,12 @@ __all__ = [
     "STILL_THRESHOLDS_MS2",
     "STILL_STEP_VETO_MIN_STEPS",
     "STILL_STEP_VETO_DEFAULT",
+    "STILL_STEP_SWING_PERIODICITY",
     "still_step_veto_threshold",
     "window_step_counts",
     "recording_steps",
+    "veto_steps",
+    "veto_reads_own_steps",
     "SIDE_MODES",
     "FACE_UP_MAX_DEG",
     "RUN_MODE",
@@ -111,6 +114,20 @@ STILL_STEP_VETO_MIN_STEPS = 2
 #: The step veto predict applies when the caller gives none (``still_step_veto=None``): :data:`STILL_STEP_VETO_MIN_STEPS`,
 #: the veto on; None turns it off in every path by default (:func:`still_step_veto_threshold`).
 STILL_STEP_VETO_DEFAULT: int | None = STILL_STEP_VETO_MIN_STEPS
+#: The step finder of the still gate's veto (:func:`veto_steps`; the run-cadence rule keeps ``adaptive``'s defaults,
+#: :func:`recording_steps`) runs ``adaptive`` with its opt-in swing stage 2c at this value
+#: (``gyro_swing_min_periodicity``; :func:`gaitml.steps.adaptive.gyro_swing_cadence`) on a recording with a gyroscope:
+#: where |acc| repeats too weakly for ``adaptive``'s periodicity floor (a calm walker with the phone at the ear: the
+#: centre of mass bounces less the slower the walk, Orendurff et al. 2004) the phone's regular stride-periodic turning
+#: sets the step period (the body that carries it turns once per stride and reverses between steps, Perry & Burnfield
+#: 2010 ch. 10). 0.3 is the stage's documented value (|acc|'s own floor, chosen leave-one-person-out on tyrex for the
+#: step counts, experiments/reports/tyrex-steps.md). It is not ``gaitml steps``' default (it adds steps to simulated
+#: gestures and desk handling there); for the veto it was adopted by a rule fixed before it was scored (each tyrex
+#: person left out, native and 20 Hz: no motion's silently wrong windows rise, Phoning's fall, standing read as a mode,
+#: the table, desk and gesture still shares within 0.02; experiments/reports/still-gate.md, "The step veto's
+#: evidence"). 0 runs ``adaptive`` at its defaults. Without a gyroscope the stage cannot run and is not asked for: the
+#: veto and the run-cadence rule then read the same steps, found once.
+STILL_STEP_SWING_PERIODICITY = 0.3
 #: The side-step modes, whose name carries a direction (left / right of the walker).
 SIDE_MODES = ("side_left", "side_right")
 #: A side step's direction is read from the phone's own lateral axis (the phone-frame features
@@ -599,19 +616,34 @@ def side_direction_unsure(recording: Recording, windows: pd.DataFrame, modes, ma
     return side & (cos_z < np.cos(np.radians(float(max_deg))))
 
 
-def recording_steps(recording: Recording) -> pd.DataFrame:
+def recording_steps(recording: Recording, swing_periodicity: float = 0.0) -> pd.DataFrame:
     """The steps of the default detector (:class:`gaitml.steps.adaptive.AdaptiveStepDetector` at its defaults, gait
-    check on) over the whole of ``recording``: its ``steps_`` table (``peak`` in samples, ``cadence_hz``, ...), empty for
-    a recording too short for the detector. The still gate's step veto (:data:`STILL_STEP_VETO_MIN_STEPS`) and the
-    run-cadence rule (:func:`window_step_cadence`) read the same steps, found once per recording."""
+    check on; with ``swing_periodicity`` > 0 and a gyroscope, its swing stage 2c at that value) over the whole of
+    ``recording``: its ``steps_`` table (``peak`` in samples, ``cadence_hz``, ...), empty for a recording too short for
+    the detector. The run-cadence rule (:func:`window_step_cadence`) reads these at the defaults, the still gate's step
+    veto :func:`veto_steps`; each found once per recording (one run when they are the same, :func:`veto_reads_own_steps`)."""
     from gaitml.steps import get_detector
 
+    swing = float(swing_periodicity)
+    kw = {"gyro_swing_min_periodicity": swing} if swing > 0 and recording.has_gyr else {}
     try:
-        return get_detector("adaptive").detect(recording).steps_
+        return get_detector("adaptive", **kw).detect(recording).steps_
     except InputError:  # shorter than the detector's cadence window: no steps
         return pd.DataFrame({"start": [], "peak": [], "end": [], "cadence_hz": []}).astype(
             {"start": np.int64, "peak": np.int64, "end": np.int64, "cadence_hz": float}
         )
+
+
+def veto_reads_own_steps(recording: Recording) -> bool:
+    """Whether the still gate's step veto reads other steps than the run-cadence rule on ``recording``: the swing stage
+    (:data:`STILL_STEP_SWING_PERIODICITY`) is on and the recording has a gyroscope for it."""
+    return float(STILL_STEP_SWING_PERIODICITY) > 0 and recording.has_gyr
+
+
+def veto_steps(recording: Recording) -> pd.DataFrame:
+    """The steps the still gate's step veto reads (:data:`STILL_STEP_VETO_MIN_STEPS`): :func:`recording_steps` with the
+    swing stage at :data:`STILL_STEP_SWING_PERIODICITY`."""
+    return recording_steps(recording, STILL_STEP_SWING_PERIODICITY)
 
 
 def window_step_cadence(
@@ -899,10 +931,11 @@ def finish_predictions(
 
     A window with no gait in it (:func:`still_windows` with ``still_rule``, ``still_threshold_ms2``) gets the mode :data:`STILL`
     and ``still = True``; ``mode_raw`` keeps the model's answer; unless the step veto (``still_step_veto``,
-    :func:`still_step_veto_threshold`) finds at least that many of the default detector's steps inside it
-    (:func:`recording_steps` of ``rec``, found once, only when some window reads still, and shared with the
-    run-cadence rule): then it keeps its mode, ``still_vetoed = True``. ``window_steps`` holds each window's steps
-    (:func:`window_step_counts`) when the detector ran, NaN otherwise. A window then answered ``run`` whose
+    :func:`still_step_veto_threshold`) finds at least that many of the veto's steps inside it
+    (:func:`veto_steps` of ``rec``: ``adaptive`` with its swing stage where there is a gyroscope, found once, only when
+    some window reads still; shared with the run-cadence rule when they are the same steps, :func:`veto_reads_own_steps`):
+    then it keeps its mode, ``still_vetoed = True``. ``window_steps`` holds each window's count of the veto's steps
+    (:func:`window_step_counts`) when they were found, NaN otherwise. A window then answered ``run`` whose
     local step cadence is below ``run_min_cadence_hz`` (:func:`run_cadence_threshold`; 0: off) gets
     the model's best other mode (:func:`run_cadence_rule`, the best mode read from ``X``, the model's
     inputs of ``windows``; None: the rule is not applied; ``run_min_cadence_hz`` None:
@@ -943,10 +976,13 @@ def finish_predictions(
     still = still_windows(rec, windows, still_rule, still_threshold_ms2, recorded=recording)
     # ... unless the default detector finds steps in it (a calm walker): the steps are found once, and only when needed
     veto_n = still_step_veto_threshold(still_step_veto)
+    own = veto_reads_own_steps(rec)
     steps, n_steps, vetoed = None, np.full(len(out), np.nan), np.zeros(len(out), dtype=bool)
     if veto_n is not None and still.any():
-        steps = recording_steps(rec)
-        counts = window_step_counts(windows, steps)
+        vsteps = veto_steps(rec)
+        if not own:  # the same steps as the run-cadence rule's: found once
+            steps = vsteps
+        counts = window_step_counts(windows, vsteps)
         n_steps = counts.astype(float)
         vetoed = still & (counts >= veto_n)
         still = still & ~vetoed
@@ -962,7 +998,8 @@ def finish_predictions(
     if run_thr is not None and X is not None and ((modes == RUN_MODE) | (raw == RUN_MODE)).any():
         if steps is None:
             steps = recording_steps(rec)
-            n_steps = window_step_counts(windows, steps).astype(float)
+            if not own:  # the veto's steps too
+                n_steps = window_step_counts(windows, steps).astype(float)
         cadence = window_step_cadence(rec, windows, steps=steps)
         with np.errstate(invalid="ignore"):
             slow = (modes == RUN_MODE) & (raw == RUN_MODE) & (cadence < run_thr) & (cadence >= RUN_STRIDE_CADENCE_HZ)

@@ -189,7 +189,8 @@ def predict_step_windows(
     :func:`gaitml.models._predict.finish_predictions` (still gate, run-cadence rule with
     ``run_min_cadence_hz``: None for :data:`gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`, 0 off; side direction).
     The still gate's step veto (``still_step_veto``: None for :data:`gaitml.models._predict.STILL_STEP_VETO_DEFAULT`,
-    0 off) counts the default detector's steps inside each step window as in a time window. How often a window holds
+    0 off) counts the veto's steps (:func:`gaitml.models._predict.veto_steps`) inside each step window as in a time
+    window. How often a window holds
     :data:`~gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS` of them depends on the window detector's spans, not on
     time: ``adaptive``'s own step windows (a half period either side of each peak) hold their own peak and so seldom a
     second, while ``ifsm``'s steps of a calm walker span about two of ``adaptive``'s, and the veto keeps more than half

@@ -222,8 +222,10 @@ def _check_json_equals_predict(model, rec, tmp_path):
             model, rec, **({} if on == run["in_force"] else {"run_min_cadence_hz": run["min_cadence_hz"] if on else 0})
         )
         cadence = table["step_cadence_hz"].to_numpy() if on else None  # the cadence is a step detector's, not in the JSON
-        # so are the steps of the still gate's veto: gaitml's detector (the JSON names it) over the whole recording
-        peaks = recording_steps(rec)["peak"].to_numpy() if spec["postprocess"]["still"]["step_veto"]["in_force"] else None
+        # so are the steps of the still gate's veto: gaitml's detector (the JSON names it, with its swing stage's
+        # setting where the recording has a gyroscope) over the whole recording
+        veto = spec["postprocess"]["still"]["step_veto"]
+        peaks = recording_steps(rec, veto["swing_periodicity"] if rec.has_gyr else 0.0)["peak"].to_numpy() if veto["in_force"] else None
         raw, corrected, unsure = _numpy_predict_from_json(spec, rec.acc, rec.gyr, cadence, peaks)
         assert len(raw) == len(table) > 20
         np.testing.assert_array_equal(raw, table["mode_raw"].to_numpy())

@@ -107,20 +107,26 @@ def test_a_still_phone_and_a_standing_hand_stay_still(demo):
     assert both["still"].to_numpy()[walking].mean() < 0.05
 
 
-def test_the_steps_are_found_once_and_shared_with_the_run_cadence_rule(demo, monkeypatch):
+def test_the_steps_are_found_once_per_finder(demo, monkeypatch):
     calls = []
     real = P.recording_steps
 
-    def counting(rec):
-        calls.append(rec.n_samples)
-        return real(rec)
+    def counting(rec, swing_periodicity=0.0):
+        calls.append(float(swing_periodicity))
+        return real(rec, swing_periodicity)
 
     monkeypatch.setattr(P, "recording_steps", counting)
     predict_recording(demo, calm_walker(30.0))
-    assert len(calls) == 1
+    # the veto's steps (the swing stage on: the walker has a gyroscope) once; the run-cadence rule's, at adaptive's
+    # defaults, at most once (when some window reads run)
+    assert calls.count(P.STILL_STEP_SWING_PERIODICITY) == 1 and calls.count(0.0) <= 1 and len(calls) <= 2
     calls.clear()
     predict_recording(demo, calm_walker(30.0, amp=2.0))  # a vigorous walk: nothing reads still, no steps needed for the gate
-    assert len(calls) <= 1  # at most the run-cadence rule's, when some window reads run
+    assert calls in ([], [0.0])  # at most the run-cadence rule's, at the defaults
+    calls.clear()
+    monkeypatch.setattr(P, "STILL_STEP_SWING_PERIODICITY", 0.0)  # the same steps for both rules: found once, shared
+    predict_recording(demo, calm_walker(30.0))
+    assert calls == [0.0]
 
 
 @pytest.mark.parametrize("rate", [50.0, 20.0])

@@ -26,7 +26,7 @@ windows are held out, the two others' are the fold's own training runs, the refe
 Per recording, from the raw sensor files (not resampled): the largest ``|gyro|`` on any axis, and how
 many samples sit within ``PLATEAU_FRACTION`` of it on that axis: a gyroscope at its range repeats its
 full-scale value over consecutive samples (a flat top), as the Nexus 5 and iPhone 4S accelerometers do at
-2 g (:mod:`experiments.scripts.running_flags`); one or two samples at the top is a peak, not a range.
+2 g (:mod:`experiments.scripts.running_flags`); a few samples near the top (the largest swings' crests) are peaks, not a range.
 """
 
 from __future__ import annotations
@@ -45,8 +45,9 @@ RUN_MOTIONS = ("RunningHand", "RunningPocket")
 #: out and the body's pace remains; on the room's tight turns (2 m radius at 1.8 m/s) it shortens the path < 2 %.
 SPEED_SMOOTH_S = 0.72
 #: A gyroscope sample counts at the top of its axis when its absolute value is within this fraction of the
-#: axis's largest absolute value over the recording (a flat top at a range repeats one value).
-PLATEAU_FRACTION = 0.001
+#: axis's largest absolute value over the recording: 2 %, the rule by which the accelerometers' 2 g range was
+#: counted (experiments/reports/default-model.md, RF.2: a quarter of the Nexus 5's hand-run samples).
+PLATEAU_FRACTION = 0.02
 
 
 #: Bins (m/s) of the motion-capture speed and (rad/s) of the ``|omega|`` RMS in which the flag rate is tabulated.
@@ -112,7 +113,36 @@ def gyro_top(path: Path) -> dict:
     top = a.max(axis=0)
     ax = int(top.argmax())
     at_top = int((a[:, ax] >= (1.0 - PLATEAU_FRACTION) * top[ax]).sum())
-    return {"gyr_max_rad_s": float(top[ax]), "gyr_max_dps": float(np.degrees(top[ax])), "samples_at_top": at_top}
+    return {
+        "gyr_max_rad_s": float(top[ax]),
+        "gyr_max_dps": float(np.degrees(top[ax])),
+        "samples_at_top": at_top,
+        "share_at_top": at_top / len(a),
+    }
+
+
+def all_gyro_tops(data: Path) -> pd.DataFrame:
+    """Per phone, over every tyrex recording folder (walks and runs; not the calibration ones): the largest ``|gyro|``
+    on any axis, where, and the most samples any recording holds at its own top (:func:`gyro_top`)."""
+    rows = []
+    for sub, fname in (("android", "gyroscope-calibrated.txt.gz"), ("ios", "gyroscope.txt.gz")):
+        for f in sorted((data / "tyrex-attitude" / sub).glob(f"*/{fname}")):
+            name = f.parent.name
+            if name.startswith("calib"):
+                continue
+            rows.append({"phone": name.split("_")[1], "recording": name, **gyro_top(f)})
+    t = pd.DataFrame(rows)
+    best = t.loc[t.groupby("phone")["gyr_max_rad_s"].idxmax()].set_index("phone")
+    return pd.DataFrame(
+        {
+            "recordings": t.groupby("phone").size(),
+            "largest abs gyro (rad/s)": best["gyr_max_rad_s"],
+            "(dps)": best["gyr_max_dps"],
+            "in": best["recording"],
+            "most samples at a recording's top": t.groupby("phone")["samples_at_top"].max(),
+            "largest % at a recording's top": 100.0 * t.groupby("phone")["share_at_top"].max(),
+        }
+    ).reset_index()
 
 
 def raw_gyro_file(data: Path, name: str) -> Path:
@@ -164,6 +194,9 @@ def main(argv=None) -> int:
     ap.add_argument("--person", default="Jakob", help="left-out people whose fold models to read (comma-separated)")
     ap.add_argument("--motions", default=",".join(RUN_MOTIONS))
     ap.add_argument("--csv", type=Path, default=None, help="per-window table")
+    ap.add_argument(
+        "--all-gyro", action="store_true", help="also the gyroscope tops of every tyrex recording, walks included (about 1 min)"
+    )
     a = ap.parse_args(argv)
     from experiments.scripts.tyrex_modes import load_tyrex_labelled, md
     from gaitml.models import load_model, predict_recording
@@ -186,6 +219,7 @@ def main(argv=None) -> int:
         model = load_model(mdir)
         dom = model.domain
         thr_d, thr_y = dom.distance_threshold, dom.dynamics["threshold"]
+        thr_g = np.degrees(dom.gravity_threshold_rad) if dom.gravity_check else np.inf
         labels = list(dom.dynamics["labels"])
         print(f"[run_dynamics] {person} left out ({mdir.name}): distance threshold {thr_d:.2f}, dynamics {thr_y:.2f}", file=sys.stderr)
         L = int(round(model.length_s * model.sampling_rate_hz))
@@ -220,7 +254,7 @@ def main(argv=None) -> int:
                         "dist_ratio": float(p["domain_distance"].iloc[j]) / thr_d,
                         "dyn_ratio": float(p["dynamics_distance"].iloc[j]) / thr_y,
                         "dyn_own_ratio": float(dk[j]) / thr_y,
-                        "gravity_flag": "gravity" in reason[j],
+                        "gravity_flag": bool(float(p["gravity_angle_deg"].iloc[j]) > thr_g),
                         "nearest_dyn": labels[k[j]],
                         "speed_ms": float(speed[j]),
                         "cadence_hz": float(cad[j]),
@@ -237,6 +271,8 @@ def main(argv=None) -> int:
     w["by_feature"] = w["flagged"] & (w["dist_ratio"] > 1)
     w["by_dynamics"] = w["flagged"] & (w["dyn_ratio"] > 1)
     w["flagged_run"] = w["flagged"] & (w["mode"] == "run")  # the classifier's answer under the flag: the right one
+    w["by_gravity"] = w["flagged"] & w["gravity_flag"]
+    w["by_placement"] = w["flagged"] & w["placement"]
     w["dynamics_only"] = w["by_dynamics"] & ~(w["dist_ratio"] > 1) & ~w["gravity_flag"] & ~w["placement"]
     print("\n## per recording: moving windows flagged, by which part; vigour (median over moving windows); raw gyroscope top\n")
     g = (
@@ -246,6 +282,8 @@ def main(argv=None) -> int:
             flagged=("flagged", "sum"),
             by_feature=("by_feature", "sum"),
             by_dynamics=("by_dynamics", "sum"),
+            by_gravity=("by_gravity", "sum"),
+            by_placement=("by_placement", "sum"),
             dynamics_only=("dynamics_only", "sum"),
             flagged_read_run=("flagged_run", "sum"),
             dyn_ratio_med=("dyn_ratio", "median"),
@@ -255,6 +293,7 @@ def main(argv=None) -> int:
             gyr_rms=("gyr_rms", "median"),
             gyr_max_dps=("gyr_max_dps", "first"),
             samples_at_top=("samples_at_top", "first"),
+            pct_at_top=("share_at_top", lambda v: 100.0 * v.iloc[0]),
         )
         .reset_index()
     )
@@ -327,7 +366,11 @@ def main(argv=None) -> int:
         print(
             "\nstretches of consecutive flagged held-out windows (>= 5 windows, gaps of <= 3 allowed) against the rest of the recording:\n"
         )
-        print(md(flagged_stretches(held, train)))
+        st = flagged_stretches(held, train)
+        print(md(st) if len(st) else "none")
+    if a.all_gyro:
+        print("\n## every tyrex recording's raw gyroscope: the largest |axis| value per phone, and the most samples at a recording's top\n")
+        print(md(all_gyro_tops(a.data)))
     return 0
 
 

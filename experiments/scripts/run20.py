@@ -29,6 +29,87 @@ import pandas as pd
 RATE_HZ = 20.0
 
 
+#: The lab candidates of the report's "Running in a pocket at 20 Hz" section (post-hoc flags on predict's table).
+CANDIDATES = ("walk-cadence", "walk-run-nearest")
+#: ``out_of_domain_reason`` of the windows a candidate flags.
+CANDIDATE_REASON = {"walk-cadence": "walk at a running cadence", "walk-run-nearest": "walk / run disagree"}
+
+
+def lowest_window_cadence(recording, windows: pd.DataFrame, steps: pd.DataFrame, reach_s: float) -> np.ndarray:
+    """The lowest ``cadence_hz`` of the steps whose peak lies in each window or within ``reach_s`` of it (NaN: none).
+
+    The mirror of :func:`gaitml.models._predict.window_step_cadence` (which takes the highest): a window counts as
+    at a running cadence only when every step near it is.
+    """
+    out = np.full(len(windows), np.nan)
+    if steps.empty or len(windows) == 0:
+        return out
+    order = np.argsort(steps["peak"].to_numpy(np.int64), kind="stable")
+    peak = steps["peak"].to_numpy(np.int64)[order]
+    cad = steps["cadence_hz"].to_numpy(float)[order]
+    reach = int(round(float(reach_s) * recording.sampling_rate_hz))
+    lo = np.searchsorted(peak, windows["start"].to_numpy(np.int64) - reach, side="left")
+    hi = np.searchsorted(peak, windows["end"].to_numpy(np.int64) + reach, side="left")
+    for i in np.flatnonzero(hi > lo):
+        out[i] = float(np.min(cad[lo[i] : hi[i]]))
+    return out
+
+
+def nearest_domain_class(model, rec) -> np.ndarray:
+    """The domain record's nearest class (Mahalanobis, its per-class Gaussians) of every window predict reads of ``rec`` (at the model's rate)."""
+    from experiments.scripts.running_flags import feature_z
+    from gaitml.features import features_from_arrays
+    from gaitml.models._predict import _windows_for, domain_view
+
+    dom = model.domain
+    w = _windows_for(rec, model.length_s, model.overlap)
+    seen = domain_view(dom, rec)[0]
+    L = int(round(model.length_s * model.sampling_rate_hz))
+    gyr = seen.gyr if "gyro" in dom.feature_set else None
+    X = features_from_arrays(seen.acc, gyr, rec.sampling_rate_hz, w["start"].to_numpy(np.int64), L, dom.feature_set, dom.frame)
+    return np.asarray(dom.classes)[feature_z(dom, X)[0]]
+
+
+def apply_candidate(p: pd.DataFrame, model, recording, name: str | None) -> pd.DataFrame:
+    """``p`` (:func:`gaitml.models.predict_recording` of ``recording``) with candidate ``name``'s flags (None: ``p`` itself).
+
+    ``walk-cadence``: an in-domain window answered ``walk`` whose :func:`lowest_window_cadence` is at least
+    :data:`gaitml.models._predict.RUN_MIN_CADENCE_HZ` (140 steps/min, the walk-to-run transition) is flagged.
+    ``walk-run-nearest``: an in-domain window answered ``walk`` whose :func:`nearest_domain_class` is ``run``, or
+    answered ``run`` whose nearest class is ``walk``, is flagged.
+    """
+    if not name or len(p) == 0:
+        return p
+    from gaitml.models import resample_recording
+    from gaitml.models._predict import RUN_CADENCE_REACH_S, RUN_MIN_CADENCE_HZ, recording_steps
+
+    p = p.copy()
+    rec = resample_recording(recording, model.sampling_rate_hz)
+    inside = p["in_domain"].map(lambda v: v is True or v == True).to_numpy(bool)  # noqa: E712
+    mode = p["mode"].astype(str).to_numpy()
+    if name == "walk-cadence":
+        hit = inside & (mode == "walk")
+        if hit.any():
+            cad = lowest_window_cadence(rec, p, recording_steps(rec), RUN_CADENCE_REACH_S)
+            with np.errstate(invalid="ignore"):
+                hit &= cad >= RUN_MIN_CADENCE_HZ
+    elif name == "walk-run-nearest":
+        hit = inside & np.isin(mode, ["walk", "run"])
+        if hit.any():
+            near = nearest_domain_class(model, rec)
+            hit &= ((mode == "walk") & (near == "run")) | ((mode == "run") & (near == "walk"))
+    else:
+        raise ValueError(f"unknown candidate {name!r}; one of {CANDIDATES}")
+    if hit.any():
+        flags = p["in_domain"].to_numpy(dtype=object).copy()
+        flags[hit] = False
+        reason = p["out_of_domain_reason"].to_numpy(dtype=object).copy()
+        reason[hit] = CANDIDATE_REASON[name]
+        p["in_domain"], p["out_of_domain_reason"] = flags, reason
+    p["candidate_flag"] = hit
+    return p
+
+
 def fold_model_dir(cache: Path, recipe: str, person: str) -> Path:
     """The cached fold model of ``recipe`` with ``person`` left out (one per person in ``cache/models``)."""
     found = sorted((cache / "models").glob(f"*-{recipe}-{person}-*"))
@@ -65,15 +146,106 @@ def outcome(df: pd.DataFrame, mode: str, sfx: str) -> np.ndarray:
     return np.where(flagged, "flagged", np.where(right, "right", "wrong"))
 
 
+def tyrex_shares(csv: Path, rate: float | None) -> pd.DataFrame:
+    """Per motion (and ``all``): right / flagged / silently wrong shares pooled over the left-out people, and per person,
+    from a ``tyrex_modes --csv`` file (``rate`` None: as recorded; else the rows scored at that rate)."""
+    t = pd.read_csv(csv)
+    if "left_out" not in t or t["left_out"].isna().all():  # a shipped model scored in sample: per person instead
+        t = t.assign(left_out=t["subject"])
+    t = t[t["left_out"].notna()]
+    if "score_rate_hz" in t:
+        rr = t["score_rate_hz"]
+        native = rr.isna() if rr.isna().any() else rr == rr.max()  # a shipped model's rows carry their rate, a recipe's native rows none
+        t = t[native] if rate is None else t[t["score_rate_hz"] == rate]
+    rows = []
+    for motion in [*sorted(t["motion"].unique()), "all"]:
+        g = t if motion == "all" else t[t["motion"] == motion]
+        n = g["n"].sum()
+        per = g.groupby("left_out")[["right", "flagged", "wrong", "n"]].sum()
+        rows.append(
+            {
+                "motion": motion,
+                "n": int(n),
+                **{k: g[k].sum() / n for k in ("right", "flagged", "wrong")},
+                "right per left-out": "/".join(f"{v:.2f}" for v in per["right"] / per["n"]),
+                "wrong per left-out": "/".join(f"{v:.2f}" for v in per["wrong"] / per["n"]),
+            }
+        )
+    return pd.DataFrame(rows).set_index("motion")
+
+
+def adoption(base: Path, cand: Path, rate: float = RATE_HZ) -> tuple[list[str], list[str]]:
+    """The report's adoption rule for a candidate: (failed criteria, table lines). ``base``, ``cand``: the stems of two
+    ``tyrex_modes --out STEM.md --csv STEM.csv`` runs (before, with ``--candidate``)."""
+    from experiments.scripts.rates_adoption import _find, _spread, read_tables
+
+    fails, lines = [], []
+    for r in (None, rate):
+        b, c = tyrex_shares(base.with_suffix(".csv"), r), tyrex_shares(cand.with_suffix(".csv"), r)
+        at = "as recorded" if r is None else f"{r:g} Hz"
+        for m in b.index:
+            dw = c.loc[m, "wrong"] - b.loc[m, "wrong"]
+            moved = max(abs(c.loc[m, k] - b.loc[m, k]) for k in ("right", "flagged", "wrong"))
+            bad = []
+            if dw > 1e-12:
+                bad.append("1: silently wrong rises")
+            if r is None and moved > 0.01 + 1e-12:
+                bad.append("3: native figure moves > 0.01")
+            if r == rate and m == "RunningPocket" and not dw < 0:
+                bad.append("2: RunningPocket's silently wrong does not fall")
+            fails += [f"tyrex {m} {at}: {x}" for x in bad]
+            lines.append(
+                f"| {m} | {at} | {b.loc[m, 'right']:.3f} / {b.loc[m, 'flagged']:.3f} / {b.loc[m, 'wrong']:.3f} | "
+                f"{c.loc[m, 'right']:.3f} / {c.loc[m, 'flagged']:.3f} / {c.loc[m, 'wrong']:.3f} | {c.loc[m, 'right per left-out']} | "
+                f"{c.loc[m, 'wrong per left-out']} | {'; '.join(bad) or 'ok'} |"
+            )
+    tb, tc = read_tables(base.with_suffix(".md")), read_tables(cand.with_suffix(".md"))
+    for title, avoid in (("held-out simulator (seed", None), (f"held-out simulator recorded at {rate:g} Hz", "without the rate check")):
+        sb, sc = _find(tb, title, avoid=avoid), _find(tc, title, avoid=avoid)
+        for rb, rc in zip(sb, sc, strict=True):
+            sp = _spread(rb["right over folds"])
+            if float(rc["right"]) < float(rb["right"]) - sp - 1e-9:
+                fails.append(f"simulator {title} {rb['position']} {rb['mode']}: {rb['right']} -> {rc['right']} (spread {sp:.2f})")
+            elif rc["right"] != rb["right"]:
+                lines.append(
+                    f"| sim {rb['position']} {rb['mode']} | {title} | right {rb['right']} | {rc['right']} | spread {sp:.2f} | | ok |"
+                )
+    for title in ("not trained on, flagged", f"not trained on, recorded at {rate:g} Hz, flagged"):
+        for rb, rc in zip(_find(tb, title), _find(tc, title), strict=True):
+            fb = [float(v) for v in rb["flagged"].split("/")]
+            fc = [float(v) for v in rc["flagged"].split("/")]
+            ok = all(y >= x for x, y in zip(fb, fc, strict=True))
+            fails += [] if ok else [f"untrained {rb['what']} ({title}): {rb['flagged']} -> {rc['flagged']}"]
+            lines.append(f"| {rb['what']} | {title} | {rb['flagged']} | {rc['flagged']} | | | {'ok' if ok else 'FALLS'} |")
+    return fails, lines
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", type=Path, default=Path("../shared/data"))
-    ap.add_argument("--model-cache", type=Path, required=True)
+    ap.add_argument("--model-cache", type=Path, default=None, help="the fold models (required for the diagnosis)")
     ap.add_argument("--recipe", default="a")
     ap.add_argument("--motions", default="RunningPocket")
     ap.add_argument("--rate", type=float, default=RATE_HZ)
     ap.add_argument("--csv", type=Path, default=None, help="per-window table (both rates side by side)")
+    ap.add_argument(
+        "--adopt",
+        nargs=2,
+        type=Path,
+        metavar=("BASE", "CAND"),
+        default=None,
+        help="apply the adoption rule to two tyrex_modes runs (stems of --out STEM.md --csv STEM.csv) instead of the diagnosis",
+    )
     a = ap.parse_args(argv)
+    if a.adopt:
+        fails, lines = adoption(*a.adopt, rate=a.rate)
+        print("| what | rate / table | before (right / flagged / wrong) | after | right per left-out | wrong per left-out | verdict |")
+        print("|---|---|---|---|---|---|---|")
+        print("\n".join(lines))
+        print("\nadoption rule:", "MET" if not fails else "NOT MET: " + "; ".join(fails))
+        return 0
+    if a.model_cache is None:
+        ap.error("--model-cache is required for the diagnosis (the fold models of tyrex_modes --model-cache)")
     from experiments.scripts.running_flags import feature_z
     from experiments.scripts.tyrex_modes import at_rate, load_tyrex_labelled, md
     from gaitml.models import load_model
@@ -101,6 +273,19 @@ def main(argv=None) -> int:
                 m[f"nearest{sfx}"] = np.asarray(dom.classes)[k]
                 for j, q in enumerate(names):
                     m[f"z:{q}{sfx}"] = zf[:, j]
+            est = model.estimator
+            cls = [str(c) for c in getattr(est, "classes_", [])]
+            if hasattr(est, "pairs_") and {"run", "walk"} <= set(cls):
+                i, j = sorted((cls.index("run"), cls.index("walk")))
+                k = int(np.flatnonzero((est.pairs_[:, 0] == i) & (est.pairs_[:, 1] == j))[0])
+                sign = 1.0 if cls[i] == "run" else -1.0  # positive: run
+                fn = list(model.feature_names)
+                for sfx in ("_nat", "_20"):
+                    Xm = m[[f"f:{q}{sfx}" for q in fn]].to_numpy(float)
+                    m[f"run_vs_walk{sfx}"] = sign * (Xm @ est.coef_[k] + est.intercept_[k])
+                dX = m[[f"f:{q}_20" for q in fn]].to_numpy(float) - m[[f"f:{q}_nat" for q in fn]].to_numpy(float)
+                contrib = pd.DataFrame(sign * dX * est.coef_[k], columns=[f"dmargin:{q}" for q in fn], index=m.index)
+                m = pd.concat([m, contrib], axis=1)
             scale = dom.arrays["scale"]
             for j, q in enumerate(names):
                 m[f"shift:{q}"] = (m[f"f:{q}_20"] - m[f"f:{q}_nat"]) / scale[j]
@@ -164,6 +349,23 @@ def main(argv=None) -> int:
     for person, d in wr.groupby("left_out"):
         print(
             f"  {person}: cadence as recorded {d['step_cadence_hz_nat'].median():.2f}, at 20 Hz {d['step_cadence_hz_20'].median():.2f}; dist ratio {d['dist_ratio_nat'].median():.2f} -> {d['dist_ratio_20'].median():.2f}; n={len(d)}"
+        )
+    if "run_vs_walk_nat" in t:
+        print(
+            f"\nthe run-vs-walk machine of the linear OVO SVM (positive: run), median: wrong-at-{a.rate:g} windows "
+            f"{wr['run_vs_walk_nat'].median():+.2f} as recorded -> {wr['run_vs_walk_20'].median():+.2f} at {a.rate:g} Hz; "
+            f"windows right at both rates {ok['run_vs_walk_nat'].median():+.2f} -> {ok['run_vs_walk_20'].median():+.2f}"
+        )
+        dc = [c for c in t.columns if c.startswith("dmargin:")]
+        mw = wr[dc].median()
+        top = mw.abs().sort_values(ascending=False).index[:10]
+        print(f"\n## what moves that margin most in the wrong-at-{a.rate:g} windows (median of coefficient x feature change)\n")
+        print(
+            md(
+                pd.DataFrame(
+                    {"feature": [c[8:] for c in top], "margin change, wrong@20": mw[top].values, "right both": ok[top].median().values}
+                )
+            )
         )
     sc = [c for c in t.columns if c.startswith("shift:")]
     med_w = wr[sc].median()

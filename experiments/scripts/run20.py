@@ -14,7 +14,12 @@ rule (``run_at_walking_cadence``, ``step_cadence_hz``), the domain check (featur
 orientation dynamics, each over its threshold) and the model's features. Printed: where the windows wrong at
 20 Hz come from (person, phone), what they are read as, whether the rule moved them and their cadence at both
 rates, their domain ratios at both rates, and the features that move most between the rates (in units of the
-domain record's feature scale, and as per-feature z against the nearest training class's Gaussian).
+domain record's feature scale, and as per-feature z against the nearest training class's Gaussian), and what moves
+the linear SVM's run-vs-walk machine.
+
+``--adopt BASE CAND``: the report's adoption rule for a post-hoc flag (:data:`CANDIDATES`, :func:`apply_candidate`,
+``tyrex_modes --candidate``) read off two ``tyrex_modes --out STEM.md --csv STEM.csv`` runs. ``--cadence-check``:
+where the ``walk-cadence`` flag fires on walking, the default detector's cadence against the motion capture's.
 """
 
 from __future__ import annotations
@@ -220,6 +225,52 @@ def adoption(base: Path, cand: Path, rate: float = RATE_HZ) -> tuple[list[str], 
     return fails, lines
 
 
+def cadence_check(data: Path, cache: Path, recipe: str = "a", motions=("Phoning", "Texting", "BackPocket")) -> pd.DataFrame:
+    """Per recording of ``motions``: the moving windows candidate ``walk-cadence`` flags (each person's fold model) and the
+    step cadence there by the default detector (:func:`lowest_window_cadence`) and by the motion capture
+    (:func:`experiments.scripts.tyrex_steps.mocap_steps`: steps per second from the median interval of the capture's steps
+    within 1 s of the window; a stride motion's events count two steps), beside the same for the other moving windows."""
+    from experiments.scripts.tyrex_modes import load_tyrex_labelled
+    from experiments.scripts.tyrex_steps import mocap_steps
+    from gaitml.models import load_model, predict_recording
+    from gaitml.models._predict import RUN_CADENCE_REACH_S, recording_steps
+
+    rows, models = [], {}
+    for it in [i for i in load_tyrex_labelled(data) if i["motion"] in motions]:
+        person = it["subject"]
+        if person not in models:
+            models[person] = load_model(fold_model_dir(cache, recipe, person))
+        model, rec = models[person], it["recording"]
+        p = predict_recording(model, rec)
+        f = apply_candidate(p, model, rec, "walk-cadence")["candidate_flag"].to_numpy(bool)
+        mv = ((p["label"].astype(str) == "walk") & (p["label_fraction"] >= 0.5)).to_numpy()
+        det = lowest_window_cadence(rec, p, recording_steps(rec), RUN_CADENCE_REACH_S)
+        cap = mocap_steps(it["truth"], it["motion"])
+        ts = np.sort(np.asarray(cap["t_s"]) - rec.meta["t0_original_s"])
+
+        def mocap_rate(a, b, ts=ts, per=cap["steps_per_event"]):
+            s = ts[(ts >= a - 1.0) & (ts <= b + 1.0)]
+            return per / float(np.median(np.diff(s))) if len(s) > 2 else np.nan
+
+        cad = np.array([mocap_rate(a, b) for a, b in zip(p["t_start_s"], p["t_end_s"], strict=True)])
+        if not (f & mv).any():
+            continue
+        rows.append(
+            {
+                "left out": person,
+                "phone": it["phone"],
+                "motion": it["motion"],
+                "moving windows": int(mv.sum()),
+                "flagged": int((f & mv).sum()),
+                "detector, flagged": float(np.nanmedian(det[f & mv])),
+                "motion capture, flagged": float(np.nanmedian(cad[f & mv])),
+                "detector, other moving": float(np.nanmedian(det[mv & ~f])),
+                "motion capture, other moving": float(np.nanmedian(cad[mv & ~f])),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", type=Path, default=Path("../shared/data"))
@@ -236,7 +287,19 @@ def main(argv=None) -> int:
         default=None,
         help="apply the adoption rule to two tyrex_modes runs (stems of --out STEM.md --csv STEM.csv) instead of the diagnosis",
     )
+    ap.add_argument(
+        "--cadence-check",
+        action="store_true",
+        help="the walking windows candidate walk-cadence flags: the detector's cadence against the motion capture's (needs --model-cache)",
+    )
     a = ap.parse_args(argv)
+    if a.cadence_check:
+        if a.model_cache is None:
+            ap.error("--cadence-check needs --model-cache")
+        from experiments.scripts.tyrex_modes import md
+
+        print(md(cadence_check(a.data, a.model_cache, a.recipe)))
+        return 0
     if a.adopt:
         fails, lines = adoption(*a.adopt, rate=a.rate)
         print("| what | rate / table | before (right / flagged / wrong) | after | right per left-out | wrong per left-out | verdict |")

@@ -86,6 +86,16 @@ COARSE_POSITION = {
 }
 HELDOUT_SEED = 2024
 OXFORD_UNCOVERED = {"armband": "Armband", "neckpouch": "NeckPouch", "purse": "Purse"}
+#: lab: a post-hoc flag of :mod:`experiments.scripts.run20` applied to every prediction table (``--candidate``; None: predict's own)
+CANDIDATE: str | None = None
+
+
+def _predict(model, rec, gate: dict | None = None) -> pd.DataFrame:
+    """:func:`gaitml.models.predict_recording` of ``rec``, then the lab candidate :data:`CANDIDATE` (if any)."""
+    from experiments.scripts.run20 import apply_candidate
+    from gaitml.models import predict_recording
+
+    return apply_candidate(predict_recording(model, rec, **(gate or {})), model, rec, CANDIDATE)
 
 
 def moving_labels(t_s, truth_t_s, truth_xy, mode: str, *, min_speed_ms: float | None = None) -> np.ndarray:
@@ -195,11 +205,10 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
     (``still_rule``, ``still_threshold_ms2``); None for its defaults.
     """
     from experiments.scripts.tyrex_ar_moving import NOT_WALKING
-    from gaitml.models import predict_recording
 
     rows = []
     for it in items:
-        p = predict_recording(model, it.get("score_recording", it["recording"]), **(gate or {}))
+        p = _predict(model, it.get("score_recording", it["recording"]), gate)
         s = score_windows(p, it["mode"])
         still = p[(p["label"].astype(str) == "still") & (p["label_fraction"] >= 0.5)]
         n_still_flagged = int(sum(v is False for v in still["in_domain"]))
@@ -426,11 +435,9 @@ def position_table(cfg, items: list[dict]) -> pd.DataFrame:
 
 def sim_side_table(model, recs, gate: dict | None = None) -> pd.DataFrame:
     """Held-out simulated recordings: per position and mode, right / flagged / wrong, and read as a side step of either direction."""
-    from gaitml.models import predict_recording
-
     rows = []
     for r in recs:
-        p = predict_recording(model, r, **(gate or {}))
+        p = _predict(model, r, gate)
         inside = p["in_domain"].map(lambda v: v is not False).to_numpy(bool)
         side = inside & p["mode"].astype(str).isin(["side_left", "side_right"]).to_numpy()
         for m in ("walk", "run", *SIDE_MODES):
@@ -450,13 +457,13 @@ def _oxford(folder: Path) -> tuple:
 def untrained_table(model, sim_recs, data: Path, fs: float | None = None) -> list[dict]:
     """Share of windows flagged out of domain on what the recipes were not trained on (``fs``: recorded at that rate)."""
     from gaitml.io import read_recording
-    from gaitml.models import predict_recording, resample_recording
+    from gaitml.models import resample_recording
 
     def flagged_share(recs):
         n = k = 0
         for r in recs:
             try:
-                p = predict_recording(model, r if fs is None else resample_recording(r, fs))
+                p = _predict(model, r if fs is None else resample_recording(r, fs))
             except Exception as exc:  # a model that needs a gyroscope cannot read an accelerometer-only set
                 return f"n/a ({type(exc).__name__})", 0
             n += len(p)
@@ -639,7 +646,15 @@ def main(argv=None) -> int:
         default=None,
         help="the same as --cache (kept for the run-cadence report's commands)",
     )
+    ap.add_argument(
+        "--candidate",
+        choices=("walk-cadence", "walk-run-nearest"),
+        default=None,
+        help="lab: a post-hoc flag of experiments.scripts.run20 on every prediction table (the report's 'Running in a pocket at 20 Hz')",
+    )
     a = ap.parse_args(argv)
+    global CANDIDATE
+    CANDIDATE = a.candidate
     if a.cache is None:
         a.cache = a.model_cache
     gate = {k: v for k, v in (("still_rule", a.still_rule), ("still_threshold_ms2", a.still_threshold)) if v is not None}

@@ -1,6 +1,6 @@
 """Is ``adaptive``'s doubled ``cadence_hz`` on calm walks a reporting defect or doubled steps? (diagnosis, no fitting)
 
-``python -m experiments.scripts.cadence_octave --data ../shared/data [--model-cache DIR] [--csv STEM]``
+``python -m experiments.scripts.cadence_octave --data ../shared/data [--model-cache DIR] [--model MODEL_DIR] [--rates 50,20] [--csv STEM]``
 from the repository root. Every tyrex recording with motion capture, as ``gaitml predict`` sees it
 (:func:`experiments.scripts.tyrex_modes.load_tyrex_labelled`: the longest segment, at 50 Hz), its steps by the
 default detector (:func:`gaitml.models._predict.recording_steps`, the steps the run-cadence rule reads) within the
@@ -24,7 +24,9 @@ With ``--model-cache`` (the fold models of ``tyrex_modes --config experiments/de
 each person's recordings through their own fold model (trained on the two other people), and the walking windows
 answered ``run``: their local cadence (:func:`gaitml.models._predict.window_step_cadence`, the highest
 ``cadence_hz`` near the window) against the capture's, and which ones the rule keeps ``run`` because of a doubled
-cadence (the detector reads at or above the walk-to-run threshold, the capture below it).
+cadence (the detector reads at or above the walk-to-run threshold, the capture below it). With ``--model`` (a model
+trained on all three people, ``models/demo``) the same in sample. ``--rates``: the recordings taken down to each rate
+(:func:`experiments.scripts.tyrex_modes.at_rate`) first.
 """
 
 from __future__ import annotations

@@ -14,7 +14,6 @@
 """
 
 from gaitml.pdr.attitude import AttitudeEstimator, compass_heading, initial_attitude, integrate_gyro, step_headings, wrap_angle
-from gaitml.pdr.calibrate import Calibration, calibrate_from_reference, calibrate_from_truth, calibrate_walk_distance
 from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading, dwpca_check_and_average, pca_step_directions
 from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate, hde_correct, hde_heading
 from gaitml.pdr.heading import BaseHeadingSource, GyroHeading
@@ -63,3 +62,16 @@ __all__ = [
     "weinberg_step_length",
     "wrap_angle",
 ]
+
+
+#: Names served from :mod:`gaitml.pdr.calibrate` on first use: importing the package does not import that module, so
+#: ``python -m gaitml.pdr.calibrate`` runs it as ``__main__`` without runpy's double-import warning.
+_CALIBRATE_NAMES = ("Calibration", "calibrate_from_reference", "calibrate_from_truth", "calibrate_walk_distance")
+
+
+def __getattr__(name: str):
+    if name in _CALIBRATE_NAMES:
+        from gaitml.pdr import calibrate
+
+        return getattr(calibrate, name)
+    raise AttributeError(f"module 'gaitml.pdr' has no attribute {name!r}")

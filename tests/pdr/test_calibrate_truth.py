@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 
 import numpy as np
 import pandas as pd
@@ -21,6 +22,7 @@ from gaitml.pdr.calibrate import (
 from gaitml.pdr.step_length import StepLengthModel
 from gaitml.simulate import sample_subjects
 from gaitml.simulate.dataset import simulate_recording, write_simulation
+from tests.conftest import ROOT
 
 
 @pytest.fixture(scope="module")
@@ -322,3 +324,22 @@ def test_a_calibration_used_with_another_step_detector_is_said(subject, tmp_path
     assert "calibrated with adaptive" in capsys.readouterr().out
     res = run_pdr(_sim(subject, "walk", 3), modes="forward", step_length=model, detector="single-peak")
     assert res.info["step_length_detector"] == {"calibrated_with": "adaptive", "detector": "single-peak"}
+
+
+def test_the_calibration_module_runs_as_a_script_without_a_double_import_warning():
+    """``python -m gaitml.pdr.calibrate`` must not find the module imported already by its package (runpy warns so);
+    the package still serves its names."""
+    import subprocess
+    import sys
+
+    import gaitml.pdr as pdr
+
+    assert pdr.calibrate_from_truth is not None and "calibrate_from_truth" in pdr.__all__
+    out = subprocess.run(
+        [sys.executable, "-W", "error::RuntimeWarning", "-m", "gaitml.pdr.calibrate", "--help"],
+        capture_output=True,
+        text=True,
+        cwd=str(ROOT),
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )
+    assert out.returncode == 0 and "RuntimeWarning" not in out.stderr and "--truth" in out.stdout

@@ -46,18 +46,9 @@ def lowest_window_cadence(recording, windows: pd.DataFrame, steps: pd.DataFrame,
     The mirror of :func:`gaitml.models._predict.window_step_cadence` (which takes the highest): a window counts as
     at a running cadence only when every step near it is.
     """
-    out = np.full(len(windows), np.nan)
-    if steps.empty or len(windows) == 0:
-        return out
-    order = np.argsort(steps["peak"].to_numpy(np.int64), kind="stable")
-    peak = steps["peak"].to_numpy(np.int64)[order]
-    cad = steps["cadence_hz"].to_numpy(float)[order]
-    reach = int(round(float(reach_s) * recording.sampling_rate_hz))
-    lo = np.searchsorted(peak, windows["start"].to_numpy(np.int64) - reach, side="left")
-    hi = np.searchsorted(peak, windows["end"].to_numpy(np.int64) + reach, side="left")
-    for i in np.flatnonzero(hi > lo):
-        out[i] = float(np.min(cad[lo[i] : hi[i]]))
-    return out
+    from gaitml.models._predict import window_step_cadence
+
+    return window_step_cadence(recording, windows, reach_s, steps, reduce=np.min)
 
 
 def nearest_domain_class(model, rec) -> np.ndarray:

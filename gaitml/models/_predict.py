@@ -647,7 +647,12 @@ def veto_steps(recording: Recording) -> pd.DataFrame:
 
 
 def window_step_cadence(
-    recording: Recording, windows: pd.DataFrame, reach_s: float = RUN_CADENCE_REACH_S, steps: pd.DataFrame | None = None
+    recording: Recording,
+    windows: pd.DataFrame,
+    reach_s: float = RUN_CADENCE_REACH_S,
+    steps: pd.DataFrame | None = None,
+    *,
+    reduce=np.max,
 ) -> np.ndarray:
     """The local step cadence (steps/s) of each window (``start``, ``end`` samples of ``recording``).
 
@@ -659,6 +664,7 @@ def window_step_cadence(
     whose first steps' 5 s cadence windows still hold the walk before it, keeps the run's cadence
     of its later steps). NaN for a window with no step there, and for every window of a recording
     too short for the detector. ``steps``: the recording's :func:`recording_steps` when already found (None: found here).
+    ``reduce``: how the cadences of a window's steps combine (the highest, the rule's; e.g. ``np.min`` for the lowest).
     """
     n = len(windows)
     out = np.full(n, np.nan)
@@ -675,7 +681,7 @@ def window_step_cadence(
     lo = np.searchsorted(peak, windows["start"].to_numpy(np.int64) - reach, side="left")
     hi = np.searchsorted(peak, windows["end"].to_numpy(np.int64) + reach, side="left")
     for i in np.flatnonzero(hi > lo):
-        out[i] = float(np.max(cad[lo[i] : hi[i]]))
+        out[i] = float(reduce(cad[lo[i] : hi[i]]))
     return out
 
 

@@ -174,3 +174,21 @@ def test_whole_and_chunked_runs_read_the_swing_stages_steps(demo, tmp_path, monk
         defaults = predict_recording(demo, read_recording(path))
     # the swing stage keeps windows in their mode that adaptive's defaults leave still (measured 44 against 25 / 26)
     assert whole["still_vetoed"].sum() >= defaults["still_vetoed"].sum() + 10
+
+
+def test_window_steps_are_the_vetos_when_both_rules_find_steps(demo):
+    """On a recording with a gyroscope where some window reads still and some reads run, both step finders run:
+    ``window_steps`` counts the veto's steps (the swing stage's), which the veto decided on, not the run-cadence
+    rule's (a chunked run of a resampled file reads the column to veto after the chunks)."""
+    import pandas as pd
+
+    rec, _ = ear_walk(2)
+    windows = P._windows_for(P.model_view(demo, rec)[0], demo.length_s, demo.overlap)
+    out = pd.DataFrame({"mode": np.full(len(windows), P.RUN_MODE), "mode_raw": np.full(len(windows), P.RUN_MODE), "in_domain": None})
+    X = P.model_inputs(demo, rec, windows)
+    t = P.finish_predictions(out, windows, {}, demo, rec, rec, True, X=X)
+    veto = P.window_step_counts(windows, veto_steps(rec))
+    assert not np.array_equal(veto, P.window_step_counts(windows, recording_steps(rec)))  # the two finders differ here
+    np.testing.assert_array_equal(t["window_steps"].to_numpy(), veto.astype(float))
+    vetoed = t["still_vetoed"].to_numpy(bool)
+    assert vetoed.any() and (veto[vetoed] >= P.STILL_STEP_VETO_MIN_STEPS).all()

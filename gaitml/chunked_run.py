@@ -474,7 +474,8 @@ def long_predict(
     with either on, each chunk reads :data:`DEFAULT_MARGIN_S` of margin on each side for its detector, so that a window's
     steps are the whole-file run's except where a bout or a 5 s cadence window reaches past the margin. ``still``,
     ``still_vetoed`` and ``mode`` are then the whole-file run's; the ``window_steps`` column is the chunk's: NaN in a
-    chunk where no window needed the detector, where a whole-file run, once any window needs it, counts every window
+    chunk where no window needed the veto's steps (:func:`~gaitml.models._predict.predict_recording`'s rule), where a
+    whole-file run, once any window needs them, counts every window
     (a resampled file, whose gate comes after the chunks, runs the detector in every chunk while the veto is on).
     """
     from gaitml.models import predict_recording

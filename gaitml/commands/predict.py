@@ -251,7 +251,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 "out_of_domain_reasons": reason_counts(reasons),
                 "still_fraction": n_still / len(table) if len(table) else None,
                 "still_gate": table.attrs.get("still_gate", default_still_gate()),
-                # windows whose |acc| statistic read still but in which the default detector found steps (the step veto)
+                # windows whose |acc| statistic read still but in which the veto's step finder found steps (the step veto)
                 "still_vetoed_count": n_vetoed,
                 "side_direction_unsure_count": n_unsure,
                 "run_at_walking_cadence_count": n_moved,

@@ -37,7 +37,9 @@ an accelerometer range.
 ``format_version`` 5 adds the still gate's step veto (``postprocess.still.step_veto``: a window with at
 least ``min_steps`` detected steps is not still), which ``gaitml predict`` applies by default. A reader of
 version 4 must not read a version 5 export: it would answer ``still`` in a calm walker's windows that
-predict keeps in their mode.
+predict keeps in their mode. The entry's ``swing_periodicity`` (added within version 5; absent: 0) is the swing stage
+setting gaitml's own step finder runs for the veto on a recording with a gyroscope
+(:data:`gaitml.models._predict.STILL_STEP_SWING_PERIODICITY`); the steps are the reader's own detector's in any case.
 """
 
 from __future__ import annotations

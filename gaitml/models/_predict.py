@@ -100,8 +100,9 @@ STILL_STD_MS2 = 0.41
 STILL_RANGE_MS2 = 2.0
 #: The threshold (m/s^2) of each rule of the still gate.
 STILL_THRESHOLDS_MS2 = {"std_lp": STILL_STD_LP_MS2, "std": STILL_STD_MS2, "range": STILL_RANGE_MS2}
-#: The still gate's step veto: a window the |acc| statistic reads still in which the default step detector
-#: (:func:`recording_steps`: ``adaptive`` with its gait check, run once over the recording at the model's rate, the
+#: The still gate's step veto: a window the |acc| statistic reads still in which the veto's step finder
+#: (:func:`veto_steps`: ``adaptive`` with its gait check and, on a recording with a gyroscope, its swing stage at
+#: :data:`STILL_STEP_SWING_PERIODICITY`, run once over the recording at the model's rate; without a gyroscope the
 #: steps the run-cadence rule reads) finds at least this many steps with their peak inside the window is not still:
 #: it keeps the model's mode (the phone at the ear of a calm walker varies |acc| as little as a standing hand, but
 #: its steps repeat). Two, because a walk at 1.33 steps/s or faster (``adaptive``'s slowest step is 0.75 steps/s,
@@ -516,7 +517,7 @@ def predict_recording(
         or ``"range"`` (the earliest gate, :data:`STILL_RANGE_MS2`),
         and its threshold (None: the rule's default).
     still_step_veto : the still gate's step veto (:data:`STILL_STEP_VETO_MIN_STEPS`): a window the gate reads still in
-        which the default step detector finds at least this many steps is not still; None:
+        which the veto's step finder (:func:`veto_steps`) finds at least this many steps is not still; None:
         :data:`STILL_STEP_VETO_DEFAULT` (:func:`still_step_veto_threshold`); 0 turns it off.
     run_min_cadence_hz : the run-cadence rule (:func:`run_cadence_rule`): a window read ``run`` whose
         local step cadence is below this (steps/s; :data:`RUN_MIN_CADENCE_HZ` is the walk-to-run
@@ -531,8 +532,9 @@ def predict_recording(
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
         gait in it, :func:`still_windows`, unless the step veto keeps it; the model's best other mode for a window
         read ``run`` at a walking cadence, :func:`run_cadence_rule`), ``still``, ``still_vetoed`` (the gate's
-        statistic read the window still and the veto kept its mode), ``window_steps`` (the detector's steps inside
-        each window when it ran, for the veto or the run-cadence rule, else NaN), ``run_at_walking_cadence`` (the rule
+        statistic read the window still and the veto kept its mode), ``window_steps`` (the veto's steps, :func:`veto_steps`,
+        inside each window when they were found, else NaN: found for the veto when some window reads still, and
+        without a gyroscope, where they are the run-cadence rule's, also when that rule ran), ``run_at_walking_cadence`` (the rule
         moved the window), ``step_cadence_hz`` (the windows' local step cadence when some window is
         read run, else NaN), ``in_domain`` (True/False from
         the model's domain record, :mod:`gaitml.models.domain`, and the foot-placement
@@ -980,7 +982,7 @@ def finish_predictions(
     apply_rate_check(out, model, recorded_rate_hz(recording.sampling_rate_hz, recording.meta), recording.meta.get("rate_changes"))
     # a window with no gait is no motion mode: `still` (the model's answer stays in mode_raw)
     still = still_windows(rec, windows, still_rule, still_threshold_ms2, recorded=recording)
-    # ... unless the default detector finds steps in it (a calm walker): the steps are found once, and only when needed
+    # ... unless the veto's step finder finds steps in it (a calm walker): the steps are found once, and only when needed
     veto_n = still_step_veto_threshold(still_step_veto)
     own = veto_reads_own_steps(rec)
     steps, n_steps, vetoed = None, np.full(len(out), np.nan), np.zeros(len(out), dtype=bool)

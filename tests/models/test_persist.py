@@ -285,6 +285,28 @@ def test_json_export_in_plain_numpy_applies_the_step_veto(tmp_path):
     assert (without[vetoed] == spec["postprocess"]["still"]["mode"]).all()
 
 
+def test_json_export_states_the_vetos_swing_stage_as_predict_runs_it(tmp_path):
+    """A weak ear walk whose phone turns once per stride (the veto's swing-stage steps are not adaptive's defaults'
+    there): the export states the swing setting predict runs (``swing_periodicity``), and the plain reader that runs the
+    detector with it equals predict, while the defaults' steps answer windows differently."""
+    import gaitml.models._predict as P
+    from gaitml.models._predict import recording_steps
+    from gaitml.recording import Recording
+    from tests.models.test_still_veto_swing import ear_walk
+
+    model = load_model(DEMO)
+    parts = [ear_walk(seed, seconds=60.0, stand_s=20.0)[0] for seed in range(2)]
+    rec = Recording(acc=np.vstack([r.acc for r in parts]), gyr=np.vstack([r.gyr for r in parts]), sampling_rate_hz=50.0)
+    spec = _check_json_equals_predict(model, rec, tmp_path)
+    veto = spec["postprocess"]["still"]["step_veto"]
+    assert veto["swing_periodicity"] == P.STILL_STEP_SWING_PERIODICITY > 0 and "swing stage" in veto["rule"]
+    table = predict_recording(model, rec)
+    _raw, with_defaults, _unsure = _numpy_predict_from_json(
+        spec, rec.acc, rec.gyr, table["step_cadence_hz"].to_numpy(), recording_steps(rec)["peak"].to_numpy()
+    )
+    assert (with_defaults != table["mode"].to_numpy()).sum() >= 10  # the stated setting matters on this walk
+
+
 def test_json_export_refuses_torch_kinds(tmp_path):
     class Fake:
         kind = "mlp"

@@ -150,3 +150,45 @@ def test_real_phone_in_hand_walks_lose_more_still_windows(demo, monkeypatch):
     assert n_moving > 4000 and n_standing > 1000
     assert moving_still / n_moving <= 0.036
     assert standing_still >= 0.9 * gate_standing
+
+
+@pytest.mark.parametrize("rate", [50.0, 20.0])
+def test_whole_and_chunked_runs_read_the_swing_stages_steps(demo, tmp_path, monkeypatch, rate):
+    """``long_predict`` vetoes with the swing stage's steps as a whole-file run does: at the model's rate the chunks go
+    through predict, and recorded at 20 Hz (the gate comes after the chunks) each chunk counts the veto's own steps."""
+    from gaitml.chunked_run import long_predict
+    from gaitml.io import read_recording, write_gaitml_csv
+    from gaitml.models import resample_recording
+
+    parts = [ear_walk(seed, seconds=60.0, stand_s=20.0)[0] for seed in range(3)]
+    rec = Recording(acc=np.vstack([r.acc for r in parts]), gyr=np.vstack([r.gyr for r in parts]), sampling_rate_hz=FS)
+    path = tmp_path / "ear.csv"
+    write_gaitml_csv(rec if rate == FS else resample_recording(rec, rate), path)
+    whole = predict_recording(demo, read_recording(path))
+    chunked = long_predict(demo, path, chunk_s=40.0, progress=False)
+    assert len(whole) == len(chunked)
+    for col in ("still", "still_vetoed", "mode"):
+        np.testing.assert_array_equal(whole[col].to_numpy(), chunked[col].to_numpy(), err_msg=col)
+    with monkeypatch.context() as m:
+        m.setattr(P, "STILL_STEP_SWING_PERIODICITY", 0.0)
+        defaults = predict_recording(demo, read_recording(path))
+    # the swing stage keeps windows in their mode that adaptive's defaults leave still (measured 44 against 25 / 26)
+    assert whole["still_vetoed"].sum() >= defaults["still_vetoed"].sum() + 10
+
+
+def test_window_steps_are_the_vetos_when_both_rules_find_steps(demo):
+    """On a recording with a gyroscope where some window reads still and some reads run, both step finders run:
+    ``window_steps`` counts the veto's steps (the swing stage's), which the veto decided on, not the run-cadence
+    rule's (a chunked run of a resampled file reads the column to veto after the chunks)."""
+    import pandas as pd
+
+    rec, _ = ear_walk(2)
+    windows = P._windows_for(P.model_view(demo, rec)[0], demo.length_s, demo.overlap)
+    out = pd.DataFrame({"mode": np.full(len(windows), P.RUN_MODE), "mode_raw": np.full(len(windows), P.RUN_MODE), "in_domain": None})
+    X = P.model_inputs(demo, rec, windows)
+    t = P.finish_predictions(out, windows, {}, demo, rec, rec, True, X=X)
+    veto = P.window_step_counts(windows, veto_steps(rec))
+    assert not np.array_equal(veto, P.window_step_counts(windows, recording_steps(rec)))  # the two finders differ here
+    np.testing.assert_array_equal(t["window_steps"].to_numpy(), veto.astype(float))
+    vetoed = t["still_vetoed"].to_numpy(bool)
+    assert vetoed.any() and (veto[vetoed] >= P.STILL_STEP_VETO_MIN_STEPS).all()

@@ -284,13 +284,14 @@ def adoption_checks(before: dict, after: dict, other_before: dict, other_after: 
     return bool(ok), pd.DataFrame(rows)
 
 
-def main(argv=None) -> int:
+def setup(argv, name: str, description: str):
+    """The shared start of the step-veto studies (this script and ``veto_swing``): their options, the tyrex recordings
+    at 50 and 20 Hz, and the shipped and fold models' predictions (``still_rate``'s cache). Returns ``(args, items,
+    items20, shipped_model, ship, held)``."""
     from experiments.scripts import tyrex_modes as tm
-    from experiments.scripts.still_gate import _standing_stats, equal_standing_threshold, gated_table, per_person
-    from experiments.scripts.still_rate import _train_and_predict, add_statistics
-    from gaitml.models._predict import STILL_RANGE_MS2, STILL_STD_LP_MS2
+    from experiments.scripts.still_rate import _train_and_predict
 
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--data", type=Path, default=Path("../shared/data"))
     ap.add_argument("--config", type=Path, default=Path("experiments/demo.toml"))
     ap.add_argument("--model", default="models/demo", help="the shipped model scored in-sample")
@@ -301,8 +302,19 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     items = tm.load_tyrex_labelled(a.data, 50.0)
     items20 = tm.at_rate(items, 20.0)
-    print(f"[still_steps] {len(items)} tyrex recordings read ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    print(f"[{name}] {len(items)} tyrex recordings read ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
     shipped_model, ship, held = _train_and_predict(a, items, items20)
+    return a, items, items20, shipped_model, ship, held
+
+
+def main(argv=None) -> int:
+    from experiments.scripts import tyrex_modes as tm
+    from experiments.scripts.still_gate import _standing_stats, equal_standing_threshold, gated_table, per_person
+    from experiments.scripts.still_rate import add_statistics
+    from gaitml.models._predict import STILL_RANGE_MS2, STILL_STD_LP_MS2
+
+    t0 = time.perf_counter()
+    a, items, items20, shipped_model, ship, held = setup(argv, "still_steps", __doc__.splitlines()[0])
     f = a.cache / "steps.pkl"
     steps_cache = pickle.loads(f.read_bytes()) if f.exists() else {}
     n_cached = len(steps_cache)

@@ -21,10 +21,8 @@ model-free sets of :func:`experiments.scripts.still_gate.other_data_sets`.
 
 from __future__ import annotations
 
-import argparse
 import pickle
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -246,24 +244,13 @@ def _phoning_reach(items, preds, thr) -> pd.DataFrame:
 def main(argv=None) -> int:
     from experiments.scripts import tyrex_modes as tm
     from experiments.scripts.still_gate import _standing_stats, equal_standing_threshold, gated_table, per_person
-    from experiments.scripts.still_rate import _train_and_predict, add_statistics
-    from experiments.scripts.still_steps import add_steps, step_counts
+    from experiments.scripts.still_rate import add_statistics
+    from experiments.scripts.still_steps import add_steps, setup, step_counts
     from gaitml.models import resample_recording
     from gaitml.models._predict import STILL_RANGE_MS2, STILL_STD_LP_MS2
 
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", type=Path, default=Path("../shared/data"))
-    ap.add_argument("--config", type=Path, default=Path("experiments/demo.toml"))
-    ap.add_argument("--model", default="models/demo", help="the shipped model scored in-sample")
-    ap.add_argument("--cache", type=Path, default=Path(tempfile.gettempdir()) / "gaitml-still-steps")
-    ap.add_argument("--out", type=Path, default=None)
-    a = ap.parse_args(argv)
-    a.cache.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    items = tm.load_tyrex_labelled(a.data, 50.0)
-    items20 = tm.at_rate(items, 20.0)
-    print(f"[veto_swing] {len(items)} tyrex recordings read ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
-    shipped_model, ship, held = _train_and_predict(a, items, items20)
+    a, items, items20, shipped_model, ship, held = setup(argv, "veto_swing", __doc__.splitlines()[0])
     fs = shipped_model.sampling_rate_hz
     f_steps, f_ev = a.cache / "steps.pkl", a.cache / "veto-swing.pkl"
     steps_cache = pickle.loads(f_steps.read_bytes()) if f_steps.exists() else {}

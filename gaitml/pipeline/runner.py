@@ -751,9 +751,9 @@ def training_min_rate(recs, model_rate_hz: float) -> float:
     the rate copies of ``data.augment.rates`` included), the model's when it was recorded faster
     and down-sampled (the anti-alias filter keeps nothing above the model's rate). The minimum
     over ``recs``, each read as predict's rate check reads a recording
-    (:func:`gaitml.models._predict.recorded_rate_hz`).
+    (:func:`gaitml.recording.recorded_rate_hz`).
     """
-    from gaitml.models._predict import recorded_rate_hz
+    from gaitml.recording import recorded_rate_hz
 
     rates = [min(float(model_rate_hz), recorded_rate_hz(r.sampling_rate_hz, r.meta)) for r in recs]
     return min(rates) if rates else float(model_rate_hz)

@@ -23,6 +23,7 @@ __all__ = [
     "judge_timestamps",
     "local_rates",
     "recorded_rate_hz",
+    "RATE_TOLERANCE",
     "max_bridge_s",
     "split_points",
     "MIN_RATE_HZ",
@@ -433,6 +434,13 @@ def judge_timestamps(
         meta["rate_changes"] = judged["rate_changes"]
         warnings.append(rate_change_warning(judged["rate_changes"], original_rate, fs))
     return {"fs": fs, "resampled": resampled, "max_rate_hz": judged["max_rate_hz"], "meta": meta, "warnings": warnings}
+
+
+#: A rate check (a model's, :func:`gaitml.models.rate_reason`; a step detector's, :func:`gaitml.steps.rate_check`)
+#: finds a recording too slow below this fraction of the rate it checks against: phones state a nominal rate and
+#: deliver a few per cent less (timestamps' jitter, dropped samples), and a recording a few per cent slower loses
+#: almost nothing of what a model or a detector reads.
+RATE_TOLERANCE = 0.9
 
 
 def recorded_rate_hz(rate_hz: float, meta: dict | None) -> float:

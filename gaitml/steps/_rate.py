@@ -22,12 +22,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from gaitml.recording.timestamps import RATE_TOLERANCE  # a recording is below a floor under this fraction of it (as a model's rate check)
+
 __all__ = ["RATE_TOLERANCE", "rate_check", "rate_flags", "rate_reason", "rate_record", "rate_warning"]
 
-#: A recording is below a detector's floor under this fraction of it: phones state a nominal rate and deliver a
-#: few per cent less (timestamps' jitter, dropped samples). The same fraction as a model's rate check
-#: (:data:`gaitml.models.domain.RATE_TOLERANCE`).
-RATE_TOLERANCE = 0.9
 #: the detector named in the fix of the warning line: ``adaptive``, the default, built for any carrying position
 #: (floor 15 Hz since the leave-one-person-out check; not the lowest floor: ``ifsm``'s is 10 Hz)
 FALLBACK_DETECTOR = "adaptive"

@@ -25,6 +25,7 @@ from gaitml.models.domain._distance import _feature_bound, _gravity_bound, _min_
 from gaitml.models.domain._gravity import _nearest_angle
 from gaitml.models.domain._running import running_median
 from gaitml.parallel import one_blas_thread
+from gaitml.recording.timestamps import RATE_TOLERANCE
 
 __all__ = [
     "ARRAY_PREFIX",
@@ -554,12 +555,6 @@ class DomainModel:
             "dynamics_distance": np.array([np.nan]),
             "in_domain": np.array([ok and ang <= self.gravity_threshold_rad]),
         }
-
-
-#: A recording is out of the rate domain below this fraction of the lowest training rate: phones state a
-#: nominal rate and deliver a few per cent less (timestamps' jitter, dropped samples), and a recording a
-#: few per cent slower than the training rate loses almost nothing of what the model reads.
-RATE_TOLERANCE = 0.9
 
 
 def domain_rate_reason(dom, recorded_hz: float | None) -> str | None:

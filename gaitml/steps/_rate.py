@@ -7,7 +7,9 @@ experiments.scripts.tyrex_steps_rates --floors``): every tyrex recording (3 peop
 motion-capture step counts) taken down to 50, 30, 25, 20, 15 and 10 Hz; the floor is the lowest of those rates at
 which, and at every one above which, every scored motion's mean count accuracy is within 0.05 of its figure at the
 phones' own rate (about 100 and 200 Hz). 10 Hz, the lowest rate measured, is a floor too: below it nothing is known.
-The Oxford walks (3 people, 6 carrying positions, foot switches) give the same floors or lower ones.
+Where a floor chosen on two people let the third lose more than that (checked leave-one-person-out), the detector
+takes the highest floor any fold gives (``adaptive``, ``adfsm``). The Oxford walks (3 people, 6 carrying positions,
+foot switches) are a second check.
 
 A recording made below :data:`RATE_TOLERANCE` times the floor is **flagged, not refused**: the steps are counted
 as always, and the step table's ``attrs['rate_check']`` (:func:`rate_check`) says so; a reader's

@@ -870,10 +870,8 @@ def adaptive_steps(
     return {"peak": pk.astype(np.int64), "y": y, "s": s, "period_s": T / fs, "correlation": R, "confidence": conf, "cadence": cad}
 
 
-#: lowest recording rate (Hz) adaptive's count holds at: measured on tyrex, the highest floor any
-#: leave-one-person-out fold gives (pooled the count holds within 0.031 down to 10 Hz, but one person's running
-#: in a pocket loses 0.14 there; every person within 0.043 of the phones' own rate at 15 Hz and above).
-#: The floor rule, its held-out check and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+#: lowest recording rate (Hz) adaptive's count holds at: the floor rule of :mod:`gaitml.steps._rate` on tyrex, the
+#: highest floor any leave-one-person-out fold gives (the figures: experiments/reports/tyrex-steps.md, 'rate floors')
 RATE_FLOOR_HZ = 15.0
 
 

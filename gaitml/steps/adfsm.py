@@ -103,10 +103,9 @@ def adfsm_steps(
     return np.asarray(out, dtype=np.int64).reshape(-1, 2)
 
 
-#: lowest recording rate (Hz) adfsm's count holds at: measured on tyrex, the highest floor any leave-one-person-out
-#: fold gives (pooled within 0.041 down to 25 Hz, but one person loses 0.08 at 25 Hz; every person within 0.050
-#: at 30 Hz and above; paper 000's rate is 50 Hz); the floor rule and the Oxford check:
-#: experiments/reports/tyrex-steps.md, 'rate floors'
+#: lowest recording rate (Hz) adfsm's count holds at (paper 000 records at 50 Hz): the floor rule of
+#: :mod:`gaitml.steps._rate` on tyrex, the highest floor any leave-one-person-out fold gives (the figures:
+#: experiments/reports/tyrex-steps.md, 'rate floors')
 RATE_FLOOR_HZ = 30.0
 
 

@@ -99,8 +99,8 @@ def autocorr_steps(period_samples_per_window: np.ndarray, window_samples: int, n
     return ends.astype(np.int64), per[ends]
 
 
-#: lowest recording rate (Hz) autocorr's count holds at: measured on tyrex, within 0.041 down to 30 Hz, -0.127
-#: at 25 Hz (paper 000's rate is 50 Hz); the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+#: lowest recording rate (Hz) autocorr's count holds at (paper 000 records at 50 Hz): the floor rule of
+#: :mod:`gaitml.steps._rate` on tyrex (the figures: experiments/reports/tyrex-steps.md, 'rate floors')
 RATE_FLOOR_HZ = 30.0
 
 

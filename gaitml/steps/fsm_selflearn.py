@@ -315,8 +315,8 @@ def learn_thresholds(a, thresholds, *, max_step_samples, end_timeout_samples, al
     return th, hist
 
 
-#: lowest recording rate (Hz) fsm-selflearn's count holds at: measured on tyrex, within 0.035 down to 30 Hz,
-#: -0.052 at 25 Hz and -0.141 at 20 Hz; the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+#: lowest recording rate (Hz) fsm-selflearn's count holds at: the floor rule of :mod:`gaitml.steps._rate` on
+#: tyrex (the figures: experiments/reports/tyrex-steps.md, 'rate floors')
 RATE_FLOOR_HZ = 30.0
 
 

@@ -177,8 +177,8 @@ def ifsm_steps(
 
 
 #: lowest recording rate (Hz) ifsm's count holds at: paper 000 records at 50 Hz (sec. 3.1) and the machine runs
-#: on a 50 Hz resampling, and measured on tyrex it holds down to 10 Hz, the lowest rate measured (worst motion
-#: -0.010); the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+#: on a 50 Hz resampling; the floor rule of :mod:`gaitml.steps._rate` on tyrex gives 10 Hz, the lowest rate
+#: measured (the figures: experiments/reports/tyrex-steps.md, 'rate floors')
 RATE_FLOOR_HZ = 10.0
 
 
@@ -311,8 +311,8 @@ class IFSMStepDetector(BaseStepDetector):
         return self
 
 
-#: lowest recording rate (Hz) ifsm-literal's count holds at: measured on tyrex, within 0.013 down to 15 Hz,
-#: -0.055 at 10 Hz (paper 000's rate is 50 Hz); the floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+#: lowest recording rate (Hz) ifsm-literal's count holds at (paper 000 records at 50 Hz): the floor rule of
+#: :mod:`gaitml.steps._rate` on tyrex (the figures: experiments/reports/tyrex-steps.md, 'rate floors')
 LITERAL_RATE_FLOOR_HZ = 15.0
 
 

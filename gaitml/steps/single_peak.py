@@ -183,9 +183,8 @@ def single_peak_steps(
 
 
 #: lowest recording rate (Hz) single-peak's count holds at: paper 003 designs it at 50 Hz (sec. 2, its
-#: windows are samples at 50 Hz), and measured on tyrex it holds at 50 Hz (worst motion -0.017) but not at 30 Hz
-#: (Phoning 0.398 -> 0.336) nor in the pockets at 15 / 10 Hz (BackPocket 0.927 -> 0.775 / 0.352); the floor rule
-#: and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+#: windows are samples at 50 Hz), and the floor rule of :mod:`gaitml.steps._rate` on tyrex gives the same (the
+#: figures: experiments/reports/tyrex-steps.md, 'rate floors')
 RATE_FLOOR_HZ = 50.0
 
 

@@ -65,8 +65,8 @@ def steps_from_zupts(
 
 
 #: lowest recording rate (Hz) zupt-magnitude's count holds at: paper 004 records its foot-mounted sensor at 50 Hz
-#: (sec. 3), and measured on the tyrex phones it holds at 50 Hz (worst motion -0.032) but not at 30 Hz (-0.096);
-#: no foot-mounted recording was taken down. The floor rule and the Oxford check: experiments/reports/tyrex-steps.md, 'rate floors'
+#: (sec. 3); the floor rule of :mod:`gaitml.steps._rate` on the tyrex phones gives the same (no foot-mounted
+#: recording was taken down; the figures: experiments/reports/tyrex-steps.md, 'rate floors')
 RATE_FLOOR_HZ = 50.0
 
 

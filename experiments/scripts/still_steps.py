@@ -284,6 +284,26 @@ def adoption_checks(before: dict, after: dict, other_before: dict, other_after: 
     return bool(ok), pd.DataFrame(rows)
 
 
+def emit_verdicts(emit, held_tabs: dict, other: dict, rates, base: str, candidates, heading: str, checks=None) -> None:
+    """Each candidate gate against ``base`` by the adoption rule (``checks``, default :func:`adoption_checks`), held out
+    at every rate of ``rates``: ``held_tabs[(rate, gate)]`` the held-out tables, ``other[rate]`` the model-free still
+    shares (a ``data`` column and one per gate); ``heading`` a section title with ``{cand}``. Emits each rule's table
+    and verdict."""
+    from experiments.scripts import tyrex_modes as tm
+
+    checks = adoption_checks if checks is None else checks
+    for cand in candidates:
+        ok, table = checks(
+            {r: held_tabs[(r, base)] for r in rates},
+            {r: held_tabs[(r, cand)] for r in rates},
+            {r: dict(zip(other[r]["data"], other[r][base], strict=True)) for r in rates},
+            {r: dict(zip(other[r]["data"], other[r][cand], strict=True)) for r in rates},
+        )
+        emit(f"\n### {heading.format(cand=cand)}\n")
+        emit(tm.md(table))
+        emit(f"\nVerdict: {'passes' if ok else 'fails'} ({cand}).")
+
+
 def setup(argv, name: str, description: str):
     """The shared start of the step-veto studies (this script and ``veto_swing``): their options, the tyrex recordings
     at 50 and 20 Hz, and the shipped and fold models' predictions (``still_rate``'s cache). Returns ``(args, items,
@@ -440,16 +460,15 @@ def main(argv=None) -> int:
     ot = {r: other_still_table(others[r], float(r), og) for r in by_rate}
     emit(tm.md(pd.concat(list(ot.values()), ignore_index=True)))
     # ---- the adoption rule, per candidate
-    for cand in ("veto", "veto+T"):
-        ok, checks = adoption_checks(
-            {r: held_tabs[(r, "no veto")] for r in by_rate},
-            {r: held_tabs[(r, cand)] for r in by_rate},
-            {r: dict(zip(ot[r]["data"], ot[r]["no veto"], strict=True)) for r in by_rate},
-            {r: dict(zip(ot[r]["data"], ot[r][cand], strict=True)) for r in by_rate},
-        )
-        emit(f"\n### The adoption rule (fixed before the candidates were scored): {cand} against no veto, held out\n")
-        emit(tm.md(checks))
-        emit(f"\nVerdict: {'passes' if ok else 'fails'} ({cand}).")
+    emit_verdicts(
+        emit,
+        held_tabs,
+        ot,
+        by_rate,
+        "no veto",
+        ("veto", "veto+T"),
+        "The adoption rule (fixed before the candidates were scored): {cand} against no veto, held out",
+    )
     if a.out:
         a.out.write_text("\n".join(text) + "\n")
     print(f"[still_steps] done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)

@@ -245,7 +245,7 @@ def main(argv=None) -> int:
     from experiments.scripts import tyrex_modes as tm
     from experiments.scripts.still_gate import _standing_stats, equal_standing_threshold, gated_table, per_person
     from experiments.scripts.still_rate import add_statistics
-    from experiments.scripts.still_steps import add_steps, setup, step_counts
+    from experiments.scripts.still_steps import add_steps, emit_verdicts, setup, step_counts
     from gaitml.models import resample_recording
     from gaitml.models._predict import STILL_RANGE_MS2, STILL_STD_LP_MS2
 
@@ -358,16 +358,16 @@ def main(argv=None) -> int:
     emit(f"\n### Model-free: the share of 1.5 s windows read still (std_lp < {STILL_STD_LP_MS2:g}) under each gate\n")
     ot = {r: other_still(others[r], float(r), STILL_STD_LP_MS2) for r in by_rate}
     emit(tm.md(pd.concat(list(ot.values()), ignore_index=True)))
-    for cand in CANDIDATES[1:]:
-        ok, checks = adoption_checks(
-            {r: held_tabs[(r, "veto")] for r in by_rate},
-            {r: held_tabs[(r, cand)] for r in by_rate},
-            {r: dict(zip(ot[r]["data"], ot[r]["veto"], strict=True)) for r in by_rate},
-            {r: dict(zip(ot[r]["data"], ot[r][cand], strict=True)) for r in by_rate},
-        )
-        emit(f"\n### The adoption rule (fixed before scoring): {cand} against the current veto, held out\n")
-        emit(tm.md(checks))
-        emit(f"\nVerdict: {'passes' if ok else 'fails'} ({cand}).")
+    emit_verdicts(
+        emit,
+        held_tabs,
+        ot,
+        by_rate,
+        "veto",
+        CANDIDATES[1:],
+        "The adoption rule (fixed before scoring): {cand} against the current veto, held out",
+        checks=adoption_checks,
+    )
     if a.out:
         a.out.write_text("\n".join(text) + "\n")
     print(f"[veto_swing] done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)

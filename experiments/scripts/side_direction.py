@@ -325,11 +325,13 @@ def tyrex_forward_rows(data: Path, band_hz: tuple[float, float] | None = None) -
     low-passed, :func:`gaitml.signal.body_track`) turned into the rigid body's frame (``TyrexTruth.rot``, within a few
     degrees of the phone's), averaged over the window. Per window, whether its forward vector points within 90 deg of
     it (the time-odd sign a walk has and a backward walk would not); per recording, the angle between the sum over
-    its moving windows (as :func:`body_frame_side_directions` sums them) and the mean true direction. ``band_hz``: the
+    its moving windows (as :func:`body_frame_side_directions` sums them) and the mean true direction. In the face-up
+    windows (gravity within ``FACE_UP_MAX_DEG`` of the phone's +z), whether the forward vector points along the
+    phone's +y, as a walk-or-backward rule on a hand-held phone would read it. ``band_hz``: the
     covariances read the acceleration band-passed to it (:func:`gait_band`).
     """
     from experiments.scripts.tyrex_modes import load_tyrex_labelled
-    from gaitml.models._predict import _windows_for
+    from gaitml.models._predict import FACE_UP_MAX_DEG, _windows_for
     from gaitml.signal import body_track
 
     rows = []
@@ -350,7 +352,7 @@ def tyrex_forward_rows(data: Path, band_hz: tuple[float, float] | None = None) -
         up, fw, _ = window_vectors(rec.acc, w["start"], w["end"], dynamic=dyn)
         moving = ((w["label"].astype(str) == mode) & (w["label_fraction"] >= 0.5)).to_numpy()
         tf_sum, f_sum = np.zeros(3), np.zeros(3)
-        agree = []
+        agree, along_y = [], []
         for i in np.flatnonzero(moving):
             t = true_f[w["start"].iloc[i] : w["end"].iloc[i]]
             t = t[np.isfinite(t).all(axis=1)]
@@ -363,6 +365,8 @@ def tyrex_forward_rows(data: Path, band_hz: tuple[float, float] | None = None) -
             tf_sum += tf / np.linalg.norm(tf)
             f_sum += fw[i]
             agree.append(float(fw[i] @ tf) > 0)
+            if up[i][2] >= np.cos(np.radians(FACE_UP_MAX_DEG)):  # face up: the phone's y is the walker's forward
+                along_y.append(float(fw[i] @ (np.array([0.0, 1.0, 0.0]) - up[i][1] * up[i])) > 0)
         if not agree:
             continue
         cos = float(f_sum @ tf_sum) / (np.linalg.norm(f_sum) * np.linalg.norm(tf_sum))
@@ -373,6 +377,8 @@ def tyrex_forward_rows(data: Path, band_hz: tuple[float, float] | None = None) -
                 "phone": rec.meta.get("device", ""),
                 "windows": len(agree),
                 "window forward within 90 deg": float(np.mean(agree)),
+                "face-up windows": len(along_y),
+                "face-up: forward along the phone's +y": float(np.mean(along_y)) if along_y else np.nan,
                 "recording sum: angle (deg)": float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))),
             }
         )
@@ -478,6 +484,8 @@ def main(argv=None) -> int:
             angle_median=("recording sum: angle (deg)", "median"),
             angle_max=("recording sum: angle (deg)", "max"),
             flipped=("flipped", "sum"),
+            face_up=("face-up windows", "sum"),
+            face_up_along_y=("face-up: forward along the phone's +y", "mean"),
         )
         what = "as recorded" if band is None else f"band-passed {band[0]:g}-{band[1]:g} Hz"
         emit(f"### Real carried phones (tyrex, moving windows by the speed rule): the forward vector ({what}) against the motion capture\n")

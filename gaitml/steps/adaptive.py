@@ -120,6 +120,30 @@ evidence). The per-window cadence is kept in ``cadence_``.
    effect is measured in ``experiments/reports/steps-heldout.md``, section
    "Bout edges").
 
+5a. **One octave per bout** (opt-in, with a gyroscope; :func:`bout_octave`).
+   The 5 s cadence windows decide stride or step each on its own, so a slow
+   walker whose |acc| shows two peaks per step (heel strike and push-off, the
+   double hump of the vertical ground reaction force; Perry & Burnfield,
+   *Gait Analysis*, 2010, ch. 4) may be read at half a step in some windows
+   of a walk and at a step in others. With ``octave_swing_min_correlation``
+   > 0, before the confidence and bout rules above, each bout (steps no more
+   than ``BOUT_GAP_RATIO`` periods apart) is given one octave from the
+   phone's swing pooled over the whole bout (one arm, thigh or trunk cycle
+   per stride, reversing between the steps): where that swing is regular and
+   twice the bout's median peak interval lies nearer the swing's step (half
+   its stride period) than the interval itself, within
+   ``octave_match_tolerance``, the bout's peaks are half-steps and its steps
+   are picked again (stages 3-4 on the bout, the period fixed at twice its
+   median peak interval, the higher of two peaks closer than
+   ``min_distance_ratio`` of it kept). Such a bout, when short, passes the
+   short-bout rule's amplitude test if its step intervals vary by at most
+   ``max_short_bout_interval_cv``. Only half-steps are corrected here: one
+   peak per stride is stage 2b's decision, and a phone that turns once per
+   |acc| peak is what the gait check reads as a gesturing hand. Off by
+   default: on the tyrex recordings it removes the extra steps (per-step
+   F1 up) but lowers the count accuracy, whose over-counts offset misses
+   elsewhere in the same walks (``experiments/reports/tyrex-steps.md``).
+
 Evaluated on the Oxford step counter optimisation recordings (Salvi et al.,
 CC BY 4.0) in sample and leave-one-user-out (``gaitml evaluate
 experiments/steps-real.toml``, ``experiments/reports/steps-heldout.md``).
@@ -156,6 +180,7 @@ __all__ = [
     "gyro_stride_or_step",
     "gyro_swing_cadence",
     "swing_stride",
+    "bout_octave",
 ]
 
 #: gait band of the band-pass (Hz): below the slowest stride, above the fastest step
@@ -241,6 +266,22 @@ SHORT_BOUT_STEPS = 10
 #: the largest step-amplitude coefficient of variation of a short bout: walking bouts repeat their steps' strength
 #: (CV 0.13-0.36, 90th percentile per position on the Oxford walks) while a gesture burst waxes and wanes (~0.5)
 MAX_SHORT_BOUT_CV = 0.4
+#: stage 5a, the per-bout octave (with a gyroscope; 0: off): a bout's octave is decided from its swing where the swing,
+#: pooled over the whole bout, correlates at least this at its stride period (one arm, thigh or trunk cycle per stride:
+#: Perry & Burnfield, Gait Analysis, 2nd ed. 2010, ch. 10; Meyns, Bruijn & Duysens, Gait Posture 38, 2013)
+OCTAVE_SWING_MIN_CORRELATION = 0.0
+#: stage 5a: the pooled swing must be in anti-phase at half its stride period, its autocorrelation there at most
+#: minus this (0: negative; the swing reverses between the left and the right step)
+OCTAVE_SWING_HALF_CORRELATION = 0.0
+#: stage 5a: a bout's median step interval is read at the octave (half, same, double) that brings it within this
+#: fraction of the swing's step (half its stride period); outside every octave's tolerance the bout is left as it is.
+#: 0.25 is the 0.8-1.25 "match" band of the tyrex window diagnosis (experiments/reports/tyrex-steps.md)
+OCTAVE_MATCH_TOLERANCE = 0.25
+#: stage 5a: a short bout whose octave the swing decided passes the short-bout rule without its amplitude test when
+#: the coefficient of variation of its step intervals, at the decided octave, is at most this (0: no exemption).
+#: Healthy step-time variability is a few per cent (stride-time CV 1-3 %, Hausdorff, J. NeuroEng. Rehabil. 2, 2005),
+#: a few times that at slow speeds; a gesture burst's beats are not tied to a swing cycle
+MAX_SHORT_BOUT_INTERVAL_CV = 0.0
 
 
 def window_autocorrelation(y: np.ndarray, length: int, hop: int, lags: np.ndarray) -> np.ndarray:
@@ -704,6 +745,97 @@ def bout_edge_keep(bout: np.ndarray, confidence: np.ndarray, ratio: float) -> np
     return (idx >= first[member]) & (idx <= last[member])
 
 
+def bout_octave(
+    pk: np.ndarray,
+    bout: np.ndarray,
+    g: np.ndarray,
+    q: int,
+    sampling_rate_hz: float,
+    min_length: int,
+    *,
+    min_step_hz: float = MIN_STEP_HZ,
+    max_step_hz: float = MAX_STEP_HZ,
+    min_rms_rads: float = GYRO_MIN_RMS_RADS,
+    swing_min_correlation: float = OCTAVE_SWING_MIN_CORRELATION,
+    swing_half_correlation: float = OCTAVE_SWING_HALF_CORRELATION,
+    tolerance: float = OCTAVE_MATCH_TOLERANCE,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The octave of every walking bout from its swing pooled over the bout (module docstring, stage 5a).
+
+    Every rotation of the body that carries the phone completes one cycle per
+    stride and reverses between the left and the right step (arm swing:
+    Meyns, Bruijn & Duysens, Gait Posture 38, 2013; thigh, pelvis and trunk:
+    Perry & Burnfield, Gait Analysis, 2nd ed. 2010, ch. 10), whatever |acc|
+    shows. A slow step's |acc| has two peaks (heel strike and push-off: the
+    double hump of the vertical ground reaction force, Perry & Burnfield ch.
+    4), which the 5 s cadence windows may take for two steps in some windows
+    and not in others. Over the whole bout instead of a window: the band-passed
+    angular rate ``g`` (decimated by ``q``, at ``sampling_rate_hz / q``) from one
+    step interval before the bout's first peak to one after its last (at
+    least ``min_length`` decimated samples, centred on the bout) is projected
+    on its principal axis (:func:`swing_projection`); where its RMS reaches
+    ``min_rms_rads``, its stride period ``P`` (:func:`swing_stride`)
+    correlates at least ``swing_min_correlation`` and it is in anti-phase at
+    ``P / 2`` (at most ``-swing_half_correlation``), the bout's median peak
+    interval ``d`` is compared with the swing's step ``P / 2`` at two octaves:
+    ``2 d`` (each step holds two peaks: half-steps) and ``d`` (steps). The
+    octave within ``tolerance`` of ``P / 2`` (the nearer, on a log scale) is
+    the bout's. One peak per stride (``d / 2`` near the step) is not
+    decided here: it is stage 2b's case (the swing in phase at the window's
+    period), and a phone that turns once per |acc| peak is also what a
+    gesturing hand looks like (the gait check's case).
+
+    Parameters
+    ----------
+    pk : int array (n,)
+        Peak samples (at ``sampling_rate_hz``), in time order.
+    bout : int array (n,)
+        Bout number of each peak, non-decreasing.
+
+    Returns
+    -------
+    octave : int array (n_bouts,)
+        Per bout: 2 (half-steps: two peaks per step), 1 (steps) or 0
+        (undecided: no regular swing, a bout of fewer than three peaks, or no
+        octave within ``tolerance``).
+    step : float array (n_bouts,)
+        The swing's step (half its stride period) in samples at
+        ``sampling_rate_hz``; NaN where undecided.
+    """
+    fs = float(sampling_rate_hz)
+    fd = fs / q
+    n_bouts = int(bout[-1]) + 1 if len(bout) else 0
+    out = np.zeros(n_bouts, dtype=np.int64)
+    steps = np.full(n_bouts, np.nan)
+    if swing_min_correlation <= 0 or n_bouts == 0:
+        return out, steps
+    starts = np.flatnonzero(np.r_[True, bout[1:] != bout[:-1]])
+    ends = np.r_[starts[1:], len(bout)]
+    for b, (i0, i1) in enumerate(zip(starts, ends, strict=True)):
+        if i1 - i0 < 3:
+            continue
+        d = float(np.median(np.diff(pk[i0:i1])))
+        a, e = (pk[i0] - d) / q, (pk[i1 - 1] + d) / q
+        if e - a < min_length:  # at least one cadence window, centred on the bout
+            mid = (a + e) / 2.0
+            a, e = mid - min_length / 2.0, mid + min_length / 2.0
+        a, e = int(max(0, np.floor(a))), int(min(len(g), np.ceil(e)))
+        if e - a < 3:
+            continue
+        proj, rms = swing_projection(g[a:e], e - a, 1, 1)
+        if rms[0] < min_rms_rads:
+            continue
+        P, corr, half = swing_stride(proj, fd, min_step_hz=min_step_hz, max_step_hz=max_step_hz)
+        if not (np.isfinite(P[0]) and corr[0] >= swing_min_correlation and np.nan_to_num(half[0], nan=1.0) <= -swing_half_correlation):
+            continue
+        step = P[0] / 2.0 * q  # the swing's step, in samples at fs
+        miss = {k: abs(np.log(d * k / step)) for k in (2, 1)}
+        k = min(miss, key=miss.get)
+        if miss[k] <= np.log(1.0 + tolerance):
+            out[b], steps[b] = k, step
+    return out, steps
+
+
 def adaptive_steps(
     acc_mag_ms2: np.ndarray,
     sampling_rate_hz: float,
@@ -733,6 +865,10 @@ def adaptive_steps(
     gyro_swing_min_periodicity: float = GYRO_SWING_MIN_PERIODICITY,
     gyro_swing_acc_correlation: float = GYRO_SWING_ACC_CORRELATION,
     gyro_swing_min_bout_steps: int = GYRO_SWING_MIN_BOUT_STEPS,
+    octave_swing_min_correlation: float = OCTAVE_SWING_MIN_CORRELATION,
+    octave_swing_half_correlation: float = OCTAVE_SWING_HALF_CORRELATION,
+    octave_match_tolerance: float = OCTAVE_MATCH_TOLERANCE,
+    max_short_bout_interval_cv: float = MAX_SHORT_BOUT_INTERVAL_CV,
 ) -> dict[str, np.ndarray]:
     """Detect steps in |acc| (m/s^2) with the five stages of the module docstring.
 
@@ -828,6 +964,59 @@ def adaptive_steps(
     rms = np.minimum(before, after)
     keep = dominant & (s[pk] > 0) & (R >= min_periodicity) & (rms >= min_rms_ms2)
     pk, T, R, inferred, by_swing = pk[keep], T[keep], R[keep], inferred[keep], by_swing[keep]
+    amp = s[pk]
+    # stage 5a: one octave per walking bout, from the swing pooled over the bout (bout_octave)
+    decided = np.zeros(len(pk), dtype=bool)
+    octave = {"half_steps": 0, "steps": 0, "undecided": 0}
+    if gyr_rads is not None and octave_swing_min_correlation > 0 and len(pk) >= 3:
+        gap0 = np.diff(pk).astype(float) > BOUT_GAP_RATIO * np.maximum(T[:-1], T[1:])
+        bout0 = np.concatenate([[0], np.cumsum(gap0)])
+        octv, swing_step = bout_octave(
+            pk,
+            bout0,
+            g,
+            q,
+            fs,
+            L,
+            min_step_hz=min_step_hz,
+            max_step_hz=max_step_hz,
+            min_rms_rads=gyro_min_rms_rads,
+            swing_min_correlation=octave_swing_min_correlation,
+            swing_half_correlation=octave_swing_half_correlation,
+            tolerance=octave_match_tolerance,
+        )
+        for key, k in (("half_steps", 2), ("steps", 1), ("undecided", 0)):
+            octave[key] = int(np.sum(octv == k))
+        decided = octv[bout0] == 2
+        redo = np.flatnonzero(octv == 2)
+        if len(redo):
+            # two peaks per step (heel strike, push-off): the bout's steps are picked again at twice its median peak
+            # interval (stages 3-4 on the bout with that period fixed), replacing the peaks found at half a step
+            out = ~np.isin(bout0, redo)
+            parts = [(pk[out], T[out], R[out], inferred[out], by_swing[out], decided[out], amp[out])]
+            for b in redo:
+                idx = np.flatnonzero(bout0 == b)
+                # the swing decides the octave; the bout's own peaks give the period at that octave (two peak intervals)
+                st = 2.0 * float(np.median(np.diff(pk[idx])))
+                a, e = max(0, int(pk[idx[0]] - st / 2)), min(n, int(pk[idx[-1]] + st / 2) + 1)
+                sb = fold_steps(y[a:e], np.full(e - a, st))
+                # the highest peaks at least min_distance_ratio steps apart (the lower of two closer peaks is dropped
+                # first, so a push-off peak that loses to its heel strike cannot in turn suppress the next step)
+                c = scipy.signal.find_peaks(sb, distance=max(1, int(round(min_distance_ratio * st))))[0]
+                c = c[sb[c] > 0]
+                pc, kk = a + c, max(1, int(round(st)))
+                lo_, hi_ = np.maximum(pc - kk, 0), np.minimum(pc + kk + 1, n)
+                floor = np.minimum(
+                    np.sqrt((cs[pc + 1] - cs[lo_]) / np.maximum(pc + 1 - lo_, 1)), np.sqrt((cs[hi_] - cs[pc]) / np.maximum(hi_ - pc, 1))
+                )
+                c, pc = c[floor >= min_rms_ms2], pc[floor >= min_rms_ms2]
+                near = idx[np.clip(np.searchsorted(pk[idx], pc), 0, len(idx) - 1)]
+                parts.append(
+                    (pc, np.full(len(pc), st), R[near], np.zeros(len(pc), dtype=bool), by_swing[near], np.ones(len(pc), dtype=bool), sb[c])
+                )
+            pk, T, R, inferred, by_swing, decided, amp = (np.concatenate(v) for v in zip(*parts, strict=True))
+            order = np.argsort(pk, kind="stable")
+            pk, T, R, inferred, by_swing, decided, amp = (v[order] for v in (pk, T, R, inferred, by_swing, decided, amp))
     conf = np.clip(R, 0.0, 1.0)
     bout = np.zeros(len(pk), dtype=np.int64)
     if len(pk):  # one step alone gets no interval, hence regularity 0, like a lone step inside a longer signal
@@ -854,20 +1043,40 @@ def adaptive_steps(
         # a short bout must repeat its steps' strength (gait); a burst that waxes and wanes (a gesture) does not
         if short_bout_steps > 0 and ok.any():
             nb = int(bout[-1]) + 1
-            amp = s[pk]
             cnt = np.bincount(bout[ok], minlength=nb)
             mean = np.bincount(bout[ok], weights=amp[ok], minlength=nb) / np.maximum(cnt, 1)
             var = np.bincount(bout[ok], weights=amp[ok] ** 2, minlength=nb) / np.maximum(cnt, 1) - mean**2
             cv = np.sqrt(np.maximum(var, 0.0)) / np.where(mean > 0, mean, np.inf)
             short = cnt < short_bout_steps
-            ok &= ~(short & (cv > max_short_bout_cv))[bout]
+            exempt = np.zeros(nb, dtype=bool)
+            if max_short_bout_interval_cv > 0 and decided.any():
+                # stage 5a: a bout whose octave the swing decided passes when its steps are regular at that octave
+                same = (bout[1:] == bout[:-1]) & ok[1:] & ok[:-1]
+                di = np.diff(pk).astype(float)[same]
+                bi = bout[1:][same]
+                m1 = np.bincount(bi, weights=di, minlength=nb)
+                c1 = np.bincount(bi, minlength=nb)
+                mu = m1 / np.maximum(c1, 1)
+                sd = np.sqrt(np.maximum(np.bincount(bi, weights=di**2, minlength=nb) / np.maximum(c1, 1) - mu**2, 0.0))
+                icv = np.where(c1 >= 2, sd / np.where(mu > 0, mu, np.inf), np.inf)
+                exempt = (np.bincount(bout[ok & decided], minlength=nb) > 0) & (icv <= max_short_bout_interval_cv)
+            ok &= ~(short & (cv > max_short_bout_cv) & ~exempt)[bout]
             # the fewer steps confirm a bout, the less sure it is gait
             conf = conf * np.minimum(1.0, np.bincount(bout[ok], minlength=nb)[bout] / short_bout_steps)
         pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
     if min_confidence > 0:
         ok = conf >= min_confidence
         pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
-    return {"peak": pk.astype(np.int64), "y": y, "s": s, "period_s": T / fs, "correlation": R, "confidence": conf, "cadence": cad}
+    return {
+        "peak": pk.astype(np.int64),
+        "y": y,
+        "s": s,
+        "period_s": T / fs,
+        "correlation": R,
+        "confidence": conf,
+        "cadence": cad,
+        "octave": octave,
+    }
 
 
 #: lowest recording rate (Hz) adaptive's count holds at: the floor rule of :mod:`gaitml.steps._rate` on tyrex, the
@@ -985,6 +1194,26 @@ class AdaptiveStepDetector(BaseStepDetector):
         Stage 2c: a walking bout with a step from a swing-set window counts
         only from this many steps (10: the pedometers' ten-step
         confirmation); at most ``min_bout_steps`` is no extra test.
+    octave_swing_min_correlation : float, default 0.0
+        Stage 5a (0: off; needs the gyroscope): a walking bout's octave is
+        decided once for the whole bout from the phone's swing pooled over
+        it (:func:`bout_octave`) where that swing's autocorrelation at its
+        stride period reaches this: a bout whose peaks come two per swing step
+        (heel strike and push-off) has its steps picked again at twice its
+        median peak interval. Off by default (it lowers the tyrex count
+        accuracy; ``experiments/reports/tyrex-steps.md``). The decisions are
+        counted in ``steps_.attrs['octave']``.
+    octave_swing_half_correlation : float, default 0.0
+        Stage 5a: the pooled swing must be in anti-phase at half its stride
+        period, its autocorrelation there at most minus this.
+    octave_match_tolerance : float, default 0.25
+        Stage 5a: the bout's median peak interval, at the octave chosen, lies
+        within this fraction of the swing's step (half its stride period);
+        no octave within it leaves the bout undecided and as it is.
+    max_short_bout_interval_cv : float, default 0.0
+        Stage 5a: a short bout whose octave the swing decided passes the
+        short-bout rule without the amplitude test when its step intervals
+        vary by at most this coefficient of variation (0: no exemption).
     gait_check : bool, default True
         Leave out the bouts of fewer than 30 steps whose phone rotates at the
         step frequency as no walker's does (a gesturing hand; a longer bout is
@@ -1063,6 +1292,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         "gyro_swing_min_periodicity": [Interval(0, 1, closed="both")],
         "gyro_swing_acc_correlation": [Interval(-1, 1, closed="both")],
         "gyro_swing_min_bout_steps": [NON_NEGATIVE_INTEGER],
+        "octave_swing_min_correlation": [Interval(0, 1, closed="both")],
+        "octave_swing_half_correlation": [Interval(0, 1, closed="both")],
+        "octave_match_tolerance": [Interval(0, 1, closed="both")],
+        "max_short_bout_interval_cv": [NON_NEGATIVE],
         "gait_check": ["boolean"],
         "gait_check_vertical_fraction": [Interval(0, None, closed="left"), None],
     }
@@ -1097,6 +1330,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         gyro_swing_min_periodicity: float = GYRO_SWING_MIN_PERIODICITY,
         gyro_swing_acc_correlation: float = GYRO_SWING_ACC_CORRELATION,
         gyro_swing_min_bout_steps: int = GYRO_SWING_MIN_BOUT_STEPS,
+        octave_swing_min_correlation: float = OCTAVE_SWING_MIN_CORRELATION,
+        octave_swing_half_correlation: float = OCTAVE_SWING_HALF_CORRELATION,
+        octave_match_tolerance: float = OCTAVE_MATCH_TOLERANCE,
+        max_short_bout_interval_cv: float = MAX_SHORT_BOUT_INTERVAL_CV,
         gait_check: bool = True,
         gait_check_vertical_fraction: float | None = None,
     ):
@@ -1125,6 +1362,10 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.gyro_swing_min_periodicity = gyro_swing_min_periodicity
         self.gyro_swing_acc_correlation = gyro_swing_acc_correlation
         self.gyro_swing_min_bout_steps = gyro_swing_min_bout_steps
+        self.octave_swing_min_correlation = octave_swing_min_correlation
+        self.octave_swing_half_correlation = octave_swing_half_correlation
+        self.octave_match_tolerance = octave_match_tolerance
+        self.max_short_bout_interval_cv = max_short_bout_interval_cv
         self.gait_check = gait_check
         self.gait_check_vertical_fraction = gait_check_vertical_fraction
 
@@ -1184,6 +1425,8 @@ class AdaptiveStepDetector(BaseStepDetector):
             # the acceleration only feeds the opt-in vertical test: not measured when it is off
             acc = rec.acc if vertical is not None else None
             self.steps_ = gait_check(self.steps_, rec.gyr, fs, acc=acc, max_stride_vertical_fraction=vertical)
+        # stage 5a's per-bout octave decisions (all 0 where it is off or there is no gyroscope)
+        self.steps_.attrs["octave"] = dict(r["octave"])
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(
             {

@@ -12,10 +12,10 @@ the same steps, attitude and gyroscope-bias removal HDE starts from), then:
   alignment score ``mean cos(n (psi - r t))`` at the fitted rate and at zero, and what the
   same fit gives on headings uniform on the circle at the same step times (median of
   :data:`N_NULL` draws; the chance level of a score maximised over the rate grid), and the
-  candidate guard's statistic and threshold (:func:`direction_structure`);
+  guard's statistic and threshold (:func:`gaitml.pdr.hde.direction_structure`);
 - forward-only trajectories (default step length) with the heading variants in
-  :func:`heading_variants` (plain gyro, HDE as shipped, its two parts alone, HDE behind the
-  candidate structure guard :func:`guarded_hde`), each scored with
+  :func:`heading_variants` (plain gyro, HDE with its structure guard off, its two parts alone, HDE
+  with the guard: the library's default, :func:`guarded_hde`), each scored with
   :func:`gaitml.evaluation.trajectory.walk_scores` (walking-direction drift, 10 s error,
   distance ratio) against the capture.
 
@@ -26,18 +26,12 @@ from the reference), the corridor-like routes on which HDE must keep correcting.
 Tables: medians per motion (NoDist, 9 per motion, as ``tyrex-pdr.md`` section 3, and all), the
 number of motions where each variant drifts no more than the plain gyroscope, and per person.
 
-The candidate guard (not adopted: its adoption rule failed in AR, ``experiments/reports/tyrex-pdr.md``,
-"HDE in a room"). HDE's premise is that the walker mainly walks along the dominant directions; a
-walk looping round a 5 m room turns all the time and its step headings cover the circle, so the
-whole-recording rate fit lines them up by chance. The guard corrects only when the alignment score
-at the fitted rate, ``S = mean cos(n (theta - rate t - reference))``, exceeds what headings without
-dominant-direction structure reach by chance: for N independent headings uniform on the circle
-``P(|mean exp(i n theta)| > s) ~ exp(-N s^2)`` (the Rayleigh test of ``n theta``; Mardia and Jupp,
-*Directional Statistics*, 2000, sec. 6.3.1), ``S`` is at most that resultant length at every rate,
-and the fit scans about ``K = 1 + n (2 max_rate) T / (2 pi)`` independent rates (the phase ``n r t``
-turns by 2 pi over the duration T when the rate moves by ``2 pi / (n T)``), so by the union bound
-``P(max S > s) <= K exp(-N s^2)``; the threshold is ``sqrt(ln(K / alpha) / N)`` with
-``alpha`` = :data:`STRUCTURE_ALPHA`. Otherwise the gyro heading is kept (no rate, no feedback).
+The guard (adopted by the lead, post hoc, ``experiments/reports/tyrex-pdr.md``, "HDE in a room") is the
+library's: :func:`gaitml.pdr.hde.direction_structure` and ``hde_heading(structure_alpha=...)`` (module Notes
+step 6 of :mod:`gaitml.pdr.hde`): HDE corrects only when the alignment score at the scan's best rate beats
+what headings without dominant-direction structure reach by chance, on at least
+:data:`gaitml.pdr.hde.STRUCTURE_MIN_STEPS` steps; otherwise the gyro heading is kept. Here ``hde`` is HDE with
+the guard off (as shipped before it) and ``hde guarded`` the library's default.
 """
 
 from __future__ import annotations
@@ -52,51 +46,20 @@ import numpy as np
 import pandas as pd
 
 from experiments.scripts.tyrex_pdr import MOTION_ORDER, load_tyrex, md
+from gaitml.pdr.hde import direction_structure
 
-__all__ = ["direction_structure", "guarded_hde", "heading_variants", "main", "sim_structure", "step_data"]
+__all__ = ["guarded_hde", "heading_variants", "main", "sim_structure", "step_data"]
 
 #: uniform-heading draws per recording for the chance level of the fitted score
 N_NULL = 20
-#: the candidate guard's false-alarm probability: the chance that step headings without
-#: dominant-direction structure pass it (a conventional level, set before measuring, not fitted)
-STRUCTURE_ALPHA = 0.01
-#: the half-width of the rate range :func:`gaitml.pdr.hde.estimate_drift_rate` scans (its default, rad/s)
-MAX_DRIFT_RATE_RADS = 0.03
-
-
-def direction_structure(
-    heading_rad, t_s, rate_rads: float = 0.0, *, n_directions: int = 12, reference_rad: float = 0.0, alpha: float = STRUCTURE_ALPHA
-) -> dict:
-    """Whether step headings line up with the dominant directions more than chance allows (module docstring).
-
-    Returns ``statistic`` (``mean cos(n (heading - rate (t - t_0) - reference))``), ``threshold``
-    (``sqrt(ln(K / alpha) / N)``), ``structured`` (statistic > threshold), ``n_steps`` (N) and
-    ``n_rates`` (K, the independent rates of the fit's scan).
-    """
-    psi = np.unwrap(np.asarray(heading_rad, dtype=float).reshape(-1))
-    t = np.asarray(t_s, dtype=float).reshape(-1)
-    n = len(psi)
-    if n == 0:
-        return {"statistic": 0.0, "threshold": float("inf"), "structured": False, "n_steps": 0, "n_rates": 1.0}
-    k = 1.0 + n_directions * 2.0 * MAX_DRIFT_RATE_RADS * float(t[-1] - t[0]) / (2 * np.pi)
-    stat = float(np.mean(np.cos(n_directions * (psi - rate_rads * (t - t[0]) - reference_rad))))
-    thr = float(np.sqrt(np.log(k / alpha) / n))
-    return {"statistic": stat, "threshold": thr, "structured": bool(stat > thr), "n_steps": n, "n_rates": k}
 
 
 def guarded_hde(heading_rad, step_duration_s, step_t_s, *, reference_rad: float = 0.0) -> tuple[np.ndarray, dict]:
-    """HDE as shipped (:func:`gaitml.pdr.hde.hde_heading`) when :func:`direction_structure` finds structure
-    at the fitted rate, else the gyro headings unchanged; and the guard's record."""
-    from gaitml.pdr.hde import estimate_drift_rate, hde_heading
+    """The library's default HDE (structure guard on, :func:`gaitml.pdr.hde.hde_heading`): the headings and the guard's record."""
+    from gaitml.pdr.hde import hde_heading
 
-    psi = np.asarray(heading_rad, dtype=float).reshape(-1)
-    if len(psi) < 2:
-        return psi, direction_structure(psi, step_t_s, reference_rad=reference_rad)
-    rate = estimate_drift_rate(psi, step_t_s, reference_rad=reference_rad)
-    st = direction_structure(psi, step_t_s, rate, reference_rad=reference_rad)
-    if not st["structured"]:
-        return psi, st
-    return hde_heading(psi, step_duration_s, step_t_s, reference_rad=reference_rad)[0], st
+    h, _, _, _, check = hde_heading(heading_rad, step_duration_s, step_t_s, reference_rad=reference_rad)
+    return h, check
 
 
 def step_data(item) -> dict:
@@ -129,9 +92,9 @@ def heading_variants(d: dict) -> dict[str, np.ndarray]:
     out = {"gyro": psi}
     if len(psi) < 2:
         return {k: psi for k in ("gyro", "hde", "hde rate only", "hde feedback only", "hde guarded")}
-    out["hde"] = hde_heading(psi, dur, t)[0]
-    out["hde rate only"] = hde_heading(psi, dur, t, feedback=0.0)[0]
-    out["hde feedback only"] = hde_heading(psi, dur, t, drift_rate="none")[0]
+    out["hde"] = hde_heading(psi, dur, t, structure_alpha=None)[0]
+    out["hde rate only"] = hde_heading(psi, dur, t, feedback=0.0, structure_alpha=None)[0]
+    out["hde feedback only"] = hde_heading(psi, dur, t, drift_rate="none", structure_alpha=None)[0]
     out["hde guarded"] = guarded_hde(psi, dur, t)[0]
     return out
 
@@ -162,6 +125,7 @@ def diagnose(d: dict, rng) -> dict:
         "score_chance": float(np.median(null)),
         "structure": st["statistic"],
         "structure_threshold": st["threshold"],
+        "structured": st["structured"],
     }
 
 
@@ -242,7 +206,7 @@ def main(argv: list[str] | None = None) -> int:
             lines += [f"### {name}, median, {subset}", md(piv, "{:.1f}" if col != "distance_ratio" else "{:.2f}"), ""]
     dg["abs_fit"] = dg["fit_rate_deg_min"].abs()
     dg["abs_gyro_drift"] = dg["gyro_drift_deg_min"].abs()
-    dg["structured"] = dg["structure"] > dg["structure_threshold"]
+    dg["structured"] = dg["structured"].fillna(False).astype(bool)
     cols = ["abs_fit", "abs_gyro_drift", "score_fit", "score_zero", "score_chance", "structure_threshold", "structured"]
     agg = dg.groupby("motion")[cols].agg(lambda s: s.mean() if s.dtype == bool else s.median())
     agg = agg.reindex([m for m in MOTION_ORDER if m in agg.index])

@@ -239,7 +239,9 @@ def long_steps(
     any of its steps.
 
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
-    :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).
+    :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`). ``hde``: a configured
+    :class:`~gaitml.pdr.hde.HeuristicDriftElimination` for ``heading='hde'`` (as :func:`gaitml.pdr.run_pdr`'s;
+    default ``HeuristicDriftElimination(reference_rad=initial_heading_rad)``, its structure guard on).
     """
     from gaitml.errors import InputError
     from gaitml.steps import get_detector
@@ -732,6 +734,7 @@ def long_pdr(
     count_also: str | None = None,
     gyro_bias="auto",
     run_min_cadence_hz: float | None = None,
+    hde=None,
     **read_kwargs,
 ):
     """Dead-reckon a long recording chunk by chunk: :func:`gaitml.pdr.run_pdr` in bounded memory.
@@ -761,7 +764,9 @@ def long_pdr(
     mode change); ``'auto'`` becomes ``'nearest'`` with a note.
 
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
-    :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).
+    :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`). ``hde``: a configured
+    :class:`~gaitml.pdr.hde.HeuristicDriftElimination` for ``heading='hde'`` (as :func:`gaitml.pdr.run_pdr`'s;
+    default ``HeuristicDriftElimination(reference_rad=initial_heading_rad)``, its structure guard on).
 
     Returns
     -------
@@ -777,6 +782,7 @@ def long_pdr(
         _step_reasons,
         assemble_result,
         calibration_detector_check,
+        heading_check_record,
         modes_from_labels,
     )
     from gaitml.pdr.step_length import step_length_features
@@ -787,7 +793,7 @@ def long_pdr(
 
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
-    source = _heading_source(heading, attitude=None, hde=None, dwpca=None, initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias)
+    source = _heading_source(heading, attitude=None, hde=hde, dwpca=None, initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias)
     modes, mode_boundaries, notes = check_long_pdr(path, source, model=model, modes=modes, mode_boundaries=mode_boundaries)
     slm, sl_source = _resolve_step_length(step_length)
     if slm is None:
@@ -933,6 +939,7 @@ def long_pdr(
             "step_length": sl_source,
             "initial_heading_rad": float(initial_heading_rad),
             "gyro_bias": None if first_bias is None else _bias_summary(first_bias, still_bias, bias_parts, fs),
+            "heading_check": heading_check_record(source),
             "gait_check": gait,
             "rate_check": rate_record(steps),  # the whole file's (each chunk carries the file's rates and rate changes)
             "step_length_detector": calibration_detector_check(slm, detector),

@@ -6,7 +6,7 @@ it dead-reckons with :func:`gaitml.pdr.run_pdr` two ways a user would:
 
 - ``cli``: as ``gaitml pdr`` without ``--step-length`` (uncalibrated step length, forward-only,
   start heading from the reference), the defaults against ``--detector single-peak --heading
-  hde --gyro-bias off`` (paper 003, the defaults before issue 27);
+  hde --gyro-bias off --hde-guard off`` (paper 003, the defaults before issue 27);
 - ``demo``: as ``make demo``'s PDR (:func:`gaitml.pipeline.pdr_routes.evaluate_route`: step
   length calibrated on a straight walk of the same simulated subject, HDE, model modes with
   ``--model``, forward-only), with the gyroscope bias removed or not and each detector.
@@ -25,10 +25,11 @@ import pandas as pd
 
 __all__ = ["main"]
 
-PAPER003 = {"detector": "single-peak", "heading": "hde", "gyro_bias": "off"}
+PAPER003 = {"detector": "single-peak", "heading": "hde", "gyro_bias": "off", "hde_guard": "off"}
 
 
 def cli_rows(route: str, seed: int) -> list[dict]:
+    from experiments.scripts.tyrex_pdr import pdr_kwargs
     from gaitml.evaluation.trajectory import end_point_error, path_length
     from gaitml.pdr import run_pdr
     from gaitml.simulate import simulate_route
@@ -47,7 +48,7 @@ def cli_rows(route: str, seed: int) -> list[dict]:
         ("cli single-peak/hde/bias auto", {"detector": "single-peak", "heading": "hde", "gyro_bias": "auto"}),
         ("cli paper003", PAPER003),
     ):
-        res = run_pdr(rec, modes="forward", initial_heading_rad=h0, **kw)
+        res = run_pdr(rec, modes="forward", initial_heading_rad=h0, **pdr_kwargs(kw, h0))
         _, pct = end_point_error(res.trajectory[["x_m", "y_m"]].to_numpy(), xy[-1], dist)
         rows.append({"route": route, "seed": seed, "variant": name, "end_error_pct": pct, "distance_ratio": res.distance_m / dist})
     return rows

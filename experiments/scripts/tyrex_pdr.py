@@ -11,7 +11,7 @@ on its stretch that overlaps the capture most), it runs:
   source and gyroscope-bias removal, forward-only update, uncalibrated step length, start
   heading 0);
 - ``paper003``: the paper-faithful settings, ``--detector single-peak --heading hde
-  --gyro-bias off`` (the defaults before issue 27);
+  --gyro-bias off --hde-guard off`` (the defaults before issue 27; paper 003 has no structure guard);
 - ``model``: the defaults with ``--model models/demo`` (model modes, multi-state update);
 - ``still``: a trajectory that never moves;
 - ``baseline``: a plain PDR written here for the comparison: peaks of the low-passed
@@ -44,6 +44,7 @@ __all__ = [
     "load_tyrex",
     "main",
     "md",
+    "pdr_kwargs",
     "score_recording",
     "summarise",
 ]
@@ -51,8 +52,8 @@ __all__ = [
 MOTION_ORDER = ("Texting", "AR", "Phoning", "Swinging", "FrontPocket", "BackPocket", "RunningHand", "RunningPocket")
 VARIANTS = ("gaitml", "paper003", "model", "baseline", "bound", "still")
 #: ``gaitml pdr`` as paper 003 writes it (the CLI defaults before issue 27): single-peak steps,
-#: HDE heading, the gyroscope as logged
-PAPER003 = {"detector": "single-peak", "heading": "hde", "gyro_bias": "off"}
+#: HDE heading without the structure guard (``--hde-guard off``), the gyroscope as logged
+PAPER003 = {"detector": "single-peak", "heading": "hde", "gyro_bias": "off", "hde_guard": "off"}
 
 #: Baseline step detection: |acc| low-passed at this cutoff (Hz) ...
 BASELINE_LOWPASS_HZ = 3.0
@@ -158,6 +159,17 @@ def bound_trajectory(item) -> tuple[np.ndarray, np.ndarray]:
     return tt, xy_est
 
 
+def pdr_kwargs(options: dict, initial_heading_rad: float = 0.0) -> dict:
+    """:func:`gaitml.pdr.run_pdr` keywords of a ``gaitml pdr`` setting: ``hde_guard='off'`` becomes the HDE
+    ``gaitml pdr --hde-guard off`` builds (its structure guard off, referenced to the start heading)."""
+    kw = dict(options)
+    if kw.pop("hde_guard", "on") == "off":
+        from gaitml.pdr.hde import HeuristicDriftElimination
+
+        kw["hde"] = HeuristicDriftElimination(reference_rad=initial_heading_rad, structure_alpha=None)
+    return kw
+
+
 def score_recording(item, *, model=None, step_length_by_mode: dict | None = None) -> list[dict]:
     """Every variant's trajectory of one recording, scored; one row per variant."""
     from gaitml.evaluation.trajectory import walk_scores
@@ -179,7 +191,7 @@ def score_recording(item, *, model=None, step_length_by_mode: dict | None = None
         runs["model"] = ({}, model)
     trajs = {}
     for name, (kw, mdl) in runs.items():
-        res = run_pdr(rec, model=mdl, modes="model" if mdl is not None else "forward", **kw)
+        res = run_pdr(rec, model=mdl, modes="model" if mdl is not None else "forward", **pdr_kwargs(kw))
         tj = res.trajectory
         trajs[name] = tj
         extra = {"n_steps": res.n_steps}

@@ -81,6 +81,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "default), from still stretches only (still), or none (off, paper 003 as written)",
     )
     p.add_argument(
+        "--hde-guard",
+        choices=("on", "off"),
+        default="on",
+        help="with an HDE heading: apply HDE only when the step headings line up with dominant directions above chance, "
+        "else keep the uncorrected heading and say so (on, default); off applies HDE always (paper 003 as written)",
+    )
+    p.add_argument(
         "--initial-heading-rad",
         type=float,
         default=None,
@@ -152,6 +159,61 @@ def _detector(args, model, notes: list[str]) -> str:
     return DEFAULT_STEP_DETECTOR
 
 
+def _hde(args, h0: float):
+    """The HDE of ``--hde-guard off`` (its structure guard off), or None: the default HDE, guard on."""
+    if getattr(args, "hde_guard", "on") != "off":
+        return None
+    from gaitml.pdr.hde import HeuristicDriftElimination
+
+    return HeuristicDriftElimination(reference_rad=h0, structure_alpha=None)
+
+
+def _kept_heading(heading: str) -> tuple[str, str]:
+    """What an HDE heading source keeps when HDE is held off, and the option that asks for it."""
+    return ("DW-PCA", "--heading dwpca") if heading == "dwpca-hde" else ("gyro", "--heading gyro")
+
+
+def _heading_check_line(res) -> str | None:
+    """The text summary's line on HDE's structure guard (:func:`gaitml.pdr.hde.hde_heading`), or None without HDE."""
+    check = res.info.get("heading_check")
+    if not check:
+        return None
+    n, mn = check["n_steps"], check["min_steps"]
+    if check["statistic"] is None:
+        evidence = f"{n} steps"
+    else:
+        rel = ">" if check["statistic"] > check["threshold"] else "<="
+        evidence = f"alignment {check['statistic']:.3f} {rel} chance threshold {check['threshold']:.3f} over {n} steps"
+    if check["guard"] == "off":
+        shape = "dominant directions" if check["structured"] else "no dominant directions"
+        return f"heading check: guard off, HDE applied ({shape}: {evidence})"
+    if check["hde_applied"]:
+        return f"heading check: HDE applied (dominant directions: {evidence})"
+    kept = _kept_heading(str(res.info.get("heading")))[0]
+    why = f"fewer than {mn} steps" if check["reason"] == "too few steps" else "no dominant directions"
+    return f"heading check: HDE not applied, {kept} heading kept ({why}: {evidence})"
+
+
+def _warn_heading_check(res) -> None:
+    """One warning line when HDE's structure guard held HDE off (the recording lies outside HDE's premise)."""
+    check = res.info.get("heading_check")
+    if not check or check["hde_applied"]:
+        return
+    kept, option = _kept_heading(str(res.info.get("heading")))
+    if check["reason"] == "too few steps":
+        why = f"only {check['n_steps']} steps, fewer than the {check['min_steps']} it needs to test its premise (walking along dominant directions)"
+    else:
+        why = (
+            f"the step headings show no dominant directions (alignment {check['statistic']:.3f} <= chance threshold "
+            f"{check['threshold']:.3f} over {check['n_steps']} steps): HDE assumes a walk along a building's main directions, "
+            "and a walk that loops or wanders lies outside it"
+        )
+    log(
+        f"gaitml: warning: HDE not applied, the uncorrected {kept} heading is kept: {why}; pass {option} to ask for that "
+        "heading, or --hde-guard off to force HDE"
+    )
+
+
 def run(args) -> int:
     """Dead-reckon INPUT; print a summary or the JSON contract; optionally write the table and a plot."""
     from gaitml.io import atomic_path
@@ -207,6 +269,7 @@ def run(args) -> int:
         initial_heading_rad=h0,
         gyro_bias=getattr(args, "gyro_bias", "auto"),
         run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
+        hde=_hde(args, h0),
     )
     notes += list(res.info["notes"])
     scored = _score(args, rec, res, truth_obj) if truth_obj is not None else None
@@ -240,6 +303,7 @@ def run(args) -> int:
         log(f"note: {note}")
     gait_check_note(res.info.get("gait_check"), detector)
     rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
+    _warn_heading_check(res)
     _warn_out_of_domain(model, modes, res.steps)
     _warn_outside_fit(res)
     _warn_calibration_detector(res)
@@ -302,6 +366,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
         run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
         progress=True,
         gyro_bias=getattr(args, "gyro_bias", "auto"),
+        hde=_hde(args, 0.0 if h0 is None else h0),
         **long_read_kwargs(args),
     )
     modes = res.info["modes"]
@@ -324,6 +389,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
         log(f"note: {note}")
     gait_check_note(res.info.get("gait_check"), detector)
     rate_check_note(res.info.get("rate_check"))  # below the step detector's rate floor (gaitml.steps._rate)
+    _warn_heading_check(res)
     _warn_out_of_domain(model, modes, res.steps)
     _warn_outside_fit(res)
     _warn_calibration_detector(res)
@@ -518,6 +584,9 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         )
     if res.info.get("gyro_bias"):
         lines.append(f"  {res.info['gyro_bias']['note']}")
+    check = _heading_check_line(res)
+    if check:
+        lines.append(f"  {check}")
     rate = rate_check_summary(res.info.get("rate_check"))  # the stderr warning's summary (gaitml.steps._rate)
     if rate:
         lines.append(f"  {rate}")

@@ -15,7 +15,7 @@
 
 from gaitml.pdr.attitude import AttitudeEstimator, compass_heading, initial_attitude, integrate_gyro, step_headings, wrap_angle
 from gaitml.pdr.dwpca import DwPcaHdeHeading, DwPcaHeading, dwpca_check_and_average, pca_step_directions
-from gaitml.pdr.hde import HeuristicDriftElimination, estimate_drift_rate, hde_correct, hde_heading
+from gaitml.pdr.hde import HeuristicDriftElimination, direction_structure, estimate_drift_rate, hde_correct, hde_heading
 from gaitml.pdr.heading import BaseHeadingSource, GyroHeading
 from gaitml.pdr.pipeline import HEADING_SOURCES, MODE_SOURCES, PdrResult, modes_from_labels, run_pdr
 from gaitml.pdr.step_length import StepLengthModel, linear_step_length, step_length_features, weinberg_step_length
@@ -41,6 +41,7 @@ __all__ = [
     "calibrate_walk_distance",
     "compass_heading",
     "dead_reckon",
+    "direction_structure",
     "dwpca_check_and_average",
     "estimate_drift_rate",
     "forward_update",

@@ -208,6 +208,8 @@ class DwPcaHeading(BaseHeadingSource):
     motion_rad_ : (m,) PCA motion direction after 180-degree disambiguation.
     axis_rad_ : (m,) raw first-eigenvector direction.
     heading_rad_ : (m,) facing heading after mode offset, gyro check and averaging (and HDE).
+    heading_check_ : dict, with ``drift_correction``: its structure guard's record
+        (:func:`gaitml.pdr.hde.hde_heading`; HDE held off leaves the DW-PCA headings as they are).
     gyro_fixed_ : (m,) bool.
     polarity_ : dict, after :meth:`fit_polarity` (used by later ``estimate`` calls instead of ``polarity``).
 
@@ -289,7 +291,9 @@ class DwPcaHeading(BaseHeadingSource):
             if not hasattr(hde, "hde_params"):
                 raise InputError(f"`drift_correction` must be a HeuristicDriftElimination or None, got {type(hde).__name__}.")
             hde._validate_params()
-            theta, self.correction_rad_, self.straight_, self.drift_rate_rads_ = hde_heading(theta, dur, t_step, **hde.hde_params())
+            theta, self.correction_rad_, self.straight_, self.drift_rate_rads_, self.heading_check_ = hde_heading(
+                theta, dur, t_step, **hde.hde_params()
+            )
         return theta
 
     def directions(self, lin_acc_h, start, end, gyro_step_heading_rad, mode_offset_rad=None, modes=None) -> np.ndarray:

@@ -47,7 +47,29 @@ reading, stated here so it can be judged and changed:
    An online integral correction of the rate (``b += k_i E dt``, as in Borenstein's HDE)
    locks onto the bends of a long arc, so it is not offered.
 
-The correction of step k uses only steps up to k (causal), so it can run online.
+6. Structure guard (our addition, issue 27): HDE's premise is that the walker mainly walks
+   along the dominant directions. A walk looping round a small room turns all the time, its
+   step headings cover the circle, and the rate fit of step 5 then lines them up with the
+   dominant directions by chance (``experiments/reports/tyrex-pdr.md``, "HDE in a room").
+   :func:`direction_structure` tests the premise on the whole recording: the alignment score at
+   the best rate, ``S = mean cos(n (theta - rate (t - t_0) - reference))``, against what headings
+   without dominant-direction structure reach by chance. For N independent headings uniform on
+   the circle ``P(|mean exp(i n theta)| > s) ~ exp(-N s^2)`` (the Rayleigh test applied to
+   ``n theta``; Mardia and Jupp, *Directional Statistics*, Wiley 2000, sec. 6.3.1); ``S`` is at
+   most that resultant length at every rate; the fit scans about
+   ``K = 1 + n (2 max_rate) T / (2 pi)`` independent rates (over a recording of duration T the
+   phase ``n r t`` turns by 2 pi when the rate moves by ``2 pi / (n T)``), so by the union bound
+   ``P(max_r S > s) <= K exp(-N s^2)``, and the threshold is ``sqrt(ln(K / alpha) / N)`` with
+   ``alpha`` = :data:`STRUCTURE_ALPHA`. At or below it HDE is not applied (neither the rate nor
+   the feedback): the gyro step headings are returned unchanged. The Rayleigh tail is
+   asymptotic and consecutive step headings are not independent (a few steps of one straight
+   walk all line up), so with fewer than :data:`STRUCTURE_MIN_STEPS` steps the guard does not let
+   HDE act either. ``structure_alpha=None`` (or 0) switches the guard off (HDE always applied:
+   paper 003, and gaitml before the guard). The guard decides from the rate scan whether or not
+   the rate is then removed (``drift_rate``), so the feedback-only variant is guarded the same way.
+
+The correction of step k uses only steps up to k (causal), so it can run online (the rate
+fit of step 5 and the guard of step 6 read the whole recording: offline).
 The defaults of the buffer tests (keywords of :func:`hde_correct` and
 :class:`HeuristicDriftElimination`: buffer length, spread, trend between the buffer's
 halves, consecutive passes) are ours, chosen on simulated routes to separate straight
@@ -56,7 +78,8 @@ legs from the 32 m radius bends of the 400 m arc route (``experiments/reports/pd
 References
 ----------
 Paper 003 sec. 4.2; Borenstein, Ojeda, Kwanmuang, "Heuristic reduction of gyro drift in
-IMU-based personnel tracking systems", J. Navigation 62 (2009) (the HDE integrator).
+IMU-based personnel tracking systems", J. Navigation 62 (2009) (the HDE integrator); K. V. Mardia,
+P. E. Jupp, *Directional Statistics*, Wiley 2000, sec. 6.3.1 (the Rayleigh test, step 6).
 """
 
 from __future__ import annotations
@@ -65,12 +88,20 @@ from typing import ClassVar
 
 import numpy as np
 
-from gaitml._base import NON_NEGATIVE, NON_NEGATIVE_INTEGER, POSITIVE, POSITIVE_INTEGER
+from gaitml._base import NON_NEGATIVE, NON_NEGATIVE_INTEGER, POSITIVE, POSITIVE_INTEGER, Interval
 from gaitml.errors import InputError
 from gaitml.pdr.attitude import AttitudeEstimator, wrap_angle
 from gaitml.pdr.heading import BaseHeadingSource
 
-__all__ = ["HeuristicDriftElimination", "estimate_drift_rate", "hde_correct", "hde_heading"]
+__all__ = [
+    "STRUCTURE_ALPHA",
+    "STRUCTURE_MIN_STEPS",
+    "HeuristicDriftElimination",
+    "direction_structure",
+    "estimate_drift_rate",
+    "hde_correct",
+    "hde_heading",
+]
 
 #: paper 003 sec. 4.2: 12 dominant directions (30 deg sectors).
 N_DIRECTIONS = 12
@@ -78,6 +109,19 @@ N_DIRECTIONS = 12
 FEEDBACK_COEFFICIENT = 0.01
 #: paper 003 works at 50 Hz (sec. 2.2: 15 samples = 0.3 s); the rate the coefficient refers to.
 PAPER_RATE_HZ = 50.0
+#: half-width (rad/s) of the rate range :func:`estimate_drift_rate` scans (ours, module Notes step 5:
+#: 1.7 deg/s, twice the simulator's largest per-axis gyro bias)
+MAX_DRIFT_RATE_RADS = 0.03
+#: the structure guard's false-alarm probability (module Notes step 6): the chance that step headings
+#: without dominant-direction structure pass it. A conventional level (Mardia and Jupp 2000 sec. 6.3.1
+#: tabulate the Rayleigh test at 0.01), set before measuring, not fitted (experiments/reports/tyrex-pdr.md)
+STRUCTURE_ALPHA = 0.01
+#: fewest steps on which the guard lets HDE act (module Notes step 6): the default ``buffer_steps`` (10) +
+#: ``persist_steps`` (3), the fewest steps on which HDE's buffered feedback can change a heading at all (the
+#: buffer is first full at step 10 and must pass 3 consecutive steps; the feedback then corrects the steps
+#: after it). Below it only the rate fit would act, fitted on a few steps of one straight stretch, whose
+#: headings line up whatever the walk (a 6-step tyrex AR recording passes the asymptotic threshold, 0.957 > 0.897)
+STRUCTURE_MIN_STEPS = 13
 #: steps per block of the drift-rate score (bounds its memory: grid x block floats)
 _SCORE_BLOCK = 4096
 
@@ -92,7 +136,7 @@ def estimate_drift_rate(
     *,
     n_directions: int = N_DIRECTIONS,
     reference_rad: float = 0.0,
-    max_rate_rads: float = 0.03,
+    max_rate_rads: float = MAX_DRIFT_RATE_RADS,
     n_grid: int = 601,
 ) -> float:
     """Constant heading drift rate (rad/s) that best aligns step headings with the dominant directions.
@@ -122,6 +166,55 @@ def estimate_drift_rate(
     i = int(np.argmax(score(rates)))
     fine = np.linspace(rates[max(i - 1, 0)], rates[min(i + 1, n_grid - 1)], 201)
     return float(fine[int(np.argmax(score(fine)))])
+
+
+def _guard_alpha(structure_alpha) -> float | None:
+    """The guard's alpha, or None when the guard is off (``None`` or 0); refuses values outside [0, 1)."""
+    if structure_alpha is None:
+        return None
+    a = float(structure_alpha)
+    if not 0 <= a < 1:
+        raise InputError(f"`structure_alpha` must be in [0, 1) or None (0 or None: guard off), got {structure_alpha}.")
+    return a or None
+
+
+def direction_structure(
+    heading_rad,
+    t_s,
+    rate_rads: float = 0.0,
+    *,
+    n_directions: int = N_DIRECTIONS,
+    reference_rad: float = 0.0,
+    alpha: float = STRUCTURE_ALPHA,
+    max_rate_rads: float = MAX_DRIFT_RATE_RADS,
+    min_steps: int = STRUCTURE_MIN_STEPS,
+) -> dict:
+    """Whether step headings line up with the dominant directions more than chance allows (module Notes step 6).
+
+    ``rate_rads`` is the drift rate the score is taken at (the best one of the scan:
+    :func:`estimate_drift_rate`); ``max_rate_rads`` the half-width of that scan.
+
+    Returns
+    -------
+    dict with ``statistic`` (``mean cos(n (heading - rate (t - t_0) - reference))``), ``threshold``
+    (``sqrt(ln(K / alpha) / N)``; None with fewer than 2 steps), ``n_steps`` (N), ``n_rates`` (K, the
+    independent rates of the scan), ``alpha``, ``min_steps`` and ``structured`` (N >= ``min_steps`` and
+    statistic > threshold).
+    """
+    psi = np.unwrap(np.asarray(heading_rad, dtype=float).reshape(-1))
+    t = np.asarray(t_s, dtype=float).reshape(-1)
+    if psi.shape != t.shape:
+        raise InputError(f"`heading_rad` and `t_s` must have the same length, got {psi.shape[0]} and {t.shape[0]}.")
+    if not 0 < alpha < 1:
+        raise InputError(f"`alpha` must be in (0, 1), got {alpha}.")
+    n = len(psi)
+    rec = {"n_steps": n, "min_steps": int(min_steps), "alpha": float(alpha), "rate_rads": float(rate_rads)}
+    if n < 2:
+        return {**rec, "statistic": None, "threshold": None, "n_rates": None, "structured": False}
+    k = 1.0 + n_directions * 2.0 * max_rate_rads * float(t[-1] - t[0]) / (2 * np.pi)
+    stat = float(np.mean(np.cos(n_directions * (psi - rate_rads * (t - t[0]) - reference_rad))))
+    thr = float(np.sqrt(np.log(k / alpha) / n))
+    return {**rec, "statistic": stat, "threshold": thr, "n_rates": float(k), "structured": bool(n >= min_steps and stat > thr)}
 
 
 def hde_correct(
@@ -226,26 +319,63 @@ def hde_heading(
     drift_rate: str = "fit",
     n_directions: int = N_DIRECTIONS,
     reference_rad: float = 0.0,
+    structure_alpha: float | None = STRUCTURE_ALPHA,
+    structure_min_steps: int = STRUCTURE_MIN_STEPS,
     **hde_params,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """Remove a fitted constant drift rate (``drift_rate='fit'``, module Notes step 5), then :func:`hde_correct`.
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, dict]:
+    """The structure guard (module Notes step 6), then a fitted constant drift rate removed
+    (``drift_rate='fit'``, step 5) and :func:`hde_correct`.
+
+    ``structure_alpha``: the guard's false-alarm probability (None or 0: guard off, HDE always
+    applied); ``structure_min_steps``: with the guard on, fewer steps than this leave the headings
+    uncorrected. Step times default to the cumulated durations (0.5 s per step without them).
 
     Returns
     -------
-    heading_rad, correction_rad, straight : as :func:`hde_correct`
-    drift_rate_rads : the constant rate removed first (0 with ``drift_rate='none'``)
+    heading_rad, correction_rad, straight : as :func:`hde_correct` (with HDE held off: the input
+        headings wrapped, zero corrections, no step straight)
+    drift_rate_rads : the constant rate removed first (0 with ``drift_rate='none'`` or HDE held off)
+    check : dict, :func:`direction_structure`'s record at the scan's best rate, with ``guard``
+        ('on' / 'off'), ``hde_applied`` and ``reason`` (why HDE was held off: 'too few steps',
+        'no dominant directions'; None when applied). With the guard off the record still says
+        whether the headings are structured (at :data:`STRUCTURE_ALPHA`).
     """
     psi = np.asarray(heading_rad, dtype=float).reshape(-1)
     if drift_rate not in ("fit", "none"):
         raise InputError(f"`drift_rate` must be 'fit' or 'none', got {drift_rate!r}.")
-    rate = 0.0
-    if drift_rate == "fit" and len(psi) > 1:
-        t = np.cumsum(np.full(len(psi), 0.5) if step_duration_s is None else step_duration_s) if step_t_s is None else step_t_s
-        t = np.asarray(t, dtype=float)
-        rate = estimate_drift_rate(psi, t, n_directions=n_directions, reference_rad=reference_rad)
+    alpha = _guard_alpha(structure_alpha)
+    if int(structure_min_steps) != structure_min_steps or structure_min_steps < 0:
+        raise InputError(f"`structure_min_steps` must be a whole number >= 0, got {structure_min_steps}.")
+    if not np.isfinite(psi).all():
+        raise InputError("`heading_rad` has NaN/inf values; interpolate the heading first.")
+    dur = np.full(len(psi), 0.5) if step_duration_s is None else np.asarray(step_duration_s, dtype=float).reshape(-1)
+    if dur.shape != psi.shape:
+        raise InputError(f"`step_duration_s` must have one value per step ({len(psi)}), got {dur.shape[0]}.")
+    t = np.cumsum(dur) if step_t_s is None else np.asarray(step_t_s, dtype=float).reshape(-1)
+    if t.shape != psi.shape:
+        raise InputError(f"`step_t_s` must have one value per step ({len(psi)}), got {t.shape[0]}.")
+    best = estimate_drift_rate(psi, t, n_directions=n_directions, reference_rad=reference_rad) if len(psi) > 1 else 0.0
+    check = direction_structure(
+        psi,
+        t,
+        best,
+        n_directions=n_directions,
+        reference_rad=reference_rad,
+        alpha=alpha or STRUCTURE_ALPHA,
+        min_steps=int(structure_min_steps),
+    )
+    reason = None
+    if alpha is not None and not check["structured"]:
+        reason = "too few steps" if len(psi) < structure_min_steps else "no dominant directions"
+    check = {"guard": "off" if alpha is None else "on", **check, "hde_applied": reason is None, "reason": reason}
+    if reason is not None:
+        n = len(psi)
+        return wrap_angle(psi), np.zeros(n), np.zeros(n, dtype=bool), 0.0, check
+    rate = best if drift_rate == "fit" else 0.0
+    if rate:
         psi = psi - rate * (t - t[0])
     h, corr, straight = hde_correct(psi, step_duration_s, n_directions=n_directions, reference_rad=reference_rad, **hde_params)
-    return h, corr, straight, rate
+    return h, corr, straight, rate, check
 
 
 class HeuristicDriftElimination(BaseHeadingSource):
@@ -273,6 +403,12 @@ class HeuristicDriftElimination(BaseHeadingSource):
         Larger errors against the nearest dominant direction are ignored.
     drift_rate : {'fit', 'none'}, default 'fit'
         Remove a fitted constant drift rate first (module Notes, step 5).
+    structure_alpha : float or None, default :data:`STRUCTURE_ALPHA` (0.01)
+        The structure guard's false-alarm probability (module Notes, step 6): HDE is applied only
+        when the step headings line up with the dominant directions above chance. None or 0: guard
+        off, HDE always applied (paper 003).
+    structure_min_steps : int, default :data:`STRUCTURE_MIN_STEPS` (13)
+        With the guard on, fewer steps than this leave the gyro headings uncorrected.
     attitude : AttitudeEstimator, optional
         Source of the gyro heading (default ``AttitudeEstimator()``).
 
@@ -282,7 +418,9 @@ class HeuristicDriftElimination(BaseHeadingSource):
     gyro_heading_rad_ : the raw (gyro) step headings corrected.
     correction_rad_ : correction applied per step.
     straight_ : bool per step, buffer judged straight.
-    drift_rate_rads_ : fitted constant drift rate removed first (0 with ``drift_rate='none'``).
+    drift_rate_rads_ : fitted constant drift rate removed first (0 with ``drift_rate='none'`` or HDE held off).
+    heading_check_ : dict, the guard's record (:func:`hde_heading`'s ``check``: statistic, threshold,
+        n_steps, structured, hde_applied, reason).
     """
 
     name = "hde"
@@ -296,6 +434,8 @@ class HeuristicDriftElimination(BaseHeadingSource):
         "feedback": [NON_NEGATIVE],
         "lookahead_steps": [NON_NEGATIVE_INTEGER],
         "persist_steps": [NON_NEGATIVE_INTEGER],
+        "structure_alpha": [Interval(0, 1, closed="left"), None],
+        "structure_min_steps": [NON_NEGATIVE_INTEGER],
     }
 
     def __init__(
@@ -312,6 +452,8 @@ class HeuristicDriftElimination(BaseHeadingSource):
         persist_steps: int = 3,
         max_error_rad: float = np.deg2rad(5.0),
         drift_rate: str = "fit",
+        structure_alpha: float | None = STRUCTURE_ALPHA,
+        structure_min_steps: int = STRUCTURE_MIN_STEPS,
         attitude: AttitudeEstimator | None = None,
     ):
         self.n_directions = n_directions
@@ -325,6 +467,8 @@ class HeuristicDriftElimination(BaseHeadingSource):
         self.persist_steps = persist_steps
         self.max_error_rad = max_error_rad
         self.drift_rate = drift_rate
+        self.structure_alpha = structure_alpha
+        self.structure_min_steps = structure_min_steps
         self.attitude = attitude
 
     def hde_params(self) -> dict:
@@ -334,5 +478,7 @@ class HeuristicDriftElimination(BaseHeadingSource):
         return params
 
     def _heading(self, recording, steps, gyro_h, t_step, dur):
-        h, self.correction_rad_, self.straight_, self.drift_rate_rads_ = hde_heading(gyro_h, dur, t_step, **self.hde_params())
+        h, self.correction_rad_, self.straight_, self.drift_rate_rads_, self.heading_check_ = hde_heading(
+            gyro_h, dur, t_step, **self.hde_params()
+        )
         return h

@@ -109,7 +109,9 @@ class PdrResult:
         steps lie outside them (their lengths extrapolated; :meth:`~gaitml.pdr.step_length.StepLengthModel.outside_fit`),
         and per trajectory row whether its step does (null for the start row). ``step_length_detector``
         (``calibrated_with``, ``detector``): present when the calibration was fitted on another step detector's
-        steps (:func:`calibration_detector_check`).
+        steps (:func:`calibration_detector_check`). ``heading_check``: with an HDE heading (``hde``, ``dwpca-hde``),
+        its structure guard's record (:func:`gaitml.pdr.hde.hde_heading`: ``guard``, ``statistic``, ``threshold``,
+        ``n_steps``, ``min_steps``, ``structured``, ``hde_applied``, ``reason``); absent for the other headings.
         """
         traj = self.trajectory
         rows = [
@@ -142,6 +144,8 @@ class PdrResult:
                 out["foot_mounted_steps"] = self.info["foot_mounted_steps"]
         if self.info.get("gyro_bias") is not None:
             out["gyro_bias"] = self.info["gyro_bias"]
+        if self.info.get("heading_check") is not None:
+            out["heading_check"] = self.info["heading_check"]
         if self.info.get("gait_check") is not None:
             out["gait_check"] = self.info["gait_check"]
         out["rate_check"] = self.info.get("rate_check")
@@ -369,7 +373,8 @@ def run_pdr(
 
     Returns
     -------
-    PdrResult, with ``info['gait_check']`` the step table's gait-evidence account (the default
+    PdrResult, with ``info['heading_check']`` the HDE structure guard's record (None without HDE;
+    :func:`gaitml.pdr.hde.hde_heading`), ``info['gait_check']`` the step table's gait-evidence account (the default
     ``adaptive`` detector leaves out bouts of steps without gait evidence,
     :mod:`gaitml.steps._gait_evidence`; None when the detector ran no such test) and
     ``info['rate_check']`` its rate check (:func:`gaitml.steps.rate_record`; None for given steps without one).
@@ -500,12 +505,20 @@ def run_pdr(
             "step_length": sl_source,
             "initial_heading_rad": float(initial_heading_rad),
             "gyro_bias": _bias_record(source),
+            "heading_check": heading_check_record(source),
             "gait_check": gait,
             "rate_check": rate,
             "step_length_detector": calibration_detector_check(slm, det_name),
             "notes": notes,
         },
     )
+
+
+def heading_check_record(source) -> dict | None:
+    """The HDE structure guard's record of a heading source that ran HDE (``heading_check_``,
+    :func:`gaitml.pdr.hde.hde_heading`), JSON-ready; None for a source without HDE."""
+    check = getattr(source, "heading_check_", None)
+    return None if check is None else dict(check)
 
 
 def _bias_record(source) -> dict | None:

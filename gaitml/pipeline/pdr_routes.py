@@ -19,7 +19,8 @@ Then the variants:
 - ``multi / true modes / gyro``, ``dwpca``, ``dwpca-hde``: other heading sources.
 - ``multi / true modes / hde / true lengths``: the step lengths of the reference (isolates
   heading and mode effects from step length).
-- ``multi / true modes / paper HDE (no drift fit)``: buffered HDE without the drift-rate fit.
+- ``multi / true modes / paper HDE (no drift fit)``: buffered HDE without the drift-rate fit and without
+  the structure guard (paper 003 has neither).
 - ``multi / true modes / gyro / true gyro bias removed``: the simulator's gyro bias (in
   ``meta``) subtracted: what the heading error is made of.
 
@@ -54,7 +55,7 @@ VARIANTS = (
     ("multi / true modes / hde / true lengths", {"modes": "true", "heading": "hde", "step_length": "reference"}),
     (
         "multi / true modes / paper HDE (no drift fit)",
-        {"modes": "true", "heading": "hde", "hde_kwargs": {"drift_rate": "none", "max_error_rad": np.pi}},
+        {"modes": "true", "heading": "hde", "hde_kwargs": {"drift_rate": "none", "max_error_rad": np.pi, "structure_alpha": None}},
     ),
     ("multi / true modes / gyro / true gyro bias removed", {"modes": "true", "heading": "gyro", "remove_true_gyro_bias": True}),
 )

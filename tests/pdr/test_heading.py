@@ -151,11 +151,11 @@ def test_drift_rate_fit_recovers_a_constant_gyro_drift_and_hde_then_removes_it()
     drift = 0.02  # rad/s, 1.1 deg/s: an uncalibrated phone gyro
     raw = wrap_angle(truth + drift * t)
     assert estimate_drift_rate(raw, t) == pytest.approx(drift, abs=5e-4)
-    h, _, _, rate = hde_heading(raw, np.full(n, 0.5), t)
+    h, _, _, rate, _ = hde_heading(raw, np.full(n, 0.5), t)
     assert rate == pytest.approx(drift, abs=5e-4)
     assert np.degrees(np.abs(wrap_angle(h - truth))).max() < 1.0
     # the paper's buffered HDE alone cannot follow that drift
-    h0, _, _, _ = hde_heading(raw, np.full(n, 0.5), t, drift_rate="none")
+    h0, _, _, _, _ = hde_heading(raw, np.full(n, 0.5), t, drift_rate="none")
     assert np.degrees(np.abs(wrap_angle(h0 - truth))).max() > 10.0
 
 

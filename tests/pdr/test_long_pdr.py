@@ -154,7 +154,7 @@ def test_pdr_cli_long_path_refusals(walk_file, monkeypatch, capsys, tmp_path, ex
 
 def test_pdr_cli_long_path_summary_is_the_whole_files(walk_file, monkeypatch, capsys, tmp_path):
     """With a reference trajectory sidecar, both roads start from its heading and print the same summary
-    (steps, distance, end point, the end-point error line)."""
+    (steps, distance, end point, HDE's heading check, the end-point error line)."""
     import shutil
 
     import pandas as pd
@@ -171,7 +171,8 @@ def test_pdr_cli_long_path_summary_is_the_whole_files(walk_file, monkeypatch, ca
     long = capsys.readouterr()
     assert "start heading 0.300 rad" in long.err and "start heading 0.300 rad" in short.err
     lines = long.out.strip().splitlines()
-    assert len(lines) == 3 and lines[1].startswith("  gyroscope bias") and lines[2].startswith("  truth:")
+    assert len(lines) == 4 and lines[1].startswith("  gyroscope bias") and lines[3].startswith("  truth:")
+    assert lines[2].startswith("  heading check: HDE applied")  # HDE's structure guard, on the whole file's steps
     assert lines == short.out.strip().splitlines()
 
 

@@ -39,10 +39,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def feature_table(recording, *, window_s: float = 1.5, overlap: float = 0.5, subset: str = "all52", frame: str = "phone") -> pd.DataFrame:
     """Window columns followed by the feature columns (what ``--out`` writes); ``frame``: see :func:`gaitml.features.extract_features`."""
     from gaitml.features import extract_features, make_windows, resolve_subset
+    from gaitml.features._catalogue import uses_gyro
 
     key = resolve_subset(subset)
-    if key == "all52+gyro":
-        recording.require_gyr("feature subset 'all52+gyro'")
+    if uses_gyro(key):
+        recording.require_gyr(f"feature subset {key!r}")
     windows = make_windows(recording, window_s, overlap, min_label_fraction=0.0)
     feats = extract_features(recording, windows, subset=key, frame=frame)
     table = pd.concat([windows, feats], axis=1)
@@ -53,8 +54,9 @@ def feature_table(recording, *, window_s: float = 1.5, overlap: float = 0.5, sub
 def summary_text(table: pd.DataFrame, recording) -> str:
     """A readable summary: windows, labels and per-feature mean / std / min / max."""
     from gaitml.features import CATALOGUE, GYRO_CATALOGUE
+    from gaitml.features._catalogue import FORWARD_CATALOGUE, FORWARD_FACE_CATALOGUE
 
-    codes = {s.name: s.code for s in CATALOGUE + GYRO_CATALOGUE}
+    codes = {s.name: s.code for s in CATALOGUE + GYRO_CATALOGUE + FORWARD_CATALOGUE + FORWARD_FACE_CATALOGUE}
     a = table.attrs
     lines = [
         f"recording: {recording.name} ({recording.n_samples} samples, {recording.sampling_rate_hz:g} Hz, {recording.duration_s:.2f} s)",

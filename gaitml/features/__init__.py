@@ -6,6 +6,8 @@
 - :func:`extract_features` / :func:`features_from_arrays`: vectorised feature matrix;
 - :class:`StreamingFeatureExtractor`: the same rows from samples pushed as they arrive;
 - :data:`CATALOGUE`, :data:`FEATURE_SETS`, :func:`feature_names`: the catalogue and subsets;
+- :func:`forward_vectors` (:mod:`gaitml.features._forward`): the opt-in, time-odd forward-vector
+  group W1..W3 of the ``all52+fwd`` / ``all52+gyro+fwd`` sets (forward against backward walking);
 - :data:`FEATURE_FRAMES`, :func:`gravity_frame_rotations`: the phone frame (paper 003) or a
   per-window gravity-aligned frame that makes the features independent of the phone's orientation;
 - :func:`clip_acc`, :func:`acc_range_tally`: the accelerometer range a model reads every phone through
@@ -15,6 +17,8 @@
 from gaitml.features._catalogue import (
     CATALOGUE,
     FEATURE_SETS,
+    FORWARD_CATALOGUE,
+    FORWARD_FACE_CATALOGUE,
     GYRO_CATALOGUE,
     PAPER34_NUMBERS,
     FeatureSpec,
@@ -22,8 +26,12 @@ from gaitml.features._catalogue import (
     feature_names,
     feature_specs,
     resolve_subset,
+    uses_forward,
+    uses_forward_face,
+    uses_gyro,
 )
 from gaitml.features._extract import extract_features, features_from_arrays
+from gaitml.features._forward import FORWARD_BAND_HZ, forward_vectors
 from gaitml.features._frame import FEATURE_FRAMES, check_frame, gravity_frame_rotations
 from gaitml.features._range import WIDER_RANGE_RATIO, acc_range_tally, check_acc_range, clip_acc
 from gaitml.features._streaming import StreamingFeatureExtractor
@@ -34,6 +42,9 @@ __all__ = [
     "CATALOGUE",
     "FEATURE_FRAMES",
     "FEATURE_SETS",
+    "FORWARD_BAND_HZ",
+    "FORWARD_CATALOGUE",
+    "FORWARD_FACE_CATALOGUE",
     "GYRO_CATALOGUE",
     "PAPER34_NUMBERS",
     "FeatureSpec",
@@ -50,8 +61,12 @@ __all__ = [
     "feature_names",
     "feature_specs",
     "features_from_arrays",
+    "forward_vectors",
     "gravity_frame_rotations",
     "make_step_windows",
     "make_windows",
     "resolve_subset",
+    "uses_forward",
+    "uses_forward_face",
+    "uses_gyro",
 ]

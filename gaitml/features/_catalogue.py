@@ -50,11 +50,14 @@ import dataclasses
 import sys
 
 from gaitml.errors import InputError
+from gaitml.features._forward import FORWARD_BAND_HZ, FORWARD_FACE_NAMES, FORWARD_NAMES
 
 __all__ = [
     "CATALOGUE",
     "GYRO_CATALOGUE",
     "FEATURE_SETS",
+    "FORWARD_CATALOGUE",
+    "FORWARD_FACE_CATALOGUE",
     "FeatureSpec",
     "PAPER34_NUMBERS",
     "SUBSET_ALIASES",
@@ -62,6 +65,9 @@ __all__ = [
     "feature_names",
     "feature_specs",
     "resolve_subset",
+    "uses_forward",
+    "uses_forward_face",
+    "uses_gyro",
     "write_catalogue",
     "main",
 ]
@@ -158,17 +164,71 @@ CATALOGUE: tuple[FeatureSpec, ...] = _build("acc")
 #: The same statistics on the gyroscope (G1..G52, numbers 53..104).
 GYRO_CATALOGUE: tuple[FeatureSpec, ...] = _build("gyr")
 
+#: The forward-vector group W1..W3 (numbers 105..107; opt-in sets ``all52+fwd``, ``all52+gyro+fwd``):
+#: the band-passed forward vector's components along the phone's x, y, z, the one time-odd quantity
+#: of the catalogue (:mod:`gaitml.features._forward`, not in paper 003).
+FORWARD_CATALOGUE: tuple[FeatureSpec, ...] = tuple(
+    FeatureSpec(
+        number=105 + i,
+        code=f"W{i + 1}",
+        name=f"acc_{ax}__fwd",
+        sensor="acc",
+        channel=f"acc_{ax}",
+        stat="fwd",
+        description=f"forward vector along {ax}: covariance of the horizontal acceleration with d/dt of the vertical one, gait band",
+        formula="mean_t h(t) v'(t) / sqrt(mean_t |h|^2 mean_t v'^2), h, v: acc band-passed 0.5-3 Hz, horizontal / vertical part",
+    )
+    for i, ax in enumerate("xyz")
+)
+assert tuple(s.name for s in FORWARD_CATALOGUE) == FORWARD_NAMES
+#: The face-up-weighted forward vector W4..W6 (numbers 108..110; opt-in sets ``all52+fwdface``,
+#: ``all52+gyro+fwdface``): W1..W3 times ``max(0, up_z)``, how face up the phone is (:mod:`gaitml.features._forward`).
+FORWARD_FACE_CATALOGUE: tuple[FeatureSpec, ...] = tuple(
+    FeatureSpec(
+        number=108 + i,
+        code=f"W{i + 4}",
+        name=f"acc_{ax}__fwdface",
+        sensor="acc",
+        channel=f"acc_{ax}",
+        stat="fwdface",
+        description=f"forward vector along {ax} (W{i + 1}) times max(0, up_z), how face up the phone is",
+        formula="W{k} * max(0, mean(acc)_z / |mean(acc)|)".replace("{k}", str(i + 1)),
+    )
+    for i, ax in enumerate("xyz")
+)
+assert tuple(s.name for s in FORWARD_FACE_CATALOGUE) == FORWARD_FACE_NAMES
+
 #: Named feature subsets: column names in extraction order.
 FEATURE_SETS: dict[str, tuple[str, ...]] = {
     "all52": tuple(s.name for s in CATALOGUE),
     "paper34": tuple(s.name for s in CATALOGUE if s.number in PAPER34_NUMBERS),
     "all52+gyro": tuple(s.name for s in CATALOGUE + GYRO_CATALOGUE),
+    "all52+fwd": tuple(s.name for s in CATALOGUE + FORWARD_CATALOGUE),
+    "all52+gyro+fwd": tuple(s.name for s in CATALOGUE + GYRO_CATALOGUE + FORWARD_CATALOGUE),
+    "all52+fwdface": tuple(s.name for s in CATALOGUE + FORWARD_FACE_CATALOGUE),
+    "all52+gyro+fwdface": tuple(s.name for s in CATALOGUE + GYRO_CATALOGUE + FORWARD_FACE_CATALOGUE),
 }
 
 #: Accepted alternative spellings of subset names.
 SUBSET_ALIASES = {"all": "all52"}
 
-_BY_NAME = {s.name: s for s in CATALOGUE + GYRO_CATALOGUE}
+_BY_NAME = {s.name: s for s in CATALOGUE + GYRO_CATALOGUE + FORWARD_CATALOGUE + FORWARD_FACE_CATALOGUE}
+
+
+def uses_gyro(subset: str) -> bool:
+    """Whether a (canonical) subset reads the gyroscope (G1..G52)."""
+    return "gyro" in resolve_subset(subset).split("+")
+
+
+def uses_forward(subset: str) -> bool:
+    """Whether a (canonical) subset holds a forward-vector group (W1..W3 or W4..W6; :mod:`gaitml.features._forward`)."""
+    parts = resolve_subset(subset).split("+")
+    return "fwd" in parts or "fwdface" in parts
+
+
+def uses_forward_face(subset: str) -> bool:
+    """Whether a (canonical) subset's forward-vector group is the face-up-weighted one (W4..W6)."""
+    return "fwdface" in resolve_subset(subset).split("+")
 
 
 def resolve_subset(subset: str) -> str:
@@ -230,8 +290,23 @@ def catalogue_markdown() -> str:
         lines.append(f"| {s.code} | `{s.name}` | {s.channel} | {s.description} | {formula} | {'yes' if s.number in p34 else ''} |")
     lines += [
         "",
-        "Gyro counterparts (subset `all52+gyro` only): G<k> is F<k> computed on the gyroscope,",
+        "Gyro counterparts (subsets `all52+gyro`, `all52+gyro+fwd`): G<k> is F<k> computed on the gyroscope,",
         "column `gyr_<channel>__<stat>`, e.g. G1 = `gyr_x__mean`, G33 = `gyr_xy__corr`, G52 = `gyr_x__f1`.",
+        "",
+        "Forward vector (opt-in subsets `all52+fwd`, `all52+gyro+fwd`; not in paper 003): every feature above",
+        "is the same for a window played backwards in time; W1..W3 are not. Per window: up = the unit window mean",
+        f"of acc; each axis detrended and band-passed to {FORWARD_BAND_HZ[0]:g}-{FORWARD_BAND_HZ[1]:g} Hz (the window's Fourier coefficients",
+        "outside the band zeroed); v = the band-passed acc along up, h = its horizontal part; v' = circular",
+        "central difference of v; F = mean_t h(t) v'(t) / sqrt(mean |h|^2 mean v'^2), a horizontal vector of",
+        "length <= 1 pointing along the direction of travel in walking (inverted pendulum: fastest at heel",
+        "strike, where the vertical acceleration peaks). Columns: F along the phone's x, y, z (the feature",
+        "frame's axes with `frame = gravity`). Method, sources and limits: `gaitml/features/_forward.py`.",
+        "Subsets `all52+fwdface`, `all52+gyro+fwdface` carry W4..W6 instead: F times max(0, up_z), how face up",
+        "the phone is (1 flat, 0 upright), so the group is near 0 where the phone's axes are not tied to the body.",
+        "",
+        "| W | column | channel | statistic |",
+        "|---|---|---|---|",
+        *[f"| {s.code} | `{s.name}` | {s.channel} | {s.description} |" for s in FORWARD_CATALOGUE + FORWARD_FACE_CATALOGUE],
         "",
     ]
     return "\n".join(lines)

@@ -13,7 +13,16 @@ import numpy as np
 import pandas as pd
 
 from gaitml.errors import InputError
-from gaitml.features._catalogue import FEATURE_SETS, MODE_BIN_WIDTH, feature_names, resolve_subset
+from gaitml.features._catalogue import (
+    FEATURE_SETS,
+    MODE_BIN_WIDTH,
+    feature_names,
+    resolve_subset,
+    uses_forward,
+    uses_forward_face,
+    uses_gyro,
+)
+from gaitml.features._forward import forward_vectors
 from gaitml.features._frame import check_frame, gravity_frame_rotations, rotate_windows
 from gaitml.features._windows import WINDOW_LENGTH_S, WINDOW_OVERLAP, make_windows
 
@@ -184,17 +193,20 @@ def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subse
     acc : array, shape (n, 3)
         Acceleration in m/s^2, gravity included.
     gyr : array, shape (n, 3), optional
-        Angular rate in rad/s; required by subset ``'all52+gyro'``.
+        Angular rate in rad/s; required by subsets ``'all52+gyro'`` and ``'all52+gyro+fwd'``.
     fs : float, optional
-        Sampling rate in Hz. Accepted for symmetry with the callers; the
-        statistics are per sample (M4 and f(1) are sums of sample differences, as
-        in paper 003 eqs. 8-9) and do not depend on it.
+        Sampling rate in Hz. The 52 statistics are per sample (M4 and f(1) are
+        sums of sample differences, as in paper 003 eqs. 8-9) and do not depend
+        on it; the forward-vector group (``+fwd`` subsets) needs it for its band.
     starts : array of int, shape (k,)
         Window start indices (any order, may repeat).
     length : int
         Window length in samples (>= 2).
     subset : str
-        ``'all52'``, ``'paper34'``, ``'all52+gyro'`` (alias ``'all'``).
+        ``'all52'``, ``'paper34'``, ``'all52+gyro'`` (alias ``'all'``), or the opt-in
+        ``'all52+fwd'`` / ``'all52+gyro+fwd'``, which append the forward vector W1..W3
+        (:mod:`gaitml.features._forward`), and ``'all52+fwdface'`` / ``'all52+gyro+fwdface'``
+        (the same vector weighted by how face up the phone is, W4..W6).
     frame : {'phone', 'gravity'}
         Axes of the x, y, z statistics: the phone's own (paper 003), or each
         window's gravity-aligned frame (x right, y forward, z up; see
@@ -222,17 +234,21 @@ def features_from_arrays(acc, gyr=None, fs=None, starts=None, length=None, subse
         )
     if n < length:
         raise InputError(f"the signal has {n} samples, fewer than one window of {length}; use a longer recording or a shorter window.")
+    if uses_forward(key) and not (fs is not None and np.isfinite(float(fs)) and float(fs) > 0):
+        raise InputError(f"feature subset {key!r} needs the sampling rate `fs` (Hz) for its forward vector's band; pass fs.")
     rotations = gravity_frame_rotations(acc, starts, length) if frame == "gravity" else None
     blocks = [_sensor_stats(acc, "acc", starts, length, rotations)]
-    if key == "all52+gyro":
+    if uses_gyro(key):
         if gyr is None:
             raise InputError(
-                "feature subset 'all52+gyro' needs a gyroscope but none was given; use a recording with gyr_x, gyr_y, gyr_z or subset 'all52'."
+                f"feature subset {key!r} needs a gyroscope but none was given; use a recording with gyr_x, gyr_y, gyr_z or subset 'all52'."
             )
         gyr = _as_xyz("gyr", gyr)
         if len(gyr) != n:
             raise InputError(f"`gyr` has {len(gyr)} samples but `acc` has {n}; they must match.")
         blocks.append(_sensor_stats(gyr, "gyr", starts, length, rotations))
+    if uses_forward(key):
+        blocks.append(forward_vectors(acc, float(fs), starts, length, rotations, face_up=uses_forward_face(key)))
     full = np.concatenate(blocks, axis=1) if len(blocks) > 1 else blocks[0]
     if key == "paper34":
         return np.ascontiguousarray(full[:, _PAPER34_IDX])
@@ -260,7 +276,8 @@ def extract_features(
     subset : str
         ``'all52'`` (F1..F52), ``'paper34'`` (paper 003 Table 1) or
         ``'all52+gyro'`` (F1..F52 then G1..G52; needs a gyroscope). ``'all'`` is
-        an alias of ``'all52'``.
+        an alias of ``'all52'``. Opt-in: ``'all52+fwd'`` and ``'all52+gyro+fwd'``
+        append the forward vector W1..W3 (:mod:`gaitml.features._forward`).
     frame : {'phone', 'gravity'}
         ``'phone'`` (default, paper 003): the phone's x, y, z. ``'gravity'``: each
         window in its own gravity-aligned frame (x right, y forward, z up), so the
@@ -284,7 +301,7 @@ def extract_features(
     key = resolve_subset(subset)
     check_frame(frame)
     names = feature_names(key)
-    gyr = recording.require_gyr("feature subset 'all52+gyro'") if key == "all52+gyro" else None
+    gyr = recording.require_gyr(f"feature subset {key!r}") if uses_gyro(key) else None
     if windows is None:
         windows = make_windows(recording, length_s, overlap, min_label_fraction=0.0)
     if not {"start", "end"} <= set(windows.columns):

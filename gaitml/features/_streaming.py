@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from gaitml.errors import InputError
-from gaitml.features._catalogue import feature_names, resolve_subset
+from gaitml.features._catalogue import feature_names, resolve_subset, uses_gyro
 from gaitml.features._extract import features_from_arrays
 from gaitml.features._frame import check_frame
 from gaitml.features._range import acc_range_tally, check_acc_range, clip_acc
@@ -44,7 +44,8 @@ class StreamingFeatureExtractor:
     overlap : float
         Fraction shared by consecutive windows, in [0, 1).
     subset : str
-        ``'all52'``, ``'paper34'`` or ``'all52+gyro'`` (then ``push`` needs gyro chunks).
+        ``'all52'``, ``'paper34'``, ``'all52+gyro'`` (then ``push`` needs gyro chunks), or the
+        opt-in ``'all52+fwd'`` / ``'all52+gyro+fwd'`` (the forward vector of each window, from its own samples).
     frame : {'phone', 'gravity'}
         Feature frame, as in :func:`gaitml.features.extract_features` (the gravity
         frame of a window depends on the window's own samples, so the rows still
@@ -159,7 +160,7 @@ class StreamingFeatureExtractor:
         acc_chunk : array, shape (k, 3) or (3,)
             New acceleration samples in m/s^2 (k may be 0).
         gyr_chunk : array, shape (k, 3), optional
-            New angular-rate samples in rad/s; required for ``'all52+gyro'``.
+            New angular-rate samples in rad/s; required for ``'all52+gyro'`` and ``'all52+gyro+fwd'``.
 
         Returns
         -------
@@ -170,10 +171,12 @@ class StreamingFeatureExtractor:
         if self._range is not None:
             self.n_clipped_ += acc_range_tally(acc, self._range)["n_samples_clipped"]
             acc = clip_acc(acc, self._range)
-        need_gyr = self._subset == "all52+gyro"
+        need_gyr = uses_gyro(self._subset)
         if need_gyr:
             if gyr_chunk is None:
-                raise InputError("feature subset 'all52+gyro' needs a gyroscope; pass gyr_chunk with each acc_chunk or use subset 'all52'.")
+                raise InputError(
+                    f"feature subset {self._subset!r} needs a gyroscope; pass gyr_chunk with each acc_chunk or use subset 'all52'."
+                )
             gyr = _chunk("gyr", gyr_chunk)
             if len(gyr) != len(acc):
                 raise InputError(f"gyr_chunk has {len(gyr)} samples but acc_chunk has {len(acc)}; they must match.")

@@ -285,12 +285,12 @@ def extract_step_features(recording, windows: pd.DataFrame, *, subset: str = "al
     DataFrame
         Index = ``windows.index``, columns :func:`gaitml.features.feature_names`.
     """
-    from gaitml.features._catalogue import feature_names, resolve_subset
+    from gaitml.features._catalogue import feature_names, resolve_subset, uses_gyro
     from gaitml.features._extract import features_from_arrays
 
     key = resolve_subset(subset)
     names = feature_names(key)
-    gyr = recording.require_gyr("feature subset 'all52+gyro'") if key == "all52+gyro" else None
+    gyr = recording.require_gyr(f"feature subset {key!r}") if uses_gyro(key) else None
     starts = windows["start"].to_numpy(dtype=np.int64)
     lengths = windows["end"].to_numpy(dtype=np.int64) - starts
     out = np.zeros((len(starts), len(names)))

@@ -154,13 +154,14 @@ def _feature_spec(info: dict) -> dict:
             "mode": "bin k = floor(a / w + 1/2) with w the bin width; the mode is w * (the bin with most samples); ties go to the smallest bin",
             "constant_window": f"a channel whose std <= {DEGENERATE_REL} * (1 + |mean|) is constant: its skewness, kurtosis and correlations are 0",
             "correlation": "zero-lag Pearson coefficient of two axes over the window, clipped to [-1, 1]",
+            **({"forward_vector": _forward_spec()} if any(s.stat.startswith("fwd") for s in specs) else {}),
         },
         "features": [
             {
                 "index": i,
                 "name": s.name,
                 "code": s.code,
-                "paper_number": s.number if s.sensor == "acc" else s.number - 52,
+                "paper_number": None if s.stat.startswith("fwd") else (s.number if s.sensor == "acc" else s.number - 52),
                 "sensor": s.sensor,
                 "channel": s.channel,
                 "stat": s.stat,
@@ -169,6 +170,26 @@ def _feature_spec(info: dict) -> dict:
             }
             for i, s in enumerate(specs)
         ],
+    }
+
+
+def _forward_spec() -> dict:
+    """How the opt-in forward-vector columns W1..W3 (``+fwd`` feature sets) are computed (:mod:`gaitml.features._forward`)."""
+    from gaitml.features import FORWARD_BAND_HZ
+
+    lo, hi = FORWARD_BAND_HZ
+    return {
+        "source": "gaitml.features._forward (not in paper 003): the inverted pendulum's forward acceleration follows d/dt of the vertical one",
+        "band_hz": [lo, hi],
+        "rule": (
+            "per window of N samples at fs Hz, acc in the phone frame: up = mean(acc) / |mean(acc)| (phone z if |mean| <= 1e-6); "
+            "each axis minus its least-squares line over the window; its real DFT over the window with every coefficient of "
+            f"frequency k fs / N outside [{lo:g}, {hi:g}] Hz set to 0, transformed back (N samples); v(t) = band-passed acc . up; "
+            "h(t) = band-passed acc - v(t) up; v'(t) = (v(t+1) - v(t-1)) fs / 2 with indices modulo N; "
+            "F = (1/N) sum_t h(t) v'(t); den = sqrt((1/N) sum_t |h(t)|^2 (1/N) sum_t v'(t)^2); "
+            "acc_x__fwd, acc_y__fwd, acc_z__fwd = F / den along the phone's x, y, z (0 when den <= 1e-12); "
+            "acc_x__fwdface, acc_y__fwdface, acc_z__fwdface = the same times max(0, up_z)"
+        ),
     }
 
 

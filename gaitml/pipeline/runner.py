@@ -785,7 +785,7 @@ def _fit_domain_of(cfg: ExperimentConfig, data: PreparedData, ds, model):
     gravity = np.zeros((len(ds), 3))
     positions = np.empty(len(ds), dtype=object)
     # the orientation-dynamics part needs the gyroscope (gaitml.models.domain; without it the check is weak)
-    with_dynamics = fset == "all52+gyro" and cfg["train"]["domain_dynamics"]
+    with_dynamics = "gyro" in fset.split("+") and cfg["train"]["domain_dynamics"]
     dynamics = np.zeros((len(ds), len(DYNAMICS_NAMES))) if with_dynamics else None
     from gaitml.features import check_acc_range, clip_acc
 
@@ -805,7 +805,7 @@ def _fit_domain_of(cfg: ExperimentConfig, data: PreparedData, ds, model):
         if not own and by_steps:
             X[rows] = extract_step_features(rec, ds.windows.iloc[rows], subset=fset).to_numpy(dtype=float)
         elif not own:
-            gyr = rec.gyr if fset == "all52+gyro" else None
+            gyr = rec.gyr if "gyro" in fset.split("+") else None
             X[rows] = features_from_arrays(rec.acc, gyr, rec.sampling_rate_hz, starts[rows], length, fset, frame)
     record = fit_domain(
         X,

@@ -26,7 +26,7 @@ def _gait_like(n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     return acc, gyr
 
 
-@pytest.mark.parametrize("subset", ["all52", "paper34", "all52+gyro"])
+@pytest.mark.parametrize("subset", ["all52", "paper34", "all52+gyro", "all52+fwd", "all52+gyro+fwd", "all52+gyro+fwdface"])
 @pytest.mark.parametrize(("length_s", "overlap"), [(1.5, 0.5), (0.5, 0.0), (2.0, 0.75)])
 def test_batch_equals_streaming_equals_reference(subset, length_s, overlap):
     acc, gyr = _gait_like(1500, seed=3)
@@ -43,7 +43,7 @@ def test_batch_equals_streaming_equals_reference(subset, length_s, overlap):
     rows, starts, i = [], [], 0
     while i < len(acc):
         k = int(rng.choice([0, 1, 7, 40, 113]))
-        out = ext.push(acc[i : i + k], gyr[i : i + k] if subset == "all52+gyro" else None)
+        out = ext.push(acc[i : i + k], gyr[i : i + k] if "gyro" in subset else None)
         rows.append(out)
         starts.append(ext.last_starts_)
         i += k
@@ -159,7 +159,7 @@ def test_bad_inputs():
     assert extract_features(rec, subset="all").shape == (2, 52)
 
 
-@pytest.mark.parametrize("subset", ["all52", "paper34", "all52+gyro"])
+@pytest.mark.parametrize("subset", ["all52", "paper34", "all52+gyro", "all52+gyro+fwd"])
 @pytest.mark.parametrize(("length_s", "overlap"), [(1.5, 0.5), (0.5, 0.0)])
 def test_gravity_frame_batch_equals_streaming_equals_reference(subset, length_s, overlap):
     """The gravity frame (issue 12): batch == streaming == the per-window loop of tests/reference/frame.py."""
@@ -169,8 +169,16 @@ def test_gravity_frame_batch_equals_streaming_equals_reference(subset, length_s,
     rec = Recording.from_arrays(acc, 50.0, gyr=gyr)
     batch = extract_features(rec, subset=subset, length_s=length_s, overlap=overlap, frame="gravity").to_numpy()
     win = make_windows(rec, length_s, overlap, min_label_fraction=0.0)
-    full = reference_gravity_features(acc, gyr, win["start"].to_numpy(), win.attrs["length_samples"], "all52+gyro")
-    want = full[:, [feature_names("all52+gyro").index(n) for n in feature_names(subset)]]
+    length = win.attrs["length_samples"]
+    full = reference_gravity_features(acc, gyr, win["start"].to_numpy(), length, "all52+gyro")
+    if subset.endswith("+fwd"):  # the forward vector in each window's gravity frame
+        from tests.reference.features import reference_forward
+        from tests.reference.frame import reference_rotation
+
+        fwd = [reference_rotation(acc[s : s + length]) @ reference_forward(acc[s : s + length], 50.0) for s in win["start"]]
+        full = np.column_stack([full, np.asarray(fwd)])
+    all_names = feature_names("all52+gyro") + ["acc_x__fwd", "acc_y__fwd", "acc_z__fwd"]
+    want = full[:, [all_names.index(n) for n in feature_names(subset)]]
     names = feature_names(subset)
     exact = [i for i, n in enumerate(names) if not n.endswith("__mode")]
     np.testing.assert_allclose(batch[:, exact], want[:, exact], rtol=1e-7, atol=1e-7)
@@ -179,6 +187,6 @@ def test_gravity_frame_batch_equals_streaming_equals_reference(subset, length_s,
     rows, i = [], 0
     while i < len(acc):
         k = int(rng.choice([0, 1, 7, 40, 113]))
-        rows.append(ext.push(acc[i : i + k], gyr[i : i + k] if subset == "all52+gyro" else None))
+        rows.append(ext.push(acc[i : i + k], gyr[i : i + k] if "gyro" in subset else None))
         i += k
     np.testing.assert_allclose(np.concatenate(rows), batch, **TOL)

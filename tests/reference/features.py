@@ -11,12 +11,13 @@ to 1e-9 and timed against in ``benchmarks/features.py``.
 from __future__ import annotations
 
 import numpy as np
+import scipy.signal
 import scipy.stats
 
 from gaitml.features._catalogue import MODE_BIN_WIDTH, feature_names, resolve_subset
 from gaitml.signal import moving_average
 
-__all__ = ["reference_features", "reference_window_stats"]
+__all__ = ["reference_features", "reference_forward", "reference_window_stats"]
 
 _G = 9.8  # paper 003 eq. (1)
 
@@ -75,8 +76,31 @@ def reference_window_stats(
     return row
 
 
-def reference_features(acc, gyr=None, starts=(), length: int = 75, subset: str = "all52", *, use_scipy: bool = True) -> np.ndarray:
-    """Feature matrix computed one window at a time (slow, obviously correct)."""
+def reference_forward(w: np.ndarray, fs: float, band=(0.5, 3.0)) -> list[float]:
+    """The forward vector W1..W3 of one window (N, 3) (gaitml.features._forward), written out sample by sample.
+
+    scipy's linear detrend, the full complex DFT with a symmetric mask, a loop for the
+    circular central difference and the sums.
+    """
+    n = len(w)
+    g = w.mean(axis=0)
+    up = g / np.linalg.norm(g) if np.linalg.norm(g) > 1e-6 else np.array([0.0, 0.0, 1.0])
+    d = scipy.signal.detrend(w, axis=0, type="linear")
+    freq = np.abs(np.fft.fftfreq(n, d=1.0 / fs))
+    mask = (freq >= band[0]) & (freq <= band[1])
+    bp = np.real(np.fft.ifft(np.fft.fft(d, axis=0) * mask[:, None], axis=0))
+    v = bp @ up
+    h = bp - np.outer(v, up)
+    dv = np.array([(v[(t + 1) % n] - v[(t - 1) % n]) * fs / 2.0 for t in range(n)])
+    f = sum(h[t] * dv[t] for t in range(n)) / n
+    den = np.sqrt(np.mean(np.sum(h * h, axis=1)) * np.mean(dv * dv))
+    return [float(c) for c in (f / den if den > 1e-12 else np.zeros(3))]
+
+
+def reference_features(
+    acc, gyr=None, starts=(), length: int = 75, subset: str = "all52", *, use_scipy: bool = True, fs: float = 50.0
+) -> np.ndarray:
+    """Feature matrix computed one window at a time (slow, obviously correct); ``fs``: the forward vector's rate."""
     key = resolve_subset(subset)
     acc = np.asarray(acc, dtype=float)
     rows = []
@@ -84,12 +108,17 @@ def reference_features(acc, gyr=None, starts=(), length: int = 75, subset: str =
         w = acc[s : s + length]
         mag = moving_average(np.linalg.norm(w, axis=1) - _G, 3, mode="centered")
         row = reference_window_stats(w[:, 0], w[:, 1], w[:, 2], mag, MODE_BIN_WIDTH["acc"], use_scipy=use_scipy)
-        if key == "all52+gyro":
+        if "gyro" in key.split("+"):
             g = np.asarray(gyr, dtype=float)[s : s + length]
             gmag = moving_average(np.linalg.norm(g, axis=1), 3, mode="centered")
             row += reference_window_stats(g[:, 0], g[:, 1], g[:, 2], gmag, MODE_BIN_WIDTH["gyr"], use_scipy=use_scipy)
+        if "fwd" in key.split("+"):
+            row += reference_forward(w, fs)
+        if "fwdface" in key.split("+"):  # the same vector times how face up the phone is
+            up_z = float(np.mean(w[:, 2]) / np.linalg.norm(np.mean(w, axis=0)))
+            row += [c * max(up_z, 0.0) for c in reference_forward(w, fs)]
         rows.append(row)
-    out = np.asarray(rows, dtype=float).reshape(len(rows), -1 if rows else (104 if key == "all52+gyro" else 52))
+    out = np.asarray(rows, dtype=float).reshape(len(rows), -1 if rows else len(feature_names(key)))
     if key == "paper34":
         full = feature_names("all52")
         keep = set(feature_names("paper34"))

@@ -430,7 +430,8 @@ def run_pdr(
             if mode_boundaries == "nearest":
                 notes.append(f"step times are {event}, not peaks: modes from the nearest window, without boundary refinement")
         if mode_boundaries != "per-step":
-            windows = predict_recording(model, recording, correction=True, run_min_cadence_hz=run_min_cadence_hz)
+            # read for the steps' modes only: the veto's step finder runs when it can change one (veto_can_change_step_modes)
+            windows = predict_recording(model, recording, correction=True, run_min_cadence_hz=run_min_cadence_hz, veto_for_step_modes=True)
             t_look = 0.5 * (t_step + next_step_times(t_step)) if mode_boundaries == "middle" and n > 1 else t_step
             step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
             if mode_boundaries == "refine" and n > 1:

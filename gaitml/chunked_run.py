@@ -473,9 +473,8 @@ def long_predict(
     run-cadence rule where they are the same steps);
     with either on, each chunk reads :data:`DEFAULT_MARGIN_S` of margin on each side for its detector, so that a window's
     steps are the whole-file run's except where a bout or a 5 s cadence window reaches past the margin. ``still``,
-    ``still_vetoed`` and ``mode`` are then the whole-file run's; the ``window_steps`` column is the chunk's: NaN in a
-    chunk where no window needed the veto's steps (:func:`~gaitml.models._predict.predict_recording`'s rule), where a
-    whole-file run, once any window needs them, counts every window
+    ``still_vetoed``, ``mode`` and ``window_steps`` (the veto's count in each window the statistic reads still, NaN
+    elsewhere: :func:`~gaitml.models._predict.veto_counts`) are then the whole-file run's
     (a resampled file, whose gate comes after the chunks, runs the detector in every chunk while the veto is on).
     """
     from gaitml.models import predict_recording
@@ -607,7 +606,8 @@ def _still_as_recorded(
     """The still gate on ``out`` (global windows at the model's rate ``fs``) read from the file at its own rate ``own_hz``,
     as :func:`~gaitml.models.predict_recording` reads a resampled recording (``recorded``): ``still``, ``still_vetoed``,
     ``mode`` (``still`` where the gate fires) and ``run_at_walking_cadence`` (never on a still window) are set in place.
-    ``veto_n``: the step veto in force (None: off); ``out``'s ``window_steps`` are then every window's steps (the chunks').
+    ``veto_n``: the step veto in force (None: off); ``out``'s ``window_steps`` are then every window's steps (the chunks'),
+    kept afterwards only where the statistic reads the window still (:func:`~gaitml.models._predict.veto_counts`).
 
     ``recording``: the file at ``fs`` already read whole (a format other than gaitml-csv; the file is read whole again at its
     own rate), or None: a gaitml-csv, read again chunk by chunk at its own rate. Each window reads only its own samples, so
@@ -635,7 +635,11 @@ def _still_as_recorded(
         still = _below_gate(np.nan_to_num(stat, nan=np.inf))
     vetoed = np.zeros(len(out), dtype=bool)
     if veto_n is not None and "window_steps" in out:
-        vetoed = still & (np.nan_to_num(out["window_steps"].to_numpy(float), nan=0.0) >= veto_n)
+        from gaitml.models._predict import veto_counts
+
+        counts = np.nan_to_num(out["window_steps"].to_numpy(float), nan=0.0)
+        vetoed = still & (counts >= veto_n)
+        out["window_steps"] = veto_counts(counts, still)  # the counts the veto decided on, as a whole-file run keeps them
         still = still & ~vetoed
     out["still"] = still
     out["still_vetoed"] = vetoed

@@ -35,6 +35,7 @@ __all__ = [
     "STILL_STEP_SWING_PERIODICITY",
     "still_step_veto_threshold",
     "window_step_counts",
+    "veto_counts",
     "recording_steps",
     "veto_steps",
     "veto_reads_own_steps",
@@ -335,6 +336,12 @@ def window_step_counts(windows: pd.DataFrame, steps: pd.DataFrame | None) -> np.
     )
 
 
+def veto_counts(counts, read_still) -> np.ndarray:
+    """The ``window_steps`` column: each window's count of the veto's steps (``counts``, :func:`window_step_counts`)
+    where the gate's statistic reads it still (``read_still``: the windows the veto decides on), NaN elsewhere."""
+    return np.where(np.asarray(read_still, dtype=bool), np.asarray(counts, dtype=float), np.nan)
+
+
 def _windows_for(recording: Recording, length_s: float, overlap: float) -> pd.DataFrame:
     """All complete windows of the recording (labels not needed, none dropped)."""
     from gaitml.features import make_windows
@@ -536,9 +543,9 @@ def predict_recording(
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
         gait in it, :func:`still_windows`, unless the step veto keeps it; the model's best other mode for a window
         read ``run`` at a walking cadence, :func:`run_cadence_rule`), ``still``, ``still_vetoed`` (the gate's
-        statistic read the window still and the veto kept its mode), ``window_steps`` (the veto's steps, :func:`veto_steps`,
-        inside each window when they were found, else NaN: found for the veto when some window reads still, and
-        without a gyroscope, where they are the run-cadence rule's, also when that rule ran), ``run_at_walking_cadence`` (the rule
+        statistic read the window still and the veto kept its mode), ``window_steps`` (in each window the gate's statistic
+        reads still, the count of the veto's steps, :func:`veto_steps`, that the veto decided on; NaN in every other
+        window, and in every window when the veto is off: :func:`veto_counts`), ``run_at_walking_cadence`` (the rule
         moved the window), ``step_cadence_hz`` (the windows' local step cadence when some window is
         read run, else NaN), ``in_domain`` (True/False from
         the model's domain record, :mod:`gaitml.models.domain`, and the foot-placement
@@ -967,8 +974,9 @@ def finish_predictions(
     :func:`still_step_veto_threshold`) finds at least that many of the veto's steps inside it
     (:func:`veto_steps` of ``rec``: ``adaptive`` with its swing stage where there is a gyroscope, found once, only when
     some window reads still; shared with the run-cadence rule when they are the same steps, :func:`veto_reads_own_steps`):
-    then it keeps its mode, ``still_vetoed = True``. ``window_steps`` holds each window's count of the veto's steps
-    (:func:`window_step_counts`) when they were found, NaN otherwise. A window then answered ``run`` whose
+    then it keeps its mode, ``still_vetoed = True``. ``window_steps`` holds, in each window the statistic reads still,
+    the count of the veto's steps the veto decided on (:func:`veto_counts`), NaN in every other window and whenever the
+    veto is off (a whole file and its chunks give the same column). A window then answered ``run`` whose
     local step cadence is below ``run_min_cadence_hz`` (:func:`run_cadence_threshold`; 0: off) gets
     the model's best other mode (:func:`run_cadence_rule`, the best mode read from ``X``, the model's
     inputs of ``windows``; None: the rule is not applied; ``run_min_cadence_hz`` None:
@@ -1022,7 +1030,7 @@ def finish_predictions(
         if not own:  # the same steps as the run-cadence rule's: found once
             steps = vsteps
         counts = window_step_counts(windows, vsteps)
-        n_steps = counts.astype(float)
+        n_steps = veto_counts(counts, still)  # the counts the veto decided on
         vetoed = still & (counts >= veto_n)
         still = still & ~vetoed
     out["still"] = still
@@ -1037,8 +1045,6 @@ def finish_predictions(
     if run_thr is not None and X is not None and ((modes == RUN_MODE) | (raw == RUN_MODE)).any():
         if steps is None:
             steps = recording_steps(rec)
-            if not own:  # the veto's steps too
-                n_steps = window_step_counts(windows, steps).astype(float)
         cadence = window_step_cadence(rec, windows, steps=steps)
         with np.errstate(invalid="ignore"):
             slow = (modes == RUN_MODE) & (raw == RUN_MODE) & (cadence < run_thr) & (cadence >= RUN_STRIDE_CADENCE_HZ)

@@ -13,6 +13,7 @@ import argparse
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import gaitml.models._predict as P
@@ -95,3 +96,34 @@ def test_a_line_names_the_vetoed_windows_when_none_is_still(demo, capsys):
     # no window flagged either way: no line
     none = kept.assign(still_vetoed=False)
     assert _report(demo, none, capsys)[1] == []
+
+
+@pytest.mark.parametrize("held_whole", [False, True])
+def test_a_resampled_file_runs_the_vetos_finder_only_in_chunks_with_a_still_read_window(demo, tmp_path, monkeypatch, held_whole):
+    """A file recorded at 20 Hz (its gate comes after the chunks): the statistic of every window is read from the file
+    as recorded first, so a chunk of brisk walking, where no window reads still, does not look for the veto's steps;
+    the table is the one the finder in every chunk gives, and the whole file's. ``held_whole``: the file handed over
+    read whole (a format other than gaitml-csv), else read again chunk by chunk at its own rate."""
+    import gaitml.chunked_run as C
+    from gaitml.chunked_run import long_predict
+    from gaitml.io import read_recording, write_gaitml_csv
+
+    path = tmp_path / "walk20.csv"
+    write_gaitml_csv(resample_recording(calm_then_brisk(), 20.0), path)
+    kw = {"recording": read_recording(path)} if held_whole else {}
+    calls = []
+    real = P.veto_steps
+    monkeypatch.setattr(P, "veto_steps", lambda rec: calls.append(rec.n_samples) or real(rec))
+    lean = long_predict(demo, path, chunk_s=45.0, progress=False, **kw)
+    n_lean = len(calls)
+    with monkeypatch.context() as m:
+        m.setattr(C, "_chunk_reads_still", lambda read_still, k: True)  # the finder in every chunk
+        every = long_predict(demo, path, chunk_s=45.0, progress=False, **kw)
+    n_chunks = len(calls) - n_lean
+    pd.testing.assert_frame_equal(lean, every)
+    whole = predict_recording(demo, read_recording(path))
+    for col in ("still", "still_vetoed", "mode", "window_steps"):
+        np.testing.assert_array_equal(whole[col].to_numpy(), lean[col].to_numpy(), err_msg=col)
+    # the calm walk and its standing fill the first 120 s; the chunks of the 240 s of brisk walking after need no steps
+    read_still_s = lean.loc[lean["still"] | lean["still_vetoed"], "t_end_s"].max()
+    assert read_still_s < 130.0 and 1 <= n_lean <= int(np.ceil(read_still_s / 45.0)) + 1 < n_chunks

@@ -327,7 +327,60 @@ def run(quick: bool = False) -> list[dict]:
         }
     )
     out.extend(_domain_rows(quick))
+    out.extend(_long_predict_rows(quick))
     return out
+
+
+def _long_predict_rows(quick: bool) -> list[dict]:
+    """``long-predict-walk-20hz``: :func:`gaitml.chunked_run.long_predict` (``models/demo``, still-gate step veto on, the
+    run-cadence rule off) of a walk with no pause recorded at 20 Hz (1 h; 10 min with ``quick``) and read in chunks: the
+    gate comes after the chunks (the file is resampled to the model's 50 Hz) and reads every window's statistic from
+    the file as recorded first, so a chunk without a still-read window does not run the veto's step finder. Reference:
+    the same call with the finder run in every chunk (as before); the tables must be equal."""
+    import tempfile
+    from unittest import mock
+
+    import gaitml.chunked_run as C
+    from gaitml.chunked_run import long_predict
+    from gaitml.io import write_gaitml_csv
+    from gaitml.models import load_model, resample_recording
+    from gaitml.recording import Recording
+    from gaitml.simulate import simulate_dataset
+
+    model = load_model(Path(__file__).resolve().parents[1] / "models" / "demo")
+    base = simulate_dataset(1, 600.0, sampling_rate_hz=FS_HZ, seed=7, pose="mixed", modes=("walk",))[0]
+    reps = 1 if quick else 6
+    rec = Recording(acc=np.vstack([base.acc] * reps), gyr=np.vstack([base.gyr] * reps), sampling_rate_hz=FS_HZ)
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "walk20.csv"
+        write_gaitml_csv(resample_recording(rec, 20.0), path)
+
+        def ours():
+            return long_predict(model, path, progress=False, run_min_cadence_hz=0)
+
+        def reference():
+            with mock.patch.object(C, "_chunk_reads_still", lambda read_still, k: True):
+                return long_predict(model, path, progress=False, run_min_cadence_hz=0)
+
+        t_ours, t_ref = _best_interleaved(ours, reference, 3 if quick else 5)
+        a, b = ours(), reference()
+    same = a.drop(columns="window_steps").equals(b.drop(columns="window_steps")) and np.array_equal(
+        a["window_steps"].to_numpy(float), b["window_steps"].to_numpy(float), equal_nan=True
+    )
+    return [
+        {
+            "area": "models",
+            "name": "long-predict-walk-20hz",
+            "n_items": len(a),
+            "unit": "windows",
+            "seconds": t_ours,
+            "throughput_per_s": len(a) / t_ours,
+            "reference_seconds": t_ref,
+            "ratio": t_ref / t_ours,
+            "note": f"long_predict of a {rec.duration_s / 60:.0f} min walk with no pause recorded at 20 Hz, veto on; reference: the "
+            f"veto's step finder in every chunk (before); {int(a['still'].sum())} windows still; tables {'equal' if same else 'DIFFER'}",
+        }
+    ]
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -7,11 +7,18 @@
   loop on plain floats, against the same per-sample ``Rotation`` loop.
 - ``pipeline``: :func:`gaitml.pdr.run_pdr` (single-peak steps, true modes, HDE) on a
   simulated 262 m rectangle, in steps/s.
+- ``pipeline-model-tyrex-phoning`` (when the shared data is there): :func:`gaitml.pdr.run_pdr` with ``models/demo``'s
+  modes on the 18 tyrex Phoning walks, against the same run whose still-gate step veto runs its step finder whenever
+  a window reads still (what ``gaitml pdr --model`` did before it ran it only when the veto can change a step's mode,
+  :func:`gaitml.models._predict.veto_can_change_step_modes`); the two give the same trajectories.
 """
 
 from __future__ import annotations
 
+import contextlib
+import os
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -99,4 +106,65 @@ def run(quick: bool = False) -> list[dict]:
             "note": f"run_pdr single-peak + true modes + HDE, no gyro-bias removal (the rows before the new defaults) on a {rec.duration_s:.0f} s, {rec.n_samples}-sample simulated rectangle",
         }
     )
+    rows.extend(_model_rows(quick))
     return rows
+
+
+@contextlib.contextmanager
+def veto_finder_whenever_still():
+    """The still gate's step veto as it ran before ``veto_for_step_modes``: its step finder runs whenever a window reads
+    still, whether or not the veto can change a step's mode (the reference of ``pipeline-model-tyrex-phoning``)."""
+    import gaitml.models._predict as P
+
+    real = P.veto_can_change_step_modes
+    P.veto_can_change_step_modes = lambda still, modes, modes_raw: True
+    try:
+        yield
+    finally:
+        P.veto_can_change_step_modes = real
+
+
+def _model_rows(quick: bool) -> list[dict]:
+    """``pipeline-model-tyrex-phoning``: run_pdr with a model's modes on real phone-at-ear walks (none without the data)."""
+    root = Path(os.environ.get("GAITML_SHARED_DATA", Path(__file__).resolve().parents[2] / "shared" / "data")) / "tyrex-attitude"
+    walks = sorted(p for os_ in ("android", "ios") for p in (root / os_).glob("*_Phoning") if p.is_dir())
+    if not walks:
+        return []
+    from gaitml.io import read_recording
+    from gaitml.models import load_model
+    from gaitml.pdr import run_pdr
+
+    model = load_model(Path(__file__).resolve().parents[1] / "models" / "demo")
+    recs = [read_recording(p) for p in walks]
+
+    def all_walks():
+        return [run_pdr(r, model=model, modes="model") for r in recs]
+
+    ours, ref = np.inf, np.inf
+    for _ in range(1 if quick else 3):  # interleaved: the machine's load falls on both sides alike
+        t0 = time.perf_counter()
+        res = all_walks()
+        ours = min(ours, time.perf_counter() - t0)
+        with veto_finder_whenever_still():
+            t0 = time.perf_counter()
+            res_ref = all_walks()
+            ref = min(ref, time.perf_counter() - t0)
+    same = all(
+        np.array_equal(a.trajectory[["x_m", "y_m"]].to_numpy(), b.trajectory[["x_m", "y_m"]].to_numpy())
+        for a, b in zip(res, res_ref, strict=True)
+    )
+    n_steps = sum(r.n_steps for r in res)
+    return [
+        {
+            "area": "pdr",
+            "name": "pipeline-model-tyrex-phoning",
+            "n_items": n_steps,
+            "unit": "steps",
+            "seconds": ours,
+            "throughput_per_s": n_steps / ours,
+            "reference_seconds": ref,
+            "ratio": ref / ours,
+            "note": f"run_pdr with models/demo's modes on {len(recs)} tyrex Phoning walks; reference: the veto's step finder run "
+            f"whenever a window reads still; trajectories {'identical' if same else 'DIFFER'}",
+        }
+    ]

@@ -475,10 +475,10 @@ def long_predict(
     run-cadence rule where they are the same steps);
     with either on, each chunk reads :data:`DEFAULT_MARGIN_S` of margin on each side for its detector, so that a window's
     steps are the whole-file run's except where a bout or a 5 s cadence window reaches past the margin. ``still``,
-    ``still_vetoed`` and ``mode`` are then the whole-file run's; the ``window_steps`` column is the chunk's: NaN in a
-    chunk where no window needed the veto's steps (:func:`~gaitml.models._predict.predict_recording`'s rule), where a
-    whole-file run, once any window needs them, counts every window
-    (a resampled file, whose gate comes after the chunks, runs the detector in every chunk while the veto is on).
+    ``still_vetoed``, ``mode`` and ``window_steps`` (the veto's count in each window the statistic reads still, NaN
+    elsewhere: :func:`~gaitml.models._predict.veto_counts`) are then the whole-file run's
+    (a resampled file, whose gate comes after the chunks, reads the statistic of every window from the file as recorded
+    first, :func:`_as_recorded_still`, and runs the detector only in a chunk whose core holds a window it reads still).
     """
     from gaitml.models import predict_recording
     from gaitml.models._predict import (
@@ -530,6 +530,12 @@ def long_predict(
         recording=recording,
         **read_kwargs,
     )
+    read_still = None  # a resampled file: the gate's statistic of every window, read from the file as recorded, first
+    if gate_after:
+        from gaitml.signal import window_params
+
+        length, hop = window_params(model.length_s, model.overlap, fs)
+        read_still = _as_recorded_still(path, fs, own_hz, recording, original, chunk_s, model.length_s, length, hop)
     rng = getattr(model, "acc_range_ms2", None)
     tallies, counted_to = [], 0  # the accelerometer range (gaitml.features._range): every sample counted once over the chunks
     for ch, _length, _hop in chunks:
@@ -550,20 +556,18 @@ def long_predict(
             still_step_veto=veto_n or 0,
             **({"still_threshold_ms2": 0.0} if gate_after else {}),
         )
-        if gate_after and veto_n is not None:
-            # the gate comes after the chunks (below): every window's count of the veto's steps, the chunk's steps found
-            # once (predict's when it found them: the run-cadence rule's, when the veto reads the same steps)
-            counts = table["window_steps"].to_numpy(float)
-            if np.isnan(counts).all():
-                table["window_steps"] = window_step_counts(table, veto_steps(rec)).astype(float)
         gstart = table["start"].to_numpy() + ch.offset
         keep = (gstart >= ch.core_start) & (gstart < ch.core_end)
+        if gate_after and veto_n is not None and _chunk_reads_still(read_still, gstart[keep] // hop):
+            # the gate comes after the chunks (below): the count of the veto's steps in every window of a chunk whose
+            # core holds a window the statistic reads still (the chunk's steps found once); no other window is vetoed
+            table["window_steps"] = window_step_counts(table, veto_steps(rec)).astype(float)
         # the phone held upright in each window (a side step there has an unsure direction), for the corrected modes below
         upright.append(side_direction_unsure(rec, table, np.full(len(table), SIDE_MODES[0]))[keep])
         parts.append(_globalise_windows(table[keep].reset_index(drop=True), ch.offset, rec.sampling_rate_hz))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     if gate_after and len(out):
-        _still_as_recorded(out, path, fs, own_hz, recording, original, chunk_s, model.length_s, veto_n)
+        _still_as_recorded(out, _lookup(read_still, out["start"].to_numpy(np.int64) // hop), veto_n)
     if correction and len(out):
         from gaitml.models._predict import STILL
         from gaitml.postprocess import adjacent_window_correction
@@ -595,49 +599,82 @@ def long_predict(
     return apply_rate_check(out, model, recorded_rate_hz(own_hz, own_meta), own_meta.get("rate_changes"))
 
 
-def _still_as_recorded(
-    out: pd.DataFrame,
-    path,
-    fs: float,
-    own_hz: float,
-    recording,
-    read_kwargs: dict,
-    chunk_s: float,
-    length_s: float,
-    veto_n: int | None = None,
-) -> None:
-    """The still gate on ``out`` (global windows at the model's rate ``fs``) read from the file at its own rate ``own_hz``,
-    as :func:`~gaitml.models.predict_recording` reads a resampled recording (``recorded``): ``still``, ``still_vetoed``,
-    ``mode`` (``still`` where the gate fires) and ``run_at_walking_cadence`` (never on a still window) are set in place.
-    ``veto_n``: the step veto in force (None: off); ``out``'s ``window_steps`` are then every window's steps (the chunks').
+def _as_recorded_still(
+    path, fs: float, own_hz: float, recording, read_kwargs: dict, chunk_s: float, length_s: float, length: int, hop: int
+) -> np.ndarray:
+    """Whether the still gate's ``std_lp`` statistic reads each window of the whole file's grid at the model's rate
+    ``fs`` still (window ``k``: samples ``[k hop, k hop + length)`` at ``fs``), read from the file at its own rate
+    ``own_hz``, as :func:`~gaitml.models.predict_recording` reads a resampled recording (``recorded``). Found before
+    the chunks, so that a chunk without a still-read window need not look for the veto's steps.
 
-    ``recording``: the file at ``fs`` already read whole (a format other than gaitml-csv; the file is read whole again at its
-    own rate), or None: a gaitml-csv, read again chunk by chunk at its own rate. Each window reads only its own samples, so
-    the statistic is the whole-file run's.
+    ``recording``: the file at ``fs`` already read whole (a format other than gaitml-csv; the file is read whole again at
+    its own rate), or None: a gaitml-csv, read again chunk by chunk at its own rate (each window from the first chunk that
+    holds all of its samples; a window no chunk holds is not still). Each window reads only its own samples, so the
+    statistic is the whole-file run's. The array may be longer or shorter than the windows the chunks give
+    (:func:`_lookup`).
     """
     from gaitml.io import read_recording
-    from gaitml.models._predict import STILL, still_statistic, still_windows
+    from gaitml.models._predict import still_windows
 
     kw = {k: v for k, v in read_kwargs.items() if k != "recording"}  # a scan given by the caller is the file's own
     if recording is not None:
         made = read_kwargs.get("recording")
         if made is None:
             made = read_recording(path, **{k: v for k, v in kw.items() if k != "scan"})
-        still = still_windows(recording, out, recorded=made)
-    else:
-        stat = np.full(len(out), np.nan)
-        a = np.ceil(out["start"].to_numpy(np.int64) * own_hz / fs - 0.5 - 1e-9).astype(np.int64)
-        b = a + np.rint((out["end"].to_numpy(np.int64) - out["start"].to_numpy(np.int64)) * own_hz / fs).astype(np.int64)
-        for ch in iter_chunks(path, chunk_s=chunk_s, margin_s=2.0 * length_s, **kw):
-            n = ch.recording.n_samples
-            inside = np.isnan(stat) & (a >= ch.offset) & (b <= ch.offset + n)
-            if inside.any():
-                w = pd.DataFrame({"start": a[inside] - ch.offset, "end": b[inside] - ch.offset})
-                stat[inside] = still_statistic(ch.recording, w, "std_lp")
-        still = _below_gate(np.nan_to_num(stat, nan=np.inf))
+        starts = np.arange(0, max(recording.n_samples - length + 1, 0), hop, dtype=np.int64)
+        return still_windows(recording, pd.DataFrame({"start": starts, "end": starts + length}), recorded=made)
+    from gaitml.models._predict import still_statistic
+
+    own_length = int(np.rint(length * own_hz / fs))
+    stats: list[np.ndarray] = []
+    done = 0  # windows 0 .. done-1 are decided
+    for ch in iter_chunks(path, chunk_s=chunk_s, margin_s=2.0 * length_s, **kw):
+        n_end = ch.offset + ch.recording.n_samples
+        k_hi = int(np.floor((n_end - own_length + 1.5) * fs / (own_hz * hop))) + 1  # past the last window this chunk can hold
+        k = np.arange(done, max(k_hi, done), dtype=np.int64)
+        a = np.ceil(k * hop * own_hz / fs - 0.5 - 1e-9).astype(np.int64)
+        b = a + own_length
+        k, a, b = k[b <= n_end], a[b <= n_end], b[b <= n_end]
+        stat = np.full(len(k), np.inf)  # a window whose first samples lie before this chunk: no chunk holds it whole
+        inside = a >= ch.offset
+        if inside.any():
+            w = pd.DataFrame({"start": a[inside] - ch.offset, "end": b[inside] - ch.offset})
+            stat[inside] = still_statistic(ch.recording, w, "std_lp")
+        stats.append(stat)
+        done += len(k)
+    return _below_gate(np.concatenate(stats) if stats else np.zeros(0))
+
+
+def _lookup(read_still: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """``read_still`` (:func:`_as_recorded_still`) of windows ``k`` of the grid; a window past its end is not still."""
+    k = np.asarray(k, dtype=np.int64)
+    out = np.zeros(len(k), dtype=bool)
+    ok = (k >= 0) & (k < len(read_still))
+    out[ok] = read_still[k[ok]]
+    return out
+
+
+def _chunk_reads_still(read_still: np.ndarray, k: np.ndarray) -> bool:
+    """Whether some window ``k`` of a chunk's core reads still (:func:`_as_recorded_still`): only then does the veto,
+    which acts on those windows alone, need the chunk's steps."""
+    return bool(_lookup(read_still, k).any())
+
+
+def _still_as_recorded(out: pd.DataFrame, still: np.ndarray, veto_n: int | None = None) -> None:
+    """The still gate on ``out`` (global windows at the model's rate) from ``still``, the statistic of each as recorded
+    (:func:`_as_recorded_still`), as :func:`~gaitml.models.predict_recording` reads a resampled recording: ``still``,
+    ``still_vetoed``, ``mode`` (``still`` where the gate fires) and ``run_at_walking_cadence`` (never on a still window)
+    are set in place. ``veto_n``: the step veto in force (None: off); ``out``'s ``window_steps`` are then the chunks'
+    counts of every window of a chunk with a still-read window, kept afterwards only where the statistic reads the
+    window still (:func:`~gaitml.models._predict.veto_counts`).
+    """
+    from gaitml.models._predict import STILL, veto_counts
+
     vetoed = np.zeros(len(out), dtype=bool)
     if veto_n is not None and "window_steps" in out:
-        vetoed = still & (np.nan_to_num(out["window_steps"].to_numpy(float), nan=0.0) >= veto_n)
+        counts = np.nan_to_num(out["window_steps"].to_numpy(float), nan=0.0)
+        vetoed = still & (counts >= veto_n)
+        out["window_steps"] = veto_counts(counts, still)  # the counts the veto decided on, as a whole-file run keeps them
         still = still & ~vetoed
     out["still"] = still
     out["still_vetoed"] = vetoed

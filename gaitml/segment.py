@@ -37,7 +37,7 @@ import pandas as pd
 from gaitml.consts import DEFAULT_STEP_DETECTOR
 from gaitml.errors import InputError
 from gaitml.recording import Recording
-from gaitml.steps._rate import rate_flags, rate_record
+from gaitml.steps._rate import add_rate_reasons, rate_record
 from gaitml.steps._table import gait_check_record
 
 __all__ = ["BY", "SEGMENT_COLUMNS", "DEFAULT_DETECTORS", "segment", "resolve_detector"]
@@ -177,7 +177,5 @@ def segment(recording: Recording, by: str = "steps", detector=None, *, max_strid
         out.attrs["gait_check"] = gait_check_record(steps.attrs["gait_check"])
     if by == "steps" and steps.attrs.get("rate_check") is not None:  # recorded below the detector's rate floor
         out.attrs["rate_check"] = rate_record(steps)
-        flagged, why = rate_flags(steps)
-        if flagged.any():
-            out["rate_reason"] = why
+        add_rate_reasons(out, steps)
     return out

@@ -431,20 +431,12 @@ def _load_truth(args, rec):
     spec = getattr(args, "truth", None)
     if not spec:
         return None
-    from gaitml.io.truth import read_truth, truth_of_recording, tyrex_truth
-    from gaitml.io.tyrex import is_tyrex_truth_file
+    from gaitml.evaluation.trajectory import BODY_CUTOFF_HZ, body_track
+    from gaitml.io.truth import recording_truth
 
-    if rec.meta.get("format") == "tyrex" and (spec == "self" or is_tyrex_truth_file(spec)):
-        from gaitml.evaluation.trajectory import BODY_CUTOFF_HZ, body_track
-
-        note = f"the phone's path low-passed at {BODY_CUTOFF_HZ:g} Hz to follow the walker (arm swing removed)"
-        return tyrex_truth(rec, None if spec == "self" else spec, smooth=body_track, smooth_note=note)
-    if spec == "self":
-        return truth_of_recording(rec)
-    same = rec.meta.get("source") is not None and Path(spec).resolve() == Path(str(rec.meta["source"])).resolve()
-    if same and rec.reference.get("landmarks") is not None:
-        return truth_of_recording(rec)
-    return read_truth(spec, t0_original_s=float(rec.meta.get("t0_original_s", 0.0)))
+    # a tyrex motion capture follows the walker, not the phone's arm swing (the other truths are used as they are)
+    note = f"the phone's path low-passed at {BODY_CUTOFF_HZ:g} Hz to follow the walker (arm swing removed)"
+    return recording_truth(rec, spec, smooth=body_track, smooth_note=note)
 
 
 def _score(args, rec, res, truth) -> dict:

@@ -131,9 +131,15 @@ def default_still_gate() -> dict:
 def still_warning(n_still: int, n: int, unit: str, n_vetoed: int = 0, step_veto: int | None = None) -> str:
     """One line: how many windows hold no step and are reported as ``still`` (gaitml.models._predict.still_windows), and
     how many more the step veto kept in their mode (``n_vetoed``, gaitml.models._predict.STILL_STEP_VETO_MIN_STEPS;
-    ``step_veto``: the veto in force, None the default, 0 off)."""
-    from gaitml.models._predict import describe_still_gate
+    ``step_veto``: the veto in force, None the default, 0 off). With no window still and some kept, the line names the
+    kept ones (printed whenever either count is above 0, as the other flags' lines)."""
+    from gaitml.models._predict import describe_still_gate, still_step_veto_threshold
 
+    if not n_still:
+        return (
+            f"{n_vetoed} of {n} {unit} vary |acc| as little as a phone lying still ({describe_still_gate(step_veto=0)}) but hold "
+            f"{still_step_veto_threshold(step_veto) or ''} or more detected steps: they keep the model's mode (still_vetoed); none is reported as 'still'."
+        )
     kept = f" ({n_vetoed} more vary |acc| as little but hold detected steps and keep their mode: still_vetoed)" if n_vetoed else ""
     return (
         f"{n_still} of {n} {unit} hold no step ({describe_still_gate(step_veto=step_veto)}: lying still or standing); "
@@ -205,7 +211,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
         log(f"gaitml: warning: {warning}")
     n_still = int(table["still"].sum()) if "still" in table else 0
     n_vetoed = int(table["still_vetoed"].sum()) if "still_vetoed" in table else 0
-    if n_still:
+    if n_still or n_vetoed:  # a line whenever a window is flagged either way, as the other flags
         veto_in_force = (table.attrs.get("still_gate") or default_still_gate()).get("step_veto_min_steps")
         log(f"gaitml: warning: {still_warning(n_still, len(table), unit, n_vetoed, veto_in_force or 0)}")
     n_unsure = int(table["side_direction_unsure"].sum()) if "side_direction_unsure" in table else 0

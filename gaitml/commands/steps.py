@@ -154,11 +154,11 @@ def _unsure_note(sure: dict, duration_s: float | None = None, period_s: float | 
 def _with_confident(steps, confident):
     """The step table to write: with a ``confident`` column where the detector's steps got a verdict, and a
     ``rate_reason`` column when a step was recorded below the detector's rate floor (:func:`gaitml.steps.rate_flags`)."""
-    from gaitml.steps import rate_flags
+    from gaitml.steps import add_rate_reasons
 
-    out = steps if confident is None else steps.assign(confident=np.asarray(confident, dtype=bool))
-    flagged, why = rate_flags(steps)
-    return out.assign(rate_reason=why) if flagged.any() else out
+    out = steps.copy(deep=False) if confident is None else steps.assign(confident=np.asarray(confident, dtype=bool))
+    add_rate_reasons(out, steps)
+    return out
 
 
 def _rate_notes(steps) -> tuple[dict | None, str | None]:

@@ -51,11 +51,16 @@ from gaitml.io.getsensordata import is_getsensordata, read_getsensordata_landmar
 
 __all__ = [
     "DENSE_INTERVAL_S",
+    "TRUTH_SOURCES",
     "Truth",
+    "dense_truth",
     "project_latlon",
     "read_truth",
+    "recording_truth",
+    "truth_source",
     "truth_from_table",
     "truth_of_recording",
+    "tyrex_track",
     "tyrex_truth",
     "unproject_xy",
 ]
@@ -262,6 +267,18 @@ def truth_of_recording(rec) -> Truth:
     raise InputError(f"--truth self: {rec.name} carries no landmarks (POSI lines) and no reference trajectory; pass --truth FILE.")
 
 
+def tyrex_track(rec, truth_path=None) -> tuple[np.ndarray, np.ndarray, Path, float]:
+    """The motion capture of a tyrex recording (:func:`gaitml.io.tyrex.read_tyrex_truth`) on the recording's time base:
+    times (s), the phone's horizontal positions (m, room frame, NaN where the markers were lost), the recording's
+    folder and the clock alignment's dt (s)."""
+    from gaitml.io.tyrex import read_tyrex_truth
+
+    folder = Path(str(rec.meta.get("source", "")))
+    folder = folder if folder.is_dir() else folder.parent
+    tt = read_tyrex_truth(folder, truth_path=truth_path)
+    return tt.t_s - float(rec.meta.get("t0_original_s", 0.0)), tt.pos_m[:, :2], folder, float(tt.dt_s)
+
+
 def tyrex_truth(rec, truth_path=None, *, smooth=None, smooth_note: str = "") -> Truth:
     """The motion capture of a tyrex recording (:func:`gaitml.io.tyrex.read_tyrex_truth`) as a dense truth.
 
@@ -272,15 +289,9 @@ def tyrex_truth(rec, truth_path=None, *, smooth=None, smooth_note: str = "") -> 
     whole track, with ``smooth_note`` added to the notes; without it the frames where
     the markers were lost are left out.
     """
-    from gaitml.io.tyrex import read_tyrex_truth
-
-    folder = Path(str(rec.meta.get("source", "")))
-    folder = folder if folder.is_dir() else folder.parent
-    tt = read_tyrex_truth(folder, truth_path=truth_path)
-    ok = np.isfinite(tt.pos_m).all(axis=1)
-    t = tt.t_s - float(rec.meta.get("t0_original_s", 0.0))
-    xy = tt.pos_m[:, :2]
-    notes = [f"tyrex motion capture of {folder.name} on the phone clock (timeAlignment dt {tt.dt_s:+.3f} s)"]
+    t, xy, folder, dt_s = tyrex_track(rec, truth_path)
+    ok = np.isfinite(xy).all(axis=1)
+    notes = [f"tyrex motion capture of {folder.name} on the phone clock (timeAlignment dt {dt_s:+.3f} s)"]
     if smooth is not None:
         xy = smooth(t, xy)
         notes.append(
@@ -292,3 +303,82 @@ def tyrex_truth(rec, truth_path=None, *, smooth=None, smooth_note: str = "") -> 
         t, xy = t[ok], xy[ok]
         notes.append(f"{int((~ok).sum())} lost frames left out")
     return truth_from_table(t, xy, source=f"tyrex:{folder.name}", notes=notes)
+
+
+#: Where a truth comes from (:func:`truth_source`): a tyrex recording's motion capture, the truth a recording carries
+#: itself (landmarks, else its reference trajectory), a landmark or truth file.
+TRUTH_SOURCES = ("tyrex", "self", "file")
+
+
+def truth_source(rec, spec: str) -> tuple[str, str | None]:
+    """Which truth ``spec`` (``'self'`` or a file) names for recording ``rec``: the one choice behind both views,
+    :func:`recording_truth` (scoring) and :func:`dense_truth` (fitting).
+
+    Returns
+    -------
+    (str, str or None)
+        ``("tyrex", file or None)``: a tyrex recording with ``'self'`` (its own motion capture) or a tyrex motion-capture
+        CSV (:func:`gaitml.io.tyrex.is_tyrex_truth_file`); ``("self", None)``: ``'self'``, or the recording's own file
+        when it holds landmarks (the truth it carries, :func:`truth_of_recording`); ``("file", spec)``: a landmark or
+        truth file (:func:`read_truth`).
+    """
+    from gaitml.io.tyrex import is_tyrex_truth_file
+
+    spec = str(spec)
+    if rec.meta.get("format") == "tyrex" and (spec == "self" or is_tyrex_truth_file(spec)):
+        return "tyrex", None if spec == "self" else spec
+    if spec == "self":
+        return "self", None
+    source = rec.meta.get("source")
+    if source is not None and rec.reference.get("landmarks") is not None and Path(spec).resolve() == Path(str(source)).resolve():
+        return "self", None
+    return "file", spec
+
+
+def recording_truth(rec, spec: str = "self", *, smooth=None, smooth_note: str = "") -> Truth:
+    """The truth ``spec`` names for ``rec`` (:func:`truth_source`) on its time base, to score a trajectory against:
+    landmarks or a dense path. A tyrex motion capture goes through :func:`tyrex_truth` with ``smooth`` and
+    ``smooth_note`` (``gaitml pdr --truth`` passes :func:`gaitml.evaluation.trajectory.body_track`).
+
+    Raises
+    ------
+    InputError
+        As :func:`truth_of_recording`, :func:`read_truth` and :func:`gaitml.io.tyrex.read_tyrex_truth`.
+    """
+    kind, path = truth_source(rec, spec)
+    if kind == "tyrex":
+        return tyrex_truth(rec, path, smooth=smooth, smooth_note=smooth_note)
+    if kind == "self":
+        return truth_of_recording(rec)
+    return read_truth(path, t0_original_s=float(rec.meta.get("t0_original_s", 0.0)))
+
+
+def dense_truth(rec, spec: str = "self") -> tuple[np.ndarray, np.ndarray, str]:
+    """The truth ``spec`` names for ``rec`` (:func:`truth_source`) as a dense path to fit against: times (s, on the
+    recording's time base), positions (m, shape (n, 2); a tyrex motion capture keeps NaN where the markers were lost),
+    and a name (``tyrex:<folder>``, or the :class:`Truth`'s ``source``).
+
+    Raises
+    ------
+    InputError
+        ``'self'`` on a recording without a motion capture or a reference trajectory; a truth of sparse landmarks (true
+        step lengths need a dense path); and as :func:`recording_truth`.
+    """
+    kind, path = truth_source(rec, spec)
+    if kind == "tyrex":
+        t, xy, folder, _dt = tyrex_track(rec, path)
+        return t, xy, f"tyrex:{folder.name}"
+    if str(spec) == "self":
+        traj = rec.reference.get("trajectory")
+        if traj is None or not len(traj):
+            raise InputError(
+                f"{rec.name} carries no truth trajectory (motion capture or a reference path); "
+                "pass --truth FILE, a dense t,x_m,y_m CSV on the recording's clock."
+            )
+    tr = recording_truth(rec, spec)
+    if tr.kind != "dense":
+        raise InputError(
+            f"the truth {tr.source} of {rec.name} is sparse landmarks (a point every {np.median(np.diff(tr.table['t_s'])):.1f} s); "
+            "true step lengths need a dense path (motion capture or a reference trajectory at >= 1 Hz)."
+        )
+    return tr.table["t_s"].to_numpy(float), tr.table[["x_m", "y_m"]].to_numpy(float), tr.source

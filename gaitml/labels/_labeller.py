@@ -14,7 +14,7 @@ from gaitml.errors import InputError
 from gaitml.labels._evidence import change_at, step_character
 from gaitml.labels._intervals import check_intervals, read_intervals
 from gaitml.recording import Recording
-from gaitml.steps._rate import rate_flags, rate_record
+from gaitml.steps._rate import add_rate_reasons, rate_record
 from gaitml.steps._table import gait_check_record
 
 __all__ = ["BOUNDARY_KINDS", "SNAP_MODES", "SNAP_RULES", "UNLABELLED", "IntervalLabeller", "label_recording"]
@@ -292,9 +292,8 @@ class IntervalLabeller(BaseAlgorithm):
             {"t_s": b_t, "snapped_t_s": new_k / fs, "shift_s": np.where(status == "snapped", shift, 0.0), "status": status}
         )
         self.steps_ = self._unit_table(units, span_s, span_e, labels, fs)
-        flagged, why = rate_flags(units) if self.snap != "strides" else (np.zeros(0, dtype=bool), None)
-        if flagged.any() and len(flagged) == len(self.steps_):
-            self.steps_["rate_reason"] = why
+        if self.snap != "strides" and len(units) == len(self.steps_):
+            add_rate_reasons(self.steps_, units)
         self.recording_ = rec.replace(
             labels=labels, meta={**rec.meta, "labelled_from": iv.attrs.get("source", "intervals"), "label_snap": self.snap}
         )

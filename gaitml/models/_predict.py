@@ -35,9 +35,11 @@ __all__ = [
     "STILL_STEP_SWING_PERIODICITY",
     "still_step_veto_threshold",
     "window_step_counts",
+    "veto_counts",
     "recording_steps",
     "veto_steps",
     "veto_reads_own_steps",
+    "veto_can_change_step_modes",
     "SIDE_MODES",
     "FACE_UP_MAX_DEG",
     "RUN_MODE",
@@ -334,6 +336,12 @@ def window_step_counts(windows: pd.DataFrame, steps: pd.DataFrame | None) -> np.
     )
 
 
+def veto_counts(counts, read_still) -> np.ndarray:
+    """The ``window_steps`` column: each window's count of the veto's steps (``counts``, :func:`window_step_counts`)
+    where the gate's statistic reads it still (``read_still``: the windows the veto decides on), NaN elsewhere."""
+    return np.where(np.asarray(read_still, dtype=bool), np.asarray(counts, dtype=float), np.nan)
+
+
 def _windows_for(recording: Recording, length_s: float, overlap: float) -> pd.DataFrame:
     """All complete windows of the recording (labels not needed, none dropped)."""
     from gaitml.features import make_windows
@@ -499,6 +507,7 @@ def predict_recording(
     still_threshold_ms2: float | None = None,
     run_min_cadence_hz: float | None = None,
     still_step_veto: int | None = None,
+    veto_for_step_modes: bool = False,
 ) -> pd.DataFrame:
     """Predict the motion mode of every window of ``recording``.
 
@@ -519,6 +528,8 @@ def predict_recording(
     still_step_veto : the still gate's step veto (:data:`STILL_STEP_VETO_MIN_STEPS`): a window the gate reads still in
         which the veto's step finder (:func:`veto_steps`) finds at least this many steps is not still; None:
         :data:`STILL_STEP_VETO_DEFAULT` (:func:`still_step_veto_threshold`); 0 turns it off.
+    veto_for_step_modes : the table is read only for the modes steps take (``gaitml pdr``): the veto's step finder runs
+        only when it can change them (:func:`veto_can_change_step_modes`; see :func:`finish_predictions`).
     run_min_cadence_hz : the run-cadence rule (:func:`run_cadence_rule`): a window read ``run`` whose
         local step cadence is below this (steps/s; :data:`RUN_MIN_CADENCE_HZ` is the walk-to-run
         transition cadence) gets the model's best other mode; None: :data:`RUN_CADENCE_DEFAULT_HZ`
@@ -532,9 +543,9 @@ def predict_recording(
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
         gait in it, :func:`still_windows`, unless the step veto keeps it; the model's best other mode for a window
         read ``run`` at a walking cadence, :func:`run_cadence_rule`), ``still``, ``still_vetoed`` (the gate's
-        statistic read the window still and the veto kept its mode), ``window_steps`` (the veto's steps, :func:`veto_steps`,
-        inside each window when they were found, else NaN: found for the veto when some window reads still, and
-        without a gyroscope, where they are the run-cadence rule's, also when that rule ran), ``run_at_walking_cadence`` (the rule
+        statistic read the window still and the veto kept its mode), ``window_steps`` (in each window the gate's statistic
+        reads still, the count of the veto's steps, :func:`veto_steps`, that the veto decided on; NaN in every other
+        window, and in every window when the veto is off: :func:`veto_counts`), ``run_at_walking_cadence`` (the rule
         moved the window), ``step_cadence_hz`` (the windows' local step cadence when some window is
         read run, else NaN), ``in_domain`` (True/False from
         the model's domain record, :mod:`gaitml.models.domain`, and the foot-placement
@@ -581,6 +592,7 @@ def predict_recording(
         still_rule=still_rule,
         still_threshold_ms2=still_threshold_ms2,
         still_step_veto=still_step_veto,
+        veto_for_step_modes=veto_for_step_modes,
         X=X,
         run_min_cadence_hz=run_min_cadence_hz,
         has_domain=getattr(model, "domain", None) is not None,
@@ -646,6 +658,25 @@ def veto_steps(recording: Recording) -> pd.DataFrame:
     """The steps the still gate's step veto reads (:data:`STILL_STEP_VETO_MIN_STEPS`): :func:`recording_steps` with the
     swing stage at :data:`STILL_STEP_SWING_PERIODICITY`."""
     return recording_steps(recording, STILL_STEP_SWING_PERIODICITY)
+
+
+def veto_can_change_step_modes(still, modes, modes_raw) -> bool:
+    """Whether the still gate's step veto can change what a reader of the table's modes per step takes
+    (:func:`gaitml.pdr.step_modes.modes_from_windows` and the PDR's side-step check,
+    :func:`gaitml.pdr.pipeline.run_pdr`).
+
+    ``still``: the windows the gate's statistic reads still (before the veto); ``modes``: every window's mode after the
+    adjacent-window correction, before the gate; ``modes_raw``: the model's answers. A step whose window stays still
+    takes the model's raw answer, and the window is never marked ``side_direction_unsure`` (its mode is ``still``); a
+    vetoed window keeps its corrected mode, which the run-cadence rule then reads (it moves only a window read
+    :data:`RUN_MODE`) and the side-direction check (only a side step, :data:`SIDE_MODES`). So the veto changes
+    nothing such a reader takes unless some still-read window's corrected mode differs from its raw answer, or that
+    answer is run or a side step: then True.
+    """
+    still = np.asarray(still, dtype=bool)
+    modes = np.asarray(modes).astype(str)[still]
+    raw = np.asarray(modes_raw).astype(str)[still]
+    return bool(((modes != raw) | (raw == RUN_MODE) | np.isin(raw, SIDE_MODES)).any())
 
 
 def window_step_cadence(
@@ -928,6 +959,7 @@ def finish_predictions(
     X: np.ndarray | None = None,
     run_min_cadence_hz: float | None = None,
     still_step_veto: int | None = None,
+    veto_for_step_modes: bool = False,
     **attrs,
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
@@ -942,8 +974,9 @@ def finish_predictions(
     :func:`still_step_veto_threshold`) finds at least that many of the veto's steps inside it
     (:func:`veto_steps` of ``rec``: ``adaptive`` with its swing stage where there is a gyroscope, found once, only when
     some window reads still; shared with the run-cadence rule when they are the same steps, :func:`veto_reads_own_steps`):
-    then it keeps its mode, ``still_vetoed = True``. ``window_steps`` holds each window's count of the veto's steps
-    (:func:`window_step_counts`) when they were found, NaN otherwise. A window then answered ``run`` whose
+    then it keeps its mode, ``still_vetoed = True``. ``window_steps`` holds, in each window the statistic reads still,
+    the count of the veto's steps the veto decided on (:func:`veto_counts`), NaN in every other window and whenever the
+    veto is off (a whole file and its chunks give the same column). A window then answered ``run`` whose
     local step cadence is below ``run_min_cadence_hz`` (:func:`run_cadence_threshold`; 0: off) gets
     the model's best other mode (:func:`run_cadence_rule`, the best mode read from ``X``, the model's
     inputs of ``windows``; None: the rule is not applied; ``run_min_cadence_hz`` None:
@@ -962,6 +995,11 @@ def finish_predictions(
     veto is off), ``run_cadence``
     (``min_cadence_hz``: None when the rule is off), ``rate_check`` (:func:`rate_check`) and then the
     caller's own ``attrs``.
+
+    ``veto_for_step_modes``: the caller reads the table only for the modes its steps take (``gaitml pdr``): the veto's
+    step finder then runs only when the veto can change them (:func:`veto_can_change_step_modes`); when it does not
+    run, ``still``, ``still_vetoed`` and ``window_steps`` are those of the veto off, and every mode a step takes is the
+    same as with it.
     """
     for c, v in domain.items():
         out[c] = v
@@ -986,12 +1024,13 @@ def finish_predictions(
     veto_n = still_step_veto_threshold(still_step_veto)
     own = veto_reads_own_steps(rec)
     steps, n_steps, vetoed = None, np.full(len(out), np.nan), np.zeros(len(out), dtype=bool)
-    if veto_n is not None and still.any():
+    needed = still.any() and (not veto_for_step_modes or veto_can_change_step_modes(still, out["mode"], out["mode_raw"]))
+    if veto_n is not None and needed:
         vsteps = veto_steps(rec)
         if not own:  # the same steps as the run-cadence rule's: found once
             steps = vsteps
         counts = window_step_counts(windows, vsteps)
-        n_steps = counts.astype(float)
+        n_steps = veto_counts(counts, still)  # the counts the veto decided on
         vetoed = still & (counts >= veto_n)
         still = still & ~vetoed
     out["still"] = still
@@ -1006,8 +1045,6 @@ def finish_predictions(
     if run_thr is not None and X is not None and ((modes == RUN_MODE) | (raw == RUN_MODE)).any():
         if steps is None:
             steps = recording_steps(rec)
-            if not own:  # the veto's steps too
-                n_steps = window_step_counts(windows, steps).astype(float)
         cadence = window_step_cadence(rec, windows, steps=steps)
         with np.errstate(invalid="ignore"):
             slow = (modes == RUN_MODE) & (raw == RUN_MODE) & (cadence < run_thr) & (cadence >= RUN_STRIDE_CADENCE_HZ)

@@ -221,34 +221,11 @@ def truth_track(recording: Recording, truth="self") -> tuple[np.ndarray, np.ndar
     InputError
         No truth, or a truth of sparse landmarks (per-step lengths need a dense path).
     """
-    from gaitml.io.truth import read_truth, truth_of_recording
-    from gaitml.io.tyrex import is_tyrex_truth_file, read_tyrex_truth
+    from gaitml.io.truth import dense_truth
 
     if isinstance(truth, tuple) and len(truth) == 2:
         return np.asarray(truth[0], dtype=float), np.asarray(truth[1], dtype=float)[:, :2], "given"
-    t0 = float(recording.meta.get("t0_original_s", 0.0))
-    spec = str(truth)
-    if recording.meta.get("format") == "tyrex" and (spec == "self" or is_tyrex_truth_file(spec)):
-        folder = Path(str(recording.meta.get("source", "")))
-        folder = folder if folder.is_dir() else folder.parent
-        tt = read_tyrex_truth(folder, truth_path=None if spec == "self" else spec)
-        return tt.t_s - t0, tt.pos_m[:, :2], f"tyrex:{folder.name}"
-    if spec == "self":
-        traj = recording.reference.get("trajectory")
-        if traj is None or not len(traj):
-            raise InputError(
-                f"{recording.name} carries no truth trajectory (motion capture or a reference path); "
-                "pass --truth FILE, a dense t,x_m,y_m CSV on the recording's clock."
-            )
-        tr = truth_of_recording(recording)
-    else:
-        tr = read_truth(spec, t0_original_s=t0)
-    if tr.kind != "dense":
-        raise InputError(
-            f"the truth {tr.source} of {recording.name} is sparse landmarks (a point every {np.median(np.diff(tr.table['t_s'])):.1f} s); "
-            "true step lengths need a dense path (motion capture or a reference trajectory at >= 1 Hz)."
-        )
-    return tr.table["t_s"].to_numpy(float), tr.table[["x_m", "y_m"]].to_numpy(float), tr.source
+    return dense_truth(recording, str(truth))  # the one choice of the truth source, with gaitml pdr --truth's scoring view
 
 
 def step_length_samples(

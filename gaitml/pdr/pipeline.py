@@ -43,7 +43,7 @@ from gaitml.pdr.step_modes import (
 )
 from gaitml.pdr.update import forward_update, mode_offsets_rad, multi_state_update
 from gaitml.recording import Recording
-from gaitml.steps._rate import rate_flags, rate_record
+from gaitml.steps._rate import add_rate_reasons, rate_record
 from gaitml.steps._table import gait_check_record
 
 __all__ = ["HEADING_SOURCES", "MODE_SOURCES", "PdrResult", "modes_from_labels", "modes_from_windows", "run_pdr"]
@@ -435,7 +435,8 @@ def run_pdr(
             if mode_boundaries == "nearest":
                 notes.append(f"step times are {event}, not peaks: modes from the nearest window, without boundary refinement")
         if mode_boundaries != "per-step":
-            windows = predict_recording(model, recording, correction=True, run_min_cadence_hz=run_min_cadence_hz)
+            # read for the steps' modes only: the veto's step finder runs when it can change one (veto_can_change_step_modes)
+            windows = predict_recording(model, recording, correction=True, run_min_cadence_hz=run_min_cadence_hz, veto_for_step_modes=True)
             t_look = 0.5 * (t_step + next_step_times(t_step)) if mode_boundaries == "middle" and n > 1 else t_step
             step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
             if mode_boundaries == "refine" and n > 1:
@@ -575,9 +576,8 @@ def assemble_result(
     if step_in_domain is not None:  # modes from a model: the out-of-domain flag of every step
         traj["in_domain"] = np.concatenate([[None], step_in_domain]).astype(object)
     # steps recorded below the step detector's rate floor (gaitml.steps._rate): the same column as gaitml steps --out
-    rate_flagged, rate_why = rate_flags(steps, info.get("rate_check"))
-    if rate_flagged.any():
-        traj["rate_reason"] = np.concatenate([[None], rate_why]).astype(object)
+    detected = steps  # the detector's table (its attrs name the step times the rate check reads)
+    add_rate_reasons(traj, detected, info.get("rate_check"), leading_rows=1)
     if outside_fit is not None:  # each step's length extrapolated beyond the calibration's inputs, or not
         traj["step_length_outside_fit"] = np.concatenate([[None], np.asarray(outside_fit, dtype=bool)]).astype(object)
     steps = pd.concat([steps, feats], axis=1)
@@ -605,8 +605,7 @@ def assemble_result(
         )
     )
     info = {**info, "out_of_domain_steps": n_ood, "side_direction_unsure_steps": n_unsure}
-    if rate_flagged.any():
-        steps["rate_reason"] = rate_why
+    add_rate_reasons(steps, detected, info.get("rate_check"))
     if outside_fit is not None:
         steps["step_length_outside_fit"] = np.asarray(outside_fit, dtype=bool)
         info["step_length_outside_fit"] = int(np.sum(outside_fit))

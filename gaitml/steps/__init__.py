@@ -8,7 +8,7 @@ recording was made below it (:mod:`gaitml.steps._rate`, :func:`rate_floors`).
 """
 
 from gaitml.steps._base import BaseStepDetector
-from gaitml.steps._rate import RATE_TOLERANCE, rate_check, rate_flags, rate_reason, rate_record, rate_warning
+from gaitml.steps._rate import RATE_TOLERANCE, add_rate_reasons, rate_check, rate_flags, rate_reason, rate_record, rate_warning
 from gaitml.steps._registry import DETECTORS, detect_steps, detector_names, get_detector, rate_floors
 from gaitml.steps._table import empty_step_table, make_step_table
 from gaitml.steps._unsure import CONFIDENT_BOUT_STEPS, CONFIDENT_WINDOW_S, confident_steps, gait_confidence
@@ -45,6 +45,7 @@ __all__ = [
     "rate_flags",
     "rate_floors",
     "rate_reason",
+    "add_rate_reasons",
     "rate_record",
     "rate_warning",
 ]

@@ -26,7 +26,7 @@ import pandas as pd
 
 from gaitml.recording.timestamps import RATE_TOLERANCE  # a recording is below a floor under this fraction of it (as a model's rate check)
 
-__all__ = ["RATE_TOLERANCE", "rate_check", "rate_flags", "rate_reason", "rate_record", "rate_warning"]
+__all__ = ["RATE_TOLERANCE", "add_rate_reasons", "rate_check", "rate_flags", "rate_reason", "rate_record", "rate_warning"]
 
 #: the detector named in the fix of the warning line: ``adaptive``, the default, built for any carrying position
 #: (floor 15 Hz since the leave-one-person-out check; not the lowest floor: ``ifsm``'s is 10 Hz)
@@ -104,6 +104,26 @@ def rate_flags(steps: pd.DataFrame, check: dict | None = None) -> tuple[np.ndarr
         flags |= hit
         reasons[hit] = rate_reason(check["detector"], check["floor_hz"], hz)
     return flags, reasons
+
+
+def add_rate_reasons(
+    table: pd.DataFrame, steps: pd.DataFrame | None = None, check: dict | None = None, *, leading_rows: int = 0
+) -> np.ndarray:
+    """Add a ``rate_reason`` column to ``table`` (in place) when :func:`rate_flags` of ``steps`` and ``check`` flags a
+    step; return the flags (bool, one per step).
+
+    ``table`` holds one row per step of ``steps`` (None: ``table`` is the step table itself) after ``leading_rows`` rows
+    that are no step (a trajectory's start row), whose reason is None; a step that was not flagged gets ``""``. Without
+    a flagged step ``table`` gets no column: the tables of ``gaitml steps``, ``segment``, ``label`` and ``pdr`` carry it
+    only then.
+    """
+    steps = table if steps is None else steps
+    flagged, why = rate_flags(steps, check)
+    if len(table) != leading_rows + len(flagged):
+        raise ValueError(f"a table of {len(table)} rows for {len(flagged)} steps after {leading_rows} leading rows")
+    if flagged.any():
+        table["rate_reason"] = np.concatenate([np.full(leading_rows, None, dtype=object), why]).astype(object)
+    return flagged
 
 
 def rate_record(steps: pd.DataFrame) -> dict | None:

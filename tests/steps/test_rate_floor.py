@@ -14,7 +14,7 @@ from gaitml.cli import main
 from gaitml.io import write_gaitml_csv
 from gaitml.models import resample_recording
 from gaitml.simulate import Subject, simulate_recording
-from gaitml.steps import DETECTORS, RATE_TOLERANCE, get_detector, rate_flags, rate_floors, rate_record, rate_warning
+from gaitml.steps import DETECTORS, RATE_TOLERANCE, add_rate_reasons, get_detector, rate_flags, rate_floors, rate_record, rate_warning
 from tests.conftest import shared
 
 FLOORED = "single-peak"  # floor 50 Hz: a 20 Hz phone is below it, adaptive (15 Hz) is not
@@ -125,6 +125,24 @@ def test_a_slow_stretch_flags_only_its_steps(walk):
     # a stretch above the floor flags nothing
     fine = walk.replace(meta={**walk.meta, "rate_changes": [[10.0, 20.0, 48.0]]}, check_units=False)
     assert rate_warning(rate_record(get_detector(FLOORED).detect(fine).steps_)) is None
+
+
+def test_add_rate_reasons_puts_the_column_on_a_table_only_when_a_step_is_flagged(walk):
+    # the one helper behind the rate_reason column of gaitml steps, segment, the labeller and the PDR tables
+    rec = walk.replace(meta={**walk.meta, "rate_changes": [[10.0, 20.0, 20.0]]}, check_units=False)
+    steps = get_detector(FLOORED).detect(rec).steps_
+    flagged, why = rate_flags(steps)
+    table = steps.copy()
+    assert (add_rate_reasons(table) == flagged).all() and flagged.any() and (~flagged).any()
+    assert list(table["rate_reason"]) == list(why) and (table.loc[~flagged, "rate_reason"] == "").all()
+    traj = pd.DataFrame({"t_s": np.r_[0.0, steps["t_peak_s"].to_numpy()]})  # a start row, then one row per step
+    add_rate_reasons(traj, steps, leading_rows=1)
+    assert pd.isna(traj["rate_reason"].iloc[0]) and list(traj["rate_reason"].iloc[1:]) == list(why)
+    plain = get_detector(FLOORED).detect(walk).steps_  # at its own 50 Hz: nothing flagged, no column
+    out = plain.copy()
+    assert not add_rate_reasons(out).any() and "rate_reason" not in out.columns
+    with pytest.raises(ValueError, match="leading rows"):
+        add_rate_reasons(traj.iloc[:3].copy(), steps)
 
 
 def test_the_warning_names_the_rate_the_floor_and_the_fix():

@@ -218,3 +218,25 @@ def test_cli_gyro_heading_has_no_heading_check(loop_file, capsys):
     out = _run(capsys, loop_file, "--modes", "forward", "--heading", "gyro", "--json")
     assert "heading_check" not in json.loads(out.out)
     assert "HDE not applied" not in out.err
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda: direction_structure([0.0, np.nan] + [0.0] * 20, np.arange(22.0)), "NaN"),
+        (lambda: direction_structure(np.zeros(30), np.arange(30.0)[::-1]), "must not decrease"),
+        (lambda: direction_structure(np.zeros(30), np.arange(30.0), alpha=None), "alpha"),
+        (lambda: direction_structure(np.zeros(30), np.arange(30.0), min_steps=2.5), "min_steps"),
+        (lambda: hde_heading(np.zeros(30), np.full(30, 0.5), np.arange(30.0)[::-1]), "must not decrease"),
+        (lambda: hde_heading(np.zeros(20), structure_min_steps=None), "structure_min_steps"),
+        (lambda: hde_heading(np.zeros(20), structure_min_steps=np.nan), "structure_min_steps"),
+        (lambda: hde_heading(np.zeros(20), structure_alpha="a"), "structure_alpha"),
+    ],
+)
+def test_bad_guard_input_is_one_line_error_not_a_silent_verdict(call, match):
+    """NaN headings or step times out of order would give a NaN statistic or threshold (held off, no error);
+    settings that are not numbers would raise a bare TypeError/ValueError."""
+    from gaitml.errors import InputError
+
+    with pytest.raises(InputError, match=match):
+        call()

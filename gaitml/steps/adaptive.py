@@ -1202,7 +1202,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         (heel strike and push-off) has its steps picked again at twice its
         median peak interval. Off by default (it lowers the tyrex count
         accuracy; ``experiments/reports/tyrex-steps.md``). The decisions are
-        counted in ``steps_.attrs['octave']``.
+        counted in ``steps_.attrs['octave']``. Asked for without a gyroscope (or with
+        ``use_gyroscope=False``) it does not run, and a warning says so.
     octave_swing_half_correlation : float, default 0.0
         Stage 5a: the pooled swing must be in anti-phase at half its stride
         period, its autocorrelation there at most minus this.
@@ -1401,6 +1402,15 @@ class AdaptiveStepDetector(BaseStepDetector):
             warnings.warn(
                 f"adaptive: the swing stage (gyro_swing_min_periodicity={self.gyro_swing_min_periodicity}) did not run: {why}; "
                 "steps are detected from |acc| alone.",
+                UserWarning,
+                stacklevel=2,
+            )
+        if float(self.octave_swing_min_correlation) > 0 and gyr is None:
+            # stage 5a reads the gyroscope too: without one it cannot run (attrs['octave'] stays all 0)
+            why = "use_gyroscope is False" if rec.has_gyr else "the recording has no gyroscope"
+            warnings.warn(
+                f"adaptive: the per-bout octave stage (octave_swing_min_correlation={self.octave_swing_min_correlation}) did not run: "
+                f"{why}; steps are detected without it.",
                 UserWarning,
                 stacklevel=2,
             )

@@ -159,9 +159,14 @@ def _detector(args, model, notes: list[str]) -> str:
     return DEFAULT_STEP_DETECTOR
 
 
-def _hde(args, h0: float):
-    """The HDE of ``--hde-guard off`` (its structure guard off), or None: the default HDE, guard on."""
+def _hde(args, h0: float, notes: list[str]):
+    """The HDE of ``--hde-guard off`` (its structure guard off), or None: the default HDE, guard on.
+    With a heading without HDE (``gyro``, ``dwpca``) ``--hde-guard off`` changes nothing, and a note says so."""
     if getattr(args, "hde_guard", "on") != "off":
+        return None
+    heading = getattr(args, "heading", "hde")
+    if heading not in ("hde", "dwpca-hde"):
+        notes.append(f"--hde-guard off has no effect with --heading {heading} (no HDE); it applies to --heading hde and dwpca-hde.")
         return None
     from gaitml.pdr.hde import HeuristicDriftElimination
 
@@ -269,7 +274,7 @@ def run(args) -> int:
         initial_heading_rad=h0,
         gyro_bias=getattr(args, "gyro_bias", "auto"),
         run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
-        hde=_hde(args, h0),
+        hde=_hde(args, h0, notes),
     )
     notes += list(res.info["notes"])
     scored = _score(args, rec, res, truth_obj) if truth_obj is not None else None
@@ -366,7 +371,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
         run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
         progress=True,
         gyro_bias=getattr(args, "gyro_bias", "auto"),
-        hde=_hde(args, 0.0 if h0 is None else h0),
+        hde=_hde(args, 0.0 if h0 is None else h0, notes),
         **long_read_kwargs(args),
     )
     modes = res.info["modes"]

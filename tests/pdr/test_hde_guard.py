@@ -240,3 +240,13 @@ def test_bad_guard_input_is_one_line_error_not_a_silent_verdict(call, match):
 
     with pytest.raises(InputError, match=match):
         call()
+
+
+@pytest.mark.parametrize("heading", ["gyro", "dwpca"])
+def test_cli_hde_guard_off_without_hde_says_it_changes_nothing(loop_file, capsys, heading):
+    base = _run(capsys, loop_file, "--modes", "forward", "--heading", heading, "--json")
+    out = _run(capsys, loop_file, "--modes", "forward", "--heading", heading, "--hde-guard", "off", "--json")
+    assert json.loads(out.out)["trajectory"] == json.loads(base.out)["trajectory"]
+    lines = [ln for ln in out.err.splitlines() if "--hde-guard off has no effect" in ln]
+    assert len(lines) == 1 and f"--heading {heading}" in lines[0]
+    assert "--hde-guard" not in base.err

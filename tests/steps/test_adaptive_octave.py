@@ -93,3 +93,19 @@ def test_the_octave_stage_asked_for_with_the_gyroscope_off_says_it_did_not_run()
     with pytest.warns(UserWarning, match="octave stage .* did not run: use_gyroscope is False"):
         det = get_detector("adaptive", use_gyroscope=False, **ON).detect(rec)
     assert det.steps_.attrs["octave"] == {"half_steps": 0, "steps": 0, "undecided": 0}
+
+
+def test_a_chunked_run_counts_the_octave_decisions_of_the_whole_file(tmp_path):
+    """long_steps kept the last chunk's ``attrs['octave']`` (one bout of two here); each bout counts once."""
+    from gaitml.chunked_run import long_steps
+    from gaitml.io import read_recording, write_gaitml_csv
+
+    a, _ = _slow_short_walk(0, 20)
+    b, _ = _slow_short_walk(2, 20)
+    p = tmp_path / "two.csv"
+    write_gaitml_csv(Recording.from_arrays(np.vstack([a.acc, b.acc]), 100.0, gyr=np.vstack([a.gyr, b.gyr])), p)
+    whole = get_detector("adaptive", **ON).detect(read_recording(p)).steps_
+    assert whole.attrs["octave"]["half_steps"] == 2  # each 40 s walk is a bout read at two peaks per step
+    for chunk_s, margin_s in ((40.0, 10.0), (20.0, 10.0)):
+        chunked = long_steps(p, "adaptive", chunk_s=chunk_s, margin_s=margin_s, progress=False, detector_params=ON)
+        assert chunked.attrs["octave"] == whole.attrs["octave"]

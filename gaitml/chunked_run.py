@@ -774,7 +774,8 @@ def long_pdr(
     values are kept, so memory grows with the steps (a few hundred bytes each), not the samples.
 
     The heading correction then runs on the whole step sequence, as on a whole recording: HDE
-    (paper 003 sec. 4.2, with its drift rate fitted over all steps) and the raw gyro heading
+    (paper 003 sec. 4.2, with its drift rate fitted and its structure guard tested over all steps: one
+    decision for the whole file, ``info['heading_check']``) and the raw gyro heading
     need only the per-step gyro headings (``steps_only``). Modes from a model come from
     :func:`long_predict` (identical windows), each step taking the nearest window's mode.
 

@@ -250,3 +250,24 @@ def test_cli_hde_guard_off_without_hde_says_it_changes_nothing(loop_file, capsys
     lines = [ln for ln in out.err.splitlines() if "--hde-guard off has no effect" in ln]
     assert len(lines) == 1 and f"--heading {heading}" in lines[0]
     assert "--hde-guard" not in base.err
+
+
+def test_cli_long_file_read_in_chunks_makes_the_whole_files_decision(loop_file, capsys, monkeypatch):
+    """The guard reads all steps of a long file at once (chunked_run.long_pdr), so it holds HDE off as a
+    whole-file run does, with the same statistic (the chunked heading moves a step by < 1e-4 rad), one warning."""
+    import gaitml.chunked_run as cr
+    import gaitml.io.chunked as ch
+
+    argv = (loop_file, "--modes", "forward", "--gyro-bias", "off", "--detector", "single-peak", "--json")
+    whole = _run(capsys, *argv)
+    monkeypatch.setattr(ch, "LARGE_INPUT_SAMPLES", 1000)
+    monkeypatch.setattr(cr, "DEFAULT_CHUNK_S", 30.0)
+    monkeypatch.setattr(cr, "DEFAULT_MARGIN_S", 5.0)
+    long = _run(capsys, *argv)
+    a, b = json.loads(whole.out)["heading_check"], json.loads(long.out)["heading_check"]
+    assert "is long: read in chunks" in long.err and "is long" not in whole.err
+    assert set(a) == set(b) and a["hde_applied"] is b["hde_applied"] is False and a["n_steps"] == b["n_steps"]
+    assert b["statistic"] == pytest.approx(a["statistic"], abs=1e-4) and b["threshold"] == a["threshold"]
+    assert (
+        sum("HDE not applied" in ln for ln in long.err.splitlines()) == sum("HDE not applied" in ln for ln in whole.err.splitlines()) == 1
+    )

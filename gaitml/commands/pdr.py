@@ -185,7 +185,7 @@ def _heading_check_line(res) -> str | None:
         return None
     n, mn = check["n_steps"], check["min_steps"]
     if check["statistic"] is None:
-        evidence = f"{n} steps"
+        evidence = f"{n} step" if n == 1 else f"{n} steps"
     else:
         rel = ">" if check["statistic"] > check["threshold"] else "<="
         evidence = f"alignment {check['statistic']:.3f} {rel} chance threshold {check['threshold']:.3f} over {n} steps"
@@ -206,7 +206,8 @@ def _warn_heading_check(res) -> None:
         return
     kept, option = _kept_heading(str(res.info.get("heading")))
     if check["reason"] == "too few steps":
-        why = f"only {check['n_steps']} steps, fewer than the {check['min_steps']} it needs to test its premise (walking along dominant directions)"
+        n = check["n_steps"]
+        why = f"only {n} step{'' if n == 1 else 's'}, fewer than the {check['min_steps']} it needs to test its premise (walking along dominant directions)"
     else:
         why = (
             f"the step headings show no dominant directions (alignment {check['statistic']:.3f} <= chance threshold "

@@ -271,3 +271,13 @@ def test_cli_long_file_read_in_chunks_makes_the_whole_files_decision(loop_file, 
     assert (
         sum("HDE not applied" in ln for ln in long.err.splitlines()) == sum("HDE not applied" in ln for ln in whole.err.splitlines()) == 1
     )
+
+
+def test_cli_one_step_recording_is_not_corrected_and_says_one_step(tmp_path, capsys):
+    p = tmp_path / "one.csv"
+    write_gaitml_csv(synth_walk([("walk", 1, 0.0)]), p)
+    out = _run(capsys, p, "--modes", "forward", "--detector", "single-peak")
+    guard_lines = [ln for ln in (out.out + out.err).splitlines() if "heading check" in ln or "HDE not applied" in ln]
+    assert len(guard_lines) == 2 and not any("1 steps" in ln for ln in guard_lines)
+    assert f"(fewer than {STRUCTURE_MIN_STEPS} steps: 1 step)" in out.out
+    assert "only 1 step, fewer than" in out.err

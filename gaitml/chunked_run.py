@@ -122,7 +122,19 @@ def _core_steps(
     account = _gait_account(raw, checked, rec, ch) if gait else None
     core = checked[_in_core(checked, ch)].reset_index(drop=True)
     core.attrs = {k: v for k, v in checked.attrs.items() if k != "gait_check"}
+    bouts = getattr(det, "octave_bouts_", None)
+    if bouts is not None and "octave" in core.attrs:
+        # adaptive's stage 5a: the decisions on the bouts that start in the core (each bout of the file once)
+        from gaitml.steps.adaptive import octave_counts
+
+        first = bouts["first_peak"].to_numpy(np.int64) + ch.offset
+        core.attrs["octave"] = octave_counts(bouts["octave"].to_numpy()[(first >= ch.core_start) & (first < ch.core_end)])
     return core, account, det
+
+
+def _sum_octave(parts: list[dict]) -> dict:
+    """adaptive's stage 5a decisions of the whole file (``attrs['octave']``) from the chunks' core counts."""
+    return {k: int(sum(p[k] for p in parts)) for k in parts[0]}
 
 
 def _core_cadence(det, ch: Chunk, fs: float) -> pd.DataFrame | None:
@@ -220,6 +232,10 @@ def long_steps(
     ``attrs["count_also"] = {"detector": name, "n_steps": total}``, counted like the main
     detector's steps (those anchored in each chunk's core), so memory stays bounded by the chunk.
 
+    ``adaptive``'s opt-in stage 5a (``detector_params``): ``attrs["octave"]`` counts its decisions on
+    the bouts whose first peak lies in a chunk's core, summed over the chunks (each bout of the file
+    once; a bout over a chunk edge is decided on the part of it the chunk reads).
+
     ``gait_check``: leave out bouts of steps without gait evidence
     (:mod:`gaitml.steps._gait_evidence`), per chunk before the core's steps are kept (see
     :func:`_core_steps`; None: the detector's default, on for ``adaptive``). The account of the
@@ -261,6 +277,7 @@ def long_steps(
     attrs: dict = {}
     also_counts: list[int] = []
     accounts: list[dict] = []
+    octaves: list[dict] = []
     cadence_parts: list[pd.DataFrame] = []
     gait = None
     for ch in progress_chunks(
@@ -278,11 +295,15 @@ def long_steps(
         if gait:
             accounts.append(account)
         attrs = dict(table.attrs)
+        if "octave" in attrs:
+            octaves.append(attrs["octave"])
         parts.append(_shift_steps(table, ch.offset, fs))
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(ch.recording).steps_, ch).sum()))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     out.attrs.update(attrs)
+    if octaves:
+        out.attrs["octave"] = _sum_octave(octaves)
     out.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_read_s}
     if gait:
         out.attrs["gait_check"] = _sum_accounts(accounts)
@@ -790,7 +811,8 @@ def long_pdr(
     values are kept, so memory grows with the steps (a few hundred bytes each), not the samples.
 
     The heading correction then runs on the whole step sequence, as on a whole recording: HDE
-    (paper 003 sec. 4.2, with its drift rate fitted over all steps) and the raw gyro heading
+    (paper 003 sec. 4.2, with its drift rate fitted and its structure guard tested over all steps: one
+    decision for the whole file, ``info['heading_check']``) and the raw gyro heading
     need only the per-step gyro headings (``steps_only``). Modes from a model come from
     :func:`long_predict` (identical windows), each step taking the nearest window's mode.
 
@@ -853,6 +875,7 @@ def long_pdr(
     parts, feat_parts, gyro_parts, label_parts, bias_parts = [], [], [], [], []
     also_counts: list[int] = []
     accounts: list[dict] = []
+    octaves: list[dict] = []
     attrs: dict = {}
     fs = None
     carry = None  # attitude of the sample before the next chunk's core
@@ -902,6 +925,8 @@ def long_pdr(
         if account is not None:
             accounts.append(account)
         attrs.update(table.attrs)
+        if "octave" in table.attrs:
+            octaves.append(table.attrs["octave"])
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(rec).steps_, ch).sum()))
         start = table["start"].to_numpy(np.int64)
@@ -915,6 +940,8 @@ def long_pdr(
         raise InputError(f"{Path(path).name} has no samples.")
     steps = pd.concat(parts, ignore_index=True)
     steps.attrs.update(attrs)
+    if octaves:
+        steps.attrs["octave"] = _sum_octave(octaves)
     event = steps.attrs.get("event", "t_peak_s")
     if event not in steps:
         event = "t_peak_s"

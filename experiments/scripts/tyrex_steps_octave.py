@@ -116,7 +116,7 @@ def per_person(runs: dict[str, pd.DataFrame]) -> str:
     return "\n".join(out)
 
 
-def _match(t: np.ndarray, ref: np.ndarray, tol: float = 0.45) -> tuple[int, int, int]:
+def match_steps(t: np.ndarray, ref: np.ndarray, tol: float = 0.45) -> tuple[int, int, int]:
     """Greedy one-to-one matching of detected to reference step times within ``tol`` s: hits, extras, misses."""
     used = np.zeros(len(ref), dtype=bool)
     hit = 0
@@ -145,7 +145,7 @@ def matching(items: list[dict], runs: dict[str, dict]) -> str:
                 st = get_detector("adaptive", **params).detect(r).steps_
                 t = float(r.meta.get("t0_original_s", 0.0)) + st["t_peak_s"].to_numpy()
                 tt.append(t[(t >= it["ref"]["t_first_s"]) & (t <= it["ref"]["t_last_s"])])
-            h, e, m = _match(np.concatenate(tt), ref)
+            h, e, m = match_steps(np.concatenate(tt), ref)
             rows.append({"motion": it["motion"], "person": it["person"], "run": name, "hits": h, "extras": e, "misses": m})
     df = pd.DataFrame(rows).groupby(["motion", "person", "run"], sort=False)[["hits", "extras", "misses"]].sum()
     df["F1"] = 2 * df["hits"] / (2 * df["hits"] + df["extras"] + df["misses"])

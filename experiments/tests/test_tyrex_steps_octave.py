@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED
-from experiments.scripts.tyrex_steps_octave import OFF, _match, lopo
+from experiments.scripts.tyrex_steps_octave import OFF, lopo, match_steps
 
 
 def _grid(delta: dict[str, dict[str, float]]) -> pd.DataFrame:
@@ -36,5 +36,5 @@ def test_a_setting_that_helps_two_people_and_hurts_the_third_fails():
 
 def test_matching_counts_each_reference_step_once():
     ref = np.array([1.0, 2.0, 3.0, 4.0])
-    assert _match(np.array([1.1, 1.2, 2.9, 6.0]), ref) == (2, 2, 2)  # 1.2 is a second step near 1.0: an extra
-    assert _match(np.array([]), ref) == (0, 0, 4)
+    assert match_steps(np.array([1.1, 1.2, 2.9, 6.0]), ref) == (2, 2, 2)  # 1.2 is a second step near 1.0: an extra
+    assert match_steps(np.array([]), ref) == (0, 0, 4)

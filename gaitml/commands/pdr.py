@@ -159,9 +159,14 @@ def _detector(args, model, notes: list[str]) -> str:
     return DEFAULT_STEP_DETECTOR
 
 
-def _hde(args, h0: float):
-    """The HDE of ``--hde-guard off`` (its structure guard off), or None: the default HDE, guard on."""
+def _hde(args, h0: float, notes: list[str]):
+    """The HDE of ``--hde-guard off`` (its structure guard off), or None: the default HDE, guard on.
+    With a heading without HDE (``gyro``, ``dwpca``) ``--hde-guard off`` changes nothing, and a note says so."""
     if getattr(args, "hde_guard", "on") != "off":
+        return None
+    heading = getattr(args, "heading", "hde")
+    if heading not in ("hde", "dwpca-hde"):
+        notes.append(f"--hde-guard off has no effect with --heading {heading} (no HDE); it applies to --heading hde and dwpca-hde.")
         return None
     from gaitml.pdr.hde import HeuristicDriftElimination
 
@@ -180,7 +185,7 @@ def _heading_check_line(res) -> str | None:
         return None
     n, mn = check["n_steps"], check["min_steps"]
     if check["statistic"] is None:
-        evidence = f"{n} steps"
+        evidence = f"{n} step" if n == 1 else f"{n} steps"
     else:
         rel = ">" if check["statistic"] > check["threshold"] else "<="
         evidence = f"alignment {check['statistic']:.3f} {rel} chance threshold {check['threshold']:.3f} over {n} steps"
@@ -201,7 +206,8 @@ def _warn_heading_check(res) -> None:
         return
     kept, option = _kept_heading(str(res.info.get("heading")))
     if check["reason"] == "too few steps":
-        why = f"only {check['n_steps']} steps, fewer than the {check['min_steps']} it needs to test its premise (walking along dominant directions)"
+        n = check["n_steps"]
+        why = f"only {n} step{'' if n == 1 else 's'}, fewer than the {check['min_steps']} it needs to test its premise (walking along dominant directions)"
     else:
         why = (
             f"the step headings show no dominant directions (alignment {check['statistic']:.3f} <= chance threshold "
@@ -269,7 +275,7 @@ def run(args) -> int:
         initial_heading_rad=h0,
         gyro_bias=getattr(args, "gyro_bias", "auto"),
         run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
-        hde=_hde(args, h0),
+        hde=_hde(args, h0, notes),
     )
     notes += list(res.info["notes"])
     scored = _score(args, rec, res, truth_obj) if truth_obj is not None else None
@@ -366,7 +372,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
         run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
         progress=True,
         gyro_bias=getattr(args, "gyro_bias", "auto"),
-        hde=_hde(args, 0.0 if h0 is None else h0),
+        hde=_hde(args, 0.0 if h0 is None else h0, notes),
         **long_read_kwargs(args),
     )
     modes = res.info["modes"]

@@ -172,10 +172,24 @@ def _guard_alpha(structure_alpha) -> float | None:
     """The guard's alpha, or None when the guard is off (``None`` or 0); refuses values outside [0, 1)."""
     if structure_alpha is None:
         return None
-    a = float(structure_alpha)
+    try:
+        a = float(structure_alpha)
+    except (TypeError, ValueError):
+        a = float("nan")
     if not 0 <= a < 1:
-        raise InputError(f"`structure_alpha` must be in [0, 1) or None (0 or None: guard off), got {structure_alpha}.")
+        raise InputError(f"`structure_alpha` must be in [0, 1) or None (0 or None: guard off), got {structure_alpha!r}.")
     return a or None
+
+
+def _min_steps(min_steps, name: str) -> int:
+    """A minimum step count: a whole number >= 0, else a one-line :class:`InputError`."""
+    try:
+        ok = float(min_steps).is_integer() and min_steps >= 0 and not isinstance(min_steps, bool)
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise InputError(f"`{name}` must be a whole number >= 0, got {min_steps!r}.")
+    return int(min_steps)
 
 
 def direction_structure(
@@ -205,10 +219,15 @@ def direction_structure(
     t = np.asarray(t_s, dtype=float).reshape(-1)
     if psi.shape != t.shape:
         raise InputError(f"`heading_rad` and `t_s` must have the same length, got {psi.shape[0]} and {t.shape[0]}.")
-    if not 0 < alpha < 1:
-        raise InputError(f"`alpha` must be in (0, 1), got {alpha}.")
+    if not (np.isfinite(psi).all() and np.isfinite(t).all()):
+        raise InputError("`heading_rad` / `t_s` have NaN/inf values; interpolate them first.")
+    if (np.diff(t) < 0).any():
+        raise InputError("`t_s` must not decrease (step times in order); sort the steps by time first.")
+    if _guard_alpha(alpha) is None:
+        raise InputError(f"`alpha` must be in (0, 1), got {alpha!r}.")
+    min_steps = _min_steps(min_steps, "min_steps")
     n = len(psi)
-    rec = {"n_steps": n, "min_steps": int(min_steps), "alpha": float(alpha), "rate_rads": float(rate_rads)}
+    rec = {"n_steps": n, "min_steps": min_steps, "alpha": float(alpha), "rate_rads": float(rate_rads)}
     if n < 2:
         return {**rec, "statistic": None, "threshold": None, "n_rates": None, "structured": False}
     k = 1.0 + n_directions * 2.0 * max_rate_rads * float(t[-1] - t[0]) / (2 * np.pi)
@@ -344,8 +363,7 @@ def hde_heading(
     if drift_rate not in ("fit", "none"):
         raise InputError(f"`drift_rate` must be 'fit' or 'none', got {drift_rate!r}.")
     alpha = _guard_alpha(structure_alpha)
-    if int(structure_min_steps) != structure_min_steps or structure_min_steps < 0:
-        raise InputError(f"`structure_min_steps` must be a whole number >= 0, got {structure_min_steps}.")
+    structure_min_steps = _min_steps(structure_min_steps, "structure_min_steps")
     if not np.isfinite(psi).all():
         raise InputError("`heading_rad` has NaN/inf values; interpolate the heading first.")
     dur = np.full(len(psi), 0.5) if step_duration_s is None else np.asarray(step_duration_s, dtype=float).reshape(-1)

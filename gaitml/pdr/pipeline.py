@@ -111,7 +111,8 @@ class PdrResult:
         (``calibrated_with``, ``detector``): present when the calibration was fitted on another step detector's
         steps (:func:`calibration_detector_check`). ``heading_check``: with an HDE heading (``hde``, ``dwpca-hde``),
         its structure guard's record (:func:`gaitml.pdr.hde.hde_heading`: ``guard``, ``statistic``, ``threshold``,
-        ``n_steps``, ``min_steps``, ``structured``, ``hde_applied``, ``reason``); absent for the other headings.
+        ``n_steps``, ``min_steps``, ``structured``, ``hde_applied``, ``reason``); absent for the other headings and
+        when there are no steps (HDE did not run).
         """
         traj = self.trajectory
         rows = [

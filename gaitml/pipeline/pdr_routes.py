@@ -86,7 +86,9 @@ def evaluate_route(
     as before) carries the phone there on the route and on the calibration walk (the same
     subject, pose or placement as :func:`gaitml.simulate.simulate_route` draws). Rows of
     model-mode variants carry ``mode_accuracy``: the fraction of steps whose mode is the
-    true mode.
+    true mode. Every row carries ``hde_applied``: for a variant with an HDE heading whether
+    HDE's structure guard let it act (False: the variant ran on the uncorrected heading),
+    None for the other headings.
     """
     from gaitml.simulate import POSITIONS, sample_subjects, simulate_recording, simulate_route
     from gaitml.simulate.positions import HAND_POSITIONS, Placement
@@ -135,6 +137,8 @@ def evaluate_route(
             "detector": kw["detector"] if isinstance(kw["detector"], str) else type(kw["detector"]).__name__,
             "end_error_m": err,
             "end_error_pct": pct,
+            # HDE's structure guard (gaitml.pdr.hde, Notes step 6): whether an HDE variant's HDE acted (None: no HDE)
+            "hde_applied": None if res.info.get("heading_check") is None else bool(res.info["heading_check"]["hde_applied"]),
         }
         if position is not None:
             row["position"] = position

@@ -181,6 +181,7 @@ __all__ = [
     "gyro_swing_cadence",
     "swing_stride",
     "bout_octave",
+    "octave_counts",
 ]
 
 #: gait band of the band-pass (Hz): below the slowest stride, above the fastest step
@@ -836,6 +837,13 @@ def bout_octave(
     return out, steps
 
 
+def octave_counts(octave) -> dict[str, int]:
+    """Stage 5a's decisions counted (``steps_.attrs['octave']``): bouts read as half-steps (2), as
+    steps (1) and undecided (0), from per-bout octaves as :func:`bout_octave` returns them."""
+    o = np.asarray(octave).reshape(-1)
+    return {"half_steps": int(np.sum(o == 2)), "steps": int(np.sum(o == 1)), "undecided": int(np.sum(o == 0))}
+
+
 def adaptive_steps(
     acc_mag_ms2: np.ndarray,
     sampling_rate_hz: float,
@@ -884,7 +892,9 @@ def adaptive_steps(
         ``peak`` (step samples), ``y`` (band-passed magnitude), ``s`` (folded
         signal), and at each peak: ``period_s`` (local step period),
         ``correlation`` (periodicity), ``confidence``; plus ``cadence``, the
-        per-window dict of :func:`local_cadence`.
+        per-window dict of :func:`local_cadence`; ``octave``, stage 5a's decisions counted
+        (:func:`octave_counts`), and ``octave_bouts``, per bout it decided on: ``first_peak``
+        (sample) and ``octave`` (:func:`bout_octave`; empty where the stage is off).
     """
     x = np.asarray(acc_mag_ms2, dtype=float)
     fs = float(sampling_rate_hz)
@@ -967,7 +977,8 @@ def adaptive_steps(
     amp = s[pk]
     # stage 5a: one octave per walking bout, from the swing pooled over the bout (bout_octave)
     decided = np.zeros(len(pk), dtype=bool)
-    octave = {"half_steps": 0, "steps": 0, "undecided": 0}
+    octave = octave_counts([])
+    octave_bouts = {"first_peak": np.zeros(0, dtype=np.int64), "octave": np.zeros(0, dtype=np.int64)}
     if gyr_rads is not None and octave_swing_min_correlation > 0 and len(pk) >= 3:
         gap0 = np.diff(pk).astype(float) > BOUT_GAP_RATIO * np.maximum(T[:-1], T[1:])
         bout0 = np.concatenate([[0], np.cumsum(gap0)])
@@ -985,8 +996,9 @@ def adaptive_steps(
             swing_half_correlation=octave_swing_half_correlation,
             tolerance=octave_match_tolerance,
         )
-        for key, k in (("half_steps", 2), ("steps", 1), ("undecided", 0)):
-            octave[key] = int(np.sum(octv == k))
+        octave = octave_counts(octv)
+        # each bout's decision at its first peak (a chunked run counts the bouts that start in a chunk's core)
+        octave_bouts = {"first_peak": pk[np.flatnonzero(np.r_[True, bout0[1:] != bout0[:-1]])].astype(np.int64), "octave": octv}
         decided = octv[bout0] == 2
         redo = np.flatnonzero(octv == 2)
         if len(redo):
@@ -1076,6 +1088,7 @@ def adaptive_steps(
         "confidence": conf,
         "cadence": cad,
         "octave": octave,
+        "octave_bouts": octave_bouts,
     }
 
 
@@ -1202,7 +1215,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         (heel strike and push-off) has its steps picked again at twice its
         median peak interval. Off by default (it lowers the tyrex count
         accuracy; ``experiments/reports/tyrex-steps.md``). The decisions are
-        counted in ``steps_.attrs['octave']``.
+        counted in ``steps_.attrs['octave']``. Asked for without a gyroscope (or with
+        ``use_gyroscope=False``) it does not run, and a warning says so.
     octave_swing_half_correlation : float, default 0.0
         Stage 5a: the pooled swing must be in anti-phase at half its stride
         period, its autocorrelation there at most minus this.
@@ -1247,6 +1261,11 @@ class AdaptiveStepDetector(BaseStepDetector):
         the swing set the period and periodicity, stage 2c).
         ``attrs['swing_stage']``: ``requested`` (``gyro_swing_min_periodicity``
         > 0) and ``ran`` (requested and a gyroscope was read).
+    octave_bouts_ : DataFrame
+        Stage 5a's decision per walking bout: ``first_peak`` (sample of the
+        bout's first peak) and ``octave`` (2 half-steps, 1 steps, 0
+        undecided; :func:`bout_octave`); empty where the stage is off.
+        ``steps_.attrs['octave']`` counts them (:func:`octave_counts`).
 
     Notes
     -----
@@ -1404,6 +1423,15 @@ class AdaptiveStepDetector(BaseStepDetector):
                 UserWarning,
                 stacklevel=2,
             )
+        if float(self.octave_swing_min_correlation) > 0 and gyr is None:
+            # stage 5a reads the gyroscope too: without one it cannot run (attrs['octave'] stays all 0)
+            why = "use_gyroscope is False" if rec.has_gyr else "the recording has no gyroscope"
+            warnings.warn(
+                f"adaptive: the per-bout octave stage (octave_swing_min_correlation={self.octave_swing_min_correlation}) did not run: "
+                f"{why}; steps are detected without it.",
+                UserWarning,
+                stacklevel=2,
+            )
         r = adaptive_steps(acc_magnitude(rec), fs, gyr_rads=gyr, **params)
         p = r["peak"]
         per = r["period_s"]
@@ -1427,6 +1455,7 @@ class AdaptiveStepDetector(BaseStepDetector):
             self.steps_ = gait_check(self.steps_, rec.gyr, fs, acc=acc, max_stride_vertical_fraction=vertical)
         # stage 5a's per-bout octave decisions (all 0 where it is off or there is no gyroscope)
         self.steps_.attrs["octave"] = dict(r["octave"])
+        self.octave_bouts_ = pd.DataFrame(r["octave_bouts"])
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(
             {

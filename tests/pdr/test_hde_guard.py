@@ -218,3 +218,66 @@ def test_cli_gyro_heading_has_no_heading_check(loop_file, capsys):
     out = _run(capsys, loop_file, "--modes", "forward", "--heading", "gyro", "--json")
     assert "heading_check" not in json.loads(out.out)
     assert "HDE not applied" not in out.err
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda: direction_structure([0.0, np.nan] + [0.0] * 20, np.arange(22.0)), "NaN"),
+        (lambda: direction_structure(np.zeros(30), np.arange(30.0)[::-1]), "must not decrease"),
+        (lambda: direction_structure(np.zeros(30), np.arange(30.0), alpha=None), "alpha"),
+        (lambda: direction_structure(np.zeros(30), np.arange(30.0), min_steps=2.5), "min_steps"),
+        (lambda: hde_heading(np.zeros(30), np.full(30, 0.5), np.arange(30.0)[::-1]), "must not decrease"),
+        (lambda: hde_heading(np.zeros(20), structure_min_steps=None), "structure_min_steps"),
+        (lambda: hde_heading(np.zeros(20), structure_min_steps=np.nan), "structure_min_steps"),
+        (lambda: hde_heading(np.zeros(20), structure_alpha="a"), "structure_alpha"),
+    ],
+)
+def test_bad_guard_input_is_one_line_error_not_a_silent_verdict(call, match):
+    """NaN headings or step times out of order would give a NaN statistic or threshold (held off, no error);
+    settings that are not numbers would raise a bare TypeError/ValueError."""
+    from gaitml.errors import InputError
+
+    with pytest.raises(InputError, match=match):
+        call()
+
+
+@pytest.mark.parametrize("heading", ["gyro", "dwpca"])
+def test_cli_hde_guard_off_without_hde_says_it_changes_nothing(loop_file, capsys, heading):
+    base = _run(capsys, loop_file, "--modes", "forward", "--heading", heading, "--json")
+    out = _run(capsys, loop_file, "--modes", "forward", "--heading", heading, "--hde-guard", "off", "--json")
+    assert json.loads(out.out)["trajectory"] == json.loads(base.out)["trajectory"]
+    lines = [ln for ln in out.err.splitlines() if "--hde-guard off has no effect" in ln]
+    assert len(lines) == 1 and f"--heading {heading}" in lines[0]
+    assert "--hde-guard" not in base.err
+
+
+def test_cli_long_file_read_in_chunks_makes_the_whole_files_decision(loop_file, capsys, monkeypatch):
+    """The guard reads all steps of a long file at once (chunked_run.long_pdr), so it holds HDE off as a
+    whole-file run does, with the same statistic (the chunked heading moves a step by < 1e-4 rad), one warning."""
+    import gaitml.chunked_run as cr
+    import gaitml.io.chunked as ch
+
+    argv = (loop_file, "--modes", "forward", "--gyro-bias", "off", "--detector", "single-peak", "--json")
+    whole = _run(capsys, *argv)
+    monkeypatch.setattr(ch, "LARGE_INPUT_SAMPLES", 1000)
+    monkeypatch.setattr(cr, "DEFAULT_CHUNK_S", 30.0)
+    monkeypatch.setattr(cr, "DEFAULT_MARGIN_S", 5.0)
+    long = _run(capsys, *argv)
+    a, b = json.loads(whole.out)["heading_check"], json.loads(long.out)["heading_check"]
+    assert "is long: read in chunks" in long.err and "is long" not in whole.err
+    assert set(a) == set(b) and a["hde_applied"] is b["hde_applied"] is False and a["n_steps"] == b["n_steps"]
+    assert b["statistic"] == pytest.approx(a["statistic"], abs=1e-4) and b["threshold"] == a["threshold"]
+    assert (
+        sum("HDE not applied" in ln for ln in long.err.splitlines()) == sum("HDE not applied" in ln for ln in whole.err.splitlines()) == 1
+    )
+
+
+def test_cli_one_step_recording_is_not_corrected_and_says_one_step(tmp_path, capsys):
+    p = tmp_path / "one.csv"
+    write_gaitml_csv(synth_walk([("walk", 1, 0.0)]), p)
+    out = _run(capsys, p, "--modes", "forward", "--detector", "single-peak")
+    guard_lines = [ln for ln in (out.out + out.err).splitlines() if "heading check" in ln or "HDE not applied" in ln]
+    assert len(guard_lines) == 2 and not any("1 steps" in ln for ln in guard_lines)
+    assert f"(fewer than {STRUCTURE_MIN_STEPS} steps: 1 step)" in out.out
+    assert "only 1 step, fewer than" in out.err

@@ -36,3 +36,20 @@ def test_paper_single_peak_misses_the_steps_of_a_calm_walker_and_adaptive_does_n
         found[det] = row["n_steps"] / row["n_steps_true"]
     assert found["single-peak"] < 0.6
     assert np.isclose(found["adaptive"], 1.0, atol=0.03)
+
+
+def test_route_rows_say_whether_hde_acted():
+    """A variant whose HDE the structure guard held off ran on the gyro heading: its row says so."""
+    pick = dict(VARIANTS)
+    held = {**pick["multi / true modes / hde"], "hde_kwargs": {"structure_min_steps": 10**6}}
+    variants = [
+        ("multi / true modes / hde", pick["multi / true modes / hde"]),
+        ("multi / true modes / gyro", pick["multi / true modes / gyro"]),
+        ("hde held off", held),
+    ]
+    rows = {r["variant"]: r for r in evaluate_route("rectangle", 1, variants=variants)}
+    assert rows["multi / true modes / hde"]["hde_applied"] is True
+    assert rows["multi / true modes / gyro"]["hde_applied"] is None
+    assert rows["hde held off"]["hde_applied"] is False
+    assert rows["hde held off"]["end_error_pct"] == pytest.approx(rows["multi / true modes / gyro"]["end_error_pct"])
+    assert ("rectangle", "mean") in route_table(list(rows.values())).columns

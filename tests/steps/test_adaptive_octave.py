@@ -49,7 +49,8 @@ def test_the_octave_stage_is_off_by_default_and_without_a_gyroscope():
     rec, _ = _slow_short_walk(0, 8)
     assert get_detector("adaptive").detect(rec).steps_.attrs["octave"] == {"half_steps": 0, "steps": 0, "undecided": 0}
     rec, _ = _slow_short_walk(0, 8, gyro=False)
-    on = get_detector("adaptive", **ON).detect(rec)
+    with pytest.warns(UserWarning, match="octave stage .* did not run: the recording has no gyroscope"):
+        on = get_detector("adaptive", **ON).detect(rec)
     off = get_detector("adaptive").detect(rec)
     assert np.array_equal(on.steps_["t_peak_s"].to_numpy(), off.steps_["t_peak_s"].to_numpy())
     assert on.steps_.attrs["octave"] == {"half_steps": 0, "steps": 0, "undecided": 0}
@@ -84,3 +85,27 @@ def test_bout_octave_leaves_a_bout_without_a_regular_swing_undecided():
     assert bout_octave(pk, bout, noise, 1, fs, int(5 * fs), swing_min_correlation=0.5)[0].tolist() == [0]
     # off: nothing decided
     assert bout_octave(pk, bout, g, 1, fs, int(5 * fs), swing_min_correlation=0.0)[0].tolist() == [0]
+
+
+def test_the_octave_stage_asked_for_with_the_gyroscope_off_says_it_did_not_run():
+    """As the swing stage (2c) does: an opt-in stage that cannot run is said, not silently skipped."""
+    rec, _ = _slow_short_walk(0, 8)
+    with pytest.warns(UserWarning, match="octave stage .* did not run: use_gyroscope is False"):
+        det = get_detector("adaptive", use_gyroscope=False, **ON).detect(rec)
+    assert det.steps_.attrs["octave"] == {"half_steps": 0, "steps": 0, "undecided": 0}
+
+
+def test_a_chunked_run_counts_the_octave_decisions_of_the_whole_file(tmp_path):
+    """long_steps kept the last chunk's ``attrs['octave']`` (one bout of two here); each bout counts once."""
+    from gaitml.chunked_run import long_steps
+    from gaitml.io import read_recording, write_gaitml_csv
+
+    a, _ = _slow_short_walk(0, 20)
+    b, _ = _slow_short_walk(2, 20)
+    p = tmp_path / "two.csv"
+    write_gaitml_csv(Recording.from_arrays(np.vstack([a.acc, b.acc]), 100.0, gyr=np.vstack([a.gyr, b.gyr])), p)
+    whole = get_detector("adaptive", **ON).detect(read_recording(p)).steps_
+    assert whole.attrs["octave"]["half_steps"] == 2  # each 40 s walk is a bout read at two peaks per step
+    for chunk_s, margin_s in ((40.0, 10.0), (20.0, 10.0)):
+        chunked = long_steps(p, "adaptive", chunk_s=chunk_s, margin_s=margin_s, progress=False, detector_params=ON)
+        assert chunked.attrs["octave"] == whole.attrs["octave"]

@@ -3,7 +3,8 @@
 1. Simulate a multi-subject, mixed-mode data set (all five motion modes with
    transitions inside each recording) and write it as gaitml-csv with ground truth.
 2. Cross-validate the paper 003 pipeline on it (1.5 s windows, the 52 features
-   of the accelerometer and their 52 counterparts on the gyroscope, ``all52+gyro``,
+   of the accelerometer and their 52 counterparts on the gyroscope, with the
+   face-up-weighted forward vector (:mod:`gaitml.features._forward`), ``all52+gyro+fwdface``,
    the feature set of the shipped model ``models/demo``; linear one-vs-one SVM,
    leave-one-subject-out), before and after the adjacent-window correction,
    reading the data back through the same readers a user's data goes through.
@@ -42,7 +43,7 @@ DEMO_SETTINGS = {
     "seed": 7,
     "route": "rectangle",
     "route_seed": 11,
-    "features": "all52+gyro",
+    "features": "all52+gyro+fwdface",
 }
 
 

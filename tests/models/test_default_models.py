@@ -53,7 +53,7 @@ def test_shipped_default_model_was_trained_from_its_config(name):
     assert trained == committed
     assert trained_at.replace("\\", "/").endswith("shared/data/tyrex-attitude")
     assert model.info["name"] == name and model.frame == "phone"
-    assert model.feature_set == ("all52+gyro" if name == "demo" else "all52")
+    assert model.feature_set == ("all52+gyro+fwdface" if name == "demo" else "all52")
     assert (model.domain.dynamics is not None) == (name == "demo")  # the orientation-dynamics part needs a gyroscope
     assert model.domain is not None and model.domain.gravity_check
     assert "converted_from" not in model.info

@@ -153,7 +153,7 @@ def _numpy_predict_from_json(
     length, hop = spec["window"]["length_samples"], spec["window"]["hop_samples"]
     starts = np.arange(0, len(acc) - length + 1, hop)
     names = [f["name"] for f in spec["features"]["features"]]
-    X = features_from_arrays(acc, gyr, starts=starts, length=length, subset=spec["features"]["set"])
+    X = features_from_arrays(acc, gyr, fs=spec["sampling_rate_hz"], starts=starts, length=length, subset=spec["features"]["set"])
     assert X.shape[1] == len(names)
     clf = spec["classifier"]
     coef, intercept = np.array(clf["coef"]), np.array(clf["intercept"])
@@ -237,7 +237,8 @@ def _check_json_equals_predict(model, rec, tmp_path):
 def test_json_export_in_plain_numpy_equals_predict_on_the_demo_route(tmp_path):
     spec = _check_json_equals_predict(load_model(DEMO), _route(), tmp_path)
     f = spec["features"]["features"]
-    assert len(f) == 104 and f[0]["code"] == "F1" and f[51]["paper_number"] == 52 and f[52]["code"] == "G1" and f[52]["paper_number"] == 1
+    assert len(f) == 107 and f[0]["code"] == "F1" and f[51]["paper_number"] == 52 and f[52]["code"] == "G1" and f[52]["paper_number"] == 1
+    assert [x["code"] for x in f[104:]] == ["W4", "W5", "W6"]  # the face-up-weighted forward vector (features/catalogue.md)
     assert spec["window"]["length_samples"] == 75 and spec["window"]["hop_samples"] == 38
     for key in ("rule", "tie_rule"):
         assert spec["classifier"]["voting"][key]

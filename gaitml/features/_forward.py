@@ -46,7 +46,8 @@ own samples (so batch, chunked and streamed rows are equal, as for the other fea
    vector then has length <= 1 (1: the horizontal acceleration is one fixed direction times the
    vertical's rate), each component lies in [-1, 1], and a window without a consistent lag
    (standing, noise) gives a short vector instead of a random unit one. The scale of the
-   acceleration and the sampling rate cancel.
+   acceleration and the sampling rate cancel. A window holding a NaN or infinite sample gives NaN
+   (as the 52 statistics of :func:`gaitml.features.features_from_arrays` do), not the 0 of a window without a lag.
 
 The three columns are F's components along the phone's x, y and z (``acc_x__fwd``,
 ``acc_y__fwd``, ``acc_z__fwd``): a phone held in front, screen up, top forward, reads walking
@@ -142,6 +143,7 @@ def _forward_block(w: np.ndarray, fs: float, band: tuple[float, float], face_up:
     out[ok] = fwd[ok] / den[ok, None]
     if face_up:
         out *= np.maximum(up[:, 2], 0.0)[:, None]
+    out[~np.isfinite(w).all(axis=(1, 2))] = np.nan  # a non-finite sample: no vector (as the 52 statistics), not a calm 0
     return out
 
 
@@ -176,7 +178,7 @@ def forward_vectors(
     Returns
     -------
     ndarray, shape (k, 3)
-        Columns :data:`FORWARD_NAMES`; each row has length <= 1.
+        Columns :data:`FORWARD_NAMES`; each row has length <= 1; NaN for a window holding a NaN or infinite sample.
     """
     acc = np.asarray(acc, dtype=float)
     starts = np.asarray(starts, dtype=np.int64).reshape(-1)

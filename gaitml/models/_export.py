@@ -187,7 +187,8 @@ def _forward_spec() -> dict:
             f"frequency k fs / N outside [{lo:g}, {hi:g}] Hz set to 0, transformed back (N samples); v(t) = band-passed acc . up; "
             "h(t) = band-passed acc - v(t) up; v'(t) = (v(t+1) - v(t-1)) fs / 2 with indices modulo N; "
             "F = (1/N) sum_t h(t) v'(t); den = sqrt((1/N) sum_t |h(t)|^2 (1/N) sum_t v'(t)^2); "
-            "acc_x__fwd, acc_y__fwd, acc_z__fwd = F / den along the phone's x, y, z (0 when den <= 1e-12); "
+            "acc_x__fwd, acc_y__fwd, acc_z__fwd = F / den along the phone's x, y, z (0 when den <= 1e-12; NaN when the "
+            "window holds a NaN or infinite sample); "
             "acc_x__fwdface, acc_y__fwdface, acc_z__fwdface = the same times max(0, up_z)"
         ),
     }

@@ -216,3 +216,17 @@ def test_a_saved_model_on_the_set_reads_the_same_rows_whole_chunked_and_streamed
     spec = export_json(model)["features"]
     assert "forward_vector" in spec["conventions"] and spec["conventions"]["forward_vector"]["band_hz"] == [0.5, 3.0]
     assert [f["paper_number"] for f in spec["features"][-3:]] == [None, None, None]
+
+
+def test_a_window_with_a_nan_sample_has_no_vector_as_the_52_statistics():
+    """A NaN sample makes the window's statistics NaN (features_from_arrays does not refuse it); the forward vector is
+    NaN there too, not the 0 of a window without a lag (which a model would read as a real, calm window)."""
+    fs, n = 50.0, 400
+    acc = _walk(n=n, fs=fs)
+    acc[100, 0] = np.nan
+    starts = _starts(n, 75, 37)
+    bad = (starts <= 100) & (100 < starts + 75)
+    for subset in ("all52+fwd", "all52+fwdface"):
+        x = features_from_arrays(acc, None, fs, starts, 75, subset)
+        assert np.isnan(x[bad, 0]).all()  # acc_x__mean: the 52 statistics see the NaN
+        assert np.isnan(x[bad, -3:]).all() and np.isfinite(x[~bad, -3:]).all()

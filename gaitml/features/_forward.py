@@ -83,7 +83,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FORWARD_BAND_HZ", "FORWARD_FACE_NAMES", "FORWARD_NAMES", "forward_vectors"]
+__all__ = ["FORWARD_BAND_HZ", "FORWARD_FACE_NAMES", "FORWARD_NAMES", "check_forward_window", "forward_vectors"]
 
 #: The gait band (Hz) the forward vector reads. The lag it measures lives at the step frequency:
 #: normal walking is at 1.6-2.4 steps/s (Ji and Pachi 2005, "Frequency and velocity of people
@@ -107,6 +107,25 @@ FORWARD_FACE_NAMES = ("acc_x__fwdface", "acc_y__fwdface", "acc_z__fwdface")
 _MIN_GRAVITY_MS2 = 1e-6
 #: Windows per block (bounds the temporary memory).
 _BLOCK = 512
+
+
+def check_forward_window(length: int, fs: float, band: tuple[float, float] = FORWARD_BAND_HZ) -> None:
+    """Refuse a window of ``length`` samples at ``fs`` Hz none of whose Fourier coefficients (``k fs / length``) lies in
+    ``band``: every vector would be 0, read as a window without a lag (:class:`gaitml.errors.InputError`).
+
+    Called for the fixed-length windows of :func:`gaitml.features.extract_features`; the step windows
+    (:func:`gaitml.features.extract_step_features`) keep 0 for a step too short for the band (module docstring).
+    """
+    from gaitml.errors import InputError
+
+    n = int(length)
+    f = np.fft.rfftfreq(n, d=1.0 / float(fs))
+    if not ((f >= band[0]) & (f <= band[1])).any():
+        raise InputError(
+            f"a window of {n / float(fs):.3g} s ({n} samples at {float(fs):g} Hz) holds no frequency of the forward vector's "
+            f"{band[0]:g}-{band[1]:g} Hz band (it needs >= {1.0 / band[1]:.3g} s); use a longer window (--window-s) or a "
+            "feature set without +fwd / +fwdface."
+        )
 
 
 def _detrend(w: np.ndarray) -> np.ndarray:

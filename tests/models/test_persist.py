@@ -275,6 +275,7 @@ def test_json_export_in_plain_numpy_equals_predict_on_the_demo_route(tmp_path):
     f = spec["features"]["features"]
     assert len(f) == 107 and f[0]["code"] == "F1" and f[51]["paper_number"] == 52 and f[52]["code"] == "G1" and f[52]["paper_number"] == 1
     assert [x["code"] for x in f[104:]] == ["W4", "W5", "W6"]  # the face-up-weighted forward vector (features/catalogue.md)
+    assert spec["features"]["set"] in spec["features"]["channels"]["gyr_x, gyr_y, gyr_z"]  # the gyroscope's sets name the model's
     assert spec["window"]["length_samples"] == 75 and spec["window"]["hop_samples"] == 38
     for key in ("rule", "tie_rule"):
         assert spec["classifier"]["voting"][key]

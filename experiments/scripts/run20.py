@@ -117,12 +117,18 @@ def fold_model_dir(cache: Path, recipe: str, person: str) -> Path:
 
 
 def window_rows(model, rec, mode: str) -> pd.DataFrame:
-    """The prediction table of ``rec`` with the model's features (``f:<name>``) and the domain ratios, moving windows only."""
+    """The prediction table of ``rec`` with the model's features (``f:<name>``) and the domain ratios, moving windows only.
+
+    ``window_steps`` is replaced by the count of the default detector's steps (:func:`gaitml.models._predict.recording_steps`
+    at the model's rate, whose cadence ``step_cadence_hz`` reads) in every window: predict's column holds the still
+    gate's veto counts only where the gate reads a window still, NaN in a moving window.
+    """
     from gaitml.models import predict_recording, resample_recording
-    from gaitml.models._predict import model_inputs, model_view
+    from gaitml.models._predict import model_inputs, model_view, recording_steps, window_step_counts
 
     p = predict_recording(model, rec)
     r50 = resample_recording(rec, model.sampling_rate_hz)
+    p["window_steps"] = window_step_counts(p, recording_steps(r50)).astype(float)
     X = model_inputs(model, model_view(model, r50)[0], p[["start", "end"]])
     dom = model.domain
     p["dist_ratio"] = p["domain_distance"] / dom.distance_threshold

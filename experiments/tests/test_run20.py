@@ -105,3 +105,18 @@ def test_the_adoption_rule_passes_a_flag_of_the_wrong_windows_and_fails_native_c
     assert any("RunningPocket 20 Hz: 2" in f for f in run20.adoption(base, nothing)[0])
     sim_falls = _run(tmp_path / "sim", (80, 18, 2), (95, 0, 5), "0.85")  # below 0.89 - spread 0.02
     assert any(f.startswith("simulator") and "front-pocket walk" in f for f in run20.adoption(base, sim_falls)[0])
+
+
+def test_window_rows_count_the_steps_of_every_moving_window():
+    """The diagnosis' "steps in window" row takes the median of ``window_steps`` over moving windows; predict's column
+    holds the veto's counts only where the still gate reads a window still (NaN elsewhere), so run20 counts the default
+    detector's steps in every window itself (the steps whose cadence the row above reads)."""
+    from gaitml.models import load_model
+    from gaitml.simulate import simulate_dataset
+    from tests.conftest import ROOT
+
+    rec = simulate_dataset(n_subjects=1, duration_s=40.0, modes=("walk",), seed=3)[0]
+    rows = run20.window_rows(load_model(ROOT / "models" / "demo"), rec, "walk")
+    assert len(rows) > 10 and not rows["still"].any()
+    k = rows["window_steps"].to_numpy(float)
+    assert np.isfinite(k).all() and np.median(k) >= 2  # 1.5 s of walking holds two steps or more

@@ -290,10 +290,10 @@ def catalogue_markdown() -> str:
         lines.append(f"| {s.code} | `{s.name}` | {s.channel} | {s.description} | {formula} | {'yes' if s.number in p34 else ''} |")
     lines += [
         "",
-        "Gyro counterparts (subsets `all52+gyro`, `all52+gyro+fwd`): G<k> is F<k> computed on the gyroscope,",
+        "Gyro counterparts (subsets `all52+gyro`, `all52+gyro+fwd`, `all52+gyro+fwdface`): G<k> is F<k> computed on the gyroscope,",
         "column `gyr_<channel>__<stat>`, e.g. G1 = `gyr_x__mean`, G33 = `gyr_xy__corr`, G52 = `gyr_x__f1`.",
         "",
-        "Forward vector (opt-in subsets `all52+fwd`, `all52+gyro+fwd`; not in paper 003): every feature above",
+        "Forward vector (subsets `all52+fwd`, `all52+gyro+fwd`; not in paper 003): every feature above",
         "is the same for a window played backwards in time; W1..W3 are not. Per window: up = the unit window mean",
         f"of acc; each axis detrended and band-passed to {FORWARD_BAND_HZ[0]:g}-{FORWARD_BAND_HZ[1]:g} Hz (the window's Fourier coefficients",
         "outside the band zeroed); v = the band-passed acc along up, h = its horizontal part; v' = circular",
@@ -303,6 +303,7 @@ def catalogue_markdown() -> str:
         "frame's axes with `frame = gravity`). Method, sources and limits: `gaitml/features/_forward.py`.",
         "Subsets `all52+fwdface`, `all52+gyro+fwdface` carry W4..W6 instead: F times max(0, up_z), how face up",
         "the phone is (1 flat, 0 upright), so the group is near 0 where the phone's axes are not tied to the body.",
+        "The shipped `models/demo` reads `all52+gyro+fwdface`; the default subset stays `all52`.",
         "",
         "| W | column | channel | statistic |",
         "|---|---|---|---|",

@@ -22,7 +22,7 @@ from gaitml.features._catalogue import (
     uses_forward_face,
     uses_gyro,
 )
-from gaitml.features._forward import forward_vectors
+from gaitml.features._forward import check_forward_window, forward_vectors
 from gaitml.features._frame import check_frame, gravity_frame_rotations, rotate_windows
 from gaitml.features._windows import WINDOW_LENGTH_S, WINDOW_OVERLAP, make_windows
 
@@ -316,6 +316,8 @@ def extract_features(
         raise InputError(
             f"all windows must have the same length, got {lengths.min()}..{lengths.max()} samples; build them with gaitml.features.make_windows."
         )
+    if uses_forward(key):  # a window too short for the forward vector's band: refused, not a column of zeros
+        check_forward_window(int(lengths[0]), recording.sampling_rate_hz)
     x = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, int(lengths[0]), key, frame)
     df = pd.DataFrame(x, columns=names, index=windows.index)
     df.attrs.update(dict(windows.attrs), subset=key, frame=frame)

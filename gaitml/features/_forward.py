@@ -46,7 +46,8 @@ own samples (so batch, chunked and streamed rows are equal, as for the other fea
    vector then has length <= 1 (1: the horizontal acceleration is one fixed direction times the
    vertical's rate), each component lies in [-1, 1], and a window without a consistent lag
    (standing, noise) gives a short vector instead of a random unit one. The scale of the
-   acceleration and the sampling rate cancel.
+   acceleration and the sampling rate cancel. A window holding a NaN or infinite sample gives NaN
+   (as the 52 statistics of :func:`gaitml.features.features_from_arrays` do), not the 0 of a window without a lag.
 
 The three columns are F's components along the phone's x, y and z (``acc_x__fwd``,
 ``acc_y__fwd``, ``acc_z__fwd``): a phone held in front, screen up, top forward, reads walking
@@ -82,7 +83,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FORWARD_BAND_HZ", "FORWARD_FACE_NAMES", "FORWARD_NAMES", "forward_vectors"]
+__all__ = ["FORWARD_BAND_HZ", "FORWARD_FACE_NAMES", "FORWARD_NAMES", "check_forward_window", "forward_vectors"]
 
 #: The gait band (Hz) the forward vector reads. The lag it measures lives at the step frequency:
 #: normal walking is at 1.6-2.4 steps/s (Ji and Pachi 2005, "Frequency and velocity of people
@@ -106,6 +107,25 @@ FORWARD_FACE_NAMES = ("acc_x__fwdface", "acc_y__fwdface", "acc_z__fwdface")
 _MIN_GRAVITY_MS2 = 1e-6
 #: Windows per block (bounds the temporary memory).
 _BLOCK = 512
+
+
+def check_forward_window(length: int, fs: float, band: tuple[float, float] = FORWARD_BAND_HZ) -> None:
+    """Refuse a window of ``length`` samples at ``fs`` Hz none of whose Fourier coefficients (``k fs / length``) lies in
+    ``band``: every vector would be 0, read as a window without a lag (:class:`gaitml.errors.InputError`).
+
+    Called for the fixed-length windows of :func:`gaitml.features.extract_features`; the step windows
+    (:func:`gaitml.features.extract_step_features`) keep 0 for a step too short for the band (module docstring).
+    """
+    from gaitml.errors import InputError
+
+    n = int(length)
+    f = np.fft.rfftfreq(n, d=1.0 / float(fs))
+    if not ((f >= band[0]) & (f <= band[1])).any():
+        raise InputError(
+            f"a window of {n / float(fs):.3g} s ({n} samples at {float(fs):g} Hz) holds no frequency of the forward vector's "
+            f"{band[0]:g}-{band[1]:g} Hz band (it needs >= {1.0 / band[1]:.3g} s); use a longer window (--window-s) or a "
+            "feature set without +fwd / +fwdface."
+        )
 
 
 def _detrend(w: np.ndarray) -> np.ndarray:
@@ -142,6 +162,7 @@ def _forward_block(w: np.ndarray, fs: float, band: tuple[float, float], face_up:
     out[ok] = fwd[ok] / den[ok, None]
     if face_up:
         out *= np.maximum(up[:, 2], 0.0)[:, None]
+    out[~np.isfinite(w).all(axis=(1, 2))] = np.nan  # a non-finite sample: no vector (as the 52 statistics), not a calm 0
     return out
 
 
@@ -176,7 +197,7 @@ def forward_vectors(
     Returns
     -------
     ndarray, shape (k, 3)
-        Columns :data:`FORWARD_NAMES`; each row has length <= 1.
+        Columns :data:`FORWARD_NAMES`; each row has length <= 1; NaN for a window holding a NaN or infinite sample.
     """
     acc = np.asarray(acc, dtype=float)
     starts = np.asarray(starts, dtype=np.int64).reshape(-1)

@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from gaitml.errors import InputError
-from gaitml.features._catalogue import feature_names, resolve_subset, uses_gyro
+from gaitml.features._catalogue import feature_names, resolve_subset, uses_forward, uses_gyro
 from gaitml.features._extract import features_from_arrays
+from gaitml.features._forward import check_forward_window
 from gaitml.features._frame import check_frame
 from gaitml.features._range import acc_range_tally, check_acc_range, clip_acc
 from gaitml.features._windows import WINDOW_LENGTH_S, WINDOW_OVERLAP
@@ -90,6 +91,8 @@ class StreamingFeatureExtractor:
         self._subset = resolve_subset(subset)
         check_frame(frame)
         self.length_samples_, self.hop_samples_ = window_params(length_s, overlap, float(sampling_rate_hz))
+        if uses_forward(self._subset):  # as extract_features: a window too short for the forward vector's band is refused
+            check_forward_window(self.length_samples_, float(sampling_rate_hz))
         self.feature_names_ = feature_names(self._subset)
         self.rate_reason_: str | None = None  # the model's rate check (for_model with recorded_hz)
         self.reset()

@@ -135,7 +135,12 @@ def _feature_spec(info: dict) -> dict:
         raise ModelError(f"the model's feature names do not match feature set {fset!r} of this gaitml; retrain the model.")
     return {
         "set": fset,
-        "source": "paper 003 (Deng et al. 2021) sec. 3.2 and Table 1; F<k> = paper feature number k, G<k> = F<k> on the gyroscope",
+        "source": "paper 003 (Deng et al. 2021) sec. 3.2 and Table 1; F<k> = paper feature number k, G<k> = F<k> on the gyroscope"
+        + (
+            "; W<k>: the forward vector, conventions.forward_vector (not in paper 003)"
+            if any(s.stat.startswith("fwd") for s in specs)
+            else ""
+        ),
         "channels": {
             "acc_x, acc_y, acc_z": "accelerometer in the phone frame, m/s^2, gravity included",
             "acc_mag": (
@@ -143,7 +148,7 @@ def _feature_spec(info: dict) -> dict:
                 "each window (paper sec. 2.1, N = 3): sample i of the window is the mean of samples i-1, i, i+1; the first and last "
                 "sample of the window average 2 samples (themselves and their one neighbour inside the window)"
             ),
-            "gyr_x, gyr_y, gyr_z": "gyroscope in the phone frame, rad/s (feature set all52+gyro only)",
+            "gyr_x, gyr_y, gyr_z": f"gyroscope in the phone frame, rad/s (feature sets {', '.join(_gyro_sets())} only)",
             "gyr_mag": "|gyr| (no offset), smoothed like acc_mag",
         },
         "conventions": {
@@ -173,6 +178,13 @@ def _feature_spec(info: dict) -> dict:
     }
 
 
+def _gyro_sets() -> list[str]:
+    """The feature sets that read the gyroscope (G1..G52)."""
+    from gaitml.features import FEATURE_SETS, uses_gyro
+
+    return [k for k in FEATURE_SETS if uses_gyro(k)]
+
+
 def _forward_spec() -> dict:
     """How the opt-in forward-vector columns W1..W3 (``+fwd`` feature sets) are computed (:mod:`gaitml.features._forward`)."""
     from gaitml.features import FORWARD_BAND_HZ
@@ -187,7 +199,8 @@ def _forward_spec() -> dict:
             f"frequency k fs / N outside [{lo:g}, {hi:g}] Hz set to 0, transformed back (N samples); v(t) = band-passed acc . up; "
             "h(t) = band-passed acc - v(t) up; v'(t) = (v(t+1) - v(t-1)) fs / 2 with indices modulo N; "
             "F = (1/N) sum_t h(t) v'(t); den = sqrt((1/N) sum_t |h(t)|^2 (1/N) sum_t v'(t)^2); "
-            "acc_x__fwd, acc_y__fwd, acc_z__fwd = F / den along the phone's x, y, z (0 when den <= 1e-12); "
+            "acc_x__fwd, acc_y__fwd, acc_z__fwd = F / den along the phone's x, y, z (0 when den <= 1e-12; NaN when the "
+            "window holds a NaN or infinite sample); "
             "acc_x__fwdface, acc_y__fwdface, acc_z__fwdface = the same times max(0, up_z)"
         ),
     }

@@ -216,3 +216,30 @@ def test_a_saved_model_on_the_set_reads_the_same_rows_whole_chunked_and_streamed
     spec = export_json(model)["features"]
     assert "forward_vector" in spec["conventions"] and spec["conventions"]["forward_vector"]["band_hz"] == [0.5, 3.0]
     assert [f["paper_number"] for f in spec["features"][-3:]] == [None, None, None]
+
+
+def test_a_window_with_a_nan_sample_has_no_vector_as_the_52_statistics():
+    """A NaN sample makes the window's statistics NaN (features_from_arrays does not refuse it); the forward vector is
+    NaN there too, not the 0 of a window without a lag (which a model would read as a real, calm window)."""
+    fs, n = 50.0, 400
+    acc = _walk(n=n, fs=fs)
+    acc[100, 0] = np.nan
+    starts = _starts(n, 75, 37)
+    bad = (starts <= 100) & (100 < starts + 75)
+    for subset in ("all52+fwd", "all52+fwdface"):
+        x = features_from_arrays(acc, None, fs, starts, 75, subset)
+        assert np.isnan(x[bad, 0]).all()  # acc_x__mean: the 52 statistics see the NaN
+        assert np.isnan(x[bad, -3:]).all() and np.isfinite(x[~bad, -3:]).all()
+
+
+def test_windows_too_short_for_the_band_are_refused_not_read_as_zero():
+    """Under 1/3 s no Fourier coefficient of the window lies in 0.5-3 Hz and every vector would be 0 (no lag): a window
+    of such a length is refused with the fix (gaitml features, training and predict read windows through extract_features)."""
+    rec = Recording.from_arrays(_walk(n=600), 50.0)
+    with pytest.raises(InputError, match=r"forward vector.*--window-s|window-s.*forward vector"):
+        extract_features(rec, subset="all52+fwdface", length_s=0.3)
+    with pytest.raises(InputError, match="forward vector"):
+        StreamingFeatureExtractor(50.0, length_s=0.3, subset="all52+fwd")
+    assert extract_features(rec, subset="all52", length_s=0.3).shape[1] == 52  # the 52 read any window
+    f = extract_features(rec, subset="all52+fwd", length_s=0.5)  # 0.5 s: 2 Hz is in the band
+    assert (np.abs(f["acc_y__fwd"].to_numpy()) > 0.5).mean() > 0.8

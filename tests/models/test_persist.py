@@ -139,6 +139,33 @@ def _info(ds, kind="linear-ovo-svm", input_kind="features", fset="all52"):
 
 
 # ------------------------------------------------------------------ JSON export in plain numpy
+def _forward_from_json(spec: dict, acc: np.ndarray, starts: np.ndarray, length: int) -> np.ndarray:
+    """W1..W6 of every window, step by step as spec["features"]["conventions"]["forward_vector"]["rule"] states them:
+    columns acc_x/y/z__fwd then acc_x/y/z__fwdface."""
+    rule = spec["features"]["conventions"]["forward_vector"]
+    lo, hi = rule["band_hz"]
+    fs, n = float(spec["sampling_rate_hz"]), length
+    t = np.arange(n)
+    freq = np.arange(n // 2 + 1) * fs / n  # coefficient k of the real DFT is at k fs / N
+    out = np.zeros((len(starts), 6))
+    for r, s in enumerate(starts):
+        w = acc[s : s + n]
+        g = w.mean(axis=0)
+        up = g / np.linalg.norm(g) if np.linalg.norm(g) > 1e-6 else np.array([0.0, 0.0, 1.0])
+        d = np.column_stack([w[:, c] - np.polyval(np.polyfit(t, w[:, c], 1), t) for c in range(3)])
+        spec_c = np.fft.rfft(d, axis=0)
+        spec_c[(freq < lo) | (freq > hi)] = 0.0
+        bp = np.fft.irfft(spec_c, n=n, axis=0)
+        v = bp @ up
+        h = bp - np.outer(v, up)
+        dv = (v[(t + 1) % n] - v[(t - 1) % n]) * fs / 2
+        F = (h * dv[:, None]).mean(axis=0)
+        den = np.sqrt(np.mean(np.sum(h * h, axis=1)) * np.mean(dv * dv))
+        out[r, :3] = F / den if den > 1e-12 else 0.0
+        out[r, 3:] = out[r, :3] * max(0.0, up[2])
+    return out
+
+
 def _numpy_predict_from_json(
     spec: dict, acc: np.ndarray, gyr: np.ndarray | None, cadence_hz: np.ndarray | None = None, step_peaks: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -155,6 +182,15 @@ def _numpy_predict_from_json(
     names = [f["name"] for f in spec["features"]["features"]]
     X = features_from_arrays(acc, gyr, fs=spec["sampling_rate_hz"], starts=starts, length=length, subset=spec["features"]["set"])
     assert X.shape[1] == len(names)
+    fwd = [i for i, f in enumerate(spec["features"]["features"]) if f["stat"] in ("fwd", "fwdface")]
+    if fwd:  # the forward vector from the JSON's own words, not gaitml's code
+        own = _forward_from_json(spec, acc, starts, length)
+        cols = [
+            ("xyz".index(f["channel"][-1]) + (3 if f["stat"] == "fwdface" else 0)) for f in (spec["features"]["features"][i] for i in fwd)
+        ]
+        # the words give gaitml's numbers (not only its answers: a flat phone's face-up weight is 1 whatever its form)
+        np.testing.assert_allclose(own[:, cols], X[:, fwd], rtol=0, atol=1e-9)
+        X[:, fwd] = own[:, cols]
     clf = spec["classifier"]
     coef, intercept = np.array(clf["coef"]), np.array(clf["intercept"])
     pairs, labels = clf["pairs"], spec["labels"]
@@ -239,6 +275,7 @@ def test_json_export_in_plain_numpy_equals_predict_on_the_demo_route(tmp_path):
     f = spec["features"]["features"]
     assert len(f) == 107 and f[0]["code"] == "F1" and f[51]["paper_number"] == 52 and f[52]["code"] == "G1" and f[52]["paper_number"] == 1
     assert [x["code"] for x in f[104:]] == ["W4", "W5", "W6"]  # the face-up-weighted forward vector (features/catalogue.md)
+    assert spec["features"]["set"] in spec["features"]["channels"]["gyr_x, gyr_y, gyr_z"]  # the gyroscope's sets name the model's
     assert spec["window"]["length_samples"] == 75 and spec["window"]["hop_samples"] == 38
     for key in ("rule", "tie_rule"):
         assert spec["classifier"]["voting"][key]

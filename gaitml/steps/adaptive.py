@@ -746,6 +746,25 @@ def bout_edge_keep(bout: np.ndarray, confidence: np.ndarray, ratio: float) -> np
     return (idx >= first[member]) & (idx <= last[member])
 
 
+def _bout_numbers(pk: np.ndarray, period: np.ndarray) -> np.ndarray:
+    """Walking-bout number of every peak (non-decreasing from 0): a gap over :data:`BOUT_GAP_RATIO` local step
+    periods (the larger of its two peaks' ``period``, samples) ends one bout and starts the next."""
+    if len(pk) == 0:
+        return np.zeros(0, dtype=np.int64)
+    gap = np.diff(pk).astype(float) > BOUT_GAP_RATIO * np.maximum(period[:-1], period[1:])
+    return np.concatenate([[0], np.cumsum(gap)]).astype(np.int64)
+
+
+def _step_noise_floor(cs: np.ndarray, pk: np.ndarray, k, n: int) -> np.ndarray:
+    """The noise floor of stage 4 at each peak: the RMS of the band-passed signal over ``k`` samples (one step
+    period, a scalar or one per peak) before the peak and over ``k`` after it, the smaller of the two. ``cs`` is the
+    cumulative sum of the squared signal with a leading 0, ``n`` the signal's length."""
+    a, b = np.maximum(pk - k, 0), np.minimum(pk + k + 1, n)
+    before = np.sqrt((cs[pk + 1] - cs[a]) / np.maximum(pk + 1 - a, 1))
+    after = np.sqrt((cs[b] - cs[pk]) / np.maximum(b - pk, 1))
+    return np.minimum(before, after)
+
+
 def bout_octave(
     pk: np.ndarray,
     bout: np.ndarray,
@@ -967,11 +986,7 @@ def adaptive_steps(
     # (motion on both sides: the fold spreads a step by one period, and a one-sided test keeps the last step of a
     # walk from lending its energy to a phantom step one period later)
     cs = np.concatenate([[0.0], np.cumsum(y * y)])
-    k = np.maximum(np.rint(T).astype(np.int64), 1)
-    a, b = np.maximum(pk - k, 0), np.minimum(pk + k + 1, n)
-    before = np.sqrt((cs[pk + 1] - cs[a]) / np.maximum(pk + 1 - a, 1))
-    after = np.sqrt((cs[b] - cs[pk]) / np.maximum(b - pk, 1))
-    rms = np.minimum(before, after)
+    rms = _step_noise_floor(cs, pk, np.maximum(np.rint(T).astype(np.int64), 1), n)
     keep = dominant & (s[pk] > 0) & (R >= min_periodicity) & (rms >= min_rms_ms2)
     pk, T, R, inferred, by_swing = pk[keep], T[keep], R[keep], inferred[keep], by_swing[keep]
     amp = s[pk]
@@ -980,8 +995,7 @@ def adaptive_steps(
     octave = octave_counts([])
     octave_bouts = {"first_peak": np.zeros(0, dtype=np.int64), "octave": np.zeros(0, dtype=np.int64)}
     if gyr_rads is not None and octave_swing_min_correlation > 0 and len(pk) >= 3:
-        gap0 = np.diff(pk).astype(float) > BOUT_GAP_RATIO * np.maximum(T[:-1], T[1:])
-        bout0 = np.concatenate([[0], np.cumsum(gap0)])
+        bout0 = _bout_numbers(pk, T)
         octv, swing_step = bout_octave(
             pk,
             bout0,
@@ -1016,11 +1030,8 @@ def adaptive_steps(
                 # first, so a push-off peak that loses to its heel strike cannot in turn suppress the next step)
                 c = scipy.signal.find_peaks(sb, distance=max(1, int(round(min_distance_ratio * st))))[0]
                 c = c[sb[c] > 0]
-                pc, kk = a + c, max(1, int(round(st)))
-                lo_, hi_ = np.maximum(pc - kk, 0), np.minimum(pc + kk + 1, n)
-                floor = np.minimum(
-                    np.sqrt((cs[pc + 1] - cs[lo_]) / np.maximum(pc + 1 - lo_, 1)), np.sqrt((cs[hi_] - cs[pc]) / np.maximum(hi_ - pc, 1))
-                )
+                pc = a + c
+                floor = _step_noise_floor(cs, pc, max(1, int(round(st))), n)
                 c, pc = c[floor >= min_rms_ms2], pc[floor >= min_rms_ms2]
                 near = idx[np.clip(np.searchsorted(pk[idx], pc), 0, len(idx) - 1)]
                 parts.append(
@@ -1035,8 +1046,8 @@ def adaptive_steps(
         d = np.diff(pk).astype(float)
         # a gap over BOUT_GAP_RATIO local step periods is not a step interval (its timing regularity would be 0):
         # it ends one walking bout and starts the next, and a step's regularity uses its intervals inside its bout
-        gap = d > BOUT_GAP_RATIO * np.maximum(T[:-1], T[1:])
-        bout = np.concatenate([[0], np.cumsum(gap)])
+        bout = _bout_numbers(pk, T)
+        gap = bout[1:] != bout[:-1]
         prev = np.concatenate([[np.nan], np.where(gap, np.nan, d)])
         nxt = np.concatenate([np.where(gap, np.nan, d), [np.nan]])
         interval = np.where(np.isnan(prev), nxt, np.where(np.isnan(nxt), prev, (prev + nxt) / 2.0))

@@ -33,6 +33,7 @@ import numpy as np
 import pandas as pd
 
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED, _counts, _load, _score
+from experiments.scripts.tyrex_steps_swing import per_person_markdown
 
 #: stage 5a's two settings: octave_swing_min_correlation, max_short_bout_interval_cv (fixed before measuring)
 GRID = {"octave_swing_min_correlation": (0.3, 0.5, 0.7), "max_short_bout_interval_cv": (0.0, 0.1, 0.2)}
@@ -102,17 +103,6 @@ def insample(grid: dict[tuple, pd.DataFrame]) -> str:
     for k in sorted(allp, key=allp.get, reverse=True):
         per = _per_motion(grid[k])
         out.append(f"| {_name(k)} | {allp[k]:.4f} | " + " | ".join(f"{per[m]:.3f}" for m in SCORED) + " |")
-    return "\n".join(out)
-
-
-def per_person(runs: dict[str, pd.DataFrame]) -> str:
-    """Mean count accuracy per motion and person for each named run."""
-    out = ["| run | person | " + " | ".join(SCORED) + " | score |", "|" + "---|" * (3 + len(SCORED))]
-    for name, df in runs.items():
-        for person in (*PEOPLE, "all"):
-            d = df if person == "all" else df[df["person"] == person]
-            per = _per_motion(d)
-            out.append(f"| {name} | {person} | " + " | ".join(f"{per[m]:.3f}" for m in SCORED) + f" | {_score(d):.4f} |")
     return "\n".join(out)
 
 
@@ -355,7 +345,7 @@ def main(argv: list[str] | None = None) -> int:
     runs["stage 2c (0.3) alone"] = _counts(items, gyro_swing_min_periodicity=0.3)
     runs["adfsm"] = adfsm_counts(items)
     print("\nPer person (in sample):\n")
-    print(per_person(runs))
+    print(per_person_markdown(runs))
     return 0
 
 

@@ -95,10 +95,8 @@ __all__ = ["FORWARD_BAND_HZ", "FORWARD_FACE_NAMES", "FORWARD_NAMES", "check_forw
 #: lateral sway at the stride frequency, which is orthogonal to the vertical's step-frequency rate
 #: and adds nothing to F) and drops the phone's slow turns and tilts; 3 Hz keeps the fastest
 #: walking and drops the step's higher harmonics (heel-strike transients), whose phase against the
-#: vertical is not the pendulum's. The band is the one of the side-direction study
-#: (experiments/reports/default-model.md SD.4 and SD.6, where it was tried on all three tyrex people
-#: after the unfiltered figures, beside 1-2.5 Hz; a whole-recording Butterworth there, this module's
-#: per-window mask here); it was taken as it was and not tuned for this group. In a 1.5 s window at 50 Hz the band keeps the coefficients at 0.67, 1.33,
+#: vertical is not the pendulum's. How the band was chosen is told in experiments/reports/default-model.md
+#: (SD.4, SD.6 and "Forward vector"). In a 1.5 s window at 50 Hz the band keeps the coefficients at 0.67, 1.33,
 #: 2.00 and 2.67 Hz.
 FORWARD_BAND_HZ = (0.5, 3.0)
 #: The columns of the group, in order (``<channel>__<stat>``, stat ``fwd``).

@@ -120,7 +120,7 @@ STRUCTURE_ALPHA = 0.01
 #: ``persist_steps`` (3), the fewest steps on which HDE's buffered feedback can change a heading at all (the
 #: buffer is first full at step 10 and must pass 3 consecutive steps; the feedback then corrects the steps
 #: after it). Below it only the rate fit would act, fitted on a few steps of one straight stretch, whose
-#: headings line up whatever the walk (a 6-step tyrex AR recording passes the asymptotic threshold, 0.957 > 0.897)
+#: headings line up whatever the walk and can pass the asymptotic threshold (experiments/reports/tyrex-pdr.md)
 STRUCTURE_MIN_STEPS = 13
 #: steps per block of the drift-rate score (bounds its memory: grid x block floats)
 _SCORE_BLOCK = 4096

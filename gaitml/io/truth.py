@@ -259,12 +259,21 @@ def truth_of_recording(rec) -> Truth:
         )
         truth.origin_latlon = (float(lat[0]), float(lon[0]))
         return truth
-    traj = rec.reference.get("trajectory")
-    if traj is not None and len(traj):
-        tcol = "t_s" if "t_s" in traj else "t"
-        t = traj[tcol].to_numpy(float) - float(rec.meta.get("t0_original_s", 0.0))
-        return truth_from_table(t, traj[["x_m", "y_m"]].to_numpy(float), source="reference trajectory")
+    traj = reference_trajectory_truth(rec)
+    if traj is not None:
+        return traj
     raise InputError(f"--truth self: {rec.name} carries no landmarks (POSI lines) and no reference trajectory; pass --truth FILE.")
+
+
+def reference_trajectory_truth(rec) -> Truth | None:
+    """The reference trajectory a recording carries (``rec.reference['trajectory']``, columns ``t_s`` or ``t`` on the
+    file's clock, ``x_m``, ``y_m``) as a dense truth on the recording's time base; None when it carries none."""
+    traj = rec.reference.get("trajectory")
+    if traj is None or not len(traj):
+        return None
+    tcol = "t_s" if "t_s" in traj else "t"
+    t = traj[tcol].to_numpy(float) - float(rec.meta.get("t0_original_s", 0.0))
+    return truth_from_table(t, traj[["x_m", "y_m"]].to_numpy(float), source="reference trajectory")
 
 
 def tyrex_track(rec, truth_path=None) -> tuple[np.ndarray, np.ndarray, Path, float]:
@@ -362,20 +371,25 @@ def dense_truth(rec, spec: str = "self") -> tuple[np.ndarray, np.ndarray, str]:
     ------
     InputError
         ``'self'`` on a recording without a motion capture or a reference trajectory; a truth of sparse landmarks (true
-        step lengths need a dense path); and as :func:`recording_truth`.
+        step lengths need a dense path); and as :func:`recording_truth`. A recording that carries both landmarks and a
+        reference trajectory is fitted against the trajectory (scored against the landmarks).
     """
     kind, path = truth_source(rec, spec)
     if kind == "tyrex":
         t, xy, folder, _dt = tyrex_track(rec, path)
         return t, xy, f"tyrex:{folder.name}"
-    if str(spec) == "self":
-        traj = rec.reference.get("trajectory")
-        if traj is None or not len(traj):
+    tr = None
+    if kind == "self":
+        # the truth the recording carries: its reference trajectory, even where it carries landmarks too (the
+        # scoring view's first choice), since fitting needs a dense path
+        tr = reference_trajectory_truth(rec)
+        if tr is None and str(spec) == "self":
             raise InputError(
                 f"{rec.name} carries no truth trajectory (motion capture or a reference path); "
                 "pass --truth FILE, a dense t,x_m,y_m CSV on the recording's clock."
             )
-    tr = recording_truth(rec, spec)
+    if tr is None:
+        tr = recording_truth(rec, spec)
     if tr.kind != "dense":
         raise InputError(
             f"the truth {tr.source} of {rec.name} is sparse landmarks (a point every {np.median(np.diff(tr.table['t_s'])):.1f} s); "

@@ -60,6 +60,25 @@ def test_a_truth_file_is_read_once_for_both_views_and_landmarks_only_score(walk,
         dense_truth(walk, str(sparse))  # not fitted
 
 
+def test_a_recording_with_landmarks_and_a_trajectory_is_scored_on_the_landmarks_and_fitted_on_the_trajectory(walk):
+    traj = walk.reference["trajectory"]
+    pick = traj.iloc[::250]
+    landmarks = pd.DataFrame(
+        {
+            "t_s": pick["t"].to_numpy(float),
+            "lat_deg": 48.0 + pick["y_m"].to_numpy(float) / 111_000.0,
+            "lon_deg": 2.0 + pick["x_m"].to_numpy(float) / 74_000.0,
+            "floor": 0.0,
+        }
+    )
+    both = walk.replace(reference={**walk.reference, "landmarks": landmarks}, check_units=False)
+    assert recording_truth(both, "self").kind == "landmarks"  # scored on the landmarks
+    t, xy, name = dense_truth(both, "self")  # fitted on the dense trajectory (it refused the landmarks before)
+    assert name == "reference trajectory"
+    np.testing.assert_array_equal(xy, traj[["x_m", "y_m"]].to_numpy(float))
+    assert len(t) == len(traj)
+
+
 def test_no_truth_is_refused_with_each_views_message(walk):
     bare = walk.replace(reference={}, check_units=False)
     with pytest.raises(InputError, match="carries no landmarks .POSI lines. and no reference trajectory; pass --truth FILE"):

@@ -276,8 +276,14 @@ def _uncovered(ref: np.ndarray, runs: list[dict]) -> np.ndarray:
     return np.min(np.abs(ref[:, None] - steps[None, :]), axis=1) > COVER_S
 
 
-#: adaptive's bout rules off (tyrex_steps_misses.ABLATIONS "no_bout_rules"): a missed step found then was dropped by them
-NO_BOUT_RULES = {"short_bout_steps": 0, "min_bout_steps": 1, "edge_confidence_ratio": 0.0}
+#: adaptive's rules that drop steps after they are picked, each switched off in turn (``--misses``): the short-bout
+#: rule alone, then every bout rule (tyrex_steps_misses.ABLATIONS "no_bout_rules"), then the gyroscope gait check; a
+#: missed step found with one of them off was picked and then dropped by it
+DROP_RULES_OFF = {
+    "short-bout rule": {"short_bout_steps": 0},
+    "other bout rules": {"short_bout_steps": 0, "min_bout_steps": 1, "edge_confidence_ratio": 0.0},
+    "gait check": {"gait_check": False},
+}
 #: a cadence window whose step period is at least this multiple of the reference's local step interval read strides
 STRIDE_RATIO = 1.5
 #: the reference's local step interval: the median interval of its steps within this many seconds of the missed one
@@ -288,8 +294,8 @@ def miss_causes(items: list[dict], k: tuple) -> pd.DataFrame:
     """Per step-counting recording at setting ``k``: its reference steps with no detected step within :data:`COVER_S`,
     by the state of the cadence window nearest them and the walker's speed.
 
-    Where |acc| periodicity is >= 0.3 there or stage 2c set the window: ``bout rules`` (a step is found there with
-    :data:`NO_BOUT_RULES`), else ``stride period`` (the window's step period is at least :data:`STRIDE_RATIO` times
+    Where |acc| periodicity is >= 0.3 there or stage 2c set the window: the first rule of :data:`DROP_RULES_OFF`
+    with which a step is found there (the step was picked and that rule dropped it), else ``stride period`` (the window's step period is at least :data:`STRIDE_RATIO` times
     the reference's local interval: one step per stride), else ``not picked``. Where stage 2c refused the window:
     ``irregular swing`` (it sets the window once its regularity test is relaxed, :data:`RELAXED_2C`), ``weak swing``
     (once its swing RMS floor is relaxed too), ``no swing`` (neither). ``slow``: the body moved slower than 0.3 m/s
@@ -302,11 +308,11 @@ def miss_causes(items: list[dict], k: tuple) -> pd.DataFrame:
         if it["motion"] not in STEP_MOTIONS:
             continue
         ref = np.asarray(it["ref"]["t_s"])
-        runs = {"base": params(k), "no bout rules": {**params(k), **NO_BOUT_RULES}}
+        runs = {"base": params(k), **{c: {**params(k), **v} for c, v in DROP_RULES_OFF.items()}}
         runs.update({c: {**params(k), **v} for c, v in RELAXED_2C.items()})
         got = {c: [_window_flags(r, **p) for r in it["recs"]] for c, p in runs.items()}
         missed = _uncovered(ref, got["base"])
-        found_free = ~_uncovered(ref, got["no bout rules"])
+        found = {c: ~_uncovered(ref, got[c]) for c in DROP_RULES_OFF}
         t, speed, _ = body_state(it["truth"])
         for i in np.flatnonzero(missed):
             x = ref[i]
@@ -318,8 +324,9 @@ def miss_causes(items: list[dict], k: tuple) -> pd.DataFrame:
                 if g["periodicity"][j] >= 0.3 or g["swing"][j]:
                     local = ref[np.abs(ref - x) <= LOCAL_S]
                     interval = float(np.median(np.diff(local))) if len(local) > 1 else np.nan
-                    if found_free[i]:
-                        cause = "bout rules"
+                    dropped = [c for c in DROP_RULES_OFF if found[c][i]]
+                    if dropped:
+                        cause = dropped[0]
                     elif np.isfinite(interval) and g["period"][j] >= STRIDE_RATIO * interval:
                         cause = "stride period"
                     else:
@@ -336,7 +343,7 @@ def miss_causes(items: list[dict], k: tuple) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["recording", "motion", "person", "cause", "slow"])
 
 
-MISS_CAUSES = ("bout rules", "stride period", "not picked", *RELAXED_2C, "no swing", "no window")
+MISS_CAUSES = (*DROP_RULES_OFF, "stride period", "not picked", *RELAXED_2C, "no swing", "no window")
 
 
 def miss_table(df: pd.DataFrame, items: list[dict]) -> str:

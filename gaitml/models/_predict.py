@@ -140,10 +140,11 @@ STILL_STEP_SWING_PERIODICITY = 0.3
 #: reads the body walking, and the table says so instead of deciding. The window keeps the mode ``still`` (``mode_raw``
 #: keeps the model's answer) and claims neither; a standing window it marks is not read as a mode. Only the windows the
 #: gate reports still are looked at, only with a gyroscope. The rhythm alone decides too often to be a veto (as one it
-#: read 0.42 of tyrex's standing windows as a mode); as a mark it was adopted by a rule fixed before it was scored (each
-#: tyrex person left out, native rate and 20 Hz: Phoning's silently wrong share <= 0.05, no motion's silently wrong
-#: count rising, no motion's right share falling by more than 0.01, standing windows marked <= 0.15 and none more read
-#: as a mode; experiments/reports/still-gate.md, "Say unsure where the still gate and the gait evidence disagree").
+#: read many standing windows as a mode: experiments/reports/still-gate.md, vetoswing); as a mark it was adopted by a
+#: rule fixed before it was scored (each tyrex person left out, native rate and 20 Hz: Phoning's silently wrong share
+#: <= 0.05, no motion's silently wrong count rising, no motion's right share falling by more than 0.01, standing
+#: windows marked <= 0.15 and none more read as a mode; same report, "Say unsure where the still gate and the gait
+#: evidence disagree").
 #: False turns the mark off (the column is then all False).
 STILL_UNSURE_DEFAULT = True
 #: :func:`stride_rhythm` band-passes, for each window it reads, the 5 s of angular rate around the window and this

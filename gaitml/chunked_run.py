@@ -496,8 +496,10 @@ def long_predict(
     run-cadence rule where they are the same steps);
     with either on, each chunk reads :data:`DEFAULT_MARGIN_S` of margin on each side for its detector, so that a window's
     steps are the whole-file run's except where a bout or a 5 s cadence window reaches past the margin. ``still``,
-    ``still_vetoed``, ``mode`` and ``window_steps`` (the veto's count in each window the statistic reads still, NaN
-    elsewhere: :func:`~gaitml.models._predict.veto_counts`) are then the whole-file run's
+    ``still_vetoed``, ``mode``, ``still_unsure`` (:func:`~gaitml.models._predict.still_unsure`: the stride rhythm reads
+    the 15 s around a window, inside the margin; the margin is read for it too) and ``window_steps`` (the veto's count
+    in each window the statistic reads still, NaN elsewhere: :func:`~gaitml.models._predict.veto_counts`) are then the
+    whole-file run's
     (a resampled file, whose gate comes after the chunks, reads the statistic of every window from the file as recorded
     first, :func:`_as_recorded_still`, and runs the detector only in a chunk whose core holds a window it reads still).
     """
@@ -522,7 +524,7 @@ def long_predict(
     recording, own_hz, own_meta = _at_model_rate(path, fs, read_kwargs)
     # the still gate reads the file as recorded when it is resampled (still_statistic's ``recorded``): off in the chunks,
     # applied to the whole table below from a pass over the file at its own rate
-    from gaitml.models._predict import STILL_RULE, STILL_THRESHOLDS_MS2
+    from gaitml.models._predict import STILL_RULE, STILL_THRESHOLDS_MS2, STILL_UNSURE_DEFAULT, stride_rhythm
 
     gate_after = STILL_RULE == "std_lp" and abs(own_hz - fs) > 1e-9 * fs
     # a domain record with an orientation-dynamics part decides on the median over the last windows of the
@@ -530,7 +532,7 @@ def long_predict(
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
     dom = getattr(model, "domain", None)
     extra, phase, grid = (0, 1, 1) if dom is None else dom.chunk_context(fs)
-    if veto_n is not None or run_thr:
+    if veto_n is not None or run_thr or STILL_UNSURE_DEFAULT:
         # the step veto and the run-cadence rule read each chunk's steps: a margin of DEFAULT_MARGIN_S (as long_steps
         # reads adaptive's chunks with) gives the detector the bouts around the core's windows, and chunks that start
         # on adaptive's cadence grid give it the whole file's cadence windows (long_steps' rule)
@@ -583,12 +585,20 @@ def long_predict(
             # the gate comes after the chunks (below): the count of the veto's steps in every window of a chunk whose
             # core holds a window the statistic reads still (the chunk's steps found once); no other window is vetoed
             table["window_steps"] = window_step_counts(table, veto_steps(rec)).astype(float)
+        if gate_after:  # the stride rhythm of the windows the statistic reads still, for the still_unsure mark after the gate
+            rhythm = np.zeros(len(table), dtype=bool)
+            if STILL_UNSURE_DEFAULT and rec.has_gyr:
+                read = _lookup(read_still, gstart // hop)
+                if read.any():
+                    rhythm[read] = stride_rhythm(rec, table[read])
+            table["_rhythm"] = rhythm
         # the phone held upright in each window (a side step there has an unsure direction), for the corrected modes below
         upright.append(side_direction_unsure(rec, table, np.full(len(table), SIDE_MODES[0]))[keep])
         parts.append(_globalise_windows(table[keep].reset_index(drop=True), ch.offset, rec.sampling_rate_hz))
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     if gate_after and len(out):
         _still_as_recorded(out, _lookup(read_still, out["start"].to_numpy(np.int64) // hop), veto_n)
+        out["still_unsure"] = out["still"].to_numpy(dtype=bool) & out.pop("_rhythm").to_numpy(dtype=bool)
     if correction and len(out):
         from gaitml.models._predict import STILL
         from gaitml.postprocess import adjacent_window_correction

@@ -6,7 +6,7 @@ repository root. Nothing is fitted; every check compares two runs of the library
 - ``chunks``: the tyrex Phoning and AR walks (motion capture present; the longest segment of each), written as
   gaitml-csv at their own rate and taken down to 20 Hz, predicted whole (:func:`gaitml.models.predict_recording`) and
   in chunks of 13 s and 47 s (:func:`gaitml.chunked_run.long_predict`, chunk sizes the stillsteps round did not try):
-  windows whose ``still``, ``still_vetoed``, ``mode``, ``mode_raw`` differ.
+  windows whose ``still``, ``still_vetoed``, ``still_unsure``, ``mode``, ``mode_raw`` differ.
 - ``stepwin``: a step-window model (the recipe of tests/stepwin/conftest.py: IFSM steps, simulated hand-held phones)
   on the calm walker of tests/models/test_still_step_veto.py (seeds 0-2): of the step windows the statistic reads
   still, how many the default veto (>= 2 steps) keeps.
@@ -29,7 +29,7 @@ import numpy as np
 
 __all__ = ["differing", "main"]
 
-COLUMNS = ("still", "still_vetoed", "mode", "mode_raw")
+COLUMNS = ("still", "still_vetoed", "still_unsure", "mode", "mode_raw")
 
 
 def differing(a, b, columns=COLUMNS) -> dict[str, int]:
@@ -65,19 +65,23 @@ def check_chunks(data: Path, model) -> None:
                 for chunk_s in (13.0, 47.0):
                     diff = differing(whole, long_predict(model, p, chunk_s=chunk_s, progress=False))
                     a = tot.setdefault(
-                        (motion, "own rate" if rate is None else "20 Hz", chunk_s), dict.fromkeys(("windows", "vetoed", *COLUMNS), 0)
+                        (motion, "own rate" if rate is None else "20 Hz", chunk_s),
+                        dict.fromkeys(("windows", "vetoed", "marked", *COLUMNS), 0),
                     )
                     a["windows"] += len(whole)
                     a["vetoed"] += int(whole["still_vetoed"].sum())
+                    a["marked"] += int(whole["still_unsure"].sum())
                     for c, n in diff.items():
                         a[c] += n
     print(
-        "\n| motion | recorded at | chunk (s) | windows | vetoed (whole) | still differs | still_vetoed differs | mode differs | mode_raw differs |"
+        "\n| motion | recorded at | chunk (s) | windows | vetoed (whole) | still_unsure (whole) | still differs | still_vetoed differs "
+        "| still_unsure differs | mode differs | mode_raw differs |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for (motion, rate, chunk_s), a in tot.items():
         print(
-            f"| {motion} | {rate} | {chunk_s:g} | {a['windows']} | {a['vetoed']} | {a['still']} | {a['still_vetoed']} | {a['mode']} | {a['mode_raw']} |"
+            f"| {motion} | {rate} | {chunk_s:g} | {a['windows']} | {a['vetoed']} | {a['marked']} | {a['still']} | {a['still_vetoed']} "
+            f"| {a['still_unsure']} | {a['mode']} | {a['mode_raw']} |"
         )
 
 

@@ -24,7 +24,7 @@ are trained on the speed rule's windows under either rule, so the models are the
 
 Scores per motion over the moving windows (``gaitml predict``'s own path,
 :func:`gaitml.models.predict_recording`, adjacent-window correction on): *right* (in
-domain and the recording's mode), *flagged* (out of domain), *silently wrong* (in domain,
+domain and the recording's mode), *flagged* (out of domain, or marked ``still_unsure``), *silently wrong* (in domain,
 another mode). They add up to 1.
 
 Recipes (the project's training path: :func:`gaitml.pipeline.runner.build_dataset`,
@@ -120,6 +120,17 @@ def moving_labels(t_s, truth_t_s, truth_xy, mode: str, *, min_speed_ms: float | 
     return out
 
 
+def flagged_windows(pred: pd.DataFrame) -> np.ndarray:
+    """Which windows of a prediction table claim no answer: out of domain (``in_domain`` False), or reported ``still``
+    and marked ``still_unsure`` (the still gate and the gyroscope's stride rhythm disagree: the table says it does not
+    know whether the body stands or walks, as it does for a window out of domain; experiments/reports/still-gate.md,
+    stillflag)."""
+    flagged = pred["in_domain"].map(lambda v: v is False or v == False).to_numpy(bool)  # noqa: E712 (object column of True/False)
+    if "still_unsure" in pred:
+        flagged = flagged | pred["still_unsure"].to_numpy(bool)
+    return flagged
+
+
 def score_windows(pred: pd.DataFrame, true_mode: str) -> dict:
     """Right / flagged / silently wrong over the windows of ``pred`` whose label is ``true_mode`` (counts).
 
@@ -127,7 +138,7 @@ def score_windows(pred: pd.DataFrame, true_mode: str) -> dict:
     ``still`` (no step in the window) rather than one of the five modes.
     """
     w = pred[(pred["label"].astype(str) == true_mode) & (pred["label_fraction"] >= 0.5)]
-    flagged = w["in_domain"].map(lambda v: v is False or v == False).to_numpy(bool)  # noqa: E712 (object column of True/False)
+    flagged = flagged_windows(w)
     right = (~flagged) & (w["mode"].astype(str).to_numpy() == true_mode)
     still = (~flagged) & (w["mode"].astype(str).to_numpy() == "still")
     return {
@@ -211,14 +222,13 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
         p = _predict(model, it.get("score_recording", it["recording"]), gate)
         s = score_windows(p, it["mode"])
         still = p[(p["label"].astype(str) == "still") & (p["label_fraction"] >= 0.5)]
-        n_still_flagged = int(sum(v is False for v in still["in_domain"]))
+        still_flags = flagged_windows(still)
+        n_still_flagged = int(still_flags.sum())
         # standing windows answered with one of the five modes (neither 'still' nor flagged)
-        n_still_moded = int(
-            sum((v is not False) and m != "still" for v, m in zip(still["in_domain"], still["mode"].astype(str), strict=True))
-        )
+        n_still_moded = int(np.sum(~still_flags & (still["mode"].astype(str).to_numpy() != "still")))
         # moving by speed but not walking (the walking rule's third class): how they were answered
         nw = p[(p["label"].astype(str) == NOT_WALKING) & (p["label_fraction"] >= 0.5)]
-        nw_in = nw["in_domain"].map(lambda v: v is not False).to_numpy(bool)
+        nw_in = ~flagged_windows(nw)
         rows.append(
             {
                 "subject": it["subject"],

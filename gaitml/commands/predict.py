@@ -158,6 +158,15 @@ def side_direction_warning(n_unsure: int, n: int, unit: str) -> str:
     )
 
 
+def still_unsure_warning(n_unsure: int, n: int, unit: str) -> str:
+    """One line: windows reported ``still`` in which the phone turns with a stride rhythm (gaitml.models._predict.still_unsure)."""
+    return (
+        f"{n_unsure} of {n} {unit} reported 'still' turn the phone with a walker's stride rhythm (the gyroscope swings once "
+        "per stride and reverses between steps) although |acc| shows no step: still or a calm walk is unsure there "
+        "(still_unsure; mode_raw keeps the model's answer)."
+    )
+
+
 def run_cadence_warning(n_moved: int, n: int, unit: str, min_cadence_hz: float | None = None) -> str:
     """One line: windows the model read ``run`` at a walking step cadence, answered with its best other mode (gaitml.models._predict.run_cadence_rule)."""
     from gaitml.models._predict import RUN_MIN_CADENCE_HZ, RUN_STRIDE_CADENCE_HZ
@@ -214,6 +223,9 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
     if n_still or n_vetoed:  # a line whenever a window is flagged either way, as the other flags
         veto_in_force = (table.attrs.get("still_gate") or default_still_gate()).get("step_veto_min_steps")
         log(f"gaitml: warning: {still_warning(n_still, len(table), unit, n_vetoed, veto_in_force or 0)}")
+    n_still_unsure = int(table["still_unsure"].sum()) if "still_unsure" in table else 0
+    if n_still_unsure:
+        log(f"gaitml: warning: {still_unsure_warning(n_still_unsure, len(table), unit)}")
     n_unsure = int(table["side_direction_unsure"].sum()) if "side_direction_unsure" in table else 0
     if n_unsure:
         log(f"gaitml: warning: {side_direction_warning(n_unsure, len(table), unit)}")
@@ -249,6 +261,7 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                         "side_direction_unsure": bool(getattr(r, "side_direction_unsure", False)),
                         "run_at_walking_cadence": bool(getattr(r, "run_at_walking_cadence", False)),
                         "still_vetoed": bool(getattr(r, "still_vetoed", False)),
+                        "still_unsure": bool(getattr(r, "still_unsure", False)),
                     }
                     for r in table.itertuples()
                 ],
@@ -259,6 +272,8 @@ def _report(args, model, table, unit: str, settings: dict) -> int:
                 "still_gate": table.attrs.get("still_gate", default_still_gate()),
                 # windows whose |acc| statistic read still but in which the veto's step finder found steps (the step veto)
                 "still_vetoed_count": n_vetoed,
+                # windows reported still in which the phone turns with a stride rhythm: the evidence disagrees (still_unsure)
+                "still_unsure_count": n_still_unsure,
                 "side_direction_unsure_count": n_unsure,
                 "run_at_walking_cadence_count": n_moved,
                 "run_cadence": run_cadence,

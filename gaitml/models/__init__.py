@@ -28,6 +28,7 @@ from gaitml.models._predict import (
     predict_recording,
     rate_reason,
     still_windows,
+    stride_rhythm,
     window_placement_reason,
 )
 from gaitml.models._registry import MODEL_KINDS, TORCH_KINDS, make_model, model_class, model_param_names
@@ -72,6 +73,7 @@ __all__ = [
     "save_model",
     "sha256_file",
     "still_windows",
+    "stride_rhythm",
     "torch_available",
     "window_by",
     "window_detector",

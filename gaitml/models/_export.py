@@ -40,6 +40,8 @@ version 4 must not read a version 5 export: it would answer ``still`` in a calm 
 predict keeps in their mode. The entry's ``swing_periodicity`` (added within version 5; absent: 0) is the swing stage
 setting gaitml's own step finder runs for the veto on a recording with a gyroscope
 (:data:`gaitml.models._predict.STILL_STEP_SWING_PERIODICITY`); the steps are the reader's own detector's in any case.
+The still gate's ``unsure`` entry (added within version 5; absent: not in force) states the ``still_unsure`` mark
+(:func:`gaitml.models._predict.still_unsure`): it changes no label, so a reader without it answers the same labels.
 """
 
 from __future__ import annotations
@@ -294,6 +296,34 @@ def _still_spec() -> dict:
             "Unless step_veto says otherwise."
         ),
         "step_veto": _step_veto_spec(STILL_STEP_VETO_MIN_STEPS, still_step_veto_threshold(None)),
+        "unsure": _still_unsure_spec(),
+    }
+
+
+def _still_unsure_spec() -> dict:
+    """The ``still_unsure`` mark (gaitml.models._predict.still_unsure, STILL_UNSURE_DEFAULT) as the JSON export states it."""
+    from gaitml.models._predict import STILL_UNSURE_DEFAULT, STILL_UNSURE_PAD_S
+    from gaitml.steps import adaptive as ad
+
+    return {
+        "in_force": bool(STILL_UNSURE_DEFAULT),
+        "window_s": ad.WINDOW_S,
+        "pad_s": STILL_UNSURE_PAD_S,
+        "band_hz": list(ad.GYRO_BAND_HZ),
+        "min_rms_rads": ad.GYRO_MIN_RMS_RADS,
+        "min_periodicity": ad.MIN_PERIODICITY,
+        "max_half_correlation": -ad.GYRO_SWING_HALF_CORRELATION,
+        "step_hz": [ad.MIN_STEP_HZ, ad.MAX_STEP_HZ],
+        "rule": (
+            "Applied by gaitml predict by default when in_force is true, with a gyroscope only. A window left with the label "
+            "'still' (after step_veto) is marked still_unsure (the label stays) when the phone turns with a stride rhythm "
+            "around it: over the window_s seconds centred on the window (moved inside the recording at its ends), the angular "
+            "rate with its mean removed, band-passed to band_hz (order-2 Butterworth, zero phase, over those seconds and pad_s "
+            "more on each side), projected on its principal axis, has an RMS of at least min_rms_rads; the autocorrelation of "
+            "that projection has a peak at a stride lag P (two steps of step_hz) of at least min_periodicity, and at P / 2 it "
+            "is at most max_half_correlation. gaitml's exact lag pick is its adaptive detector's swing_stride at about 25 Hz. "
+            "A reader without a gyroscope, or without this rule, marks nothing: the label is the same either way."
+        ),
     }
 
 

@@ -16,6 +16,10 @@ __all__ = [
     "domain_columns",
     "still_windows",
     "side_direction_unsure",
+    "still_unsure",
+    "stride_rhythm",
+    "STILL_UNSURE_DEFAULT",
+    "STILL_UNSURE_PAD_S",
     "window_step_cadence",
     "best_other_modes",
     "run_cadence_rule",
@@ -131,6 +135,23 @@ STILL_STEP_VETO_DEFAULT: int | None = STILL_STEP_VETO_MIN_STEPS
 #: evidence"). 0 runs ``adaptive`` at its defaults. Without a gyroscope the stage cannot run and is not asked for: the
 #: veto and the run-cadence rule then read the same steps, found once.
 STILL_STEP_SWING_PERIODICITY = 0.3
+#: Mark a window the still gate reports :data:`STILL` (after the step veto) *unsure* (``still_unsure``) where the
+#: phone turns with a stride rhythm around it (:func:`stride_rhythm`): the gate reads no gait in |acc|, the gyroscope
+#: reads the body walking, and the table says so instead of deciding. The window keeps the mode ``still`` (``mode_raw``
+#: keeps the model's answer) and claims neither; a standing window it marks is not read as a mode. Only the windows the
+#: gate reports still are looked at, only with a gyroscope. The rhythm alone decides too often to be a veto (as one it
+#: read many standing windows as a mode: experiments/reports/still-gate.md, vetoswing); as a mark it was adopted by a
+#: rule fixed before it was scored (each tyrex person left out, native rate and 20 Hz: Phoning's silently wrong share
+#: <= 0.05, no motion's silently wrong count rising, no motion's right share falling by more than 0.01, standing
+#: windows marked <= 0.15 and none more read as a mode; same report, "Say unsure where the still gate and the gait
+#: evidence disagree").
+#: False turns the mark off (the column is then all False).
+STILL_UNSURE_DEFAULT = True
+#: :func:`stride_rhythm` band-passes, for each window it reads, the 5 s of angular rate around the window and this
+#: many seconds more on each side (inside the recording), so that the zero-phase filter's start-up at the ends of the
+#: piece settles before the 5 s it reads (the band's lowest edge, 0.3 Hz, rings for about one period, 3.3 s). Each
+#: window reads only samples within 7.5 s of its centre: a chunk with a wider margin gives the whole-file answer.
+STILL_UNSURE_PAD_S = 5.0
 #: The side-step modes, whose name carries a direction (left / right of the walker).
 SIDE_MODES = ("side_left", "side_right")
 #: A side step's direction is read from the phone's own lateral axis (the phone-frame features
@@ -543,7 +564,8 @@ def predict_recording(
         the correction, or equal to ``mode_raw``; ``"still"`` for a window with no
         gait in it, :func:`still_windows`, unless the step veto keeps it; the model's best other mode for a window
         read ``run`` at a walking cadence, :func:`run_cadence_rule`), ``still``, ``still_vetoed`` (the gate's
-        statistic read the window still and the veto kept its mode), ``window_steps`` (in each window the gate's statistic
+        statistic read the window still and the veto kept its mode), ``still_unsure`` (a window reported ``still`` in which
+        the phone turns with a stride rhythm: the gate and the gyroscope disagree, :func:`still_unsure`), ``window_steps`` (in each window the gate's statistic
         reads still, the count of the veto's steps, :func:`veto_steps`, that the veto decided on; NaN in every other
         window, and in every window when the veto is off: :func:`veto_counts`), ``run_at_walking_cadence`` (the rule
         moved the window), ``step_cadence_hz`` (the windows' local step cadence when some window is
@@ -628,6 +650,82 @@ def side_direction_unsure(recording: Recording, windows: pd.DataFrame, modes, ma
     norm = np.linalg.norm(total, axis=1)
     cos_z = np.divide(total[:, 2], norm, out=np.zeros(n), where=norm > 0)
     return side & (cos_z < np.cos(np.radians(float(max_deg))))
+
+
+def stride_rhythm(recording: Recording, windows: pd.DataFrame, pad_s: float = STILL_UNSURE_PAD_S) -> np.ndarray:
+    """Per window (``start``, ``end`` samples of ``recording``): does the phone turn with a stride rhythm around it?
+
+    The body that carries the phone (trunk, head, the arm that holds it to the ear) rotates once per stride and
+    reverses between the left and the right step (Perry & Burnfield, *Gait Analysis*, 2nd ed. 2010, ch. 10; the
+    physics of :mod:`gaitml.steps.adaptive`'s stages 2b and 2c); a standing body's sway has no stride period and
+    reverses at no half-stride. The test uses ``adaptive``'s own constants (none fitted here): over the
+    :data:`~gaitml.steps.adaptive.WINDOW_S` (5 s) centred on the window (moved inside the recording at its ends), the
+    angular rate, mean removed and band-passed to :data:`~gaitml.steps.adaptive.GYRO_BAND_HZ` (order 2, zero phase,
+    over the 5 s and ``pad_s`` more on each side), taken at the rate ``adaptive`` decimates to
+    (:func:`~gaitml.steps.adaptive.cadence_decimation`) and projected on its principal axis, has an RMS of at least
+    :data:`~gaitml.steps.adaptive.GYRO_MIN_RMS_RADS`; its stride period P (:func:`~gaitml.steps.adaptive.swing_stride`:
+    the shortest autocorrelation peak near the strongest over two steps of the human range) correlates at least
+    :data:`~gaitml.steps.adaptive.MIN_PERIODICITY`, P / 2 is a step of the human range
+    (:data:`~gaitml.steps.adaptive.MIN_STEP_HZ`-:data:`~gaitml.steps.adaptive.MAX_STEP_HZ`), and the rate is in
+    anti-phase at P / 2 (correlation at most -:data:`~gaitml.steps.adaptive.GYRO_SWING_HALF_CORRELATION`).
+
+    All False without a gyroscope and for a recording shorter than 5 s. Windows are read in batches (bounded memory).
+    """
+    from gaitml.signal import bandpass
+    from gaitml.steps import adaptive as ad
+
+    n = len(windows)
+    out = np.zeros(n, dtype=bool)
+    if recording.gyr is None or n == 0:
+        return out
+    fs = float(recording.sampling_rate_hz)
+    g = np.asarray(recording.gyr, dtype=float)
+    q = ad.cadence_decimation(fs)
+    L = int(round(ad.WINDOW_S * fs / q))  # decimated samples of the 5 s
+    span = L * q  # the 5 s in samples
+    if len(g) < span:
+        return out
+    pad = int(round(float(pad_s) * fs))
+    hi_hz = min(ad.GYRO_BAND_HZ[1], 0.45 * fs)
+    centre = 0.5 * (windows["start"].to_numpy(float) + windows["end"].to_numpy(float))
+    a = np.clip(np.round(centre - span / 2.0).astype(np.int64), 0, len(g) - span)  # the 5 s: [a, a + span)
+    lo = np.maximum(a - pad, 0)
+    hi = np.minimum(a + span + pad, len(g))
+    proj = np.zeros((n, L))
+    # pieces of one length are filtered together (all but the ones clipped at the recording's ends), in batches
+    for length in np.unique(hi - lo):
+        idx = np.flatnonzero(hi - lo == length)
+        for b in range(0, len(idx), 256):
+            sel = idx[b : b + 256]
+            seg = g[lo[sel][None, :] + np.arange(length)[:, None]]  # (length, k, 3)
+            seg = bandpass(seg - seg.mean(axis=0, keepdims=True), ad.GYRO_BAND_HZ[0], hi_hz, fs, order=2)
+            take = (a[sel] - lo[sel])[None, :] + np.arange(0, span, q)[:, None]  # (L, k): the 5 s, decimated
+            five = np.take_along_axis(seg, take[:, :, None], axis=0).transpose(1, 0, 2)  # (k, L, 3)
+            five = five - five.mean(axis=1, keepdims=True)
+            axis = np.linalg.eigh(np.einsum("klc,kld->kcd", five, five))[1][:, :, -1]
+            proj[sel] = np.einsum("klc,kc->kl", five, axis)
+    rms = np.sqrt(np.mean(proj**2, axis=1))
+    period, corr, half = ad.swing_stride(proj, fs / q)
+    ok = (rms >= ad.GYRO_MIN_RMS_RADS) & np.isfinite(period)
+    ok &= np.nan_to_num(corr, nan=-1.0) >= ad.MIN_PERIODICITY
+    ok &= np.nan_to_num(half, nan=1.0) <= -ad.GYRO_SWING_HALF_CORRELATION
+    step = period / 2.0
+    with np.errstate(invalid="ignore"):
+        ok &= (step >= (fs / q) / ad.MAX_STEP_HZ) & (step <= (fs / q) / ad.MIN_STEP_HZ)
+    return ok
+
+
+def still_unsure(recording: Recording, windows: pd.DataFrame, still) -> np.ndarray:
+    """The ``still_unsure`` column (:data:`STILL_UNSURE_DEFAULT`): windows reported ``still`` (``still``: bool per window,
+    after the step veto) in which the phone turns with a stride rhythm (:func:`stride_rhythm`); all False when the mark
+    is off or without a gyroscope. Only the still windows are read."""
+    still = np.asarray(still, dtype=bool)
+    out = np.zeros(len(still), dtype=bool)
+    if not STILL_UNSURE_DEFAULT or recording.gyr is None or not still.any():
+        return out
+    idx = np.flatnonzero(still)
+    out[idx] = stride_rhythm(recording, windows.iloc[idx])
+    return out
 
 
 def recording_steps(recording: Recording, swing_periodicity: float = 0.0) -> pd.DataFrame:
@@ -974,7 +1072,9 @@ def finish_predictions(
     :func:`still_step_veto_threshold`) finds at least that many of the veto's steps inside it
     (:func:`veto_steps` of ``rec``: ``adaptive`` with its swing stage where there is a gyroscope, found once, only when
     some window reads still; shared with the run-cadence rule when they are the same steps, :func:`veto_reads_own_steps`):
-    then it keeps its mode, ``still_vetoed = True``. ``window_steps`` holds, in each window the statistic reads still,
+    then it keeps its mode, ``still_vetoed = True``. A window left ``still`` in which the phone turns with a stride
+    rhythm (:func:`still_unsure`, :data:`STILL_UNSURE_DEFAULT`) is marked ``still_unsure = True``: it keeps the mode
+    ``still``, and the table says the evidence disagrees there. ``window_steps`` holds, in each window the statistic reads still,
     the count of the veto's steps the veto decided on (:func:`veto_counts`), NaN in every other window and whenever the
     veto is off (a whole file and its chunks give the same column). A window then answered ``run`` whose
     local step cadence is below ``run_min_cadence_hz`` (:func:`run_cadence_threshold`; 0: off) gets
@@ -1035,6 +1135,8 @@ def finish_predictions(
         still = still & ~vetoed
     out["still"] = still
     out["still_vetoed"] = vetoed
+    # a still window in which the phone turns with a stride rhythm: the evidence disagrees, the table says so
+    out["still_unsure"] = still_unsure(rec, windows, still)
     out["mode"] = np.where(still, STILL, out["mode"].to_numpy(dtype=object)).astype(str)
     # a window read run at a walking cadence: the model's best other mode (the model's answer stays in mode_raw)
     run_thr = run_cadence_threshold(run_min_cadence_hz)

@@ -155,6 +155,7 @@ def test_cli_evaluate_train_predict_json(tmp_path, capsys):
         "side_direction_unsure",
         "run_at_walking_cadence",
         "still_vetoed",
+        "still_unsure",
     }
     assert all((w["out_of_domain_reason"] is None) == w["in_domain"] for w in js["windows"])  # a reason for every flagged window
     assert all(isinstance(w["in_domain"], bool) for w in js["windows"]) and 0.0 <= js["out_of_domain_fraction"] <= 1.0

@@ -1,6 +1,7 @@
 """How true step length follows cadence on tyrex, and a literature walk-ratio default scored against today's (issue 27).
 
-``python -m experiments.scripts.tyrex_walkratio [--data ../shared/data] [--cache FILE] [--plot FILE] [--csv FILE] [--measure-only]``
+``python -m experiments.scripts.tyrex_walkratio [--data ../shared/data] [--cache FILE] [--plot FILE] [--csv FILE] [--measure-only]
+[--sim DIR]``
 from the repository root.
 
 1. **Measure.** For every tyrex recording with motion capture (read as
@@ -25,6 +26,14 @@ from the repository root.
      literature, not fitted here). Run steps keep Weinberg (forward-only gives every step the walk
      line, as ``gaitml pdr`` does without ``--model``).
 
+3. **Simulator** (``--sim``): rules 2 and 3 of the report for every candidate, in one run with today's
+   figures: :func:`experiments.scripts.gsd_landmarks.scoring` (``gaitml pdr --truth`` on simulated walk-only
+   GetSensorData routes, seeds 0-2, with ``--step-length`` a JSON of the candidate's walk line) and the ``cli
+   defaults`` row of :func:`experiments.scripts.pdr_defaults_sim.cli_rows` (8 mixed-mode routes). The cadence cap
+   has no model kind in the library (eq. 12 cannot hold a cadence), so for the capped candidate
+   :meth:`gaitml.pdr.step_length.StepLengthModel.predict` is given the cadence clipped at the cap
+   (:func:`capped_cadence`, a lab patch restored on exit; forward-only gives every step the walk line).
+
 Nothing is fitted on tyrex, so in-sample and held-out figures are the same numbers; the
 per-person table gives the spread from one person to the next. The adoption rule was fixed in
 ``experiments/reports/tyrex-pdr.md`` (section "A walk-ratio default?") before the score ran.
@@ -33,6 +42,8 @@ per-person table gives the spread from one person to the next. The adoption rule
 from __future__ import annotations
 
 import argparse
+import contextlib
+import json
 import pickle
 import sys
 import time
@@ -43,7 +54,7 @@ import pandas as pd
 
 from experiments.scripts.tyrex_pdr import MOTION_ORDER, _truth_on_recording, load_tyrex, md
 
-__all__ = ["CANDIDATES", "WALK_RATIO_M_PER_SPM", "candidate_lengths", "main", "measure_table", "prepare"]
+__all__ = ["CANDIDATES", "WALK_RATIO_M_PER_SPM", "candidate_lengths", "capped_cadence", "main", "measure_table", "prepare", "sim_rules"]
 
 #: Walk ratio (step length / cadence) of healthy adults, m per (steps/min): about 0.0064 (Sekiya &
 #: Nagasaki 1998, as quoted in issue 27's brief; the constancy over preferred-to-fast speeds is
@@ -100,6 +111,51 @@ def candidate_lengths(prep: dict, candidate) -> np.ndarray:
         feats["freq_hz"] = np.minimum(feats["freq_hz"], cap)
     L = StepLengthModel({"walk": ("linear", walk_line)}).predict(feats, prep["modes"])
     return np.where(np.isfinite(L), L, 0.0)
+
+
+@contextlib.contextmanager
+def capped_cadence(cap_hz: float | None):
+    """Within the block, :meth:`StepLengthModel.predict` sees every step's cadence clipped at ``cap_hz`` (None: unchanged)."""
+    from gaitml.pdr.step_length import StepLengthModel
+
+    if cap_hz is None:
+        yield
+        return
+    original = StepLengthModel.predict
+
+    def predict(self, features, modes):
+        f = features.copy()
+        f["freq_hz"] = np.minimum(f["freq_hz"].to_numpy(float), cap_hz)
+        return original(self, f, modes)
+
+    StepLengthModel.predict = predict
+    try:
+        yield
+    finally:
+        StepLengthModel.predict = original
+
+
+def sim_rules(out: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Rules 2 and 3 for every candidate: GetSensorData landmark simulation and the simulator's routes (CLI defaults row)."""
+    from experiments.scripts.gsd_landmarks import scoring
+    from experiments.scripts.pdr_defaults_sim import cli_rows
+    from gaitml.pdr.step_length import StepLengthModel
+
+    gsd, sim = [], []
+    for name, (line, cap) in CANDIDATES.items():
+        args, model = [], None
+        if name != "today":
+            model = StepLengthModel({"walk": ("linear", line)})
+            path = out / f"{name.replace(' ', '-').replace(',', '')}.json"
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(json.dumps(model.to_dict()))
+            args = ["--step-length", str(path)]
+        with capped_cadence(cap):
+            g = scoring(out / "gsd", ["rectangle", "arc"], [0, 1, 2], "start-heading", args)
+            rows = [r for route in ("rectangle", "arc") for seed in (0, 1, 2, 11) for r in cli_rows(route, seed, model)]
+        gsd.append(g.assign(candidate=name))
+        sim.append(pd.DataFrame(rows).query("variant == 'cli defaults'").assign(candidate=name))
+    return pd.concat(gsd, ignore_index=True), pd.concat(sim, ignore_index=True)
 
 
 def measure_table(items, preps) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -219,6 +275,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--plot", metavar="FILE", default="runs/tyrex-walkratio.png", help="the scatter plot (PNG)")
     p.add_argument("--csv", metavar="FILE", help="write the per-recording score table")
     p.add_argument("--measure-only", action="store_true", help="part 1 only (the measurement), no candidate scored")
+    p.add_argument("--sim", metavar="DIR", help="also score rules 2 and 3 on the simulator (walks written to DIR)")
     a = p.parse_args(argv)
     t0 = time.time()
     items = load_tyrex(Path(a.data))
@@ -253,7 +310,7 @@ def main(argv: list[str] | None = None) -> int:
             Path(a.csv).parent.mkdir(parents=True, exist_ok=True)
             sc.to_csv(a.csv, index=False)
         nd = sc[sc["disturbance"] == "NoDist"]
-        for metric, fmt in (("distance_ratio", "{:.2f}"), ("err10s_pct", "{:.1f}")):
+        for metric, fmt in (("distance_ratio", "{:.2f}"), ("error_10s_pct", "{:.1f}")):
             if metric not in sc:
                 continue
             print(f"\n## {metric}, median, NoDist (9 per motion)\n")
@@ -273,6 +330,31 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f"\n{name}: rule (1) {'passes' if ok else 'fails'}: toward 1 in {int((walk < 0).sum())} of {len(walk)} walking "
                 f"motions; largest move away {moves.max():+.3f} ({moves.idxmax()})\n"
+            )
+    if a.sim:
+        gsd, sim = sim_rules(Path(a.sim))
+        g = gsd[gsd["truth"].isin(["dense", "landmarks"])].groupby(["candidate", "route", "truth"], sort=False)[["mean_m", "end_%D"]].mean()
+        print("\n## Rule (2): GetSensorData landmark simulation, mean over seeds 0-2\n")
+        print(md(g.reset_index(), "{:.3f}"))
+        today = g.loc["today"]
+        for name in [c for c in CANDIDATES if c != "today"]:
+            c = g.loc[name]
+            ok = bool(((c["mean_m"] <= 1.05 * today["mean_m"]) & (c["end_%D"] <= today["end_%D"] + 0.1)).all())
+            ratio = (c["mean_m"] / today["mean_m"]).to_numpy()
+            print(
+                f"\n{name}: rule (2) {'passes' if ok else 'fails'}: mean landmark error {ratio.min():.2f}-{ratio.max():.2f} x today's, "
+                f"end error {(c['end_%D'] - today['end_%D']).min():+.3f} to {(c['end_%D'] - today['end_%D']).max():+.3f} points"
+            )
+        piv = sim.pivot_table(index="candidate", columns=["route", "seed"], values="end_error_pct", sort=False)
+        piv.columns = [f"{r} {s}" for r, s in piv.columns]
+        piv["median"] = sim.groupby("candidate", sort=False)["end_error_pct"].median()
+        piv["distance ratio (median)"] = sim.groupby("candidate", sort=False)["distance_ratio"].median()
+        print("\n## Rule (3): simulator routes, CLI defaults, end error % of the distance\n")
+        print(md(piv, "{:.2f}"))
+        for name in [c for c in CANDIDATES if c != "today"]:
+            ok = piv.loc[name, "median"] <= 1.05 * piv.loc["today", "median"]
+            print(
+                f"\n{name}: rule (3) {'passes' if ok else 'fails'}: median {piv.loc[name, 'median']:.2f} % against {piv.loc['today', 'median']:.2f} %"
             )
     print(f"\n({time.time() - t0:.0f} s)")
     return 0

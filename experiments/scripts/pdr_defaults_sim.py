@@ -1,6 +1,7 @@
 """The PDR defaults against paper 003's settings on the simulator's routes (issue 27: the defaults must not get worse there).
 
-``python -m experiments.scripts.pdr_defaults_sim [--routes rectangle arc] [--seeds 0 1 2 11] [--model models/demo] [--csv FILE]``
+``python -m experiments.scripts.pdr_defaults_sim [--routes rectangle arc] [--seeds 0 1 2 11] [--model models/demo] [--csv FILE]
+[--step-length FILE] [--no-demo]``
 from the repository root. For every simulated route (:func:`gaitml.simulate.simulate_route`)
 it dead-reckons with :func:`gaitml.pdr.run_pdr` two ways a user would:
 
@@ -11,6 +12,8 @@ it dead-reckons with :func:`gaitml.pdr.run_pdr` two ways a user would:
   length calibrated on a straight walk of the same simulated subject, HDE, model modes with
   ``--model``, forward-only), with the gyroscope bias removed or not and each detector.
 
+``--step-length FILE`` gives the ``cli`` rows that step length model (as ``gaitml pdr --step-length``: e.g. a
+candidate for the uncalibrated default); ``--no-demo`` leaves out the ``demo`` rows (their length is calibrated).
 It prints the end-point error in % of the distance per route and seed, and the median.
 Nothing is fitted on these routes: the seeds give the spread.
 """
@@ -28,7 +31,7 @@ __all__ = ["main"]
 PAPER003 = {"detector": "single-peak", "heading": "hde", "gyro_bias": "off", "hde_guard": "off"}
 
 
-def cli_rows(route: str, seed: int) -> list[dict]:
+def cli_rows(route: str, seed: int, step_length=None) -> list[dict]:
     from experiments.scripts.tyrex_pdr import pdr_kwargs
     from gaitml.evaluation.trajectory import end_point_error, path_length
     from gaitml.pdr import run_pdr
@@ -48,7 +51,7 @@ def cli_rows(route: str, seed: int) -> list[dict]:
         ("cli single-peak/hde/bias auto", {"detector": "single-peak", "heading": "hde", "gyro_bias": "auto"}),
         ("cli paper003", PAPER003),
     ):
-        res = run_pdr(rec, modes="forward", initial_heading_rad=h0, **pdr_kwargs(kw, h0))
+        res = run_pdr(rec, modes="forward", initial_heading_rad=h0, step_length=step_length, **pdr_kwargs(kw, h0))
         _, pct = end_point_error(res.trajectory[["x_m", "y_m"]].to_numpy(), xy[-1], dist)
         rows.append({"route": route, "seed": seed, "variant": name, "end_error_pct": pct, "distance_ratio": res.distance_m / dist})
     return rows
@@ -86,7 +89,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 11])
     p.add_argument("--model", default="models/demo", help="model for the demo's model-mode rows ('' to skip)")
     p.add_argument("--csv", metavar="FILE")
+    p.add_argument("--step-length", metavar="FILE", help="step length model JSON for the cli rows (default: the uncalibrated one)")
+    p.add_argument("--no-demo", action="store_true", help="leave out the demo rows")
     args = p.parse_args(argv)
+    step_length = None
+    if args.step_length:
+        from gaitml.pdr.step_length import StepLengthModel
+
+        step_length = StepLengthModel.load(args.step_length)
     model = None
     if args.model:
         from gaitml.models import load_model
@@ -96,8 +106,9 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for route in args.routes:
         for seed in args.seeds:
-            rows += cli_rows(route, seed)
-            rows += demo_rows(route, seed, model)
+            rows += cli_rows(route, seed, step_length)
+            if not args.no_demo:
+                rows += demo_rows(route, seed, model)
             print(f"  {route} seed {seed} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
     t = pd.DataFrame(rows)
     if args.csv:

@@ -405,8 +405,9 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
     model : TrainedModel
     recording : Recording at the model's rate.
     windows : DataFrame with ``start``, ``end``.
-    X : the model's feature matrix of these windows, reused when the domain is on the
-        model's own features (feature models); computed otherwise.
+    X : the model's feature matrix of these windows of ``recording``, reused when the domain is on the
+        model's own features (feature models; a record with its own accelerometer range recomputes only the
+        windows holding a sample it clips, :func:`windows_with_changed_samples`); computed otherwise.
 
     Returns
     -------
@@ -420,9 +421,8 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
         return unchecked_domain_columns(dom, len(windows))
     from gaitml.models.domain import feature_gravity, window_gravity
 
+    seen = recording
     recording, clipped = domain_view(dom, recording)  # a record with its own accelerometer range reads the recording through it
-    if clipped:
-        X = None  # the model's features read the unclipped recording
 
     starts = windows["start"].to_numpy(np.int64)
     length = int(round(model.length_s * model.sampling_rate_hz))
@@ -432,17 +432,41 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
         and dom.feature_set == model.feature_set
         and dom.frame == getattr(model, "frame", "phone")
     )
-    if not same:
+    if not same or clipped:
         from gaitml.features import features_from_arrays
 
         gyr = recording.gyr if "gyro" in dom.feature_set else None
-        X = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
+        if not same:
+            X = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
+        else:  # the model's rows read the unclipped recording: only the windows holding a clipped sample read other features
+            rows = windows_with_changed_samples(seen.acc, recording.acc, starts, length)
+            X = np.array(X, dtype=float)
+            if rows.any():
+                X[rows] = features_from_arrays(
+                    recording.acc, gyr, recording.sampling_rate_hz, starts[rows], length, dom.feature_set, dom.frame
+                )
     gravity = None
     if dom.gravity_check:  # phone frame: the features hold the window means of the acceleration (else one pass over the recording)
         gravity = feature_gravity(X, dom.feature_names) if dom.frame == "phone" else None
         if gravity is None:
             gravity = window_gravity(recording.acc, starts, length)
     return checked_domain_columns(dom, X, gravity, recording_dynamics(dom, recording, starts, starts + length))
+
+
+def windows_with_changed_samples(acc, acc_seen, starts, length: int) -> np.ndarray:
+    """Whether each window ``[start, start + length)`` holds a sample whose acceleration differs between ``acc`` and
+    ``acc_seen`` (both (n, 3): a recording and its :func:`domain_view`; a NaN sample counts as differing).
+
+    A window's features read its own samples only (:mod:`gaitml.features._catalogue`), so every other window has the
+    same features in both: :func:`domain_columns` computes the domain record's features of these windows alone and
+    takes the classifier's rows for the rest, instead of a second pass over every window.
+    """
+    a, b = np.asarray(acc, dtype=float), np.asarray(acc_seen, dtype=float)
+    starts = np.asarray(starts, dtype=np.int64)
+    if a is b:
+        return np.zeros(len(starts), dtype=bool)
+    changed = np.concatenate([[0], np.cumsum((a != b).any(axis=1))])
+    return changed[np.minimum(starts + int(length), len(a))] > changed[starts]
 
 
 def domain_view(dom, recording: Recording) -> tuple[Recording, bool]:

@@ -510,8 +510,8 @@ def long_predict(
         SIDE_MODES,
         run_cadence_threshold,
         side_direction_unsure,
+        steps_found_once,
         still_step_veto_threshold,
-        veto_steps,
         window_step_counts,
     )
 
@@ -571,12 +571,14 @@ def long_predict(
             counted_to = max(counted_to, ch.offset + rec.n_samples)
         if rec.n_samples < _length and ch.offset > 0:  # a short tail; a short first chunk is a short file: refused as one
             continue
+        found: dict = {}  # the chunk's steps, found once for the run-cadence rule and the veto when they are the same
         table = predict_recording(
             model,
             rec,
             correction=False,
             run_min_cadence_hz=run_thr,
             still_step_veto=veto_n or 0,
+            found_steps=found,
             **({"still_threshold_ms2": 0.0} if gate_after else {}),
         )
         gstart = table["start"].to_numpy() + ch.offset
@@ -584,7 +586,7 @@ def long_predict(
         if gate_after and veto_n is not None and _chunk_reads_still(read_still, gstart[keep] // hop):
             # the gate comes after the chunks (below): the count of the veto's steps in every window of a chunk whose
             # core holds a window the statistic reads still (the chunk's steps found once); no other window is vetoed
-            table["window_steps"] = window_step_counts(table, veto_steps(rec)).astype(float)
+            table["window_steps"] = window_step_counts(table, steps_found_once(found, rec, veto=True)).astype(float)
         if gate_after:  # the stride rhythm of the windows the statistic reads still, for the still_unsure mark after the gate
             rhythm = np.zeros(len(table), dtype=bool)
             if STILL_UNSURE_DEFAULT and rec.has_gyr:

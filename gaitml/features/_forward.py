@@ -107,6 +107,12 @@ FORWARD_FACE_NAMES = ("acc_x__fwdface", "acc_y__fwdface", "acc_z__fwdface")
 _MIN_GRAVITY_MS2 = 1e-6
 #: Windows per block (bounds the temporary memory).
 _BLOCK = 512
+#: Up to this many windows (a stream's one new window) are gathered by fancy indexing instead of a strided view,
+#: whose construction costs more than the copy (as ``gaitml.features._extract._FEW_WINDOWS``).
+_FEW_WINDOWS = 16
+#: The up direction of a window without a usable mean (:data:`_MIN_GRAVITY_MS2`).
+_PHONE_Z = np.array([0.0, 0.0, 1.0])
+_PHONE_Z.setflags(write=False)
 
 
 def check_forward_window(length: int, fs: float, band: tuple[float, float] = FORWARD_BAND_HZ) -> None:
@@ -166,9 +172,9 @@ def _forward_block(w: np.ndarray, fs: float, band: tuple[float, float], face_up:
     ``face_up``: each vector times ``max(0, up_z)``, the window's gravity direction along the phone's +z.
     """
     k, _, n = w.shape
-    mean = w.mean(axis=-1)
-    norm = np.linalg.norm(mean, axis=1)
-    up = np.where(norm[:, None] > _MIN_GRAVITY_MS2, mean / np.maximum(norm, _MIN_GRAVITY_MS2)[:, None], np.array([0.0, 0.0, 1.0]))
+    mean = np.add.reduce(w, axis=-1) / n  # w.mean(axis=-1) and np.linalg.norm(mean, axis=1), without their call overhead
+    norm = np.sqrt(np.add.reduce(mean * mean, axis=1))
+    up = np.where(norm[:, None] > _MIN_GRAVITY_MS2, mean / np.maximum(norm, _MIN_GRAVITY_MS2)[:, None], _PHONE_Z)
     bp_op, dbp_op = _band_operators(int(n), float(fs), (float(band[0]), float(band[1])))
     bp = w @ bp_op  # (k, 3, N), detrended and zero-phase band-passed
     v = np.einsum("kc,kcl->kl", up, bp)
@@ -176,12 +182,13 @@ def _forward_block(w: np.ndarray, fs: float, band: tuple[float, float], face_up:
     dv = np.einsum("kc,kcl->kl", up, w @ dbp_op)  # the rate of the band-passed vertical part
     fwd = np.einsum("kcl,kl->kc", h, dv) / n
     den = np.sqrt(np.einsum("kcl,kcl->k", h, h) / n * np.einsum("kl,kl->k", dv, dv) / n)
-    ok = den > 1e-12
     out = np.zeros((k, 3))
-    out[ok] = fwd[ok] / den[ok, None]
+    np.divide(fwd, den[:, None], out=out, where=(den > 1e-12)[:, None])  # 0 where there is no lag
     if face_up:
         out *= np.maximum(up[:, 2], 0.0)[:, None]
-    out[~np.isfinite(w).all(axis=(1, 2))] = np.nan  # a non-finite sample: no vector (as the 52 statistics), not a calm 0
+    finite = np.isfinite(w).all(axis=(1, 2))
+    if not finite.all():
+        out[~finite] = np.nan  # a non-finite sample: no vector (as the 52 statistics), not a calm 0
     return out
 
 
@@ -223,10 +230,16 @@ def forward_vectors(
     out = np.zeros((len(starts), 3))
     if len(starts) == 0:
         return out
-    view = np.lib.stride_tricks.sliding_window_view(acc, int(length), axis=0)  # (n-L+1, 3, L), no copy
-    for b in range(0, len(starts), _BLOCK):
-        st = starts[b : b + _BLOCK]
-        out[b : b + len(st)] = _forward_block(np.asarray(view[st]), float(fs), band, face_up)
+    if len(starts) <= _FEW_WINDOWS:
+        # the same (k, 3, L) array as the strided view's copy below, in the same memory order (each window's (L, 3)
+        # samples contiguous; the matrix products of _forward_block round by that order)
+        w = acc[starts[:, None] + np.arange(int(length))].transpose(0, 2, 1)
+        out = _forward_block(w, float(fs), band, face_up)
+    else:
+        view = np.lib.stride_tricks.sliding_window_view(acc, int(length), axis=0)  # (n-L+1, 3, L), no copy
+        for b in range(0, len(starts), _BLOCK):
+            st = starts[b : b + _BLOCK]
+            out[b : b + len(st)] = _forward_block(np.asarray(view[st]), float(fs), band, face_up)
     if rotations is not None:
         out = np.einsum("kab,kb->ka", rotations, out)
     return out

@@ -14,6 +14,7 @@ __all__ = [
     "model_inputs",
     "model_view",
     "domain_columns",
+    "windows_with_changed_samples",
     "still_windows",
     "side_direction_unsure",
     "still_unsure",
@@ -42,6 +43,7 @@ __all__ = [
     "veto_counts",
     "recording_steps",
     "veto_steps",
+    "steps_found_once",
     "veto_reads_own_steps",
     "veto_can_change_step_modes",
     "SIDE_MODES",
@@ -426,8 +428,9 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
     model : TrainedModel
     recording : Recording at the model's rate.
     windows : DataFrame with ``start``, ``end``.
-    X : the model's feature matrix of these windows, reused when the domain is on the
-        model's own features (feature models); computed otherwise.
+    X : the model's feature matrix of these windows of ``recording``, reused when the domain is on the
+        model's own features (feature models; a record with its own accelerometer range recomputes only the
+        windows holding a sample it clips, :func:`windows_with_changed_samples`); computed otherwise.
 
     Returns
     -------
@@ -441,9 +444,8 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
         return unchecked_domain_columns(dom, len(windows))
     from gaitml.models.domain import feature_gravity, window_gravity
 
+    seen = recording
     recording, clipped = domain_view(dom, recording)  # a record with its own accelerometer range reads the recording through it
-    if clipped:
-        X = None  # the model's features read the unclipped recording
 
     starts = windows["start"].to_numpy(np.int64)
     length = int(round(model.length_s * model.sampling_rate_hz))
@@ -453,17 +455,41 @@ def domain_columns(model, recording: Recording, windows: pd.DataFrame, X: np.nda
         and dom.feature_set == model.feature_set
         and dom.frame == getattr(model, "frame", "phone")
     )
-    if not same:
+    if not same or clipped:
         from gaitml.features import features_from_arrays
 
         gyr = recording.gyr if "gyro" in dom.feature_set else None
-        X = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
+        if not same:
+            X = features_from_arrays(recording.acc, gyr, recording.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
+        else:  # the model's rows read the unclipped recording: only the windows holding a clipped sample read other features
+            rows = windows_with_changed_samples(seen.acc, recording.acc, starts, length)
+            X = np.array(X, dtype=float)
+            if rows.any():
+                X[rows] = features_from_arrays(
+                    recording.acc, gyr, recording.sampling_rate_hz, starts[rows], length, dom.feature_set, dom.frame
+                )
     gravity = None
     if dom.gravity_check:  # phone frame: the features hold the window means of the acceleration (else one pass over the recording)
         gravity = feature_gravity(X, dom.feature_names) if dom.frame == "phone" else None
         if gravity is None:
             gravity = window_gravity(recording.acc, starts, length)
     return checked_domain_columns(dom, X, gravity, recording_dynamics(dom, recording, starts, starts + length))
+
+
+def windows_with_changed_samples(acc, acc_seen, starts, length: int) -> np.ndarray:
+    """Whether each window ``[start, start + length)`` holds a sample whose acceleration differs between ``acc`` and
+    ``acc_seen`` (both (n, 3): a recording and its :func:`domain_view`; a NaN sample counts as differing).
+
+    A window's features read its own samples only (:mod:`gaitml.features._catalogue`), so every other window has the
+    same features in both: :func:`domain_columns` computes the domain record's features of these windows alone and
+    takes the classifier's rows for the rest, instead of a second pass over every window.
+    """
+    a, b = np.asarray(acc, dtype=float), np.asarray(acc_seen, dtype=float)
+    starts = np.asarray(starts, dtype=np.int64)
+    if a is b:
+        return np.zeros(len(starts), dtype=bool)
+    changed = np.concatenate([[0], np.cumsum((a != b).any(axis=1))])
+    return changed[np.minimum(starts + int(length), len(a))] > changed[starts]
 
 
 def domain_view(dom, recording: Recording) -> tuple[Recording, bool]:
@@ -529,6 +555,7 @@ def predict_recording(
     run_min_cadence_hz: float | None = None,
     still_step_veto: int | None = None,
     veto_for_step_modes: bool = False,
+    found_steps: dict | None = None,
 ) -> pd.DataFrame:
     """Predict the motion mode of every window of ``recording``.
 
@@ -555,6 +582,10 @@ def predict_recording(
         local step cadence is below this (steps/s; :data:`RUN_MIN_CADENCE_HZ` is the walk-to-run
         transition cadence) gets the model's best other mode; None: :data:`RUN_CADENCE_DEFAULT_HZ`
         (:func:`run_cadence_threshold`); 0 turns it off.
+    found_steps : a dict that shares the step detector's runs with the caller (:func:`steps_found_once`): the steps the
+        veto and the run-cadence rule find on the recording at the model's rate are kept in it, and steps already there
+        are read instead of found again (:func:`gaitml.chunked_run.long_predict`'s later pass over a chunk). None: each
+        finder's steps are found once within the call.
 
     Returns
     -------
@@ -615,6 +646,7 @@ def predict_recording(
         still_threshold_ms2=still_threshold_ms2,
         still_step_veto=still_step_veto,
         veto_for_step_modes=veto_for_step_modes,
+        found_steps=found_steps,
         X=X,
         run_min_cadence_hz=run_min_cadence_hz,
         has_domain=getattr(model, "domain", None) is not None,
@@ -733,7 +765,8 @@ def recording_steps(recording: Recording, swing_periodicity: float = 0.0) -> pd.
     check on; with ``swing_periodicity`` > 0 and a gyroscope, its swing stage 2c at that value) over the whole of
     ``recording``: its ``steps_`` table (``peak`` in samples, ``cadence_hz``, ...), empty for a recording too short for
     the detector. The run-cadence rule (:func:`window_step_cadence`) reads these at the defaults, the still gate's step
-    veto :func:`veto_steps`; each found once per recording (one run when they are the same, :func:`veto_reads_own_steps`)."""
+    veto :func:`veto_steps`; each found once per recording (one run when they are the same, :func:`veto_reads_own_steps`;
+    :func:`steps_found_once`)."""
     from gaitml.steps import get_detector
 
     swing = float(swing_periodicity)
@@ -756,6 +789,25 @@ def veto_steps(recording: Recording) -> pd.DataFrame:
     """The steps the still gate's step veto reads (:data:`STILL_STEP_VETO_MIN_STEPS`): :func:`recording_steps` with the
     swing stage at :data:`STILL_STEP_SWING_PERIODICITY`."""
     return recording_steps(recording, STILL_STEP_SWING_PERIODICITY)
+
+
+def steps_found_once(found: dict, recording: Recording, *, veto: bool) -> pd.DataFrame:
+    """The still gate's veto's steps (``veto``: :func:`veto_steps`) or the run-cadence rule's (:func:`recording_steps` at
+    ``adaptive``'s defaults) of ``recording``, each found once: read from ``found`` (a dict the caller keeps while it
+    reads one recording) when the same steps of the same recording object are already there, else found and kept there.
+
+    Without a gyroscope for the veto's swing stage (:func:`veto_reads_own_steps` False) the two are the same steps, kept
+    under one key: the run-cadence rule reads the veto's and the other way round. :func:`predict_recording` (its
+    ``found_steps``) and :func:`gaitml.chunked_run.long_predict` (a resampled file's chunk, whose veto counts come after
+    its prediction) share one such dict.
+    """
+    key = "veto" if veto and veto_reads_own_steps(recording) else "defaults"
+    hit = found.get(key)
+    if hit is not None and hit[0] is recording:
+        return hit[1]
+    steps = veto_steps(recording) if veto else recording_steps(recording)
+    found[key] = (recording, steps)
+    return steps
 
 
 def veto_can_change_step_modes(still, modes, modes_raw) -> bool:
@@ -1058,6 +1110,7 @@ def finish_predictions(
     run_min_cadence_hz: float | None = None,
     still_step_veto: int | None = None,
     veto_for_step_modes: bool = False,
+    found_steps: dict | None = None,
     **attrs,
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
@@ -1122,13 +1175,13 @@ def finish_predictions(
     still = still_windows(rec, windows, still_rule, still_threshold_ms2, recorded=recording)
     # ... unless the veto's step finder finds steps in it (a calm walker): the steps are found once, and only when needed
     veto_n = still_step_veto_threshold(still_step_veto)
-    own = veto_reads_own_steps(rec)
-    steps, n_steps, vetoed = None, np.full(len(out), np.nan), np.zeros(len(out), dtype=bool)
+    found = (
+        {} if found_steps is None else found_steps
+    )  # each detector setting runs once (the veto's and the rule's are one without a gyroscope)
+    n_steps, vetoed = np.full(len(out), np.nan), np.zeros(len(out), dtype=bool)
     needed = still.any() and (not veto_for_step_modes or veto_can_change_step_modes(still, out["mode"], out["mode_raw"]))
     if veto_n is not None and needed:
-        vsteps = veto_steps(rec)
-        if not own:  # the same steps as the run-cadence rule's: found once
-            steps = vsteps
+        vsteps = steps_found_once(found, rec, veto=True)
         counts = window_step_counts(windows, vsteps)
         n_steps = veto_counts(counts, still)  # the counts the veto decided on
         vetoed = still & (counts >= veto_n)
@@ -1145,9 +1198,7 @@ def finish_predictions(
     cadence = np.full(len(out), np.nan)
     moved = np.zeros(len(out), dtype=bool)
     if run_thr is not None and X is not None and ((modes == RUN_MODE) | (raw == RUN_MODE)).any():
-        if steps is None:
-            steps = recording_steps(rec)
-        cadence = window_step_cadence(rec, windows, steps=steps)
+        cadence = window_step_cadence(rec, windows, steps=steps_found_once(found, rec, veto=False))
         with np.errstate(invalid="ignore"):
             slow = (modes == RUN_MODE) & (raw == RUN_MODE) & (cadence < run_thr) & (cadence >= RUN_STRIDE_CADENCE_HZ)
         other = raw.astype(object)

@@ -243,3 +243,23 @@ def test_windows_too_short_for_the_band_are_refused_not_read_as_zero():
     assert extract_features(rec, subset="all52", length_s=0.3).shape[1] == 52  # the 52 read any window
     f = extract_features(rec, subset="all52+fwd", length_s=0.5)  # 0.5 s: 2 Hz is in the band
     assert (np.abs(f["acc_y__fwd"].to_numpy()) > 0.5).mean() > 0.8
+
+
+@pytest.mark.parametrize("face_up", [False, True])
+def test_a_few_windows_read_as_in_a_long_batch(face_up):
+    """Up to a few windows (a stream's new window) are gathered by indexing, more through a strided view: the same
+    rows either way, a window holding a NaN sample included (the streamed rows are the whole file's)."""
+    from gaitml.features._forward import _FEW_WINDOWS
+
+    fs, n, length = 50.0, 2400, 75
+    rot = Rotation.from_rotvec([0.4, -0.9, 0.3]).as_matrix()
+    acc = _walk(n=n, fs=fs, seed=3) @ rot.T + np.random.default_rng(3).normal(0, 0.5, (n, 3))
+    acc[500, 1] = np.nan
+    starts = _starts(n, length, 37)
+    assert len(starts) > _FEW_WINDOWS
+    batch = forward_vectors(acc, fs, starts, length, face_up=face_up)
+    assert np.isnan(batch).any() and np.isfinite(batch).any()
+    for k in (1, 3, _FEW_WINDOWS):
+        for i in range(0, len(starts) - k + 1, 7):
+            few = forward_vectors(acc, fs, starts[i : i + k], length, face_up=face_up)
+            np.testing.assert_allclose(few, batch[i : i + k], rtol=0, atol=1e-13, equal_nan=True)

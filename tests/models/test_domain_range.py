@@ -74,6 +74,50 @@ def test_the_check_reads_the_clipped_signal_and_the_classifier_the_raw_one():
     assert np.nanmax(np.abs(raw["domain_distance"].to_numpy() - got["domain_distance"].to_numpy())) > 1e-6
 
 
+def test_the_check_recomputes_only_the_windows_holding_a_clipped_sample():
+    """The shipped model's check reuses the classifier's rows for the windows without a sample beyond the record's
+    range and recomputes the rest on the clipped recording: the same columns as computing the record's features of
+    every window on the clipped recording."""
+    from gaitml.features import features_from_arrays
+    from gaitml.models._predict import (
+        _windows_for,
+        checked_domain_columns,
+        domain_columns,
+        model_inputs,
+        recording_dynamics,
+        windows_with_changed_samples,
+    )
+
+    model = load_model(DEMO)
+    dom = model.domain
+    rec = simulate_dataset(1, 60.0, modes=["run", "walk"], sampling_rate_hz=50.0, seed=8, pose="mixed")[0]
+    w = _windows_for(rec, model.length_s, model.overlap)
+    starts = w["start"].to_numpy(np.int64)
+    length = int(round(model.length_s * model.sampling_rate_hz))
+    clip = _clipped(rec)
+    rows = windows_with_changed_samples(rec.acc, clip.acc, starts, length)
+    assert 0 < rows.sum() < len(rows) - 5  # both kinds of window (else one path is not exercised)
+    fast = domain_columns(model, rec, w, model_inputs(model, rec, w))
+    X = features_from_arrays(clip.acc, clip.gyr, clip.sampling_rate_hz, starts, length, dom.feature_set, dom.frame)
+    slow = checked_domain_columns(dom, X, feature_gravity(X, dom.feature_names), recording_dynamics(dom, clip, starts, starts + length))
+    assert set(fast) == set(slow)
+    np.testing.assert_array_equal(fast["in_domain"], slow["in_domain"])
+    for c in ("domain_distance", "gravity_angle_deg", "dynamics_distance"):
+        np.testing.assert_allclose(fast[c], slow[c], rtol=1e-12, atol=1e-12, equal_nan=True, err_msg=c)
+
+
+def test_windows_with_changed_samples_are_those_holding_one():
+    from gaitml.models._predict import windows_with_changed_samples
+
+    acc = np.zeros((10, 3))
+    acc[8] = np.nan  # NaN in both: counted as changed (the window is recomputed, never wrongly reused)
+    seen = acc.copy()
+    seen[4, 2] = 1.0
+    got = windows_with_changed_samples(acc, seen, np.array([0, 2, 5, 7]), 3)
+    np.testing.assert_array_equal(got, [False, True, False, True])
+    assert not windows_with_changed_samples(acc, acc, np.array([0, 5]), 3).any()
+
+
 def test_a_range_no_sample_reaches_changes_nothing():
     model = _plain()
     rec = _vigorous(seed=6)

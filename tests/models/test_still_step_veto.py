@@ -129,6 +129,64 @@ def test_the_steps_are_found_once_per_finder(demo, monkeypatch):
     assert calls == [0.0]
 
 
+def _count_detector_runs(monkeypatch) -> list[float]:
+    """Every run of the ``adaptive`` detector from here on, as the swing stage's setting it ran with (0: off)."""
+    import gaitml.steps.adaptive as adaptive
+
+    calls: list[float] = []
+    real = adaptive.AdaptiveStepDetector.detect
+
+    def counting(self, *a, **k):
+        calls.append(float(self.gyro_swing_min_periodicity or 0.0))
+        return real(self, *a, **k)
+
+    monkeypatch.setattr(adaptive.AdaptiveStepDetector, "detect", counting)
+    return calls
+
+
+def test_found_steps_are_read_back_for_the_same_recording_and_finder_only(monkeypatch):
+    calls = _count_detector_runs(monkeypatch)
+    rec, other = calm_walker(30.0), calm_walker(30.0, seed=5)
+    found: dict = {}
+    first = P.steps_found_once(found, rec, veto=True)
+    assert P.steps_found_once(found, rec, veto=True) is first and len(calls) == 1  # read back, not found again
+    P.steps_found_once(found, rec, veto=False)  # the run-cadence rule's (no swing stage): a run of its own
+    P.steps_found_once(found, other, veto=True)  # another recording: a run of its own, whatever the dict holds
+    assert calls == [P.STILL_STEP_SWING_PERIODICITY, 0.0, P.STILL_STEP_SWING_PERIODICITY]
+    pd.testing.assert_frame_equal(first, P.veto_steps(rec))  # the table a run of its own gives
+    # without a gyroscope the veto's finder is the rule's (the swing stage cannot run): one run serves both
+    calls.clear()
+    acc_only = rec.replace(gyr=None)
+    found = {}
+    steps = P.steps_found_once(found, acc_only, veto=True)
+    assert P.steps_found_once(found, acc_only, veto=False) is steps and calls == [0.0]
+    pd.testing.assert_frame_equal(steps, P.recording_steps(acc_only))
+
+
+def test_a_resampled_chunk_without_a_gyroscope_finds_its_steps_once(monkeypatch, tmp_path):
+    """long_predict of a file at another rate than the model's (the still gate after the chunks): a chunk holding windows
+    read run and windows read still needs the run-cadence rule's steps and the veto's, which are the same steps without
+    a gyroscope: found once per chunk (they were found twice), the same table as when each pass finds its own."""
+    from gaitml.chunked_run import long_predict
+    from gaitml.io import write_gaitml_csv
+    from gaitml.simulate import simulate_dataset
+
+    acc_model = load_model(ROOT / "models" / "demo-acc")
+    rec = simulate_dataset(1, 120.0, modes=["run", "walk"], sampling_rate_hz=100.0, seed=7, pauses=True, pose="mixed")[0]
+    path = tmp_path / "no_gyro.csv"
+    write_gaitml_csv(rec.replace(gyr=None), path)
+    calls = _count_detector_runs(monkeypatch)
+    fast = long_predict(acc_model, path, chunk_s=37.0, progress=False)
+    n_fast = len(calls)
+    assert (fast["mode_raw"] == "run").any() and fast["still"].any()  # both rules need steps
+    monkeypatch.setattr(P, "steps_found_once", lambda found, r, veto: P.veto_steps(r) if veto else P.recording_steps(r))
+    calls.clear()  # every pass finds its own steps (the code before the sharing)
+    plain = long_predict(acc_model, path, chunk_s=37.0, progress=False)
+    pd.testing.assert_frame_equal(fast, plain)
+    n_chunks = int(np.ceil(120.0 / 37.0))
+    assert n_fast <= n_chunks < len(calls)
+
+
 @pytest.mark.parametrize("rate", [50.0, 20.0])
 def test_whole_and_chunked_runs_agree(demo, tmp_path, rate):
     from gaitml.chunked_run import long_predict

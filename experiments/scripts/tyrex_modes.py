@@ -224,6 +224,8 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
         still = p[(p["label"].astype(str) == "still") & (p["label_fraction"] >= 0.5)]
         still_flags = flagged_windows(still)
         n_still_flagged = int(still_flags.sum())
+        # of those, out of domain (the domain check's false alarms; the rest are marked still_unsure)
+        n_still_out = int(still["in_domain"].map(lambda v: v is False or v == False).sum())  # noqa: E712
         # standing windows answered with one of the five modes (neither 'still' nor flagged)
         n_still_moded = int(np.sum(~still_flags & (still["mode"].astype(str).to_numpy() != "still")))
         # moving by speed but not walking (the walking rule's third class): how they were answered
@@ -237,6 +239,7 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
                 **s,
                 "n_still": len(still),
                 "still_flagged": n_still_flagged,
+                "still_out_of_domain": n_still_out,
                 "still_moded": n_still_moded,
                 "n_notwalk": len(nw),
                 "notwalk_mode": int(np.sum(nw_in & (nw["mode"].astype(str).to_numpy() == it["mode"]))),
@@ -856,7 +859,11 @@ def main(argv=None) -> int:
             emit(f"\n### the same models over the speed rule's windows (recipe {recipe}, {what})\n")
             emit(md(summarise(ts, by="left_out")))
         ns, nf = t["n_still"].sum(), t["still_flagged"].sum()
-        emit(f"\nstill windows of the left-out people flagged: {nf / max(ns, 1):.2f} of {ns}")
+        no = t["still_out_of_domain"].sum() if "still_out_of_domain" in t else nf
+        emit(
+            f"\nstill windows of the left-out people flagged: {nf / max(ns, 1):.2f} of {ns} "
+            f"(out of domain, the domain check's false alarms: {no / max(ns, 1):.3f}; marked still_unsure: {(nf - no) / max(ns, 1):.3f})"
+        )
         emit(f"\nheld-out simulator (seed {a.heldout_seed}, 2 subjects, windows summed over the {len(folds)} folds' models)\n")
         emit(md(side_summary(sides)))
         emit(

@@ -70,7 +70,7 @@ from experiments.scripts.tyrex_pdr import (
     md,
 )
 
-__all__ = ["SUCCESS_MOTIONS", "fit_fold", "main", "prepare", "score"]
+__all__ = ["SUCCESS_MOTIONS", "fit_fold", "load_or_prepare", "main", "prepare", "score"]
 
 #: the runs of ``gaitml pdr`` kept per recording: name -> (modes, heading)
 RUNS = {"fwd": ("forward", "hde"), "fwd-gyro": ("forward", "gyro"), "model": ("model", "hde"), "model-gyro": ("model", "gyro")}
@@ -126,6 +126,26 @@ def prepare(item, model) -> dict:
         "bound": bound_trajectory(item),
         "t_end": float(rec.t_s[-1]),
     }
+
+
+def load_or_prepare(items, model, cache: str | None, t0: float) -> list[dict]:
+    """:func:`prepare` for every recording, or the pickle ``cache`` if it exists (written when given and absent)."""
+    if cache and Path(cache).exists():
+        with open(cache, "rb") as fh:
+            preps = pickle.load(fh)
+        if [p_["file"] for p_ in preps] != [it["file"] for it in items]:
+            raise SystemExit(f"error: the cache {cache} holds other recordings; delete it.")
+        return preps
+    preps = []
+    for i, it in enumerate(items):
+        preps.append(prepare(it, model))
+        if (i + 1) % 20 == 0:
+            print(f"  {i + 1}/{len(items)} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    if cache:
+        Path(cache).parent.mkdir(parents=True, exist_ok=True)
+        with open(cache, "wb") as fh:
+            pickle.dump(preps, fh)
+    return preps
 
 
 def fit_fold(preps, items, train_people) -> dict:
@@ -387,20 +407,7 @@ def main(argv: list[str] | None = None) -> int:
         from gaitml.models import load_model
 
         model = load_model(args.model)
-    if args.cache and Path(args.cache).exists():
-        with open(args.cache, "rb") as fh:
-            preps = pickle.load(fh)
-        if [p_["file"] for p_ in preps] != [it["file"] for it in items]:
-            raise SystemExit(f"error: the cache {args.cache} holds other recordings; delete it.")
-    else:
-        preps = []
-        for i, it in enumerate(items):
-            preps.append(prepare(it, model))
-            if (i + 1) % 20 == 0:
-                print(f"  {i + 1}/{len(items)} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
-        if args.cache:
-            with open(args.cache, "wb") as fh:
-                pickle.dump(preps, fh)
+    preps = load_or_prepare(items, model, args.cache, t0)
     table, fitted, checks = run_all(items, preps, model)
     if args.csv:
         table.to_csv(args.csv, index=False)

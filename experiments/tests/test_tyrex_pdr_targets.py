@@ -5,7 +5,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
-from experiments.scripts.tyrex_pdr_targets import TARGETS, main_table, person_margins, target_table, verdict_matrix
+from experiments.scripts.tyrex_pdr_targets import TARGETS, count_met, main_table, person_margins, target_table, verdict_matrix
 
 PEOPLE = ("A", "B", "C")
 
@@ -115,3 +115,10 @@ def test_tables_render_verdicts_and_ar_is_reported_only():
     m = verdict_matrix({"cal": long}, "all")
     assert m.loc[("Texting", TARGETS[0]), "cal"].startswith("**not met**")
     assert m.loc[("Phoning", TARGETS[0]), "cal"] == "-"  # a motion without recordings
+
+
+def test_count_met_skips_targets_that_do_not_apply():
+    t = _table({**REFS, "fwd/cal": (0.78, 22.0, 20.0)})
+    long = target_table(t, "fwd/cal", None, held_out=True)
+    # distance missed; 1.25 x bound, below still, drift and baseline met; model modes n/a
+    assert count_met(long, "NoDist") == "4/5"

@@ -113,6 +113,8 @@ class GyroBias:
             "n_still_windows": int(self.n_still_windows),
             "note": self.note,
             **({"source": self.source} if self.source else {}),
+            # a tracked bias: where the tracking started (the still stretches' or a still recording's bias)
+            **({"start_bias_rads": [float(v) for v in self.params["start_bias_rads"]]} if "start_bias_rads" in self.params else {}),
         }
 
 

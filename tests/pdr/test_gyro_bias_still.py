@@ -114,7 +114,7 @@ def test_cli_takes_a_still_recording_and_its_json(walks, tmp_path, capsys, monke
     obj = json.loads(out.out)
     gb = obj["gyro_bias"]
     assert gb["method"].startswith("still-recording") and gb["source"] == str(still)
-    np.testing.assert_allclose(gb["bias_rads"] if gb["method"] == "still-recording" else gb["params"]["start_bias_rads"], BIAS, atol=5e-4)
+    np.testing.assert_allclose(gb["bias_rads"] if gb["method"] == "still-recording" else gb["start_bias_rads"], BIAS, atol=5e-4)
     assert f"gyroscope bias from {still}" in out.err
     # the run's JSON carries the bias to the next walk of the same phone
     saved = tmp_path / "bias.json"
@@ -145,7 +145,7 @@ def test_cli_takes_a_still_recording_and_its_json(walks, tmp_path, capsys, monke
     assert np.hypot(*(end - ref.end_xy_m)) < 0.02 * ref.distance_m  # the unbiased phone's end point
     # the text summary says where the bias came from
     assert main(["pdr", str(walk), "--detector", "single-peak", "--gyro-bias-from", str(saved)]) == 0
-    assert f"read from {saved.name}" in capsys.readouterr().out
+    assert f"from {saved} (file), then tracked online" in capsys.readouterr().out
 
 
 def _refused(capsys, argv) -> str:

@@ -805,6 +805,7 @@ def long_pdr(
     gyro_bias="auto",
     run_min_cadence_hz: float | None = None,
     hde=None,
+    gyro_bias_start=None,
     **read_kwargs,
 ):
     """Dead-reckon a long recording chunk by chunk: :func:`gaitml.pdr.run_pdr` in bounded memory.
@@ -815,7 +816,8 @@ def long_pdr(
     continues the integration from the attitude (and gyroscope bias, ``gyro_bias`` as
     :class:`~gaitml.pdr.attitude.AttitudeEstimator`'s: with ``'still'`` or ``'auto'`` the first
     chunk starts from the still-stretch bias of the whole file, found in a first pass by
-    :func:`long_still_bias`, then the bias is carried) of the sample before its core
+    :func:`long_still_bias`, or from ``gyro_bias_start`` when given (a bias measured elsewhere, as
+    :func:`gaitml.pdr.run_pdr`'s), then the bias is carried) of the sample before its core
     (:meth:`~gaitml.pdr.attitude.AttitudeEstimator.estimate_from`), and the samples of its
     left margin keep the previous chunk's headings, so every sample's heading is that of one
     integration over the whole file (the complementary filter's zero-phase gravity low-pass
@@ -864,7 +866,15 @@ def long_pdr(
 
     chunk_s = DEFAULT_CHUNK_S if chunk_s is None else chunk_s
     margin_s = DEFAULT_MARGIN_S if margin_s is None else margin_s
-    source = _heading_source(heading, attitude=None, hde=hde, dwpca=None, initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias)
+    source = _heading_source(
+        heading,
+        attitude=None,
+        hde=hde,
+        dwpca=None,
+        initial_heading_rad=initial_heading_rad,
+        gyro_bias=gyro_bias,
+        gyro_bias_start=gyro_bias_start,
+    )
     modes, mode_boundaries, notes = check_long_pdr(path, source, model=model, modes=modes, mode_boundaries=mode_boundaries)
     slm, sl_source = _resolve_step_length(step_length)
     if slm is None:
@@ -878,11 +888,13 @@ def long_pdr(
             model, path, correction=True, chunk_s=chunk_s, progress=progress, run_min_cadence_hz=run_min_cadence_hz, **dict(read_kwargs)
         )
 
-    # the still-stretch gyroscope bias of the whole file (a first pass), as a whole-file run starts from
+    # the still-stretch gyroscope bias of the whole file (a first pass), as a whole-file run starts from;
+    # a bias measured elsewhere (the attitude's start_bias) takes its place, as in a whole-file run
     att = source.attitude
     still_bias = None
     if isinstance(att.gyro_bias, str) and att.gyro_bias in ("still", "auto"):
-        still_bias = long_still_bias(path, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
+        start = getattr(att, "start_bias", None)
+        still_bias = start if start is not None else long_still_bias(path, chunk_s=chunk_s, progress=progress, **dict(read_kwargs))
 
     parts, feat_parts, gyro_parts, label_parts, bias_parts = [], [], [], [], []
     also_counts: list[int] = []
@@ -1032,7 +1044,7 @@ def _bias_summary(first, still, bias_parts, fs) -> dict:
     online, the median of the tracked bias over the second half of the whole recording."""
     from gaitml.pdr.attitude import _online_summary
 
-    if first.method not in ("online", "still+online"):
+    if not first.method.endswith("online"):  # 'online', 'still+online', '<measured elsewhere>+online'
         return first.to_dict()
     if still is not None:
         return _online_summary(still, np.concatenate(bias_parts), fs).to_dict()

@@ -242,6 +242,8 @@ def integrate_gyro_gravity(
 
 #: values of ``AttitudeEstimator(gyro_bias=...)`` given by name
 GYRO_BIAS_MODES = ("auto", "still", "off")
+#: :class:`~gaitml.signal.GyroBias` methods of a bias measured outside the recording (``start_bias``)
+MEASURED_ELSEWHERE = ("still-recording", "file", "given")
 
 
 def _online_summary(start: GyroBias, bias: np.ndarray, fs: float) -> GyroBias:
@@ -249,14 +251,20 @@ def _online_summary(start: GyroBias, bias: np.ndarray, fs: float) -> GyroBias:
     half = bias[len(bias) // 2 :]
     med = np.median(half, axis=0) if len(half) else start.bias_rads
     b = np.degrees(med)
-    how = f"from {start.still_s:.1f} s still, then" if start.method == "still" else "from zero (no still stretch), then"
+    if start.method == "still":
+        how, method = f"from {start.still_s:.1f} s still, then", "still+online"
+    elif start.method in MEASURED_ELSEWHERE:
+        how, method = f"from {start.source or start.method} ({start.method}), then", f"{start.method}+online"
+    else:
+        how, method = "from zero (no still stretch), then", "online"
     return GyroBias(
         med,
-        "still+online" if start.method == "still" else "online",
+        method,
         still_s=start.still_s,
         n_still_windows=start.n_still_windows,
         note=f"gyroscope bias removed, {how} tracked online: median ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s over the second half",
         params={**start.params, "start_bias_rads": [float(v) for v in start.bias_rads]},
+        source=start.source,
     )
 
 
@@ -307,6 +315,12 @@ class AttitudeEstimator(BaseAlgorithm):
         Integral gain (1/s^2) of the online bias estimate of ``gyro_bias='auto'``: a tenth
         of ``gravity_gain_hz``'s default, the proportional-to-integral ratio commonly used
         with Mahony's filter (bias time constant of tens of seconds).
+    start_bias : :class:`gaitml.signal.GyroBias` or None, default None
+        With ``gyro_bias`` ``'still'`` or ``'auto'``: the bias to start from in place of the
+        recording's own still stretches, measured elsewhere (e.g. :func:`gaitml.signal.gyro_bias_from_still`
+        of a recording of the same phone lying still, or :func:`gaitml.signal.read_gyro_bias_json`).
+        ``'still'`` then holds it for the whole recording, ``'auto'`` tracks it online from there
+        (``gyro_bias_.method`` gets ``'+online'``). Ignored with ``'off'`` or an array.
 
     Attributes
     ----------
@@ -334,6 +348,7 @@ class AttitudeEstimator(BaseAlgorithm):
         forward_axis_body=FORWARD_AXIS_BODY,
         gyro_bias="auto",
         bias_gain: float = 0.05,
+        start_bias: GyroBias | None = None,
     ):
         self.initial_heading_rad = initial_heading_rad
         self.init_window_s = init_window_s
@@ -342,6 +357,7 @@ class AttitudeEstimator(BaseAlgorithm):
         self.forward_axis_body = forward_axis_body
         self.gyro_bias = gyro_bias
         self.bias_gain = bias_gain
+        self.start_bias = start_bias
 
     def _start_bias(self, recording, still: GyroBias | None = None) -> tuple[GyroBias, bool]:
         """The bias removed from the start and whether it is tracked online afterwards (``still``: the
@@ -352,6 +368,10 @@ class AttitudeEstimator(BaseAlgorithm):
                 raise InputError(f"unknown gyro_bias {gb!r}; use one of {', '.join(GYRO_BIAS_MODES)} or a (3,) bias in rad/s.")
             if gb == "off":
                 return GyroBias(np.zeros(3), "off", note="gyroscope bias removal turned off"), False
+            if still is None and self.start_bias is not None:
+                if not isinstance(self.start_bias, GyroBias):
+                    raise InputError(f"`start_bias` must be a gaitml.signal.GyroBias, got {type(self.start_bias).__name__}.")
+                still = self.start_bias
             est = estimate_gyro_bias(recording.acc, recording.gyr, recording.sampling_rate_hz) if still is None else still
             online = gb == "auto" and self.gravity_gain_hz > 0 and self.bias_gain > 0
             return est, online

@@ -221,10 +221,13 @@ def _detect(recording: Recording, detector):
     return det.steps_, getattr(det, "segments_", None)
 
 
-def _heading_source(heading, *, attitude, hde, dwpca, initial_heading_rad: float, gyro_bias="auto") -> BaseHeadingSource:
+def _heading_source(
+    heading, *, attitude, hde, dwpca, initial_heading_rad: float, gyro_bias="auto", gyro_bias_start=None
+) -> BaseHeadingSource:
     """A new heading source: a registry name resolved with the optional ``hde`` / ``dwpca`` / ``attitude``
     objects, or a clone of the given source; without an attitude of its own it gets ``attitude`` or
-    ``AttitudeEstimator(initial_heading_rad, gyro_bias)``. The caller's objects are never modified."""
+    ``AttitudeEstimator(initial_heading_rad, gyro_bias, start_bias=gyro_bias_start)``. The caller's objects
+    are never modified."""
     if isinstance(heading, str):
         if heading not in HEADING_SOURCES:
             raise InputError(f"unknown heading source {heading!r}; use one of {', '.join(HEADING_SOURCES)}.")
@@ -249,7 +252,7 @@ def _heading_source(heading, *, attitude, hde, dwpca, initial_heading_rad: float
         src.set_params(
             attitude=clone(attitude)
             if attitude is not None
-            else AttitudeEstimator(initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias)
+            else AttitudeEstimator(initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias, start_bias=gyro_bias_start)
         )
     return src
 
@@ -324,6 +327,7 @@ def run_pdr(
     hde: HeuristicDriftElimination | None = None,
     dwpca: DwPcaHeading | None = None,
     gyro_bias="auto",
+    gyro_bias_start=None,
     run_min_cadence_hz: float | None = None,
 ) -> PdrResult:
     """Dead-reckon a recording into a 2-D trajectory.
@@ -367,6 +371,11 @@ def run_pdr(
         ``gyro_bias``, :class:`~gaitml.pdr.attitude.AttitudeEstimator`; ignored when
         ``attitude`` or the heading source brings its own). What was removed is in
         ``info['gyro_bias']``.
+    gyro_bias_start : :class:`gaitml.signal.GyroBias`, optional
+        A bias measured elsewhere (:func:`gaitml.signal.gyro_bias_from_still` of a still recording of the
+        same phone, :func:`gaitml.signal.read_gyro_bias_json`) to start from in place of the recording's own
+        still stretches: ``gyro_bias='still'`` holds it, ``'auto'`` tracks it online
+        (``AttitudeEstimator(start_bias=...)``).
     run_min_cadence_hz : float, optional
         The model's run-cadence rule (:func:`gaitml.models._predict.run_cadence_rule`): a window read
         ``run`` at a walking step cadence takes the model's best other mode. None:
@@ -382,7 +391,15 @@ def run_pdr(
     """
     if not isinstance(recording, Recording):
         raise InputError(f"`recording` must be a gaitml Recording, got {type(recording).__name__}.")
-    source = _heading_source(heading, attitude=attitude, hde=hde, dwpca=dwpca, initial_heading_rad=initial_heading_rad, gyro_bias=gyro_bias)
+    source = _heading_source(
+        heading,
+        attitude=attitude,
+        hde=hde,
+        dwpca=dwpca,
+        initial_heading_rad=initial_heading_rad,
+        gyro_bias=gyro_bias,
+        gyro_bias_start=gyro_bias_start,
+    )
     if modes not in MODE_SOURCES:
         raise InputError(f"unknown mode source {modes!r}; use one of {', '.join(MODE_SOURCES)}.")
     if mode_boundaries not in MODE_ASSIGNMENTS:

@@ -48,7 +48,9 @@ __all__ = [
     "GyroBias",
     "StillWindows",
     "estimate_gyro_bias",
+    "gyro_bias_from_still",
     "gyro_bias_from_windows",
+    "read_gyro_bias_json",
     "remove_gyro_bias",
     "steady_tilt_mask",
     "gyro_still_windows",
@@ -62,6 +64,13 @@ STILL_ACC_STD_MAX_MS2 = 0.15
 STILL_GYR_STD_MAX_RADS = 0.03
 STILL_MIN_S = 2.0
 STILL_MAX_BIAS_RADS = 0.2
+#: Still time a separate still recording (:func:`gyro_bias_from_still`) must hold, seconds. The static
+#: bias test (IEEE Std 952-1997, annex C: the bias is the output averaged over a stretch at rest) needs
+#: enough samples that the average's noise is far below the bias: phone gyroscopes at rest read with a
+#: standard deviation of 0.001-0.003 rad/s per sample (the tyrex calibration logs, Michel et al. PerCom
+#: 2017), so 5 s at 50-200 Hz average it down to under 2e-4 rad/s (0.7 deg/min of heading drift). The
+#: shortest still gyroscope log of tyrex (``calib_gyr_iPhone5_d4``) holds 7.9 s.
+STILL_RECORDING_MIN_S = 5.0
 #: Defaults of :func:`steady_tilt_mask` (where an online bias estimate may learn from gravity).
 STEADY_WINDOW_S = 1.0
 STEADY_GYR_STD_MAX_RADS = 0.25
@@ -76,10 +85,14 @@ class GyroBias:
     ----------
     bias_rads : (3,) float, the bias per axis (rad/s) that is subtracted from the rate.
     method : ``'still'`` (from still stretches), ``'none'`` (no still stretch: nothing
-        removed), ``'given'`` (passed by the caller) or ``'off'`` (turned off).
+        removed), ``'given'`` (passed by the caller), ``'still-recording'`` (from a separate
+        recording of the phone lying still, :func:`gyro_bias_from_still`), ``'file'`` (read from a
+        gaitml-written JSON, :func:`read_gyro_bias_json`) or ``'off'`` (turned off); a tracked
+        start gets ``'+online'`` appended (:class:`gaitml.pdr.attitude.AttitudeEstimator`).
     still_s : seconds of the recording recognised as still (0 unless ``method='still'`` or ``'none'``).
     n_still_windows : number of still windows.
     note : one line for the output, saying what was removed and why.
+    source : where a bias measured elsewhere came from (the still recording or JSON file), else ``''``.
     """
 
     bias_rads: np.ndarray
@@ -88,6 +101,7 @@ class GyroBias:
     n_still_windows: int = 0
     note: str = ""
     params: dict = field(default_factory=dict)
+    source: str = ""
 
     def to_dict(self) -> dict:
         """JSON-ready summary (``gaitml pdr --json``'s ``gyro_bias``)."""
@@ -98,6 +112,9 @@ class GyroBias:
             "still_s": float(self.still_s),
             "n_still_windows": int(self.n_still_windows),
             "note": self.note,
+            **({"source": self.source} if self.source else {}),
+            # a tracked bias: where the tracking started (the still stretches' or a still recording's bias)
+            **({"start_bias_rads": [float(v) for v in self.params["start_bias_rads"]]} if "start_bias_rads" in self.params else {}),
         }
 
 
@@ -345,3 +362,153 @@ def steady_tilt_mask(
     _, g_std = _centered_stats(gyr, win)
     ok = (g_std.max(axis=1) <= gyr_std_max_rads) & (np.abs(m_mean[:, 0] - GRAVITY_MS2) <= acc_magnitude_tol_ms2)
     return ok & np.isfinite(mag[:, 0]) & np.isfinite(gyr).all(axis=1)
+
+
+def gyro_bias_from_still(
+    recording,
+    *,
+    min_still_s: float = STILL_RECORDING_MIN_S,
+    source: str | None = None,
+    window_s: float = STILL_WINDOW_S,
+    acc_magnitude_tol_ms2: float = STILL_ACC_MAGNITUDE_TOL_MS2,
+    acc_std_max_ms2: float = STILL_ACC_STD_MAX_MS2,
+    gyr_std_max_rads: float = STILL_GYR_STD_MAX_RADS,
+    max_bias_rads: float = STILL_MAX_BIAS_RADS,
+) -> GyroBias:
+    """The gyroscope bias from a separate recording of the same phone lying still (a static bias test).
+
+    The static bias of a rate gyroscope is its output averaged while it does not rotate (IEEE Std
+    952-1997, annex C; the tyrex benchmark's ``calib_gyr_<phone>_d<N>`` logs, Michel et al. PerCom
+    2017, are such recordings). The still stretches are found by the still test of
+    :func:`estimate_gyro_bias` (module docstring: |acc| near g and steady, every gyroscope axis
+    steady, mean rate under ``max_bias_rads``), so a recording that was picked up or put down at
+    its ends still gives the bias of its resting part. The bias is the **mean** over the still
+    windows of their mean rate, per axis: on a recording made to be still, the average of the
+    standard test, whose noise falls with the still time (the walk's own estimate takes the median
+    instead, to resist a slow turn that passes the test).
+
+    Parameters
+    ----------
+    recording : :class:`gaitml.recording.Recording` with a gyroscope (rad/s) and accelerometer (m/s^2).
+    min_still_s : still time needed (:data:`STILL_RECORDING_MIN_S`); with less, InputError.
+    source : where the recording came from (default its ``name``), kept in the result.
+    Other parameters: the still test of :func:`estimate_gyro_bias`.
+
+    Returns
+    -------
+    GyroBias with ``method='still-recording'``, its still time and ``source``.
+
+    Raises
+    ------
+    InputError (one line naming the problem and the fix): no gyroscope, or less than
+    ``min_still_s`` seconds still.
+    """
+    name = source if source is not None else getattr(recording, "name", "") or "the still recording"
+    gyr = getattr(recording, "gyr", None)
+    if gyr is None:
+        raise InputError(f"the still recording {name} has no gyroscope; give a recording of the same phone with its gyroscope logged.")
+    gyr = _measured_gyr(recording, gyr)
+    windows = gyro_still_windows(
+        recording.acc,
+        gyr,
+        recording.sampling_rate_hz,
+        window_s=window_s,
+        acc_magnitude_tol_ms2=acc_magnitude_tol_ms2,
+        acc_std_max_ms2=acc_std_max_ms2,
+        gyr_std_max_rads=gyr_std_max_rads,
+        max_bias_rads=max_bias_rads,
+    )
+    med = gyro_bias_from_windows(windows, min_still_s=min_still_s)
+    duration = recording.n_samples / recording.sampling_rate_hz
+    if med.method != "still":
+        raise InputError(
+            f"the still recording {name} is still for {med.still_s:.1f} s of {duration:.1f} s ({_not_still_reason(recording, windows, min_still_s)}"
+        )
+    bias = windows.mean_rate_rads[windows.still].mean(axis=0)
+    b = np.degrees(bias)
+    return GyroBias(
+        bias,
+        "still-recording",
+        still_s=med.still_s,
+        n_still_windows=med.n_still_windows,
+        note=f"gyroscope bias ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s from the still recording {name} ({med.still_s:.1f} s still)",
+        params={**med.params, "min_still_s": min_still_s, "still_recording_s": float(duration)},
+        source=str(name),
+    )
+
+
+def _measured_gyr(recording, gyr) -> np.ndarray:
+    """The gyroscope with the samples a reader filled where it did not run set to NaN (a merge of two clocks
+    holds its edge sample there, ``meta['clock_merge']['gyr_filled_s']``, :mod:`gaitml.io._merge`): a held value
+    is constant, so it would pass the still test without being measured."""
+    g = np.array(gyr, dtype=float)
+    filled = (getattr(recording, "meta", {}).get("clock_merge") or {}).get("gyr_filled_s") or []
+    if filled:
+        t = np.asarray(recording.t_s, dtype=float)
+        half = 0.5 / recording.sampling_rate_hz
+        for a, b in filled:
+            g[(t >= a - half) & (t <= b + half)] = np.nan
+    return g
+
+
+def _not_still_reason(recording, windows: StillWindows, min_still_s: float) -> str:
+    """The end of :func:`gyro_bias_from_still`'s refusal: what the recording shows and the fix (a unit
+    left unconverted shows as |acc| far from g or a rate far above any phone's bias)."""
+    p = windows.params
+    mag = float(np.nanmedian(np.linalg.norm(np.asarray(recording.acc, dtype=float), axis=1))) if recording.n_samples else float("nan")
+    rate = float(np.nanmedian(np.abs(windows.mean_rate_rads).max(axis=1))) if len(windows.start) else 0.0
+    if np.isfinite(mag) and abs(mag - GRAVITY_MS2) > 2.0:
+        return f"its |acc| is {mag:.2f} m/s^2, not g = {GRAVITY_MS2:.2f}): check the accelerometer's unit (--acc-unit)."
+    if rate > p["max_bias_rads"]:
+        return (
+            f"its mean rate is {rate:.2f} rad/s, above the {p['max_bias_rads']:g} rad/s of any phone's bias): check the gyroscope's "
+            "unit (--gyr-unit) or that the phone was not turning."
+        )
+    return (
+        f">= {min_still_s:g} s needed, with |acc| within {p['acc_magnitude_tol_ms2']:g} m/s^2 of g and every gyroscope axis steady "
+        f"to {p['gyr_std_max_rads']:g} rad/s); record the phone lying untouched on a table for longer."
+    )
+
+
+def read_gyro_bias_json(path) -> GyroBias:
+    """A gyroscope bias from a gaitml-written JSON: ``gaitml pdr --json``'s output (its ``gyro_bias``
+    record) or that record alone (:meth:`GyroBias.to_dict`).
+
+    Returns GyroBias with ``method='file'`` and ``source`` the path. Raises InputError (one line)
+    when the file is not such a JSON, its bias is not 3 finite numbers, or the record says no bias
+    was measured (``method`` ``'none'`` or ``'off'``).
+    """
+    import json
+    from pathlib import Path
+
+    p = Path(path)
+    try:
+        obj = json.loads(p.read_text())
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise InputError(f"cannot read a gyroscope bias from {p}: {exc}; give the JSON written by gaitml pdr --json.") from None
+    rec = obj.get("gyro_bias", obj) if isinstance(obj, dict) else None
+    if not isinstance(rec, dict) or "bias_rads" not in rec:
+        raise InputError(
+            f"{p} holds no gyroscope bias (no 'gyro_bias' record with 'bias_rads'); give the JSON written by gaitml pdr --json."
+        )
+    if rec.get("method") in ("none", "off"):
+        raise InputError(
+            f"{p} records no measured gyroscope bias (method {rec.get('method')!r}); write it from a run that found one "
+            "(e.g. gaitml pdr STILL_RECORDING --json on a recording of the phone lying still)."
+        )
+    try:
+        bias = np.asarray(rec["bias_rads"], dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        bias = np.zeros(0)
+    if bias.shape != (3,) or not np.isfinite(bias).all():
+        raise InputError(f"{p}: 'bias_rads' must be 3 finite numbers (rad/s), got {rec['bias_rads']!r}.")
+    b = np.degrees(bias)
+    return GyroBias(
+        bias,
+        "file",
+        still_s=float(rec.get("still_s", 0.0) or 0.0),
+        n_still_windows=int(rec.get("n_still_windows", 0) or 0),
+        note=f"gyroscope bias ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s read from {p.name} (measured there as {rec.get('method', '?')})",
+        params={"file_method": rec.get("method"), **({"file_source": rec["source"]} if rec.get("source") else {})},
+        source=str(p),
+    )

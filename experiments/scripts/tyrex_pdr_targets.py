@@ -1,6 +1,6 @@
 """Every PDR target of issue 27 in one table: ``gaitml pdr`` at its defaults, uncalibrated and with the step length calibrated on the other tyrex people.
 
-``python -m experiments.scripts.tyrex_pdr_targets [--data ../shared/data] [--model models/demo] [--cache FILE] [--json-dir DIR] [--csv FILE] [--out FILE]``
+``python -m experiments.scripts.tyrex_pdr_targets [--data ../shared/data] [--model models/demo] [--cache FILE] [--json-dir DIR] [--csv FILE] [--out FILE] [--no-gyrocal]``
 from the repository root. Nothing new is built here: the per-recording runs are
 :func:`experiments.scripts.tyrex_steplen.prepare`'s (``gaitml pdr``'s defaults: the default step
 detector, the guarded HDE heading, gyroscope bias ``auto``; forward-only and ``--model``), the step
@@ -16,6 +16,11 @@ the people other than the one scored, written to ``--json-dir``):
 - ``gaitml pdr`` (uncalibrated, forward-only) and ``gaitml pdr --model models/demo`` (model modes);
 - ``gaitml pdr --step-length FOLD.json`` and ``gaitml pdr --model models/demo --step-length FOLD.json``,
   held out and in sample.
+
+With ``--gyro-bias-from`` (branch gyrocal; leave out with ``--no-gyrocal``): the same four runs with the gyroscope
+bias of the phone's still log (``gaitml pdr --gyro-bias-from LOG``: started from it, then tracked, the option's
+default), LOG chosen by :mod:`experiments.scripts.tyrex_gyrocal`'s rule (the phone's still gyroscope log with the
+most still seconds; chosen on no walk); a second set of per-recording runs, cached beside ``--cache``.
 
 The user-facing path is checked, not assumed: for every fold and both runs, ``gaitml pdr DIR
 --step-length FOLD.json [--model models/demo] --out CSV`` (the command line, in process) is run on
@@ -52,10 +57,22 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from experiments.scripts.tyrex_gyrocal import CALIBRATION_GLOBS, still_logs
 from experiments.scripts.tyrex_pdr import MOTION_ORDER, load_tyrex, md
 from experiments.scripts.tyrex_steplen import RUN_MOTIONS, SUCCESS_MOTIONS, WALK_MOTIONS, _lengths, _positions, load_or_prepare, run_all
 
-__all__ = ["CONFIGS", "TARGETS", "check_cli", "count_met", "judge", "main", "person_margins", "target_table", "verdict_matrix"]
+__all__ = [
+    "CONFIGS",
+    "CONFIGS_GYROCAL",
+    "TARGETS",
+    "check_cli",
+    "count_met",
+    "judge",
+    "main",
+    "person_margins",
+    "target_table",
+    "verdict_matrix",
+]
 
 #: configurations: label -> (variant in tyrex_steplen's table, held out?, forward-only variant to compare model modes with)
 CONFIGS = {
@@ -65,6 +82,15 @@ CONFIGS = {
     "calibrated --model, held out": ("model/cal", True, "fwd/cal"),
     "calibrated, in sample": ("fwd/cal", False, None),
     "calibrated --model, in sample": ("model/cal", False, "fwd/cal"),
+}
+#: the same with ``--gyro-bias-from LOG`` (branch gyrocal: the bias of the phone's still log, then tracked)
+GYROCAL = " +gyrocal"
+CONFIGS_GYROCAL = {
+    "--gyro-bias-from, uncalibrated": ("fwd/default" + GYROCAL, True, None),
+    "--gyro-bias-from --model, uncalibrated": ("model/default" + GYROCAL, True, "fwd/default" + GYROCAL),
+    "--gyro-bias-from, calibrated, held out": ("fwd/cal" + GYROCAL, True, None),
+    "--gyro-bias-from --model, calibrated, held out": ("model/cal" + GYROCAL, True, "fwd/cal" + GYROCAL),
+    "--gyro-bias-from --model, calibrated, in sample": ("model/cal" + GYROCAL, False, "fwd/cal" + GYROCAL),
 }
 #: the targets of issue 27 ("What it must show", PDR table), in the order printed
 TARGETS = (
@@ -218,29 +244,38 @@ def count_met(long: pd.DataFrame, subset: str) -> str:
     return f"{sum(judged)}/{len(judged)}"
 
 
-def check_cli(items, preps, fitted: dict, root: Path, json_dir: Path, model_path: str | None) -> list[tuple[str, str, str, float]]:
+def check_cli(
+    items, preps, fitted: dict, root: Path, json_dir: Path, model_path: str | None, extra_argv=None
+) -> list[tuple[str, str, str, float]]:
     """Per fold and run, ``gaitml pdr DIR --step-length FOLD.json [--model ...] --out CSV`` against the table's positions.
 
     ``root`` is the tyrex-attitude folder. Writes each fold's calibration to ``json_dir/steplength-<fold>.json`` (what a user passes).
     Checked on one walking and one running recording of the fold without a sensor gap; on fold ``all``'s
     two recordings also without ``--step-length`` (the uncalibrated rows).
+    ``extra_argv(item)``, when given, adds options to every command (``--gyro-bias-from LOG``).
     Returns (fold, run, file, largest position difference in m)."""
+    from gaitml.pdr.step_length import StepLengthModel
+
     out = []
     for fold, models in fitted.items():
-        path = models["cal"].save(json_dir / f"steplength-{fold}.json")
+        path = json_dir / f"steplength-{fold}.json"
+        if path.exists() and StepLengthModel.load(path).to_dict() != models["cal"].to_dict():
+            raise SystemExit(f"error: {path} holds another calibration than this run's fold {fold}; delete it or pass another --json-dir.")
+        models["cal"].save(path)
         for motions in (WALK_MOTIONS, RUN_MOTIONS):
             k = next(
                 i
                 for i, it in enumerate(items)
                 if (fold == "all" or it["subject"] == fold) and it["n_segments"] == 1 and it["motion"] in motions
             )
-            out += _check_one(items[k], preps[k], fold, models, path, root, model_path)
+            extra = extra_argv(items[k]) if extra_argv else []
+            out += _check_one(items[k], preps[k], fold, models, path, root, model_path, extra)
             if fold == "all":  # the uncalibrated rows: the same command without --step-length
-                out += _check_one(items[k], preps[k], "uncalibrated", models, None, root, model_path)
+                out += _check_one(items[k], preps[k], "uncalibrated", models, None, root, model_path, extra)
     return out
 
 
-def _check_one(it, pr, fold, models, path, root, model_path) -> list[tuple[str, str, str, float]]:
+def _check_one(it, pr, fold, models, path, root, model_path, extra=()) -> list[tuple[str, str, str, float]]:
     """One recording: the command line's positions (forward-only and ``--model``) against the table's rebuilt ones
     (``path`` None: without ``--step-length``, against the uncalibrated rows)."""
     from gaitml.cli import main as cli_main
@@ -252,7 +287,7 @@ def _check_one(it, pr, fold, models, path, root, model_path) -> list[tuple[str, 
         with tempfile.TemporaryDirectory() as tmp:
             csv = Path(tmp) / "traj.csv"
             argv = ["pdr", str(root / it["file"]), "--out", str(csv)] + (["--step-length", str(path)] if path else [])
-            argv += ["--model", model_path] if run == "model" else []
+            argv += (["--model", model_path] if run == "model" else []) + list(extra)
             with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
                 rc = cli_main(argv)
             if rc != 0:
@@ -272,6 +307,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--json-dir", default="/tmp/pdrtargets", help="where each fold's step-length JSON is written")
     p.add_argument("--csv", metavar="FILE", help="write the long targets table (every configuration, subset, motion, target)")
     p.add_argument("--out", metavar="FILE", help="write the printed tables to this markdown file too")
+    p.add_argument(
+        "--no-gyrocal",
+        dest="gyrocal",
+        action="store_false",
+        help="leave out the --gyro-bias-from rows (the bias of each phone's still log; a second set of runs, cached beside --cache)",
+    )
     args = p.parse_args(argv)
     if not args.model:
         raise SystemExit("error: --model is needed (the targets compare model modes with forward-only); pass --model models/demo.")
@@ -284,17 +325,45 @@ def main(argv: list[str] | None = None) -> int:
     table, fitted, checks = run_all(items, preps, model)
     json_dir = Path(args.json_dir)
     json_dir.mkdir(parents=True, exist_ok=True)
-    cli = check_cli(items, preps, fitted, Path(args.data) / "tyrex-attitude", json_dir, args.model)
-    longs = {label: target_table(table, v, fwd, held_out=h) for label, (v, h, fwd) in CONFIGS.items()}
+    root = Path(args.data) / "tyrex-attitude"
+    cli = check_cli(items, preps, fitted, root, json_dir, args.model)
+    configs = dict(CONFIGS)
+    lines = []
+    if args.gyrocal:
+        # the phone's still log with the most still seconds (tyrex_gyrocal's rule, fixed there before measuring)
+        logs = {phone: found[0] for phone, found in still_logs(Path(args.data)).items() if found}
+        missing = sorted({it["phone"] for it in items} - set(logs))
+        if missing:
+            raise SystemExit(f"error: no usable still gyroscope log for {missing}; pass --no-gyrocal.")
+        cache_gc = str(Path(args.cache).with_name(Path(args.cache).stem + "-gyrocal.pkl"))
+        preps_gc = load_or_prepare(items, model, cache_gc, t0, options_of=lambda it: {"gyro_bias_start": logs[it["phone"]][1]})
+        table_gc, fitted_gc, checks_gc = run_all(items, preps_gc, model)
+        kept = table_gc[table_gc["variant"].isin(["fwd/default", "model/default", "fwd/cal", "model/cal"])]
+        table = pd.concat([table, kept.assign(variant=kept["variant"] + GYROCAL)], ignore_index=True)
+        checks += checks_gc
+
+        def log_argv(it):
+            return ["--gyro-bias-from", str(root / CALIBRATION_GLOBS[it["phone"]].split("/")[0] / logs[it["phone"]][0])]
+
+        cli_gc = check_cli(items, preps_gc, fitted_gc, root, json_dir, args.model, extra_argv=log_argv)
+        cli += [(f"{c[0]} gyrocal", *c[1:]) for c in cli_gc]
+        configs.update(CONFIGS_GYROCAL)
+        lines += [
+            "still logs (--gyro-bias-from): " + ", ".join(f"{ph} {lg[0]} ({lg[1].still_s:.0f} s still)" for ph, lg in logs.items()),
+            "",
+        ]
+    longs = {label: target_table(table, v, fwd, held_out=h) for label, (v, h, fwd) in configs.items()}
     if args.csv:
         pd.concat([lg.assign(config=label) for label, lg in longs.items()]).to_csv(args.csv, index=False)
     lines = [
+        *lines,
         f"same code path: rebuilt trajectories vs run_pdr(step_length=...) at most {max(c[2] for c in checks):.2e} m ({len(checks)} checks); "
         f"vs the command line `gaitml pdr DIR [--step-length FOLD.json] [--model]` at most {max(c[3] for c in cli):.2e} m "
         f"({len(cli)} runs: {', '.join(f'{c[0]}/{c[1]} {c[2]}' for c in cli)})",
         "",
     ]
-    for label in ("calibrated --model, held out", "uncalibrated", "calibrated --model, in sample"):
+    shown = ("calibrated --model, held out", "uncalibrated", "calibrated --model, in sample")
+    for label in shown + (("--gyro-bias-from --model, calibrated, held out",) if args.gyrocal else ()):
         lines += [f"### issue 27 targets: {label}", md(main_table(longs[label])), ""]
     for subset, name in (("NoDist", "NoDist medians (9 per motion)"), ("all", "all recordings")):
         lines += [f"### verdicts (margin) of every configuration, {name}", md(verdict_matrix(longs, subset)), ""]

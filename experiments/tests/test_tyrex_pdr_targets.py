@@ -122,3 +122,29 @@ def test_count_met_skips_targets_that_do_not_apply():
     long = target_table(t, "fwd/cal", None, held_out=True)
     # distance missed; 1.25 x bound, below still, drift and baseline met; model modes n/a
     assert count_met(long, "NoDist") == "4/5"
+
+
+def test_prepare_keeps_its_pdr_options_and_the_path_check_uses_them():
+    """A bias given to every run (what --gyro-bias-from does) turns the headings, and the same-path check
+    reruns run_pdr with it: the rebuilt trajectory matches; without it the check sees the difference."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from experiments.scripts.tyrex_steplen import check_same_path, prepare
+    from gaitml.pdr.step_length import StepLengthModel
+    from gaitml.signal import GyroBias
+    from gaitml.simulate import sample_subjects, simulate_recording
+
+    rec = simulate_recording(sample_subjects(1, seed=0)[0], route="rectangle", duration_s=40.0, modes=("walk",), seed=1)
+    rec.meta["t0_original_s"] = 0.0
+    tr = rec.reference["trajectory"]
+    truth = SimpleNamespace(t_s=tr["t"].to_numpy(), pos_m=np.column_stack([tr["x_m"], tr["y_m"], np.zeros(len(tr))]))
+    item = {"file": "sim", "recording": rec, "truth": truth, "mode": "walk", "motion": "Texting"}
+    plain = prepare(item, None)
+    biased = prepare(item, None, {"gyro_bias_start": GyroBias(bias_rads=np.array([0.0, 0.0, 0.05]), method="given")})
+    assert "pdr_options" not in plain and "pdr_options" in biased
+    assert np.max(np.abs(plain["runs"]["fwd"]["theta"] - biased["runs"]["fwd"]["theta"])) > 0.5
+    models = {"cal": StepLengthModel()}
+    assert check_same_path(item, biased, "fwd", models, None) < 1e-9
+    assert check_same_path(item, {k: v for k, v in biased.items() if k != "pdr_options"}, "fwd", models, None) > 1.0

@@ -687,8 +687,11 @@ def stride_rhythm(recording: Recording, windows: pd.DataFrame, pad_s: float = ST
         return out
     pad = int(round(float(pad_s) * fs))
     hi_hz = min(ad.GYRO_BAND_HZ[1], 0.45 * fs)
-    centre = 0.5 * (windows["start"].to_numpy(float) + windows["end"].to_numpy(float))
-    a = np.clip(np.round(centre - span / 2.0).astype(np.int64), 0, len(g) - span)  # the 5 s: [a, a + span)
+    # the 5 s, [a, a + span), centred on the window (half a sample early where the centre falls between samples): in
+    # integers, so that a part of the recording (a chunk) starting at any sample reads the same samples (round-half-even
+    # of a half-integer centre depends on where the part starts)
+    se = windows["start"].to_numpy(np.int64) + windows["end"].to_numpy(np.int64)
+    a = np.clip((se - span) // 2, 0, len(g) - span)
     lo = np.maximum(a - pad, 0)
     hi = np.minimum(a + span + pad, len(g))
     proj = np.zeros((n, L))

@@ -173,3 +173,36 @@ def test_the_json_export_states_the_mark(demo, monkeypatch):
     assert spec["band_hz"] == list(adaptive.GYRO_BAND_HZ) and spec["min_rms_rads"] == adaptive.GYRO_MIN_RMS_RADS
     monkeypatch.setattr(P, "STILL_UNSURE_DEFAULT", False)
     assert input_spec(demo)["postprocess"]["still"]["unsure"]["in_force"] is False
+
+
+@pytest.mark.parametrize("fs, offset", [(25.0, 475), (50.0, 950), (30.0, 331)])
+def test_the_rhythm_reads_the_same_samples_in_a_part_of_the_recording_starting_anywhere(monkeypatch, fs, offset):
+    """A chunk of a long run (gaitml.chunked_run.long_predict) is the recording from some sample on: each window's
+    projection, and so its mark, must not depend on where that part starts. At 25 Hz a 1.5 s window (38 samples) has its
+    centre half-way between samples and chunks start on odd samples (475); rounding the half to even read the 5 s one
+    sample apart in the chunk and in the whole file."""
+    from gaitml.signal import window_params
+    from gaitml.steps import adaptive
+
+    seen = []
+    real = adaptive.swing_stride
+
+    def spy(proj, rate):
+        seen.append(proj.copy())
+        return real(proj, rate)
+
+    monkeypatch.setattr(adaptive, "swing_stride", spy)
+    rng = np.random.default_rng(0)
+    n = int(200 * fs)
+    t = np.arange(n) / fs
+    gyr = np.column_stack([0.3 * np.sin(np.pi * t), np.zeros(n), np.zeros(n)]) + rng.normal(0, 0.2, (n, 3))
+    acc = np.tile([0.0, 0.0, 9.81], (n, 1)) + rng.normal(0, 0.02, (n, 3))
+    length, hop = window_params(1.5, 0.5, fs)
+    start = np.arange(offset + 40 * hop, offset + 120 * hop, hop)
+    w = pd.DataFrame({"start": start, "end": start + length})
+    whole = stride_rhythm(Recording(acc=acc, gyr=gyr, sampling_rate_hz=fs), w)
+    part = stride_rhythm(Recording(acc=acc[offset:], gyr=gyr[offset:], sampling_rate_hz=fs), w - offset)
+    assert len(seen) == 2 and seen[0].shape == seen[1].shape
+    np.testing.assert_allclose(seen[0], seen[1], rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(whole, part)
+    assert whole.mean() > 0.5  # the stride turning is there: the windows are read, not skipped

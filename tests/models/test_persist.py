@@ -631,9 +631,9 @@ def test_evaluate_and_train_never_open_a_crafted_model_folder(tmp_path, capsys):
 def test_json_export_in_plain_numpy_marks_still_unsure_as_predict_does(tmp_path, monkeypatch, seed):
     """A calm phone-at-ear walk between two standing stretches (the still gate reads much of the walk still, the phone
     turns once per stride): the plain reader marks ``still_unsure`` from the export's words alone (its numbers and its
-    rule) in exactly the windows predict marks, and leaves the standing windows unmarked."""
+    rule) in exactly the windows predict marks, and computes the same projections."""
     from gaitml.models import stride_rhythm
-    from gaitml.steps import adaptive
+    from tests.models.test_still_unsure import rhythm_projections
     from tests.models.test_still_veto_swing import ear_walk
 
     model = load_model(DEMO)
@@ -644,14 +644,7 @@ def test_json_export_in_plain_numpy_marks_still_unsure_as_predict_does(tmp_path,
     spec = _check_json_equals_predict(model, rec, tmp_path)  # compares the reader's still_unsure with predict's
     # the words give gaitml's numbers, not only its answers (a window moved by a sample keeps its mark here): gaitml's
     # projection of each still window, the input of adaptive.swing_stride in stride_rhythm
-    seen = []
-    real = adaptive.swing_stride
-
-    def spy(proj, rate):
-        seen.append(proj.copy())
-        return real(proj, rate)
-
-    monkeypatch.setattr(adaptive, "swing_stride", spy)
+    seen = rhythm_projections(monkeypatch)
     np.testing.assert_array_equal(stride_rhythm(rec, table[still]), marked[still])
     mine: list = []
     length = spec["window"]["length_samples"]

@@ -150,7 +150,8 @@ STILL_UNSURE_DEFAULT = True
 #: :func:`stride_rhythm` band-passes, for each window it reads, the 5 s of angular rate around the window and this
 #: many seconds more on each side (inside the recording), so that the zero-phase filter's start-up at the ends of the
 #: piece settles before the 5 s it reads (the band's lowest edge, 0.3 Hz, rings for about one period, 3.3 s). Each
-#: window reads only samples within 7.5 s of its centre: a chunk with a wider margin gives the whole-file answer.
+#: window reads only samples within 7.5 s of its centre, or, where its 5 s are moved inside the recording, within 10 s
+#: of the recording's first or last sample: a chunk with a margin wider than 7.5 s gives the whole-file answer.
 STILL_UNSURE_PAD_S = 5.0
 #: The side-step modes, whose name carries a direction (left / right of the walker).
 SIDE_MODES = ("side_left", "side_right")

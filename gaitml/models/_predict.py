@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 
@@ -671,10 +673,19 @@ def stride_rhythm(recording: Recording, windows: pd.DataFrame, pad_s: float = ST
     anti-phase at P / 2 (correlation at most -:data:`~gaitml.steps.adaptive.GYRO_SWING_HALF_CORRELATION`).
 
     All False without a gyroscope and for a recording shorter than 5 s. Windows are read in batches (bounded memory).
+    A ``pad_s`` that is not a finite number >= 0 is refused (:class:`~gaitml.errors.InputError`).
     """
     from gaitml.signal import bandpass
     from gaitml.steps import adaptive as ad
 
+    try:
+        pad_ok = math.isfinite(float(pad_s)) and float(pad_s) >= 0.0
+    except (TypeError, ValueError):
+        pad_ok = False
+    if not pad_ok:
+        raise InputError(
+            f"stride_rhythm: pad_s={pad_s!r} is not a finite number of seconds >= 0; give e.g. {STILL_UNSURE_PAD_S:g} (the default)."
+        )
     n = len(windows)
     out = np.zeros(n, dtype=bool)
     if recording.gyr is None or n == 0:

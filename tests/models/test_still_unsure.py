@@ -230,3 +230,17 @@ def test_the_rhythm_reads_the_same_samples_in_a_part_of_the_recording_starting_a
     np.testing.assert_allclose(seen[0], seen[1], rtol=0, atol=1e-9)
     np.testing.assert_array_equal(whole, part)
     assert whole.mean() > 0.5  # the stride turning is there: the windows are read, not skipped
+
+
+@pytest.mark.parametrize("pad_s", [-3.0, -0.5, float("nan"), float("inf"), "five"])
+def test_a_pad_that_is_no_finite_number_at_least_zero_is_refused_in_one_line(pad_s):
+    """``gaitml.models.stride_rhythm`` is public: a negative pad read the samples outside the piece (an IndexError or a
+    filter error naming the wrong fix), NaN a bare ValueError; now one line naming ``pad_s`` and the default."""
+    from gaitml.errors import InputError
+
+    rec, _ = ear_walk(0)
+    w = P._windows_for(rec, 1.5, 0.5)
+    with pytest.raises(InputError, match=r"pad_s=.* is not a finite number of seconds >= 0; give e\.g\. 5") as exc:
+        stride_rhythm(rec, w, pad_s=pad_s)
+    assert "\n" not in str(exc.value)
+    assert stride_rhythm(rec, w, pad_s=0.0).any()  # no pad is a pad

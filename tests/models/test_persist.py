@@ -652,3 +652,34 @@ def test_json_export_in_plain_numpy_marks_still_unsure_as_predict_does(tmp_path,
     assert len(seen) == 1 and len(mine) == len(seen[0]) == int(still.sum())
     for x, p in zip(mine, seen[0], strict=True):  # an eigenvector's sign is arbitrary
         np.testing.assert_allclose(x * np.sign(x @ p), p, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("fs", [12.5, 25.0, 100.0, 204.8])
+def test_the_exports_still_unsure_words_hold_at_other_model_rates(fs):
+    """The rule is written for any ``sampling_rate_hz`` (the decimation q = floor(fs / decimate_to_hz): 1 at 12.5 and
+    25 Hz, 4 and 8 at 100 and 204.8 Hz): the plain reader of the demo export's words, given another rate, marks what
+    ``stride_rhythm`` marks on a gyroscope that turns with a stride rhythm (cadence 0.8 -> 2 steps/s) between two calm
+    stretches, every window read as still."""
+    import pandas as pd
+
+    from gaitml.models import stride_rhythm
+    from gaitml.models._export import input_spec
+    from gaitml.recording import Recording
+    from gaitml.signal import window_params
+
+    spec = json.loads(json.dumps(input_spec(load_model(DEMO))))
+    spec["sampling_rate_hz"] = fs
+    rng = np.random.default_rng(int(fs))
+    n = int(120 * fs)
+    t = np.arange(n) / fs
+    phase = np.cumsum(np.pi * (0.8 + 1.2 * t / t[-1])) / fs
+    amp = np.where((t > 30) & (t < 90), 0.35, 0.05)
+    gyr = np.column_stack([amp * np.sin(phase), 0.3 * amp * np.cos(phase), np.zeros(n)]) + rng.normal(0, 0.1, (n, 3))
+    length, hop = window_params(1.5, 0.5, fs)
+    starts = np.arange(0, n - length + 1, hop)
+    marked = stride_rhythm(
+        Recording(acc=np.tile([0.0, 0.0, 9.81], (n, 1)), gyr=gyr, sampling_rate_hz=fs),
+        pd.DataFrame({"start": starts, "end": starts + length}),
+    )
+    assert 0.3 < marked.mean() < 0.7  # measured 74-77 of 149-159 windows: the walk marked, the calm stretches not
+    np.testing.assert_array_equal(_still_unsure_from_json(spec, gyr, starts, length, np.full(len(starts), "still")), marked)

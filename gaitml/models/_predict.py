@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 
@@ -152,7 +154,8 @@ STILL_UNSURE_DEFAULT = True
 #: :func:`stride_rhythm` band-passes, for each window it reads, the 5 s of angular rate around the window and this
 #: many seconds more on each side (inside the recording), so that the zero-phase filter's start-up at the ends of the
 #: piece settles before the 5 s it reads (the band's lowest edge, 0.3 Hz, rings for about one period, 3.3 s). Each
-#: window reads only samples within 7.5 s of its centre: a chunk with a wider margin gives the whole-file answer.
+#: window reads only samples within 7.5 s of its centre, or, where its 5 s are moved inside the recording, within 10 s
+#: of the recording's first or last sample: a chunk with a margin wider than 7.5 s gives the whole-file answer.
 STILL_UNSURE_PAD_S = 5.0
 #: The side-step modes, whose name carries a direction (left / right of the walker).
 SIDE_MODES = ("side_left", "side_right")
@@ -702,10 +705,19 @@ def stride_rhythm(recording: Recording, windows: pd.DataFrame, pad_s: float = ST
     anti-phase at P / 2 (correlation at most -:data:`~gaitml.steps.adaptive.GYRO_SWING_HALF_CORRELATION`).
 
     All False without a gyroscope and for a recording shorter than 5 s. Windows are read in batches (bounded memory).
+    A ``pad_s`` that is not a finite number >= 0 is refused (:class:`~gaitml.errors.InputError`).
     """
     from gaitml.signal import bandpass
     from gaitml.steps import adaptive as ad
 
+    try:
+        pad_ok = math.isfinite(float(pad_s)) and float(pad_s) >= 0.0
+    except (TypeError, ValueError):
+        pad_ok = False
+    if not pad_ok:
+        raise InputError(
+            f"stride_rhythm: pad_s={pad_s!r} is not a finite number of seconds >= 0; give e.g. {STILL_UNSURE_PAD_S:g} (the default)."
+        )
     n = len(windows)
     out = np.zeros(n, dtype=bool)
     if recording.gyr is None or n == 0:
@@ -719,8 +731,11 @@ def stride_rhythm(recording: Recording, windows: pd.DataFrame, pad_s: float = ST
         return out
     pad = int(round(float(pad_s) * fs))
     hi_hz = min(ad.GYRO_BAND_HZ[1], 0.45 * fs)
-    centre = 0.5 * (windows["start"].to_numpy(float) + windows["end"].to_numpy(float))
-    a = np.clip(np.round(centre - span / 2.0).astype(np.int64), 0, len(g) - span)  # the 5 s: [a, a + span)
+    # the 5 s, [a, a + span), centred on the window (half a sample early where the centre falls between samples): in
+    # integers, so that a part of the recording (a chunk) starting at any sample reads the same samples (round-half-even
+    # of a half-integer centre depends on where the part starts)
+    se = windows["start"].to_numpy(np.int64) + windows["end"].to_numpy(np.int64)
+    a = np.clip((se - span) // 2, 0, len(g) - span)
     lo = np.maximum(a - pad, 0)
     hi = np.minimum(a + span + pad, len(g))
     proj = np.zeros((n, L))

@@ -559,6 +559,7 @@ def predict_recording(
     still_step_veto: int | None = None,
     veto_for_step_modes: bool = False,
     found_steps: dict | None = None,
+    mark_still_unsure: bool = True,
 ) -> pd.DataFrame:
     """Predict the motion mode of every window of ``recording``.
 
@@ -589,6 +590,8 @@ def predict_recording(
         veto and the run-cadence rule find on the recording at the model's rate are kept in it, and steps already there
         are read instead of found again (:func:`gaitml.chunked_run.long_predict`'s later pass over a chunk). None: each
         finder's steps are found once within the call.
+    mark_still_unsure : add the ``still_unsure`` column (:func:`still_unsure`); False (or ``veto_for_step_modes``): the
+        table has no such column and the stride rhythm is not computed (a caller that never reads ``still``).
 
     Returns
     -------
@@ -650,6 +653,7 @@ def predict_recording(
         still_step_veto=still_step_veto,
         veto_for_step_modes=veto_for_step_modes,
         found_steps=found_steps,
+        mark_still_unsure=mark_still_unsure,
         X=X,
         run_min_cadence_hz=run_min_cadence_hz,
         has_domain=getattr(model, "domain", None) is not None,
@@ -1126,6 +1130,7 @@ def finish_predictions(
     still_step_veto: int | None = None,
     veto_for_step_modes: bool = False,
     found_steps: dict | None = None,
+    mark_still_unsure: bool = True,
     **attrs,
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
@@ -1167,7 +1172,8 @@ def finish_predictions(
     ``veto_for_step_modes``: the caller reads the table only for the modes its steps take (``gaitml pdr``): the veto's
     step finder then runs only when the veto can change them (:func:`veto_can_change_step_modes`); when it does not
     run, ``still``, ``still_vetoed`` and ``window_steps`` are those of the veto off, and every mode a step takes is the
-    same as with it.
+    same as with it. Such a table, or one with ``mark_still_unsure`` False, has no ``still_unsure`` column (the mark
+    qualifies the ``still`` reading, which no step takes).
     """
     for c, v in domain.items():
         out[c] = v
@@ -1203,8 +1209,10 @@ def finish_predictions(
         still = still & ~vetoed
     out["still"] = still
     out["still_vetoed"] = vetoed
-    # a still window in which the phone turns with a stride rhythm: the evidence disagrees, the table says so
-    out["still_unsure"] = still_unsure(rec, windows, still)
+    # a still window in which the phone turns with a stride rhythm: the evidence disagrees, the table says so (not for a
+    # table read only for the modes steps take: a step in a still window takes the model's raw answer, never 'still')
+    if mark_still_unsure and not veto_for_step_modes:
+        out["still_unsure"] = still_unsure(rec, windows, still)
     out["mode"] = np.where(still, STILL, out["mode"].to_numpy(dtype=object)).astype(str)
     # a window read run at a walking cadence: the model's best other mode (the model's answer stays in mode_raw)
     run_thr = run_cadence_threshold(run_min_cadence_hz)

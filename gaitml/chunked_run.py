@@ -481,6 +481,7 @@ def long_predict(
     progress: bool = True,
     run_min_cadence_hz: float | None = None,
     still_step_veto: int | None = None,
+    mark_still_unsure: bool = True,
     **read_kwargs,
 ) -> pd.DataFrame:
     """Per-window motion modes of a long recording with a saved model.
@@ -499,7 +500,7 @@ def long_predict(
     ``still_vetoed``, ``mode``, ``still_unsure`` (:func:`~gaitml.models._predict.still_unsure`: the stride rhythm reads
     the 15 s around a window, inside the margin; the margin is read for it too) and ``window_steps`` (the veto's count
     in each window the statistic reads still, NaN elsewhere: :func:`~gaitml.models._predict.veto_counts`) are then the
-    whole-file run's
+    whole-file run's (``mark_still_unsure`` False: no ``still_unsure`` column, its rhythm not computed)
     (a resampled file, whose gate comes after the chunks, reads the statistic of every window from the file as recorded
     first, :func:`_as_recorded_still`, and runs the detector only in a chunk whose core holds a window it reads still).
     """
@@ -579,6 +580,7 @@ def long_predict(
             run_min_cadence_hz=run_thr,
             still_step_veto=veto_n or 0,
             found_steps=found,
+            mark_still_unsure=mark_still_unsure and not gate_after,
             **({"still_threshold_ms2": 0.0} if gate_after else {}),
         )
         gstart = table["start"].to_numpy() + ch.offset
@@ -587,7 +589,7 @@ def long_predict(
             # the gate comes after the chunks (below): the count of the veto's steps in every window of a chunk whose
             # core holds a window the statistic reads still (the chunk's steps found once); no other window is vetoed
             table["window_steps"] = window_step_counts(table, steps_found_once(found, rec, veto=True)).astype(float)
-        if gate_after:  # the stride rhythm of the windows the statistic reads still, for the still_unsure mark after the gate
+        if gate_after and mark_still_unsure:  # the stride rhythm of the windows the statistic reads still, for the mark after the gate
             rhythm = np.zeros(len(table), dtype=bool)
             if STILL_UNSURE_DEFAULT and rec.has_gyr:
                 read = _lookup(read_still, gstart // hop)
@@ -600,7 +602,8 @@ def long_predict(
     out = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
     if gate_after and len(out):
         _still_as_recorded(out, _lookup(read_still, out["start"].to_numpy(np.int64) // hop), veto_n)
-        out["still_unsure"] = out["still"].to_numpy(dtype=bool) & out.pop("_rhythm").to_numpy(dtype=bool)
+        if mark_still_unsure:
+            out["still_unsure"] = out["still"].to_numpy(dtype=bool) & out.pop("_rhythm").to_numpy(dtype=bool)
     if correction and len(out):
         from gaitml.models._predict import STILL
         from gaitml.postprocess import adjacent_window_correction
@@ -885,7 +888,14 @@ def long_pdr(
     windows = None
     if modes == "model":
         windows = long_predict(
-            model, path, correction=True, chunk_s=chunk_s, progress=progress, run_min_cadence_hz=run_min_cadence_hz, **dict(read_kwargs)
+            model,
+            path,
+            correction=True,
+            chunk_s=chunk_s,
+            progress=progress,
+            run_min_cadence_hz=run_min_cadence_hz,
+            mark_still_unsure=False,  # the PDR reads the modes its steps take, never the 'still' the mark qualifies
+            **dict(read_kwargs),
         )
 
     # the still-stretch gyroscope bias of the whole file (a first pass), as a whole-file run starts from;

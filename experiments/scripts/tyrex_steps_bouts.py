@@ -246,7 +246,7 @@ def heldout_checks(key: str, data: str | Path, cache: Path | None) -> tuple[list
     return lines, checks
 
 
-def _bout_of(t: np.ndarray, period: np.ndarray) -> np.ndarray:
+def bout_of(t: np.ndarray, period: np.ndarray) -> np.ndarray:
     """Bout number of each step time (as adaptive: an interval over 2 local periods ends a bout)."""
     from gaitml.steps.adaptive import BOUT_GAP_RATIO
 
@@ -263,7 +263,7 @@ def dropped_bouts(t_all: np.ndarray, period: np.ndarray, conf: np.ndarray, kept:
     cols = ["steps", "interval_cv", "confidence", "matched", "gap_periods"]
     if len(t_all) == 0:
         return pd.DataFrame(columns=cols)
-    bout = _bout_of(t_all, period)
+    bout = bout_of(t_all, period)
     is_kept = np.isin(np.round(t_all, 6), np.round(kept, 6))
     kept_bout = np.bincount(bout, weights=is_kept.astype(float)) > 0
     rows = []

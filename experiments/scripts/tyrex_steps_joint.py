@@ -259,7 +259,7 @@ def _window_flags(rec, **kw) -> dict[str, np.ndarray]:
     }
 
 
-def _nearest_window(runs: list[dict], x: float) -> tuple[dict, int] | None:
+def nearest_window(runs: list[dict], x: float) -> tuple[dict, int] | None:
     best = None
     for g in runs:
         if len(g["t"]):
@@ -269,7 +269,7 @@ def _nearest_window(runs: list[dict], x: float) -> tuple[dict, int] | None:
     return best
 
 
-def _uncovered(ref: np.ndarray, runs: list[dict]) -> np.ndarray:
+def uncovered(ref: np.ndarray, runs: list[dict]) -> np.ndarray:
     steps = np.concatenate([g["steps"] for g in runs]) if runs else np.zeros(0)
     if not len(steps):
         return np.ones(len(ref), dtype=bool)
@@ -311,12 +311,12 @@ def miss_causes(items: list[dict], k: tuple) -> pd.DataFrame:
         runs = {"base": params(k), **{c: {**params(k), **v} for c, v in DROP_RULES_OFF.items()}}
         runs.update({c: {**params(k), **v} for c, v in RELAXED_2C.items()})
         got = {c: [_window_flags(r, **p) for r in it["recs"]] for c, p in runs.items()}
-        missed = _uncovered(ref, got["base"])
-        found = {c: ~_uncovered(ref, got[c]) for c in DROP_RULES_OFF}
+        missed = uncovered(ref, got["base"])
+        found = {c: ~uncovered(ref, got[c]) for c in DROP_RULES_OFF}
         t, speed, _ = body_state(it["truth"])
         for i in np.flatnonzero(missed):
             x = ref[i]
-            near = _nearest_window(got["base"], x)
+            near = nearest_window(got["base"], x)
             if near is None:
                 cause = "no window"
             else:
@@ -334,7 +334,7 @@ def miss_causes(items: list[dict], k: tuple) -> pd.DataFrame:
                 else:
                     cause = "no swing"
                     for c in RELAXED_2C:
-                        w = _nearest_window(got[c], x)
+                        w = nearest_window(got[c], x)
                         if w is not None and w[0]["swing"][w[1]]:
                             cause = c
                             break

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from experiments.scripts.tyrex_steps_bouts import GRID, OFF, _bout_of, admissible_set, choose, dropped_bouts, grid_of, lopo
+from experiments.scripts.tyrex_steps_bouts import GRID, OFF, admissible_set, bout_of, choose, dropped_bouts, grid_of, lopo
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED
 
 
@@ -83,7 +83,7 @@ def test_lopo_passes_a_setting_better_for_everyone():
 
 def test_bout_of_splits_at_two_periods():
     t = np.array([0.0, 0.5, 1.0, 2.2, 2.7])
-    assert _bout_of(t, np.full(5, 0.5)).tolist() == [0, 0, 0, 1, 1]
+    assert bout_of(t, np.full(5, 0.5)).tolist() == [0, 0, 0, 1, 1]
 
 
 def test_dropped_bouts_describes_the_bouts_with_no_kept_step():

@@ -111,11 +111,11 @@ def test_frame_scores_the_count_and_the_steps():
 
 
 def test_a_reference_step_is_missed_when_no_detected_step_is_near_and_the_nearest_window_is_found():
-    from experiments.scripts.tyrex_steps_joint import _nearest_window, _uncovered
+    from experiments.scripts.tyrex_steps_joint import nearest_window, uncovered
 
     runs = [{"steps": np.array([1.0, 2.1]), "t": np.array([0.0, 5.0])}, {"steps": np.array([9.0]), "t": np.array([10.0])}]
-    assert _uncovered(np.array([1.2, 2.0, 3.0, 9.5]), runs).tolist() == [False, False, True, True]
-    assert _uncovered(np.array([1.0]), []).tolist() == [True]
-    g, j = _nearest_window(runs, 8.0)  # 10.0 (second segment) is nearer than 5.0
+    assert uncovered(np.array([1.2, 2.0, 3.0, 9.5]), runs).tolist() == [False, False, True, True]
+    assert uncovered(np.array([1.0]), []).tolist() == [True]
+    g, j = nearest_window(runs, 8.0)  # 10.0 (second segment) is nearer than 5.0
     assert g is runs[1] and j == 0
-    assert _nearest_window([{"t": np.zeros(0)}], 1.0) is None
+    assert nearest_window([{"t": np.zeros(0)}], 1.0) is None

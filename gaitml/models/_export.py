@@ -41,7 +41,9 @@ predict keeps in their mode. The entry's ``swing_periodicity`` (added within ver
 setting gaitml's own step finder runs for the veto on a recording with a gyroscope
 (:data:`gaitml.models._predict.STILL_STEP_SWING_PERIODICITY`); the steps are the reader's own detector's in any case.
 The still gate's ``unsure`` entry (added within version 5; absent: not in force) states the ``still_unsure`` mark
-(:func:`gaitml.models._predict.still_unsure`): it changes no label, so a reader without it answers the same labels.
+(:func:`gaitml.models._predict.still_unsure`): it changes no label, so a reader without it answers the same labels. Its
+rule and numbers (``decimate_to_hz`` and ``octave_tolerance`` among them, added with the rule's exact words before any
+release) are enough to compute the mark without gaitml.
 """
 
 from __future__ import annotations
@@ -301,7 +303,8 @@ def _still_spec() -> dict:
 
 
 def _still_unsure_spec() -> dict:
-    """The ``still_unsure`` mark (gaitml.models._predict.still_unsure, STILL_UNSURE_DEFAULT) as the JSON export states it."""
+    """The ``still_unsure`` mark (gaitml.models._predict.still_unsure, STILL_UNSURE_DEFAULT) as the JSON export states it:
+    in words a reader can compute it from (the plain-numpy reader in tests/models/test_persist.py does)."""
     from gaitml.models._predict import STILL_UNSURE_DEFAULT, STILL_UNSURE_PAD_S
     from gaitml.steps import adaptive as ad
 
@@ -310,19 +313,31 @@ def _still_unsure_spec() -> dict:
         "window_s": ad.WINDOW_S,
         "pad_s": STILL_UNSURE_PAD_S,
         "band_hz": list(ad.GYRO_BAND_HZ),
+        "decimate_to_hz": ad.CADENCE_RATE_HZ,
         "min_rms_rads": ad.GYRO_MIN_RMS_RADS,
         "min_periodicity": ad.MIN_PERIODICITY,
+        "octave_tolerance": ad.OCTAVE_TOLERANCE,
         "max_half_correlation": -ad.GYRO_SWING_HALF_CORRELATION,
         "step_hz": [ad.MIN_STEP_HZ, ad.MAX_STEP_HZ],
         "rule": (
-            "Applied by gaitml predict by default when in_force is true, with a gyroscope only. A window left with the label "
-            "'still' (after step_veto) is marked still_unsure (the label stays) when the phone turns with a stride rhythm "
-            "around it: over the window_s seconds centred on the window (moved inside the recording at its ends), the angular "
-            "rate with its mean removed, band-passed to band_hz (order-2 Butterworth, zero phase, over those seconds and pad_s "
-            "more on each side), projected on its principal axis, has an RMS of at least min_rms_rads; the autocorrelation of "
-            "that projection has a peak at a stride lag P (two steps of step_hz) of at least min_periodicity, and at P / 2 it "
-            "is at most max_half_correlation. gaitml's exact lag pick is its adaptive detector's swing_stride at about 25 Hz. "
-            "A reader without a gyroscope, or without this rule, marks nothing: the label is the same either way."
+            "Applied by gaitml predict by default when in_force is true, with a gyroscope only; the label stays. A window left "
+            "with the label 'still' (after step_veto) is marked still_unsure when the phone turns with a stride rhythm around "
+            "it. On the angular rate at sampling_rate_hz (fs, after resampling; n samples): q = max(1, floor(fs / "
+            "decimate_to_hz)), L = round(window_s x fs / q), S = L x q samples (none is marked when n < S). The S samples "
+            "[a, a + S) with a = floor((start + end - S) / 2) (start, end: the window's first and one-past-last sample), "
+            "moved inside the recording (a clipped to 0 .. n - S). The piece [max(a - round(pad_s x fs), 0), min(a + S + "
+            "round(pad_s x fs), n)), each axis minus its mean over the piece, band-passed to band_hz (the upper edge at most "
+            "0.45 x fs; order-2 Butterworth in second-order sections run forwards and backwards, scipy's sosfiltfilt with its "
+            "default odd extension); of it every q-th sample of [a, a + S) (L samples, at f = fs / q), each axis minus its "
+            "mean over them, projected on the eigenvector of the largest eigenvalue of their 3 x 3 scatter matrix: x. Marked "
+            "when all hold: the RMS of x is at least min_rms_rads; with r(k) = sum x[i] x[i + k] / sqrt(sum x[i]^2 x sum "
+            "x[i + k]^2) over i = 0 .. L - 1 - k (0 when a sum is 0) and r at a fractional lag interpolated linearly between "
+            "its two integer lags, the lags k from max(floor(2 f / step_hz[1]) - 1, 1) to min(ceil(2 f / step_hz[0]) + 1, "
+            "L - 3) (none marked when fewer than 3), the peaks are the lags other than the first and the last with r(k) >= "
+            "r(k - 1) and r(k) > r(k + 1); P is the shortest peak lag whose r reaches octave_tolerance x the highest peak's "
+            "(none marked without a peak); r(P) >= min_periodicity; r(P / 2) <= max_half_correlation; and f / step_hz[1] <= "
+            "P / 2 <= f / step_hz[0]. A reader without a gyroscope, or without this rule, marks nothing: the label is the same "
+            "either way."
         ),
     }
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 
@@ -152,7 +154,8 @@ STILL_UNSURE_DEFAULT = True
 #: :func:`stride_rhythm` band-passes, for each window it reads, the 5 s of angular rate around the window and this
 #: many seconds more on each side (inside the recording), so that the zero-phase filter's start-up at the ends of the
 #: piece settles before the 5 s it reads (the band's lowest edge, 0.3 Hz, rings for about one period, 3.3 s). Each
-#: window reads only samples within 7.5 s of its centre: a chunk with a wider margin gives the whole-file answer.
+#: window reads only samples within 7.5 s of its centre, or, where its 5 s are moved inside the recording, within 10 s
+#: of the recording's first or last sample: a chunk with a margin wider than 7.5 s gives the whole-file answer.
 STILL_UNSURE_PAD_S = 5.0
 #: The side-step modes, whose name carries a direction (left / right of the walker).
 SIDE_MODES = ("side_left", "side_right")
@@ -556,6 +559,7 @@ def predict_recording(
     still_step_veto: int | None = None,
     veto_for_step_modes: bool = False,
     found_steps: dict | None = None,
+    mark_still_unsure: bool = True,
 ) -> pd.DataFrame:
     """Predict the motion mode of every window of ``recording``.
 
@@ -586,6 +590,8 @@ def predict_recording(
         veto and the run-cadence rule find on the recording at the model's rate are kept in it, and steps already there
         are read instead of found again (:func:`gaitml.chunked_run.long_predict`'s later pass over a chunk). None: each
         finder's steps are found once within the call.
+    mark_still_unsure : add the ``still_unsure`` column (:func:`still_unsure`); False (or ``veto_for_step_modes``): the
+        table has no such column and the stride rhythm is not computed (a caller that never reads ``still``).
 
     Returns
     -------
@@ -647,6 +653,7 @@ def predict_recording(
         still_step_veto=still_step_veto,
         veto_for_step_modes=veto_for_step_modes,
         found_steps=found_steps,
+        mark_still_unsure=mark_still_unsure,
         X=X,
         run_min_cadence_hz=run_min_cadence_hz,
         has_domain=getattr(model, "domain", None) is not None,
@@ -702,10 +709,19 @@ def stride_rhythm(recording: Recording, windows: pd.DataFrame, pad_s: float = ST
     anti-phase at P / 2 (correlation at most -:data:`~gaitml.steps.adaptive.GYRO_SWING_HALF_CORRELATION`).
 
     All False without a gyroscope and for a recording shorter than 5 s. Windows are read in batches (bounded memory).
+    A ``pad_s`` that is not a finite number >= 0 is refused (:class:`~gaitml.errors.InputError`).
     """
     from gaitml.signal import bandpass
     from gaitml.steps import adaptive as ad
 
+    try:
+        pad_ok = math.isfinite(float(pad_s)) and float(pad_s) >= 0.0
+    except (TypeError, ValueError):
+        pad_ok = False
+    if not pad_ok:
+        raise InputError(
+            f"stride_rhythm: pad_s={pad_s!r} is not a finite number of seconds >= 0; give e.g. {STILL_UNSURE_PAD_S:g} (the default)."
+        )
     n = len(windows)
     out = np.zeros(n, dtype=bool)
     if recording.gyr is None or n == 0:
@@ -719,8 +735,11 @@ def stride_rhythm(recording: Recording, windows: pd.DataFrame, pad_s: float = ST
         return out
     pad = int(round(float(pad_s) * fs))
     hi_hz = min(ad.GYRO_BAND_HZ[1], 0.45 * fs)
-    centre = 0.5 * (windows["start"].to_numpy(float) + windows["end"].to_numpy(float))
-    a = np.clip(np.round(centre - span / 2.0).astype(np.int64), 0, len(g) - span)  # the 5 s: [a, a + span)
+    # the 5 s, [a, a + span), centred on the window (half a sample early where the centre falls between samples): in
+    # integers, so that a part of the recording (a chunk) starting at any sample reads the same samples (round-half-even
+    # of a half-integer centre depends on where the part starts)
+    se = windows["start"].to_numpy(np.int64) + windows["end"].to_numpy(np.int64)
+    a = np.clip((se - span) // 2, 0, len(g) - span)
     lo = np.maximum(a - pad, 0)
     hi = np.minimum(a + span + pad, len(g))
     proj = np.zeros((n, L))
@@ -1111,6 +1130,7 @@ def finish_predictions(
     still_step_veto: int | None = None,
     veto_for_step_modes: bool = False,
     found_steps: dict | None = None,
+    mark_still_unsure: bool = True,
     **attrs,
 ) -> pd.DataFrame:
     """The common end of a prediction table: the out-of-domain columns, the still gate, the windows' labels, the ``attrs``.
@@ -1152,7 +1172,8 @@ def finish_predictions(
     ``veto_for_step_modes``: the caller reads the table only for the modes its steps take (``gaitml pdr``): the veto's
     step finder then runs only when the veto can change them (:func:`veto_can_change_step_modes`); when it does not
     run, ``still``, ``still_vetoed`` and ``window_steps`` are those of the veto off, and every mode a step takes is the
-    same as with it.
+    same as with it. Such a table, or one with ``mark_still_unsure`` False, has no ``still_unsure`` column (the mark
+    qualifies the ``still`` reading, which no step takes).
     """
     for c, v in domain.items():
         out[c] = v
@@ -1188,8 +1209,10 @@ def finish_predictions(
         still = still & ~vetoed
     out["still"] = still
     out["still_vetoed"] = vetoed
-    # a still window in which the phone turns with a stride rhythm: the evidence disagrees, the table says so
-    out["still_unsure"] = still_unsure(rec, windows, still)
+    # a still window in which the phone turns with a stride rhythm: the evidence disagrees, the table says so (not for a
+    # table read only for the modes steps take: a step in a still window takes the model's raw answer, never 'still')
+    if mark_still_unsure and not veto_for_step_modes:
+        out["still_unsure"] = still_unsure(rec, windows, still)
     out["mode"] = np.where(still, STILL, out["mode"].to_numpy(dtype=object)).astype(str)
     # a window read run at a walking cadence: the model's best other mode (the model's answer stays in mode_raw)
     run_thr = run_cadence_threshold(run_min_cadence_hz)

@@ -244,6 +244,62 @@ def _numpy_predict_from_json(
     return np.array(raw), np.array(out), unsure
 
 
+def _still_unsure_from_json(
+    spec: dict, gyr: np.ndarray | None, starts: np.ndarray, length: int, labels, projections: list | None = None
+) -> np.ndarray:
+    """The ``still_unsure`` mark from the JSON's words alone (``postprocess.still.unsure``): numpy and scipy's filter,
+    no gaitml code. ``labels``: the reader's own labels after the still gate and its veto. ``projections``: a list the
+    projection x of each still window is appended to (to compare numbers, not only marks)."""
+    import scipy.signal
+
+    u = spec["postprocess"]["still"]["unsure"]
+    marked = np.zeros(len(starts), dtype=bool)
+    if not u["in_force"] or gyr is None:
+        return marked
+    fs = float(spec["sampling_rate_hz"])
+    n = len(gyr)
+    q = max(1, int(np.floor(fs / u["decimate_to_hz"])))
+    L = int(round(u["window_s"] * fs / q))
+    S = L * q
+    if n < S:
+        return marked
+    f = fs / q
+    pad = int(round(u["pad_s"] * fs))
+    sos = scipy.signal.butter(2, [u["band_hz"][0], min(u["band_hz"][1], 0.45 * fs)], btype="bandpass", fs=fs, output="sos")
+    lo_step, hi_step = u["step_hz"]
+    lags = np.arange(max(int(np.floor(2 * f / hi_step)) - 1, 1), min(int(np.ceil(2 * f / lo_step)) + 1, L - 3) + 1)
+
+    def r(x, k):  # the normalised autocorrelation at integer lag k
+        a, b = x[: L - k], x[k:]
+        den = np.sqrt(np.sum(a * a) * np.sum(b * b))
+        return float(np.sum(a * b) / den) if den > 0 else 0.0
+
+    for w in np.flatnonzero(np.asarray(labels) == spec["postprocess"]["still"]["mode"]):
+        a = min(max((2 * int(starts[w]) + length - S) // 2, 0), n - S)
+        lo, hi = max(a - pad, 0), min(a + S + pad, n)
+        piece = scipy.signal.sosfiltfilt(sos, gyr[lo:hi] - gyr[lo:hi].mean(axis=0), axis=0)
+        five = piece[a - lo : a - lo + S : q]
+        five = five - five.mean(axis=0)
+        x = five @ np.linalg.eigh(five.T @ five)[1][:, -1]
+        if projections is not None:
+            projections.append(x)
+        if np.sqrt(np.mean(x**2)) < u["min_rms_rads"] or len(lags) < 3:
+            continue
+        rk = np.array([r(x, int(k)) for k in lags])
+        peaks = [i for i in range(1, len(lags) - 1) if rk[i] >= rk[i - 1] and rk[i] > rk[i + 1]]
+        if not peaks:
+            continue
+        best = max(rk[i] for i in peaks)
+        near = [i for i in peaks if rk[i] >= u["octave_tolerance"] * best]
+        if not near:
+            continue
+        P = float(lags[near[0]])
+        k0 = int(np.floor(P / 2))
+        half = (1 - (P / 2 - k0)) * r(x, k0) + (P / 2 - k0) * r(x, k0 + 1)
+        marked[w] = rk[near[0]] >= u["min_periodicity"] and half <= u["max_half_correlation"] and f / hi_step <= P / 2 <= f / lo_step
+    return marked
+
+
 def _check_json_equals_predict(model, rec, tmp_path):
     from gaitml.cli import main
     from gaitml.models._predict import recording_steps
@@ -267,6 +323,9 @@ def _check_json_equals_predict(model, rec, tmp_path):
         np.testing.assert_array_equal(raw, table["mode_raw"].to_numpy())
         np.testing.assert_array_equal(corrected, table["mode"].to_numpy())
         np.testing.assert_array_equal(unsure, table["side_direction_unsure"].to_numpy(bool))
+        starts = np.arange(0, len(rec.acc) - spec["window"]["length_samples"] + 1, spec["window"]["hop_samples"])
+        still_unsure = _still_unsure_from_json(spec, rec.gyr, starts, spec["window"]["length_samples"], corrected)
+        np.testing.assert_array_equal(still_unsure, table["still_unsure"].to_numpy(bool))
     return spec
 
 
@@ -566,3 +625,61 @@ def test_evaluate_and_train_never_open_a_crafted_model_folder(tmp_path, capsys):
         assert main([cmd, str(cfg), "--out", str(folder)]) == 0, capsys.readouterr().err
         assert not marker.exists(), f"{cmd} executed the pickle of a crafted model folder ({name})"
     assert load_model(tmp_path / "train" / "npz-pickle").labels  # train replaced it with a real model
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_json_export_in_plain_numpy_marks_still_unsure_as_predict_does(tmp_path, monkeypatch, seed):
+    """A calm phone-at-ear walk between two standing stretches (the still gate reads much of the walk still, the phone
+    turns once per stride): the plain reader marks ``still_unsure`` from the export's words alone (its numbers and its
+    rule) in exactly the windows predict marks, and computes the same projections."""
+    from gaitml.models import stride_rhythm
+    from tests.models.test_still_unsure import rhythm_projections
+    from tests.models.test_still_veto_swing import ear_walk
+
+    model = load_model(DEMO)
+    rec, _ = ear_walk(seed, seconds=40.0, stand_s=20.0)
+    table = predict_recording(model, rec)
+    marked, still = table["still_unsure"].to_numpy(bool), table["still"].to_numpy(bool)
+    assert marked.sum() >= 15 and (still & ~marked).sum() >= 15  # both answers occur
+    spec = _check_json_equals_predict(model, rec, tmp_path)  # compares the reader's still_unsure with predict's
+    # the words give gaitml's numbers, not only its answers (a window moved by a sample keeps its mark here): gaitml's
+    # projection of each still window, the input of adaptive.swing_stride in stride_rhythm
+    seen = rhythm_projections(monkeypatch)
+    np.testing.assert_array_equal(stride_rhythm(rec, table[still]), marked[still])
+    mine: list = []
+    length = spec["window"]["length_samples"]
+    _still_unsure_from_json(spec, rec.gyr, table["start"].to_numpy(), length, table["mode"].to_numpy(), mine)
+    assert len(seen) == 1 and len(mine) == len(seen[0]) == int(still.sum())
+    for x, p in zip(mine, seen[0], strict=True):  # an eigenvector's sign is arbitrary
+        np.testing.assert_allclose(x * np.sign(x @ p), p, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("fs", [12.5, 25.0, 100.0, 204.8])
+def test_the_exports_still_unsure_words_hold_at_other_model_rates(fs):
+    """The rule is written for any ``sampling_rate_hz`` (the decimation q = floor(fs / decimate_to_hz): 1 at 12.5 and
+    25 Hz, 4 and 8 at 100 and 204.8 Hz): the plain reader of the demo export's words, given another rate, marks what
+    ``stride_rhythm`` marks on a gyroscope that turns with a stride rhythm (cadence 0.8 -> 2 steps/s) between two calm
+    stretches, every window read as still."""
+    import pandas as pd
+
+    from gaitml.models import stride_rhythm
+    from gaitml.models._export import input_spec
+    from gaitml.recording import Recording
+    from gaitml.signal import window_params
+
+    spec = json.loads(json.dumps(input_spec(load_model(DEMO))))
+    spec["sampling_rate_hz"] = fs
+    rng = np.random.default_rng(int(fs))
+    n = int(120 * fs)
+    t = np.arange(n) / fs
+    phase = np.cumsum(np.pi * (0.8 + 1.2 * t / t[-1])) / fs
+    amp = np.where((t > 30) & (t < 90), 0.35, 0.05)
+    gyr = np.column_stack([amp * np.sin(phase), 0.3 * amp * np.cos(phase), np.zeros(n)]) + rng.normal(0, 0.1, (n, 3))
+    length, hop = window_params(1.5, 0.5, fs)
+    starts = np.arange(0, n - length + 1, hop)
+    marked = stride_rhythm(
+        Recording(acc=np.tile([0.0, 0.0, 9.81], (n, 1)), gyr=gyr, sampling_rate_hz=fs),
+        pd.DataFrame({"start": starts, "end": starts + length}),
+    )
+    assert 0.3 < marked.mean() < 0.7  # measured 74-77 of 149-159 windows: the walk marked, the calm stretches not
+    np.testing.assert_array_equal(_still_unsure_from_json(spec, gyr, starts, length, np.full(len(starts), "still")), marked)

@@ -20,7 +20,7 @@ from gaitml.models import load_model, predict_recording
 from gaitml.models._predict import STILL_UNSURE_DEFAULT, still_unsure, stride_rhythm
 from gaitml.recording import Recording
 from tests.conftest import ROOT, shared
-from tests.models.test_still_veto_swing import FS, ear_walk
+from tests.models.test_still_veto_swing import FS, ear_walk, ear_walks_file
 
 
 @pytest.fixture(scope="module")
@@ -30,6 +30,22 @@ def demo():
 
 def _mid(t: pd.DataFrame) -> np.ndarray:
     return 0.5 * (t["t_start_s"] + t["t_end_s"]).to_numpy()
+
+
+def rhythm_projections(monkeypatch) -> list:
+    """From now on, each projection :func:`stride_rhythm` reads (the input of ``adaptive.swing_stride``, one array of
+    windows x samples a call) is appended to the returned list: a test compares numbers, not only marks."""
+    from gaitml.steps import adaptive
+
+    seen: list = []
+    real = adaptive.swing_stride
+
+    def spy(proj, rate):
+        seen.append(proj.copy())
+        return real(proj, rate)
+
+    monkeypatch.setattr(adaptive, "swing_stride", spy)
+    return seen
 
 
 def test_the_mark_is_on_by_default_and_reads_adaptives_constants():
@@ -92,13 +108,9 @@ def test_whole_and_chunked_runs_mark_the_same_windows(demo, tmp_path, rate):
     """``long_predict`` marks the windows a whole-file run marks: at the model's rate each chunk's gate marks them (its
     margin holds the rhythm's 15 s), recorded at 20 Hz the gate comes after the chunks and so does the mark."""
     from gaitml.chunked_run import long_predict
-    from gaitml.io import read_recording, write_gaitml_csv
-    from gaitml.models import resample_recording
+    from gaitml.io import read_recording
 
-    parts = [ear_walk(seed, seconds=60.0, stand_s=20.0)[0] for seed in range(3)]
-    rec = Recording(acc=np.vstack([r.acc for r in parts]), gyr=np.vstack([r.gyr for r in parts]), sampling_rate_hz=FS)
-    path = tmp_path / "ear.csv"
-    write_gaitml_csv(rec if rate == FS else resample_recording(rec, rate), path)
+    path = ear_walks_file(tmp_path, rate)
     whole = predict_recording(demo, read_recording(path))
     chunked = long_predict(demo, path, chunk_s=40.0, progress=False)
     assert len(whole) == len(chunked)
@@ -108,6 +120,26 @@ def test_whole_and_chunked_runs_mark_the_same_windows(demo, tmp_path, rate):
         whole["still_unsure"].sum() >= 50
     )  # the three walks' still windows are marked (measured 166 at 50 Hz, 167 at 20 Hz, of 328 / 329 still)
     assert "_rhythm" not in chunked
+
+
+@pytest.mark.parametrize("rate", [50.0, 20.0])
+def test_whole_and_chunked_runs_mark_the_same_windows_at_the_files_ends(demo, tmp_path, rate):
+    """A walk from the file's first sample to its last (no standing): the rhythm's 5 s are moved inside the recording
+    and its pad is cut at both ends; the chunks (33 s, a short tail) mark what the whole file marks there too."""
+    from gaitml.chunked_run import long_predict
+    from gaitml.io import read_recording, write_gaitml_csv
+    from gaitml.models import resample_recording
+
+    rec, _ = ear_walk(4, seconds=47.9, stand_s=0.0)
+    path = tmp_path / "walk.csv"
+    write_gaitml_csv(rec if rate == FS else resample_recording(rec, rate), path)
+    whole = predict_recording(demo, read_recording(path))
+    chunked = long_predict(demo, path, chunk_s=33.0, progress=False)
+    assert len(whole) == len(chunked)
+    for col in ("still", "still_unsure", "mode"):
+        np.testing.assert_array_equal(whole[col].to_numpy(), chunked[col].to_numpy(), err_msg=col)
+    marked = whole["still_unsure"].to_numpy(bool)
+    assert marked[0] and marked.sum() >= 20  # the first window is marked (measured 38 at 50 Hz, 40 at 20 Hz, of 62)
 
 
 def test_still_unsure_reads_only_still_windows():
@@ -173,3 +205,42 @@ def test_the_json_export_states_the_mark(demo, monkeypatch):
     assert spec["band_hz"] == list(adaptive.GYRO_BAND_HZ) and spec["min_rms_rads"] == adaptive.GYRO_MIN_RMS_RADS
     monkeypatch.setattr(P, "STILL_UNSURE_DEFAULT", False)
     assert input_spec(demo)["postprocess"]["still"]["unsure"]["in_force"] is False
+
+
+@pytest.mark.parametrize("fs, offset", [(25.0, 475), (50.0, 950), (30.0, 331)])
+def test_the_rhythm_reads_the_same_samples_in_a_part_of_the_recording_starting_anywhere(monkeypatch, fs, offset):
+    """A chunk of a long run (gaitml.chunked_run.long_predict) is the recording from some sample on: each window's
+    projection, and so its mark, must not depend on where that part starts. At 25 Hz a 1.5 s window (38 samples) has its
+    centre half-way between samples and chunks start on odd samples (475); rounding the half to even read the 5 s one
+    sample apart in the chunk and in the whole file."""
+    from gaitml.signal import window_params
+
+    seen = rhythm_projections(monkeypatch)
+    rng = np.random.default_rng(0)
+    n = int(200 * fs)
+    t = np.arange(n) / fs
+    gyr = np.column_stack([0.3 * np.sin(np.pi * t), np.zeros(n), np.zeros(n)]) + rng.normal(0, 0.2, (n, 3))
+    acc = np.tile([0.0, 0.0, 9.81], (n, 1)) + rng.normal(0, 0.02, (n, 3))
+    length, hop = window_params(1.5, 0.5, fs)
+    start = np.arange(offset + 40 * hop, offset + 120 * hop, hop)
+    w = pd.DataFrame({"start": start, "end": start + length})
+    whole = stride_rhythm(Recording(acc=acc, gyr=gyr, sampling_rate_hz=fs), w)
+    part = stride_rhythm(Recording(acc=acc[offset:], gyr=gyr[offset:], sampling_rate_hz=fs), w - offset)
+    assert len(seen) == 2 and seen[0].shape == seen[1].shape
+    np.testing.assert_allclose(seen[0], seen[1], rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(whole, part)
+    assert whole.mean() > 0.5  # the stride turning is there: the windows are read, not skipped
+
+
+@pytest.mark.parametrize("pad_s", [-3.0, -0.5, float("nan"), float("inf"), "five"])
+def test_a_pad_that_is_no_finite_number_at_least_zero_is_refused_in_one_line(pad_s):
+    """``gaitml.models.stride_rhythm`` is public: a negative pad read the samples outside the piece (an IndexError or a
+    filter error naming the wrong fix), NaN a bare ValueError; now one line naming ``pad_s`` and the default."""
+    from gaitml.errors import InputError
+
+    rec, _ = ear_walk(0)
+    w = P._windows_for(rec, 1.5, 0.5)
+    with pytest.raises(InputError, match=r"pad_s=.* is not a finite number of seconds >= 0; give e\.g\. 5") as exc:
+        stride_rhythm(rec, w, pad_s=pad_s)
+    assert "\n" not in str(exc.value)
+    assert stride_rhythm(rec, w, pad_s=0.0).any()  # no pad is a pad

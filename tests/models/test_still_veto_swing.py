@@ -45,6 +45,19 @@ def ear_walk(seed: int, seconds: float = 60.0, stand_s: float = 0.0, gyro: bool 
     return Recording(acc=acc, gyr=gyr, sampling_rate_hz=FS), len(steps)
 
 
+def ear_walks_file(tmp_path, rate: float):
+    """Three ear walks (seeds 0-2, 60 s each between 20 s of standing) one after the other, written as a gaitml-csv at
+    ``rate`` (resampled from 50 Hz): the file the whole-against-chunked tests read."""
+    from gaitml.io import write_gaitml_csv
+    from gaitml.models import resample_recording
+
+    parts = [ear_walk(seed, seconds=60.0, stand_s=20.0)[0] for seed in range(3)]
+    rec = Recording(acc=np.vstack([r.acc for r in parts]), gyr=np.vstack([r.gyr for r in parts]), sampling_rate_hz=FS)
+    path = tmp_path / "ear.csv"
+    write_gaitml_csv(rec if rate == FS else resample_recording(rec, rate), path)
+    return path
+
+
 @pytest.fixture(scope="module")
 def demo():
     return load_model(ROOT / "models" / "demo")
@@ -157,13 +170,9 @@ def test_whole_and_chunked_runs_read_the_swing_stages_steps(demo, tmp_path, monk
     """``long_predict`` vetoes with the swing stage's steps as a whole-file run does: at the model's rate the chunks go
     through predict, and recorded at 20 Hz (the gate comes after the chunks) each chunk counts the veto's own steps."""
     from gaitml.chunked_run import long_predict
-    from gaitml.io import read_recording, write_gaitml_csv
-    from gaitml.models import resample_recording
+    from gaitml.io import read_recording
 
-    parts = [ear_walk(seed, seconds=60.0, stand_s=20.0)[0] for seed in range(3)]
-    rec = Recording(acc=np.vstack([r.acc for r in parts]), gyr=np.vstack([r.gyr for r in parts]), sampling_rate_hz=FS)
-    path = tmp_path / "ear.csv"
-    write_gaitml_csv(rec if rate == FS else resample_recording(rec, rate), path)
+    path = ear_walks_file(tmp_path, rate)
     whole = predict_recording(demo, read_recording(path))
     chunked = long_predict(demo, path, chunk_s=40.0, progress=False)
     assert len(whole) == len(chunked)

@@ -54,7 +54,7 @@ def test_step_modes_are_the_full_vetos_and_its_finder_runs_only_when_they_could_
     if mode == "walk":  # a walk read walk: nothing the veto does reaches a step, its finder is skipped
         assert np.isnan(lean["window_steps"].to_numpy()).all() and not lean["still_vetoed"].any()
     else:  # a run could be moved by the run-cadence rule once vetoed: the finder runs, the table is the full veto's
-        pd.testing.assert_frame_equal(lean, full)
+        pd.testing.assert_frame_equal(lean, full.drop(columns="still_unsure"))  # (no mark: no step reads 'still')
 
 
 def test_run_pdr_gives_the_full_vetos_trajectory_and_skips_the_finder_where_it_cannot_matter(demo, monkeypatch):
@@ -74,3 +74,27 @@ def test_run_pdr_gives_the_full_vetos_trajectory_and_skips_the_finder_where_it_c
     gate = predict_recording(demo, rec, still_step_veto=0)  # the statistic's still windows and the model's answers
     corrected = adjacent_window_correction(gate["mode_raw"].to_numpy().astype(str))
     assert n_lean == int(can_change(gate["still"].to_numpy(), corrected, gate["mode_raw"].to_numpy()))
+
+
+def test_the_pdr_does_not_compute_the_still_unsure_mark_whole_or_chunked(demo, monkeypatch, tmp_path):
+    """The mark qualifies a window's ``still`` reading, which no step takes (a step in a still window takes the model's
+    raw answer): ``gaitml pdr --model`` never computes its stride rhythm, and its trajectory is the one it gives with
+    the mark computed."""
+    from gaitml.chunked_run import long_pdr
+    from tests.models.test_still_veto_swing import ear_walks_file
+
+    rec, _ = ear_walk(1)
+    assert predict_recording(demo, rec)["still_unsure"].any()  # predict marks windows of this walk
+    before = run_pdr(rec, model=demo, modes="model")
+
+    def refuse(*a, **k):
+        raise AssertionError("the PDR computed the still_unsure mark")
+
+    monkeypatch.setattr(P, "stride_rhythm", refuse)
+    whole = run_pdr(rec, model=demo, modes="model")
+    pd.testing.assert_frame_equal(whole.trajectory, before.trajectory)
+    assert "still_unsure" not in predict_recording(demo, rec, mark_still_unsure=False)
+    for rate in (50.0, 20.0):  # the model's own rate, and a file resampled chunk by chunk (the gate after the chunks)
+        path = ear_walks_file(tmp_path, rate)
+        res = long_pdr(path, model=demo, modes="model", chunk_s=40.0, progress=False)
+        assert len(res.trajectory) > 0

@@ -70,7 +70,7 @@ from experiments.scripts.tyrex_pdr import (
     md,
 )
 
-__all__ = ["SUCCESS_MOTIONS", "fit_fold", "main", "prepare", "score"]
+__all__ = ["SUCCESS_MOTIONS", "fit_fold", "load_or_prepare", "main", "prepare", "score"]
 
 #: the runs of ``gaitml pdr`` kept per recording: name -> (modes, heading)
 RUNS = {"fwd": ("forward", "hde"), "fwd-gyro": ("forward", "gyro"), "model": ("model", "hde"), "model-gyro": ("model", "gyro")}
@@ -92,8 +92,11 @@ ROWS = (
 )
 
 
-def prepare(item, model) -> dict:
-    """One recording: its calibration samples, each kept run of ``gaitml pdr``, and the reference trajectories' inputs."""
+def prepare(item, model, pdr_options: dict | None = None) -> dict:
+    """One recording: its calibration samples, each kept run of ``gaitml pdr``, and the reference trajectories' inputs.
+
+    ``pdr_options``: extra :func:`gaitml.pdr.run_pdr` keywords of every run (e.g. ``gyro_bias_start``: what
+    ``gaitml pdr --gyro-bias-from`` gives it); kept in the result for :func:`check_same_path`."""
     from gaitml.consts import DEFAULT_STEP_DETECTOR
     from gaitml.pdr import run_pdr
     from gaitml.pdr.calibrate import step_length_samples
@@ -107,7 +110,7 @@ def prepare(item, model) -> dict:
     for name, (modes, heading) in RUNS.items():
         if modes == "model" and model is None:
             continue
-        res = run_pdr(rec, steps=table, model=model, modes=modes, heading=heading)
+        res = run_pdr(rec, steps=table, model=model, modes=modes, heading=heading, **(pdr_options or {}))
         st = res.steps
         runs[name] = {
             "t_step": st[st.attrs.get("event", "t_peak_s")].to_numpy(float) if len(st) else np.zeros(0),
@@ -125,7 +128,30 @@ def prepare(item, model) -> dict:
         "baseline": {"t": steps_b / rec.sampling_rate_hz, "psi": psi[steps_b], "counts": baseline_counts(item)},
         "bound": bound_trajectory(item),
         "t_end": float(rec.t_s[-1]),
+        **({"pdr_options": dict(pdr_options)} if pdr_options else {}),
     }
+
+
+def load_or_prepare(items, model, cache: str | None, t0: float, options_of=None) -> list[dict]:
+    """:func:`prepare` for every recording, or the pickle ``cache`` if it exists (written when given and absent).
+
+    ``options_of(item)``, when given, returns the item's ``pdr_options`` for :func:`prepare`."""
+    if cache and Path(cache).exists():
+        with open(cache, "rb") as fh:
+            preps = pickle.load(fh)
+        if [p_["file"] for p_ in preps] != [it["file"] for it in items]:
+            raise SystemExit(f"error: the cache {cache} holds other recordings; delete it.")
+        return preps
+    preps = []
+    for i, it in enumerate(items):
+        preps.append(prepare(it, model, options_of(it) if options_of else None))
+        if (i + 1) % 20 == 0:
+            print(f"  {i + 1}/{len(items)} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
+    if cache:
+        Path(cache).parent.mkdir(parents=True, exist_ok=True)
+        with open(cache, "wb") as fh:
+            pickle.dump(preps, fh)
+    return preps
 
 
 def fit_fold(preps, items, train_people) -> dict:
@@ -205,7 +231,7 @@ def check_same_path(item, prep, run_name: str, models, model) -> float:
     modes, heading = RUNS[run_name]
     rec = item["recording"]
     table = get_detector(DEFAULT_STEP_DETECTOR).detect(rec).steps_
-    res = run_pdr(rec, steps=table, model=model, modes=modes, heading=heading, step_length=models["cal"])
+    res = run_pdr(rec, steps=table, model=model, modes=modes, heading=heading, step_length=models["cal"], **prep.get("pdr_options", {}))
     xy = _positions(prep["runs"][run_name], _lengths(prep["runs"][run_name], "cal", models, item["motion"]))
     return float(np.max(np.abs(res.trajectory[["x_m", "y_m"]].to_numpy() - xy))) if len(xy) else 0.0
 
@@ -387,20 +413,7 @@ def main(argv: list[str] | None = None) -> int:
         from gaitml.models import load_model
 
         model = load_model(args.model)
-    if args.cache and Path(args.cache).exists():
-        with open(args.cache, "rb") as fh:
-            preps = pickle.load(fh)
-        if [p_["file"] for p_ in preps] != [it["file"] for it in items]:
-            raise SystemExit(f"error: the cache {args.cache} holds other recordings; delete it.")
-    else:
-        preps = []
-        for i, it in enumerate(items):
-            preps.append(prepare(it, model))
-            if (i + 1) % 20 == 0:
-                print(f"  {i + 1}/{len(items)} ({time.perf_counter() - t0:.0f} s)", file=sys.stderr)
-        if args.cache:
-            with open(args.cache, "wb") as fh:
-                pickle.dump(preps, fh)
+    preps = load_or_prepare(items, model, args.cache, t0)
     table, fitted, checks = run_all(items, preps, model)
     if args.csv:
         table.to_csv(args.csv, index=False)

@@ -533,8 +533,8 @@ def long_predict(
     # offsets on that sample grid and on that window grid (a chunk's first window is a computed one)
     dom = getattr(model, "domain", None)
     extra, phase, grid = (0, 1, 1) if dom is None else dom.chunk_context(fs)
-    if veto_n is not None or run_thr or STILL_UNSURE_DEFAULT:
-        # the step veto and the run-cadence rule read each chunk's steps: a margin of DEFAULT_MARGIN_S (as long_steps
+    if veto_n is not None or run_thr or (STILL_UNSURE_DEFAULT and mark_still_unsure):
+        # the step veto and the run-cadence rule read each chunk's steps (the still_unsure mark its 15 s): a margin of DEFAULT_MARGIN_S (as long_steps
         # reads adaptive's chunks with) gives the detector the bouts around the core's windows, and chunks that start
         # on adaptive's cadence grid give it the whole file's cadence windows (long_steps' rule)
         from gaitml.steps.adaptive import cadence_hop_samples

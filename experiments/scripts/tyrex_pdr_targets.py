@@ -281,6 +281,7 @@ def _check_one(it, pr, fold, models, path, root, model_path, extra=()) -> list[t
     from gaitml.cli import main as cli_main
 
     out = []
+    model_path = model_path[it["subject"]] if isinstance(model_path, dict) else model_path
     for run in ("fwd", "model"):
         if run not in pr["runs"] or (run == "model" and not model_path):
             continue
@@ -299,10 +300,30 @@ def _check_one(it, pr, fold, models, path, root, model_path, extra=()) -> list[t
     return out
 
 
+def fold_model_paths(cache: Path, people: list[str]) -> dict[str, str]:
+    """Each person's fold model in a ``tyrex_modes --model-cache`` folder (``models/<name>-<recipe>-<Person>-<hash>``,
+    trained without that person)."""
+    out = {}
+    for person in people:
+        found = sorted((cache / "models").glob(f"*-{person}-*"))
+        if len(found) != 1:
+            raise SystemExit(
+                f"error: {cache}/models holds {len(found)} fold models for {person} (need 1); pass tyrex_modes' --model-cache of one recipe."
+            )
+        out[person] = str(found[0])
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m experiments.scripts.tyrex_pdr_targets", description=__doc__.split("\n")[0])
     p.add_argument("--data", default="../shared/data", help="the shared data folder (holds tyrex-attitude/)")
     p.add_argument("--model", default="models/demo", help="model for the --model rows")
+    p.add_argument(
+        "--fold-models",
+        metavar="DIR",
+        help="tyrex_modes' --model-cache of the shipped recipe (DIR/models/<name>-a-<Person>-<hash>): each person's runs take the "
+        "model trained without them, so the model modes are held out too (use another --cache and --json-dir)",
+    )
     p.add_argument("--cache", default="/tmp/pdrtargets/preps.pkl", help="pickle of the per-recording runs (tyrex_steplen's format)")
     p.add_argument("--json-dir", default="/tmp/pdrtargets", help="where each fold's step-length JSON is written")
     p.add_argument("--csv", metavar="FILE", help="write the long targets table (every configuration, subset, motion, target)")
@@ -320,13 +341,16 @@ def main(argv: list[str] | None = None) -> int:
     items = load_tyrex(Path(args.data))
     from gaitml.models import load_model
 
-    model = load_model(args.model)
+    model, model_arg = load_model(args.model), args.model
+    if args.fold_models:
+        model_arg = fold_model_paths(Path(args.fold_models), sorted({it["subject"] for it in items}))
+        model = {person: load_model(path) for person, path in model_arg.items()}
     preps = load_or_prepare(items, model, args.cache, t0)
     table, fitted, checks = run_all(items, preps, model)
     json_dir = Path(args.json_dir)
     json_dir.mkdir(parents=True, exist_ok=True)
     root = Path(args.data) / "tyrex-attitude"
-    cli = check_cli(items, preps, fitted, root, json_dir, args.model)
+    cli = check_cli(items, preps, fitted, root, json_dir, model_arg)
     configs = dict(CONFIGS)
     lines = []
     if args.gyrocal:
@@ -345,7 +369,7 @@ def main(argv: list[str] | None = None) -> int:
         def log_argv(it):
             return ["--gyro-bias-from", str(root / CALIBRATION_GLOBS[it["phone"]].split("/")[0] / logs[it["phone"]][0])]
 
-        cli_gc = check_cli(items, preps_gc, fitted_gc, root, json_dir, args.model, extra_argv=log_argv)
+        cli_gc = check_cli(items, preps_gc, fitted_gc, root, json_dir, model_arg, extra_argv=log_argv)
         cli += [(f"{c[0]} gyrocal", *c[1:]) for c in cli_gc]
         configs.update(CONFIGS_GYROCAL)
         lines += [

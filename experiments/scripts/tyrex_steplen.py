@@ -92,8 +92,16 @@ ROWS = (
 )
 
 
+def model_for(model, item):
+    """The model of ``item``'s runs: ``model`` itself, or ``model[item['subject']]`` when it is a dict (each person's
+    fold model, trained without that person: model modes held out too)."""
+    return model[item["subject"]] if isinstance(model, dict) else model
+
+
 def prepare(item, model, pdr_options: dict | None = None) -> dict:
     """One recording: its calibration samples, each kept run of ``gaitml pdr``, and the reference trajectories' inputs.
+
+    ``model``: a model, or a dict person -> that person's fold model (:func:`model_for`).
 
     ``pdr_options``: extra :func:`gaitml.pdr.run_pdr` keywords of every run (e.g. ``gyro_bias_start``: what
     ``gaitml pdr --gyro-bias-from`` gives it); kept in the result for :func:`check_same_path`."""
@@ -102,6 +110,7 @@ def prepare(item, model, pdr_options: dict | None = None) -> dict:
     from gaitml.pdr.calibrate import step_length_samples
     from gaitml.steps import get_detector
 
+    model = model_for(model, item)
     rec = item["recording"]
     tt, xy = _truth_on_recording(item)
     table = get_detector(DEFAULT_STEP_DETECTOR).detect(rec).steps_
@@ -229,6 +238,7 @@ def check_same_path(item, prep, run_name: str, models, model) -> float:
     from gaitml.steps import get_detector
 
     modes, heading = RUNS[run_name]
+    model = model_for(model, item)
     rec = item["recording"]
     table = get_detector(DEFAULT_STEP_DETECTOR).detect(rec).steps_
     res = run_pdr(rec, steps=table, model=model, modes=modes, heading=heading, step_length=models["cal"], **prep.get("pdr_options", {}))

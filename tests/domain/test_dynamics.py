@@ -271,9 +271,11 @@ def test_a_trained_gyroscope_model_records_the_dynamics_and_predict_uses_them(tm
     longrun._window_chunks = spy
     try:
         for chunk_s in (4.3, 7.0):
-            # the step rules off: their chunks start on adaptive's 1 s cadence grid too, which at every = 4 makes 76 s
-            # chunks (one chunk of this 40 s file); this checks the dynamics' own grid
-            chunked = long_predict(m4, tmp_path / "rec.csv", chunk_s=chunk_s, progress=False, run_min_cadence_hz=0, still_step_veto=0)
+            # the step rules and the still_unsure mark off: their chunks start on adaptive's 1 s cadence grid too, which
+            # at every = 4 makes 76 s chunks (one chunk of this 40 s file); this checks the dynamics' own grid
+            chunked = long_predict(
+                m4, tmp_path / "rec.csv", chunk_s=chunk_s, progress=False, run_min_cadence_hz=0, still_step_veto=0, mark_still_unsure=False
+            )
             np.testing.assert_array_equal(chunked["in_domain"].astype(bool).to_numpy(), whole4["in_domain"].astype(bool).to_numpy())
             np.testing.assert_allclose(chunked["dynamics_distance"].to_numpy(float), whole4["dynamics_distance"].to_numpy(float))
     finally:

@@ -210,3 +210,29 @@ def test_a_still_recording_at_another_rate_is_flagged_even_resampled(walks, tmp_
         out = capsys.readouterr()
         assert "was made at" not in out.err
         assert "still_rate_warning" not in json.loads(out.out)["gyro_bias"]
+
+
+@pytest.mark.parametrize(
+    "field",
+    [
+        {"still_s": "x"},
+        {"still_s": float("nan")},
+        {"still_s": -1.0},
+        {"n_still_windows": "many"},
+        {"n_still_windows": [1]},
+        {"method": ["still"]},
+    ],
+)
+def test_a_malformed_bias_json_is_refused_with_one_line_and_no_output(walks, tmp_path, capsys, field):
+    """A JSON whose gyro_bias record holds a malformed still time, window count or method is refused by
+    read_gyro_bias_json in one line naming the field (before: an internal error, or a NaN still time that
+    broke the JSON output after the trajectory had been written)."""
+    biased, _ = walks
+    walk, out, bad = tmp_path / "walk.csv", tmp_path / "traj.csv", tmp_path / "bias.json"
+    write_gaitml_csv(biased, walk)
+    bad.write_text(json.dumps({"gyro_bias": {"method": "still", "bias_rads": list(BIAS), "still_s": 30.0, **field}}))
+    with pytest.raises(InputError, match=next(iter(field))):
+        read_gyro_bias_json(bad)
+    line = _refused(capsys, ["pdr", str(walk), "--gyro-bias-from", str(bad), "--json", "--out", str(out)])
+    assert next(iter(field)) in line and "internal error" not in line, line
+    assert not out.exists()

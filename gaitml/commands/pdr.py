@@ -187,7 +187,7 @@ def _gyro_bias_args(args, notes: list[str]) -> dict:
 
         still = read_recording(path, **read_kwargs(args))
         start = gyro_bias_from_still(still, source=str(path))
-        start.params["sampling_rate_hz"] = float(still.sampling_rate_hz)
+        start.params["sampling_rate_hz"] = _made_at_hz(still)
     mode = mode or GYRO_BIAS_FROM_MODE
     notes.append(
         f"gyroscope bias from {path} ({start.method}), "
@@ -196,17 +196,35 @@ def _gyro_bias_args(args, notes: list[str]) -> dict:
     return {"gyro_bias": mode, "gyro_bias_start": start}
 
 
-def _warn_still_rate(gb_args: dict, walk_rate_hz: float | None) -> None:
-    """One warning line when the still recording's sampling rate differs from the walk's (:data:`GYRO_BIAS_RATE_TOL`)."""
+def _made_at_hz(rec) -> float | None:
+    """The rate a recording (or a chunked reader's scan) was made at: the rate its reader judged its timestamps at
+    (``meta['original_rate_hz']``) before the input options resampled it (``--sampling-rate-hz``), else its rate."""
+    if rec is None:
+        return None
+    made = (getattr(rec, "meta", None) or {}).get("original_rate_hz")
+    try:
+        made = float(made)
+    except (TypeError, ValueError):
+        made = None
+    return made if made is not None and made > 0 else float(rec.sampling_rate_hz)
+
+
+def _warn_still_rate(gb_args: dict, walk_rate_hz: float | None, res) -> None:
+    """One warning line when the still recording was made at a sampling rate other than the walk's
+    (:data:`GYRO_BIAS_RATE_TOL`; both as made, :func:`_made_at_hz`, not as resampled to one rate by the input
+    options); the line is also kept in the JSON's ``gyro_bias`` record (``still_rate_warning``) and the summary."""
     start = gb_args.get("gyro_bias_start")
     still_hz = None if start is None else start.params.get("sampling_rate_hz")
     if still_hz is None or not walk_rate_hz:
         return
     if abs(still_hz - walk_rate_hz) > GYRO_BIAS_RATE_TOL * walk_rate_hz:
-        log(
-            f"gaitml: warning: the still recording {start.source} was made at {still_hz:.1f} Hz and the walk at {walk_rate_hz:.1f} Hz: "
+        line = (
+            f"the still recording {start.source} was made at {still_hz:.1f} Hz and the walk at {walk_rate_hz:.1f} Hz: "
             "a gyroscope's bias can change with its rate setting, or it is another phone; record it at the walk's rate"
         )
+        log(f"gaitml: warning: {line}")
+        if isinstance(res.info.get("gyro_bias"), dict):
+            res.info["gyro_bias"]["still_rate_warning"] = line
 
 
 def _detector(args, model, notes: list[str]) -> str:
@@ -379,7 +397,7 @@ def run(args) -> int:
     _warn_out_of_domain(model, modes, res.steps)
     _warn_outside_fit(res)
     _warn_calibration_detector(res)
-    _warn_still_rate(gb_args, rec.sampling_rate_hz)
+    _warn_still_rate(gb_args, _made_at_hz(rec), res)
     # ---- a fixed-threshold detector that misses calm steps or counts a bouncing phone's extra peaks
     # (gaitml.steps.crosscheck): one warning line
     from gaitml.steps.crosscheck import count_warning
@@ -469,7 +487,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
     _warn_out_of_domain(model, modes, res.steps)
     _warn_outside_fit(res)
     _warn_calibration_detector(res)
-    _warn_still_rate(gb_args, getattr(first, "sampling_rate_hz", None))
+    _warn_still_rate(gb_args, _made_at_hz(first), res)
     count_msg = compare_counts(res.n_steps, res.steps.attrs["count_also"]["n_steps"], detector) if also else None
     if count_msg:
         log(f"gaitml: warning: {count_msg}")
@@ -653,6 +671,8 @@ def _report(args, res, name: str, modes: str, truth, count_msg: str | None, extr
         )
     if res.info.get("gyro_bias"):
         lines.append(f"  {res.info['gyro_bias']['note']}")
+        if res.info["gyro_bias"].get("still_rate_warning"):
+            lines.append(f"  gyroscope bias: {res.info['gyro_bias']['still_rate_warning']}")
     check = _heading_check_line(res)
     if check:
         lines.append(f"  {check}")

@@ -37,6 +37,7 @@ caller can pass a bias measured elsewhere (a static calibration recording) inste
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -475,8 +476,9 @@ def read_gyro_bias_json(path) -> GyroBias:
     record) or that record alone (:meth:`GyroBias.to_dict`).
 
     Returns GyroBias with ``method='file'`` and ``source`` the path. Raises InputError (one line)
-    when the file is not such a JSON, its bias is not 3 finite numbers, or the record says no bias
-    was measured (``method`` ``'none'`` or ``'off'``).
+    when the file is not such a JSON, its bias is not 3 finite numbers, its ``method`` is not a string,
+    its ``still_s`` not a finite number >= 0 or its ``n_still_windows`` not a whole number >= 0, or the
+    record says no bias was measured (``method`` ``'none'`` or ``'off'``).
     """
     import json
     from pathlib import Path
@@ -491,7 +493,12 @@ def read_gyro_bias_json(path) -> GyroBias:
         raise InputError(
             f"{p} holds no gyroscope bias (no 'gyro_bias' record with 'bias_rads'); give the JSON written by gaitml pdr --json."
         )
-    if rec.get("method") in ("none", "off"):
+    method = rec.get("method")
+    if method is not None and not isinstance(method, str):
+        raise InputError(
+            f"{p}: the gyro_bias record's 'method' must be a string, got {method!r}; give the JSON written by gaitml pdr --json."
+        )
+    if method in ("none", "off"):
         raise InputError(
             f"{p} records no measured gyroscope bias (method {rec.get('method')!r}); write it from a run that found one "
             "(e.g. gaitml pdr STILL_RECORDING --json on a recording of the phone lying still)."
@@ -502,13 +509,26 @@ def read_gyro_bias_json(path) -> GyroBias:
         bias = np.zeros(0)
     if bias.shape != (3,) or not np.isfinite(bias).all():
         raise InputError(f"{p}: 'bias_rads' must be 3 finite numbers (rad/s), got {rec['bias_rads']!r}.")
+    still_s, n_still = rec.get("still_s", 0.0) or 0.0, rec.get("n_still_windows", 0) or 0
+    if isinstance(still_s, bool) or not isinstance(still_s, (int, float)) or not (math.isfinite(still_s) and still_s >= 0):
+        raise InputError(
+            f"{p}: the gyro_bias record's 'still_s' must be a finite number of seconds >= 0, got {still_s!r}; give the JSON written by gaitml pdr --json."
+        )
+    if (
+        isinstance(n_still, bool)
+        or not isinstance(n_still, (int, float))
+        or not (math.isfinite(n_still) and n_still >= 0 and n_still == int(n_still))
+    ):
+        raise InputError(
+            f"{p}: the gyro_bias record's 'n_still_windows' must be a whole number >= 0, got {n_still!r}; give the JSON written by gaitml pdr --json."
+        )
     b = np.degrees(bias)
     return GyroBias(
         bias,
         "file",
-        still_s=float(rec.get("still_s", 0.0) or 0.0),
-        n_still_windows=int(rec.get("n_still_windows", 0) or 0),
-        note=f"gyroscope bias ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s read from {p.name} (measured there as {rec.get('method', '?')})",
-        params={"file_method": rec.get("method"), **({"file_source": rec["source"]} if rec.get("source") else {})},
+        still_s=float(still_s),
+        n_still_windows=int(n_still),
+        note=f"gyroscope bias ({b[0]:.2f}, {b[1]:.2f}, {b[2]:.2f}) deg/s read from {p.name} (measured there as {method or '?'})",
+        params={"file_method": method, **({"file_source": rec["source"]} if rec.get("source") else {})},
         source=str(p),
     )

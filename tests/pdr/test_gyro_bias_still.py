@@ -180,3 +180,59 @@ def test_a_bad_still_recording_is_refused_with_one_line_and_no_output(walks, tmp
     assert "nothing to do" in _refused(capsys, ["pdr", str(walk), "--gyro-bias-from", str(bad), "--gyro-bias", "off"])
     assert _refused(capsys, ["pdr", str(walk), "--gyro-bias-from", str(tmp_path / "missing.csv"), "--out", str(out)])
     assert not out.exists()
+
+
+@pytest.mark.parametrize("chunked", [False, True])
+def test_a_still_recording_at_another_rate_is_flagged_even_resampled(walks, tmp_path, capsys, monkeypatch, chunked):
+    """A still recording made at another rate than the walk is said so in one stderr line and in the JSON's
+    gyro_bias record, also when the input options resample both to one rate (--sampling-rate-hz): the warning
+    compares the rates the two files were made at, not the rate they are read at."""
+    biased, _ = walks
+    walk, fast, same = tmp_path / "walk.csv", tmp_path / "still_fast.csv", tmp_path / "still_same.csv"
+    write_gaitml_csv(biased, walk)
+    write_gaitml_csv(_still(30.0, fs=2 * FS), fast)
+    write_gaitml_csv(_still(30.0), same)
+    monkeypatch.setattr(ch, "LARGE_INPUT_SAMPLES", -1 if chunked else 10**12)
+    base = ["pdr", str(walk), "--detector", "single-peak", "--json"]
+    for extra in ([], ["--sampling-rate-hz", f"{FS:g}"]):
+        capsys.readouterr()
+        assert main([*base, "--gyro-bias-from", str(fast), *extra]) == 0
+        out = capsys.readouterr()
+        warned = [ln for ln in out.err.splitlines() if "was made at" in ln]
+        assert len(warned) == 1, (extra, out.err)
+        assert f"{2 * FS:.1f} Hz" in warned[0] and f"the walk at {FS:.1f} Hz" in warned[0]
+        gb = json.loads(out.out)["gyro_bias"]
+        assert gb["still_rate_warning"] == warned[0].removeprefix("gaitml: warning: ")
+        assert main([*base[:-1], "--gyro-bias-from", str(fast), *extra]) == 0  # the text summary says it too
+        assert f"gyroscope bias: {gb['still_rate_warning']}" in capsys.readouterr().out
+        # the same phone at the walk's rate: nothing said
+        assert main([*base, "--gyro-bias-from", str(same), *extra]) == 0
+        out = capsys.readouterr()
+        assert "was made at" not in out.err
+        assert "still_rate_warning" not in json.loads(out.out)["gyro_bias"]
+
+
+@pytest.mark.parametrize(
+    "field",
+    [
+        {"still_s": "x"},
+        {"still_s": float("nan")},
+        {"still_s": -1.0},
+        {"n_still_windows": "many"},
+        {"n_still_windows": [1]},
+        {"method": ["still"]},
+    ],
+)
+def test_a_malformed_bias_json_is_refused_with_one_line_and_no_output(walks, tmp_path, capsys, field):
+    """A JSON whose gyro_bias record holds a malformed still time, window count or method is refused by
+    read_gyro_bias_json in one line naming the field (before: an internal error, or a NaN still time that
+    broke the JSON output after the trajectory had been written)."""
+    biased, _ = walks
+    walk, out, bad = tmp_path / "walk.csv", tmp_path / "traj.csv", tmp_path / "bias.json"
+    write_gaitml_csv(biased, walk)
+    bad.write_text(json.dumps({"gyro_bias": {"method": "still", "bias_rads": list(BIAS), "still_s": 30.0, **field}}))
+    with pytest.raises(InputError, match=next(iter(field))):
+        read_gyro_bias_json(bad)
+    line = _refused(capsys, ["pdr", str(walk), "--gyro-bias-from", str(bad), "--json", "--out", str(out)])
+    assert next(iter(field)) in line and "internal error" not in line, line
+    assert not out.exists()

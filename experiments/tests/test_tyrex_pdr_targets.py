@@ -148,3 +148,23 @@ def test_prepare_keeps_its_pdr_options_and_the_path_check_uses_them():
     models = {"cal": StepLengthModel()}
     assert check_same_path(item, biased, "fwd", models, None) < 1e-9
     assert check_same_path(item, {k: v for k, v in biased.items() if k != "pdr_options"}, "fwd", models, None) > 1.0
+
+
+def test_fold_models_are_picked_per_person_and_a_missing_or_doubled_one_is_refused(tmp_path):
+    from experiments.scripts.tyrex_pdr_targets import fold_model_paths
+    from experiments.scripts.tyrex_steplen import model_for
+
+    for name in ("demo-fwdface-a-A-1", "demo-fwdface-a-B-2", "demo-fwdface-a-C-3"):
+        (tmp_path / "models" / name).mkdir(parents=True)
+    paths = fold_model_paths(tmp_path, list(PEOPLE))
+    assert {p: paths[p].rsplit("/", 1)[1] for p in PEOPLE} == {
+        "A": "demo-fwdface-a-A-1",
+        "B": "demo-fwdface-a-B-2",
+        "C": "demo-fwdface-a-C-3",
+    }
+    assert model_for({"A": 1, "B": 2}, {"subject": "B"}) == 2 and model_for("m", {"subject": "B"}) == "m"
+    (tmp_path / "models" / "demo-fwd-a-A-9").mkdir()
+    with pytest.raises(SystemExit, match="2 fold models for A"):
+        fold_model_paths(tmp_path, list(PEOPLE))
+    with pytest.raises(SystemExit, match="0 fold models for D"):
+        fold_model_paths(tmp_path, ["D"])

@@ -260,6 +260,8 @@ def _window_flags(rec, **kw) -> dict[str, np.ndarray]:
 
 
 def nearest_window(runs: list[dict], x: float) -> tuple[dict, int] | None:
+    """The cadence window nearest the time ``x`` (s, the reference's clock) over ``runs`` (:func:`_window_flags`
+    dicts, one per recording piece): ``(run, index)``, or None when no run has a window."""
     best = None
     for g in runs:
         if len(g["t"]):
@@ -270,6 +272,7 @@ def nearest_window(runs: list[dict], x: float) -> tuple[dict, int] | None:
 
 
 def uncovered(ref: np.ndarray, runs: list[dict]) -> np.ndarray:
+    """Per reference step time in ``ref`` (s), True where no step of ``runs`` lies within :data:`COVER_S` (a missed step)."""
     steps = np.concatenate([g["steps"] for g in runs]) if runs else np.zeros(0)
     if not len(steps):
         return np.ones(len(ref), dtype=bool)

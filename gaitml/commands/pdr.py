@@ -44,8 +44,7 @@ HELP = "pedestrian dead reckoning trajectory"
 #: holds it for the whole walk (the attitude's ``start_bias`` with ``gyro_bias='still'``), ``'auto'``
 #: starts from it and tracks it online as the default tracks. Chosen on the tyrex benchmark by the rule
 #: written before measuring in experiments/reports/tyrex-pdr.md (section "A gyroscope bias from a still
-#: recording", branch gyrocal): tracked had the lower median |drift| in 5 of 7 motions and was lower in 55
-#: recordings and higher in 43; the two measure about the same.
+#: recording", branch gyrocal; the figures are there).
 GYRO_BIAS_FROM_MODE = "auto"
 #: A still recording made at a sampling rate this far (relative) from the walk's is flagged: a phone's
 #: gyroscope may run another filter (and bias) at another rate, or it may be another phone.

@@ -1525,6 +1525,11 @@ class AdaptiveStepDetector(BaseStepDetector):
         the swing set the period and periodicity, stage 2c).
         ``attrs['swing_stage']``: ``requested`` (``gyro_swing_min_periodicity``
         > 0) and ``ran`` (requested and a gyroscope was read).
+    unchecked_steps_ : DataFrame or None
+        The step table the gait check read (stage 5b's steps not in it; see
+        ``episode_before_gait_check``); None with ``gait_check=False``.
+        Chunked runs read it for the check's account
+        (:mod:`gaitml.chunked_run`).
     octave_bouts_ : DataFrame
         Stage 5a's decision per walking bout: ``first_peak`` (sample of the
         bout's first peak) and ``octave`` (2 half-steps, 1 steps, 0
@@ -1751,6 +1756,7 @@ class AdaptiveStepDetector(BaseStepDetector):
 
         # round 3 of stage 5b: today's table goes through the gait check; the steps stage 5b adds wait until after it
         self.steps_: pd.DataFrame = table(r["today"] if after else r)
+        self.unchecked_steps_: pd.DataFrame | None = self.steps_ if check else None
         if check:  # bouts without gait evidence (a gesturing hand) are left out
             # the acceleration only feeds the opt-in vertical test: not measured when it is off
             acc = rec.acc if vertical is not None else None

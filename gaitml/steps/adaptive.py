@@ -163,12 +163,11 @@ evidence). The per-window cadence is kept in ``cadence_``.
    the check (an edge step: when its own bout did), so a rescued burst never
    outlives the walking that justified it. It runs only where the gait check
    reads a gyroscope; without one the step table is that of stages 1-5.
-   Round 3 of its choice (``experiments/reports/tyrex-steps.md``, bouts and
-   bouts2 sections): leave-one-person-out on tyrex it raises the held-out
-   count score 0.9513 -> 0.9580, with no more raw or confident steps on
-   simulated gestures and desk work and the Oxford / IFSM counts unchanged.
-   Rounds 1-2 ran it before the gait check (``episode_before_gait_check``;
-   it added gesture steps then). The fold (stage 3) pulls an irregular run's
+   Its settings were chosen leave-one-person-out on tyrex, admissible only
+   if no simulated gesture or desk recording gets a step more (round 3,
+   ``experiments/reports/tyrex-steps.md``, bouts and bouts2 sections, with
+   the figures). Rounds 1-2 ran it before the gait check
+   (``episode_before_gait_check``; it added gesture steps then). The fold (stage 3) pulls an irregular run's
    peaks towards the local period, so the picked intervals look more regular
    than the steps were.
 

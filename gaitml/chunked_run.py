@@ -97,25 +97,24 @@ def _core_steps(
     detector (for its per-window ``cadence_``, :func:`_core_cadence`).
 
     The test runs on the chunk's whole step table, as on a whole recording: a detector with a
-    ``gait_check`` parameter (``adaptive``) runs without it and its steps pass
-    :func:`~gaitml.steps._gait_evidence.gait_check` as its own ``detect`` does; other detectors'
+    ``gait_check`` parameter (``adaptive``) runs its own (its stage 5b adds steps after it; the
+    account reads ``unchecked_steps_``, the table the check read); other detectors'
     steps pass :func:`~gaitml.steps._gait_evidence.gait_check_recording` (tested at ``adaptive``'s
     cadence, as ``gaitml steps --gait-check`` does). ``gait_check`` None: the detector's own default
     (on for ``adaptive``, off for the others).
     """
     from gaitml.steps import get_detector
-    from gaitml.steps._gait_evidence import gait_check as check_steps
     from gaitml.steps._gait_evidence import gait_check_recording
 
     params = dict(detector_params or {})
     det = get_detector(detector, **params)
     own = "gait_check" in det.get_params()
-    vertical = det.get_params().get("gait_check_vertical_fraction")  # adaptive's opt-in vertical-symmetry test
     gait = (bool(det.get_params()["gait_check"]) if own else False) if gait_check is None else bool(gait_check)
     if own:
-        raw = det.set_params(gait_check=False).detect(rec).steps_
-        acc = rec.acc if vertical is not None else None  # only the opt-in vertical test reads it
-        checked = check_steps(raw, rec.gyr, rec.sampling_rate_hz, acc=acc, max_stride_vertical_fraction=vertical) if gait else raw
+        # adaptive runs its own check (its stage 5b adds steps after it); the account reads the table the check read
+        det.set_params(gait_check=gait).detect(rec)
+        checked = det.steps_
+        raw = det.unchecked_steps_ if gait else checked
     else:
         raw = det.detect(rec).steps_
         checked = gait_check_recording(raw, rec) if gait else raw

@@ -19,7 +19,7 @@ measuring (the report's "bouts helper" section):
 interval regularity, confidence, the gap to the nearest kept bout, and how many of their steps a reference step
 matches. Every detector run is cached per setting (pickles in ``--cache``; empty it after any change to ``gaitml``).
 
-    python -m experiments.scripts.tyrex_steps_bouts [--data ../shared/data] [--cache /tmp/bouts]     # ~20 min, seconds cached
+    python -m experiments.scripts.tyrex_steps_bouts [--data ../shared/data] [--cache /tmp/bouts] [--round 3]  # ~20 min, seconds cached
     python -m experiments.scripts.tyrex_steps_bouts --check G5,C0.1,edge [--cache /tmp/bouts]       # B4-B6 for one setting
     python -m experiments.scripts.tyrex_steps_bouts --dropped                                        # today's dropped bouts
 """
@@ -52,27 +52,42 @@ from experiments.scripts.tyrex_steps_joint import (
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED, _load, _score
 
 OFF = "off"
+#: today's (before round 3's adoption) stage 5b: off, spelled out so that "off" stays today's rules whatever the defaults
+OFF_SETTING = {"episode_gap_ratio": 0.0}
 
 
-def _setting(gap: float, cv: float, edge: bool, walk: int) -> dict:
-    return {"episode_gap_ratio": gap, "max_bout_interval_cv": cv, "edge_interval_match": edge, "episode_walk_steps": walk}
+def _setting(gap: float, cv: float, edge: bool, walk: int, before: bool = True) -> dict:
+    return {
+        "episode_gap_ratio": gap,
+        "max_bout_interval_cv": cv,
+        "edge_interval_match": edge,
+        "episode_walk_steps": walk,
+        "episode_before_gait_check": before,
+    }
 
 
 def grid_of(round_: int) -> dict[str, dict]:
     """The grid fixed before measuring (report, "bouts helper"): off and G in {3, 5} x C in {0.1, 0.2} x edge rule.
     Round 1: any bout that passes the rules alone is walking (``episode_walk_steps=0``); round 2: a bout of at least
-    ten kept steps (the library's ``EPISODE_WALK_STEPS``)."""
+    ten kept steps (the library's ``EPISODE_WALK_STEPS``); rounds 1-2 run stage 5b before the gait check
+    (``episode_before_gait_check``). Round 3 (report, "bouts2 helper"): round 2's settings after the gait check, with a
+    gyroscope only (keys carry ``,r3``)."""
     walk = 0 if round_ == 1 else 10
-    out: dict[str, dict] = {OFF: {}}
+    suffix = {1: ",r1", 2: "", 3: ",r3"}[round_]
+    out: dict[str, dict] = {OFF: dict(OFF_SETTING)}
     for g in (3, 5):
         for c in (0.1, 0.2):
             for e in (False, True):
-                key = f"G{g},C{c}" + (",edge" if e else "") + (",r1" if round_ == 1 else "")
-                out[key] = _setting(float(g), c, e, walk)
+                key = f"G{g},C{c}" + (",edge" if e else "") + suffix
+                out[key] = _setting(float(g), c, e, walk, before=round_ < 3)
     return out
 
 
-GRID: dict[str, dict] = {**grid_of(2), **{k: v for k, v in grid_of(1).items() if k != OFF}}
+GRID: dict[str, dict] = {
+    **grid_of(2),
+    **{k: v for k, v in grid_of(1).items() if k != OFF},
+    **{k: v for k, v in grid_of(3).items() if k != OFF},
+}
 KINDS = ("gestures", "desk")
 #: a detected step matches a reference step within this (s), as the joint helper's ``--misses``
 COVER_S = 0.45
@@ -206,7 +221,7 @@ def no_gyroscope(data: str | Path, key: str) -> dict[str, float]:
     for r in recs:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            t0 = get_detector("adaptive").detect(r).steps_["t_peak_s"].to_numpy()
+            t0 = get_detector("adaptive", **GRID[OFF]).detect(r).steps_["t_peak_s"].to_numpy()
             t1 = get_detector("adaptive", **GRID[key]).detect(r).steps_["t_peak_s"].to_numpy()
         changed += int(not np.array_equal(t0, t1))
         true = r.reference.get("n_steps_true") if r.reference else None
@@ -220,14 +235,15 @@ def no_gyroscope(data: str | Path, key: str) -> dict[str, float]:
 def heldout_checks(key: str, data: str | Path, cache: Path | None) -> tuple[list[str], dict[str, bool]]:
     """B4-B6 for setting ``key`` against off: held-out non-gait seeds, slow walkers' held-out seeds, Oxford and IFSM."""
     ho = nongait_recordings(HELDOUT_SEEDS, cache)
-    h0 = _cached(cache, "nongait_heldout_off", lambda: nongait_rates(ho, HELDOUT_SEEDS))
+    h0 = _cached(cache, "nongait_heldout_off", lambda: nongait_rates(ho, HELDOUT_SEEDS, **GRID[OFF]))
     h1 = _cached(cache, f"nongait_heldout_{key}", lambda: nongait_rates(ho, HELDOUT_SEEDS, **GRID[key]))
     s0, s1 = slow_walkers(OFF, cache), slow_walkers(key, cache)
     ox = no_gyroscope(data, key)
     checks = {
         "B4": all(h1[c] <= h0[c] + 1e-9 for kind in KINDS for c in (kind, f"{kind}_confident")),
         "B5": all(np.mean(s1[p]) >= np.mean(s0[p]) - 1e-12 for p in s0),
-        "B6": ox["setting"] >= ox["off"] - 1e-12,
+        # round 3 promises the step table of a recording without a gyroscope is today's: no file may change
+        "B6": ox["setting"] >= ox["off"] - 1e-12 and (ox["changed"] == 0 or not key.endswith(",r3")),
     }
     lines = [f"Held-out checks for {key} (off -> it):"]
     for kind in KINDS:
@@ -285,7 +301,7 @@ def dropped_bouts(t_all: np.ndarray, period: np.ndarray, conf: np.ndarray, kept:
 def _steps_with_bout_rules_off(rec) -> pd.DataFrame:
     from gaitml.steps import get_detector
 
-    return get_detector("adaptive", short_bout_steps=0, min_bout_steps=1, edge_confidence_ratio=0.0).detect(rec).steps_
+    return get_detector("adaptive", short_bout_steps=0, min_bout_steps=1, edge_confidence_ratio=0.0, **OFF_SETTING).detect(rec).steps_
 
 
 def dropped_table(items: list[dict]) -> str:
@@ -300,7 +316,7 @@ def dropped_table(items: list[dict]) -> str:
         for r in it["recs"]:
             t0 = float(r.meta.get("t0_original_s", 0.0))
             a = _steps_with_bout_rules_off(r)
-            k = get_detector("adaptive").detect(r).steps_
+            k = get_detector("adaptive", **OFF_SETTING).detect(r).steps_
             ta = t0 + a["t_peak_s"].to_numpy()
             inside = (ta >= it["ref"]["t_first_s"]) & (ta <= it["ref"]["t_last_s"])
             df = dropped_bouts(
@@ -342,7 +358,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--cache", default=None, help="folder for the per-setting detector runs and simulated recordings (pickles)")
     ap.add_argument("--check", default=None, help=f"only B4-B6 for one setting, one of {', '.join(GRID)}")
     ap.add_argument("--dropped", action="store_true", help="describe the bouts today's rules drop (Texting, Phoning)")
-    ap.add_argument("--round", type=int, choices=(1, 2), default=2, help="the grid of round 1 or round 2 (report)")
+    ap.add_argument("--round", type=int, choices=(1, 2, 3), default=2, help="the grid of round 1, 2 or 3 (report)")
     a = ap.parse_args(argv)
     if a.check is not None and a.check not in GRID:
         print(f"error: --check must be one of {', '.join(GRID)}, got {a.check!r}", file=sys.stderr)

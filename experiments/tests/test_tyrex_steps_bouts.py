@@ -11,17 +11,20 @@ from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED
 
 
 def test_the_grids_are_the_ones_fixed_before_measuring():
-    for r, walk in ((1, 0), (2, 10)):
+    for r, walk in ((1, 0), (2, 10), (3, 10)):
         g = grid_of(r)
-        assert len(g) == 9 and g[OFF] == {}
+        # off is today's rules spelled out (stage 5b off whatever adaptive's defaults)
+        assert len(g) == 9 and g[OFF] == {"episode_gap_ratio": 0.0}
         assert {v["episode_walk_steps"] for k, v in g.items() if k != OFF} == {walk}
+        # rounds 1-2 ran stage 5b before the gait check, round 3 after it
+        assert {v["episode_before_gait_check"] for k, v in g.items() if k != OFF} == {r < 3}
         assert {(v["episode_gap_ratio"], v["max_bout_interval_cv"]) for k, v in g.items() if k != OFF} == {
             (3.0, 0.1),
             (3.0, 0.2),
             (5.0, 0.1),
             (5.0, 0.2),
         }
-    assert len(GRID) == 17  # off once, eight per round
+    assert len(GRID) == 25  # off once, eight per round
 
 
 def _rates(g, d, gc=0.1, dc=0.5):

@@ -144,26 +144,32 @@ evidence). The per-window cadence is kept in ``cadence_``.
    F1 up) but lowers the count accuracy, whose over-counts offset misses
    elsewhere in the same walks (``experiments/reports/tyrex-steps.md``).
 
-5b. **Walking episodes** (opt-in; :func:`_episode_keep`). A walker who
-   slows, stops or turns breaks the rhythm for one or two steps, and the
-   steps around the break form short bouts that the minimum-bout and
-   short-bout rules drop. With ``episode_gap_ratio`` > 0, bouts no more than
-   that many local step periods apart are one walking episode, and a bout
-   those rules drop is kept when its step intervals are regular (coefficient
-   of variation at most ``max_bout_interval_cv``; stride-time CV of healthy
-   walking is 1-3 %, Hausdorff, *J. NeuroEng. Rehabil.* 2, 2005) and its
-   episode holds a walking bout: one that passes the rules alone with at
-   least ``episode_walk_steps`` (10) steps, the pedometers' confirmation.
-   With ``edge_interval_match`` the edge rule also keeps a weak edge step
-   whose interval to its neighbour is within ``max_bout_interval_cv`` of its
-   bout's median interval (in bouts of ``episode_walk_steps``). Off by
-   default: on the tyrex recordings it raises the count accuracy in every walking
-   motion, held out too, but it adds steps to simulated gestures (a rescued
-   burst outlives the neighbour the gait check rejects) and, with the edge
-   match, over-counts the Oxford walks' edges
-   (``experiments/reports/tyrex-steps.md``, bouts section). The fold
-   (stage 3) pulls an irregular run's peaks towards the local period, so the
-   picked intervals look more regular than the steps were.
+5b. **Walking episodes** (with a gyroscope; :func:`_episode_keep`,
+   :func:`episode_steps_after_check`). A walker who slows, stops or turns
+   breaks the rhythm for one or two steps, and the steps around the break
+   form short bouts that the minimum-bout and short-bout rules drop. Bouts no
+   more than ``episode_gap_ratio`` (3) local step periods apart are one
+   walking episode, and a bout those rules drop is kept when its step
+   intervals are regular (coefficient of variation at most
+   ``max_bout_interval_cv``, 0.2; stride-time CV of healthy walking is 1-3 %,
+   Hausdorff, *J. NeuroEng. Rehabil.* 2, 2005) and its episode holds a
+   walking bout: one that passes the rules alone with at least
+   ``episode_walk_steps`` (10) steps, the pedometers' confirmation. With
+   ``edge_interval_match`` the edge rule also keeps a weak edge step whose
+   interval to its neighbour is within ``max_bout_interval_cv`` of its
+   bout's median interval (in bouts of ``episode_walk_steps``). The steps the
+   stage adds are held back from the gait check: today's steps are checked,
+   and a rescued bout joins only when a walking bout of its episode survived
+   the check (an edge step: when its own bout did), so a rescued burst never
+   outlives the walking that justified it. It runs only where the gait check
+   reads a gyroscope; without one the step table is that of stages 1-5.
+   Its settings were chosen leave-one-person-out on tyrex, admissible only
+   if no simulated gesture or desk recording gets a step more (round 3,
+   ``experiments/reports/tyrex-steps.md``, bouts and bouts2 sections, with
+   the figures). Rounds 1-2 ran it before the gait check
+   (``episode_before_gait_check``; it added gesture steps then). The fold (stage 3) pulls an irregular run's
+   peaks towards the local period, so the picked intervals look more regular
+   than the steps were.
 
 Evaluated on the Oxford step counter optimisation recordings (Salvi et al.,
 CC BY 4.0) in sample and leave-one-user-out (``gaitml evaluate
@@ -195,6 +201,7 @@ __all__ = [
     "cadence_decimation",
     "cadence_hop_samples",
     "adaptive_steps",
+    "episode_steps_after_check",
     "fold_steps",
     "window_autocorrelation",
     "swing_correlation",
@@ -306,16 +313,21 @@ OCTAVE_MATCH_TOLERANCE = 0.25
 MAX_SHORT_BOUT_INTERVAL_CV = 0.0
 #: stage 5b, walking episodes (0: off): two bouts whose separating interval is at most this many local step periods
 #: are one walking episode. A walker who slows, stops or turns breaks the rhythm for one or two steps (the gap between
-#: two bouts is over BOUT_GAP_RATIO periods once one step is missed; 3 periods: one or two steps missed)
-EPISODE_GAP_RATIO = 0.0
+#: two bouts is over BOUT_GAP_RATIO periods once one step is missed; 3 periods: one or two steps missed). The detector's
+#: default since round 3 (after the gait check, with a gyroscope only), chosen leave-one-person-out on tyrex over the
+#: grid G in {3, 5} x C in {0.1, 0.2} x edge match, admissible on simulated non-gait seeds
+#: (experiments/reports/tyrex-steps.md, "bouts2 helper"); :func:`adaptive_steps` alone keeps it off (0.0), as it has no
+#: gait check
+EPISODE_GAP_RATIO = 3.0
 #: stage 5b: a bout the minimum-bout or short-bout rule would drop is kept when the coefficient of variation of its step
 #: intervals is at most this (a bout of two steps: its interval within this fraction of the local step period) and its
-#: episode holds a bout that passes those rules on its own. 0.1 is about three times the stride-time CV of healthy
-#: walking (1-3 %, Hausdorff, J. NeuroEng. Rehabil. 2, 2005), for the jitter of a phone's peaks and slow walking
-MAX_BOUT_INTERVAL_CV = 0.1
+#: episode holds a bout that passes those rules on its own. Healthy walking's stride-time CV is 1-3 % (Hausdorff,
+#: J. NeuroEng. Rehabil. 2, 2005); 0.2 (round 3's choice, report above; 0.1 was the grid's other value) leaves room for
+#: the jitter of a phone's peaks and slow walking
+MAX_BOUT_INTERVAL_CV = 0.2
 #: stage 5b: the edge rule also keeps a weak edge step whose interval to its neighbour is within MAX_BOUT_INTERVAL_CV
-#: of its bout's median interval (off: the edge rule reads the confidence alone)
-EDGE_INTERVAL_MATCH = False
+#: of its bout's median interval (off: the edge rule reads the confidence alone); on since round 3 (report above)
+EDGE_INTERVAL_MATCH = True
 #: stage 5b: the walking beside a bout is a bout that passes the bout rules alone with at least this many kept steps, and
 #: the edge rule's interval match applies in bouts of at least this many steps: the ten regular steps with which
 #: pedometers confirm a walk (Bassett et al., Med. Sci. Sports Exerc. 28, 1996; SHORT_BOUT_STEPS, and the step table's
@@ -939,6 +951,23 @@ def _bout_interval_cv(pk: np.ndarray, bout: np.ndarray, ok: np.ndarray, nb: int)
     return np.where(c1 >= 2, sd / np.where(mu > 0, mu, np.inf), np.inf)
 
 
+def _episodes(pk: np.ndarray, T: np.ndarray, bout: np.ndarray, ok: np.ndarray, nb: int, gap_ratio: float) -> np.ndarray:
+    """Stage 5b: per bout, its walking episode's number (-1 for a bout without kept steps, ``ok``): consecutive bouts
+    whose separating interval (last kept step of one to first kept step of the next) is at most ``gap_ratio`` times the
+    larger local step period ``T`` of those two steps share an episode."""
+    out = np.full(nb, -1, dtype=np.int64)
+    idx = np.flatnonzero(ok)
+    if len(idx) == 0:
+        return out
+    b = bout[idx]
+    first = np.flatnonzero(np.r_[True, b[1:] != b[:-1]])
+    last = np.r_[first[1:] - 1, len(idx) - 1]
+    gaps = pk[idx[first[1:]]] - pk[idx[last[:-1]]]
+    lim = gap_ratio * np.maximum(T[idx[first[1:]]], T[idx[last[:-1]]])
+    out[b[first]] = np.r_[0, np.cumsum(gaps > lim)]
+    return out
+
+
 def _episode_keep(
     pk: np.ndarray,
     T: np.ndarray,
@@ -969,9 +998,7 @@ def _episode_keep(
     first = np.flatnonzero(np.r_[True, b[1:] != b[:-1]])
     last = np.r_[first[1:] - 1, len(idx) - 1]
     ids = b[first]
-    gaps = pk[idx[first[1:]]] - pk[idx[last[:-1]]]
-    lim = gap_ratio * np.maximum(T[idx[first[1:]]], T[idx[last[:-1]]])
-    episode = np.r_[0, np.cumsum(gaps > lim)]
+    episode = _episodes(pk, T, bout, ok, nb, gap_ratio)[ids]
     has_walk = np.bincount(episode, weights=walking[ids].astype(float)) > 0
     icv = _bout_interval_cv(pk, bout, ok, nb)[ids]
     single = (last - first) == 1
@@ -980,6 +1007,22 @@ def _episode_keep(
     regular = np.where(single, np.abs(d1 - t1) <= max_cv * t1, icv <= max_cv)
     keep[ids] = has_walk[episode] & regular & ~alone[ids]
     return keep
+
+
+def episode_steps_after_check(today: dict, added: dict, survived_peaks: np.ndarray) -> np.ndarray:
+    """Round 3 of stage 5b (module docstring): which of the steps stage 5b added join the step table after the gait check.
+
+    ``today`` and ``added`` are :func:`adaptive_steps`' ``'today'`` and ``'stage5b'`` accounts (``peak``, ``bout``,
+    ``episode``, ``walking`` per step) and ``survived_peaks`` the peaks of today's steps that the gait check kept. A
+    rescued bout's step (its bout is not walking) joins when a step of a walking bout of its episode survived; an edge
+    step that the interval match kept (in a walking bout) joins when a step of its own bout survived. So a rescued bout
+    never outlives the walking that justified it (experiments/reports/tyrex-steps.md, bouts section: seed 112).
+    Returns a bool mask over ``added``.
+    """
+    survived = np.isin(today["peak"], survived_peaks)
+    walk_ep = np.unique(today["episode"][survived & today["walking"]])
+    live_bout = np.unique(today["bout"][survived])
+    return np.where(added["walking"], np.isin(added["bout"], live_bout), np.isin(added["episode"], walk_ep))
 
 
 def adaptive_steps(
@@ -1015,7 +1058,7 @@ def adaptive_steps(
     octave_swing_half_correlation: float = OCTAVE_SWING_HALF_CORRELATION,
     octave_match_tolerance: float = OCTAVE_MATCH_TOLERANCE,
     max_short_bout_interval_cv: float = MAX_SHORT_BOUT_INTERVAL_CV,
-    episode_gap_ratio: float = EPISODE_GAP_RATIO,
+    episode_gap_ratio: float = 0.0,
     max_bout_interval_cv: float = MAX_BOUT_INTERVAL_CV,
     edge_interval_match: bool = EDGE_INTERVAL_MATCH,
     episode_walk_steps: int = EPISODE_WALK_STEPS,
@@ -1037,6 +1080,17 @@ def adaptive_steps(
         per-window dict of :func:`local_cadence`; ``octave``, stage 5a's decisions counted
         (:func:`octave_counts`), and ``octave_bouts``, per bout it decided on: ``first_peak``
         (sample) and ``octave`` (:func:`bout_octave`; empty where the stage is off).
+        ``today`` and ``stage5b``: the steps of the rules without stage 5b
+        and the steps stage 5b adds, each a dict of ``peak``, ``period_s``,
+        ``correlation``, ``confidence``, ``bout``, ``episode`` and ``walking``
+        (the detector runs the gait check on ``today`` and adds the ``stage5b``
+        steps after it, :func:`episode_steps_after_check`).
+
+    Stage 5b is off here by default (``episode_gap_ratio=0.0``): this
+    function has no gait check, and the detector turns the stage on
+    (:data:`EPISODE_GAP_RATIO`) only where the gait check reads a gyroscope.
+    With ``episode_gap_ratio`` > 0, ``peak`` holds the steps of rounds 1-2
+    (stage 5b before any gait check).
     """
     x = np.asarray(acc_mag_ms2, dtype=float)
     fs = float(sampling_rate_hz)
@@ -1178,45 +1232,85 @@ def adaptive_steps(
         regularity = np.where(np.isnan(interval), 0.0, np.clip(1.0 - np.abs(interval - T) / T, 0.0, 1.0))
         conf = conf * regularity
     conf = np.where(inferred, INFERRED_STRIDE_FACTOR * conf, conf)
+    # stage 5b's account (round 3, applied after the gait check by the detector): today's steps and the steps stage 5b
+    # adds, each with its bout, its episode and whether its bout is walking (passes alone with episode_walk_steps steps)
+    mark = {k: np.zeros(len(pk), dtype=bool) for k in ("today", "stage5b", "walking")}
+    episode_of, conf_today = np.full(len(pk), -1, dtype=np.int64), conf
+
+    def sure(c: np.ndarray) -> np.ndarray:
+        return c >= min_confidence if min_confidence > 0 else np.ones(len(c), dtype=bool)
+
     if len(pk):
-        tol = max_bout_interval_cv if (edge_interval_match and episode_gap_ratio > 0) else 0.0
-        if edge_confidence_ratio > 0:
-            ok = bout_edge_keep(bout, conf, edge_confidence_ratio, pk, tol, episode_walk_steps)
-        else:
-            ok = np.ones(len(pk), dtype=bool)
         nb = int(bout[-1]) + 1
-        # a bout counts once it is confirmed by min_bout_steps steps (after its weak edges are dropped)
-        size = np.bincount(bout[ok], minlength=nb)
-        alone = size >= min_bout_steps
-        if gyro_swing_min_bout_steps > min_bout_steps and by_swing.any():
-            swung = np.bincount(bout[ok & by_swing], minlength=nb) > 0
-            alone &= ~(swung & (size < gyro_swing_min_bout_steps))
-        # a short bout must repeat its steps' strength (gait); a burst that waxes and wanes (a gesture) does not
-        if short_bout_steps > 0:
-            live = ok & alone[bout]
-            cnt = np.bincount(bout[live], minlength=nb)
-            mean = np.bincount(bout[live], weights=amp[live], minlength=nb) / np.maximum(cnt, 1)
-            var = np.bincount(bout[live], weights=amp[live] ** 2, minlength=nb) / np.maximum(cnt, 1) - mean**2
-            cv = np.sqrt(np.maximum(var, 0.0)) / np.where(mean > 0, mean, np.inf)
-            short = cnt < short_bout_steps
-            exempt = np.zeros(nb, dtype=bool)
-            if max_short_bout_interval_cv > 0 and decided.any():
-                # stage 5a: a bout whose octave the swing decided passes when its steps are regular at that octave
-                icv = _bout_interval_cv(pk, bout, live, nb)
-                exempt = (np.bincount(bout[live & decided], minlength=nb) > 0) & (icv <= max_short_bout_interval_cv)
-            alone &= ~(short & (cv > max_short_bout_cv) & ~exempt)
-        if episode_gap_ratio > 0 and max_bout_interval_cv > 0:
+        on5b = episode_gap_ratio > 0 and max_bout_interval_cv > 0
+
+        def bouts_alone(ok: np.ndarray) -> np.ndarray:
+            # a bout counts once it is confirmed by min_bout_steps steps (after its weak edges are dropped)
+            size = np.bincount(bout[ok], minlength=nb)
+            alone = size >= min_bout_steps
+            if gyro_swing_min_bout_steps > min_bout_steps and by_swing.any():
+                swung = np.bincount(bout[ok & by_swing], minlength=nb) > 0
+                alone &= ~(swung & (size < gyro_swing_min_bout_steps))
+            # a short bout must repeat its steps' strength (gait); a burst that waxes and wanes (a gesture) does not
+            if short_bout_steps > 0:
+                live = ok & alone[bout]
+                cnt = np.bincount(bout[live], minlength=nb)
+                mean = np.bincount(bout[live], weights=amp[live], minlength=nb) / np.maximum(cnt, 1)
+                var = np.bincount(bout[live], weights=amp[live] ** 2, minlength=nb) / np.maximum(cnt, 1) - mean**2
+                cv = np.sqrt(np.maximum(var, 0.0)) / np.where(mean > 0, mean, np.inf)
+                short = cnt < short_bout_steps
+                exempt = np.zeros(nb, dtype=bool)
+                if max_short_bout_interval_cv > 0 and decided.any():
+                    # stage 5a: a bout whose octave the swing decided passes when its steps are regular at that octave
+                    icv = _bout_interval_cv(pk, bout, live, nb)
+                    exempt = (np.bincount(bout[live & decided], minlength=nb) > 0) & (icv <= max_short_bout_interval_cv)
+                alone &= ~(short & (cv > max_short_bout_cv) & ~exempt)
+            return alone
+
+        def confirmed(ok: np.ndarray) -> np.ndarray:
+            # the fewer steps confirm a bout, the less sure it is gait
+            if short_bout_steps <= 0:
+                return conf
+            return conf * np.minimum(1.0, np.bincount(bout[ok], minlength=nb)[bout] / short_bout_steps)
+
+        edge = (
+            (lambda tol: bout_edge_keep(bout, conf, edge_confidence_ratio, pk, tol, episode_walk_steps))
+            if edge_confidence_ratio > 0
+            else None
+        )
+        ok0 = edge(0.0) if edge is not None else np.ones(len(pk), dtype=bool)
+        today = ok0 & bouts_alone(ok0)[bout]
+        ok = today
+        if on5b:
+            ok = edge(max_bout_interval_cv) if (edge is not None and edge_interval_match) else ok0
+            alone = bouts_alone(ok)
             # stage 5b: a regular bout beside walking (one episode with a bout that passes alone) is walking too
             walking = alone & (np.bincount(bout[ok], minlength=nb) >= episode_walk_steps)
             alone |= _episode_keep(pk, T, bout, ok, alone, walking, nb, episode_gap_ratio, max_bout_interval_cv)
-        ok &= alone[bout]
-        if short_bout_steps > 0:
-            # the fewer steps confirm a bout, the less sure it is gait
-            conf = conf * np.minimum(1.0, np.bincount(bout[ok], minlength=nb)[bout] / short_bout_steps)
-        pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
-    if min_confidence > 0:
-        ok = conf >= min_confidence
-        pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
+            episode_of = _episodes(pk, T, bout, ok, nb, episode_gap_ratio)[bout]
+            mark["walking"] = walking[bout] & ok
+            ok = ok & alone[bout]
+        conf_today = confirmed(today)
+        conf = confirmed(ok)
+        mark["today"] = today & sure(conf_today)
+        mark["stage5b"] = ok & ~today & sure(conf)
+        ok &= sure(conf)
+    else:
+        ok = sure(conf)
+        mark["today"] = ok
+    account = {}
+    for k, sel in (("today", mark["today"]), ("stage5b", mark["stage5b"])):
+        c = conf_today if k == "today" else conf
+        account[k] = {
+            "peak": pk[sel].astype(np.int64),
+            "period_s": T[sel] / fs,
+            "correlation": R[sel],
+            "confidence": c[sel],
+            "bout": bout[sel],
+            "episode": episode_of[sel],
+            "walking": mark["walking"][sel],
+        }
+    pk, T, R, conf = pk[ok], T[ok], R[ok], conf[ok]
     return {
         "peak": pk.astype(np.int64),
         "y": y,
@@ -1227,6 +1321,8 @@ def adaptive_steps(
         "cadence": cad,
         "octave": octave,
         "octave_bouts": octave_bouts,
+        "today": account["today"],
+        "stage5b": account["stage5b"],
     }
 
 
@@ -1366,22 +1462,35 @@ class AdaptiveStepDetector(BaseStepDetector):
         Stage 5a: a short bout whose octave the swing decided passes the
         short-bout rule without the amplitude test when its step intervals
         vary by at most this coefficient of variation (0: no exemption).
-    episode_gap_ratio : float, default 0.0
-        Stage 5b (opt-in): bouts whose separating interval is at most this
-        many local step periods are one walking episode, and a bout that the
-        minimum-bout or short-bout rule drops is kept when its intervals are
-        regular and its episode holds a walking bout (0: off).
-    max_bout_interval_cv : float, default 0.1
+    episode_gap_ratio : float, default 3.0
+        Stage 5b (with a gyroscope and the gait check): bouts whose separating
+        interval is at most this many local step periods are one walking
+        episode, and a bout that the minimum-bout or short-bout rule drops is
+        kept when its intervals are regular and its episode holds a walking
+        bout that survived the gait check (0: off).
+    max_bout_interval_cv : float, default 0.2
         Stage 5b: the largest coefficient of variation of a kept bout's step
         intervals (a two-step bout: its interval within this fraction of the
         local step period); also the edge match's tolerance.
-    edge_interval_match : bool, default False
+    edge_interval_match : bool, default True
         Stage 5b: the edge rule keeps a weak edge step whose interval matches
         its bout's median interval (only with ``episode_gap_ratio`` > 0).
     episode_walk_steps : int, default 10
         Stage 5b: a walking bout passes the rules alone with at least this
         many steps (the pedometers' ten-step confirmation); the edge match
         applies in bouts of at least this many steps.
+    episode_before_gait_check : bool, default False
+        Stage 5b's rounds 1-2 (lab, to reproduce them): its steps go through
+        the gait check with the others, and it runs without a gyroscope too.
+        False (round 3): stage 5b runs only where the gait check runs on a
+        gyroscope, and the steps it adds join the table after the check,
+        only beside walking that survived it
+        (:func:`episode_steps_after_check`). Without a gyroscope (or with
+        ``gait_check=False``) it does not run and the step table is that of
+        the rules without it; asked for with settings other than the defaults,
+        a warning says so. ``steps_.attrs['episode']``: ``ran``, and the
+        steps it ``added`` and ``withheld`` (added by its rules, no walking
+        beside them survived the gait check).
     gait_check : bool, default True
         Leave out the bouts of fewer than 30 steps whose phone rotates at the
         step frequency as no walker's does (a gesturing hand; a longer bout is
@@ -1415,6 +1524,11 @@ class AdaptiveStepDetector(BaseStepDetector):
         the swing set the period and periodicity, stage 2c).
         ``attrs['swing_stage']``: ``requested`` (``gyro_swing_min_periodicity``
         > 0) and ``ran`` (requested and a gyroscope was read).
+    unchecked_steps_ : DataFrame or None
+        The step table the gait check read (stage 5b's steps not in it; see
+        ``episode_before_gait_check``); None with ``gait_check=False``.
+        Chunked runs read it for the check's account
+        (:mod:`gaitml.chunked_run`).
     octave_bouts_ : DataFrame
         Stage 5a's decision per walking bout: ``first_peak`` (sample of the
         bout's first peak) and ``octave`` (2 half-steps, 1 steps, 0
@@ -1473,6 +1587,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         "max_bout_interval_cv": [NON_NEGATIVE],
         "edge_interval_match": ["boolean"],
         "episode_walk_steps": [NON_NEGATIVE_INTEGER],
+        "episode_before_gait_check": ["boolean"],
         "gait_check": ["boolean"],
         "gait_check_vertical_fraction": [Interval(0, None, closed="left"), None],
     }
@@ -1515,6 +1630,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         max_bout_interval_cv: float = MAX_BOUT_INTERVAL_CV,
         edge_interval_match: bool = EDGE_INTERVAL_MATCH,
         episode_walk_steps: int = EPISODE_WALK_STEPS,
+        episode_before_gait_check: bool = False,
         gait_check: bool = True,
         gait_check_vertical_fraction: float | None = None,
     ):
@@ -1551,6 +1667,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.max_bout_interval_cv = max_bout_interval_cv
         self.edge_interval_match = edge_interval_match
         self.episode_walk_steps = episode_walk_steps
+        self.episode_before_gait_check = episode_before_gait_check
         self.gait_check = gait_check
         self.gait_check_vertical_fraction = gait_check_vertical_fraction
 
@@ -1598,27 +1715,64 @@ class AdaptiveStepDetector(BaseStepDetector):
                 UserWarning,
                 stacklevel=2,
             )
-        r = adaptive_steps(acc_magnitude(rec), fs, gyr_rads=gyr, **params)
-        p = r["peak"]
-        per = r["period_s"]
-        half = np.rint(per * fs / 2).astype(np.int64)
-        start = np.maximum(p - half, 0)
-        end = np.minimum(p + half, rec.n_samples)
-        self.steps_: pd.DataFrame = make_step_table(
-            start,
-            p,
-            end,
-            fs,
-            event="t_peak_s",
-            period_s=per,
-            cadence_hz=1.0 / per if len(per) else np.zeros(0),
-            correlation=r["correlation"],
-            confidence=r["confidence"],
+        before = params.pop("episode_before_gait_check")
+        episode_requested = float(self.episode_gap_ratio) > 0 and float(self.max_bout_interval_cv) > 0
+        # stage 5b reads the gait check's verdict, which needs the gyroscope (round 3; rounds 1-2 ran it before the check)
+        after = episode_requested and not before
+        episode_ran = episode_requested and (before or (check and rec.gyr is not None))
+        explicit = (self.episode_gap_ratio, self.max_bout_interval_cv, self.edge_interval_match, self.episode_walk_steps) != (
+            EPISODE_GAP_RATIO,
+            MAX_BOUT_INTERVAL_CV,
+            EDGE_INTERVAL_MATCH,
+            EPISODE_WALK_STEPS,
         )
+        if after and not episode_ran and explicit:
+            why = "gait_check is False" if rec.gyr is not None else "the recording has no gyroscope"
+            warnings.warn(
+                f"adaptive: the walking-episode stage (episode_gap_ratio={self.episode_gap_ratio}) did not run: {why} (it keeps "
+                "only bouts beside walking that passed the gyroscope's gait check); steps are detected without it.",
+                UserWarning,
+                stacklevel=2,
+            )
+        if not episode_ran:
+            params["episode_gap_ratio"] = 0.0
+        r = adaptive_steps(acc_magnitude(rec), fs, gyr_rads=gyr, **params)
+
+        def table(v: dict) -> pd.DataFrame:
+            p, per = v["peak"], v["period_s"]
+            half = np.rint(per * fs / 2).astype(np.int64)
+            return make_step_table(
+                np.maximum(p - half, 0),
+                p,
+                np.minimum(p + half, rec.n_samples),
+                fs,
+                event="t_peak_s",
+                period_s=per,
+                cadence_hz=1.0 / per if len(per) else np.zeros(0),
+                correlation=v["correlation"],
+                confidence=v["confidence"],
+            )
+
+        # round 3 of stage 5b: today's table goes through the gait check; the steps stage 5b adds wait until after it
+        self.steps_: pd.DataFrame = table(r["today"] if after else r)
+        self.unchecked_steps_: pd.DataFrame | None = self.steps_ if check else None
         if check:  # bouts without gait evidence (a gesturing hand) are left out
             # the acceleration only feeds the opt-in vertical test: not measured when it is off
             acc = rec.acc if vertical is not None else None
             self.steps_ = gait_check(self.steps_, rec.gyr, fs, acc=acc, max_stride_vertical_fraction=vertical)
+        if after and not episode_ran:
+            self.steps_.attrs["episode"] = {"ran": False, "added": 0, "withheld": 0}
+        elif after:
+            join = episode_steps_after_check(r["today"], r["stage5b"], self.steps_["peak"].to_numpy())
+            if join.any():
+                new = {k: r["stage5b"][k][join] for k in ("peak", "period_s", "correlation", "confidence")}
+                old = {k: self.steps_[k].to_numpy() for k in ("peak", "period_s", "correlation", "confidence")}
+                both = {k: np.concatenate([old[k], new[k]]) for k in old}
+                order = np.argsort(both["peak"], kind="stable")
+                attrs = dict(self.steps_.attrs)
+                self.steps_ = table({k: v[order] for k, v in both.items()})
+                self.steps_.attrs.update(attrs)
+            self.steps_.attrs["episode"] = {"ran": True, "added": int(join.sum()), "withheld": int((~join).sum())}
         # stage 5a's per-bout octave decisions (all 0 where it is off or there is no gyroscope)
         self.steps_.attrs["octave"] = dict(r["octave"])
         self.octave_bouts_ = pd.DataFrame(r["octave_bouts"])

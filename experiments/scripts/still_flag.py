@@ -57,12 +57,13 @@ def candidate_marks(still, rhythm, window_steps) -> dict[str, np.ndarray]:
 
 def window_rows(model, rec, who: str, motion: str, true_mode: str) -> pd.DataFrame:
     """Per window of ``rec``: the columns the scorer reads, predict's ``still`` / ``window_steps`` and the rhythm."""
+    from experiments.scripts.tyrex_modes import out_of_domain_windows
     from experiments.scripts.veto_swing import stride_rhythm
     from gaitml.models import predict_recording, resample_recording
 
     p = predict_recording(model, rec)
     r = resample_recording(rec, model.sampling_rate_hz)
-    flagged = p["in_domain"].map(lambda v: v is False or v == False).to_numpy(bool)  # noqa: E712
+    flagged = out_of_domain_windows(p)
     return pd.DataFrame(
         {
             "who": who,

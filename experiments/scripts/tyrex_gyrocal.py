@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from experiments.scripts.tyrex_bpheading import paired
 from experiments.scripts.tyrex_pdr import MOTION_ORDER, baseline_counts, baseline_steps, load_tyrex, md
 
 __all__ = [
@@ -275,28 +276,6 @@ def _abs_median(df: pd.DataFrame, value: str, variants, by: str = "motion") -> p
     piv = d.pivot_table(index="variant", columns=by, values="v", aggfunc="median")
     cols = [c for c in MOTION_ORDER if c in piv.columns] if by == "motion" else list(piv.columns)
     return piv.reindex(index=[v for v in variants if v in piv.index], columns=cols)
-
-
-def paired(df: pd.DataFrame, variant: str, against: str, value: str = "drift_deg_per_min") -> pd.DataFrame:
-    """Per motion, recording by recording: how often ``|variant|`` is below / above ``|against|`` and the median paired difference."""
-    d = df.assign(v=df[value].abs()).pivot_table(index=["file", "motion"], columns="variant", values="v").reset_index()
-    d = d.dropna(subset=[variant, against])
-    rows = []
-    for m in [m for m in MOTION_ORDER if m in set(d["motion"])]:
-        s = d[d["motion"] == m]
-        diff = s[variant] - s[against]
-        rows.append(
-            {
-                "motion": m,
-                "recordings": len(s),
-                "lower": int((diff < 0).sum()),
-                "higher": int((diff > 0).sum()),
-                "median difference": float(diff.median()),
-                f"mean {against}": float(s[against].mean()),
-                f"mean {variant}": float(s[variant].mean()),
-            }
-        )
-    return pd.DataFrame(rows).set_index("motion")
 
 
 def adoption(table: pd.DataFrame) -> dict:

@@ -120,12 +120,18 @@ def moving_labels(t_s, truth_t_s, truth_xy, mode: str, *, min_speed_ms: float | 
     return out
 
 
+def out_of_domain_windows(pred: pd.DataFrame) -> np.ndarray:
+    """Which windows of a prediction table are out of domain (``in_domain`` False; None, the rate check's "not
+    checked", is not)."""
+    return pred["in_domain"].map(lambda v: v is False or v == False).to_numpy(bool)  # noqa: E712 (object column of True/False)
+
+
 def flagged_windows(pred: pd.DataFrame) -> np.ndarray:
     """Which windows of a prediction table claim no answer: out of domain (``in_domain`` False), or reported ``still``
     and marked ``still_unsure`` (the still gate and the gyroscope's stride rhythm disagree: the table says it does not
     know whether the body stands or walks, as it does for a window out of domain; experiments/reports/still-gate.md,
     stillflag)."""
-    flagged = pred["in_domain"].map(lambda v: v is False or v == False).to_numpy(bool)  # noqa: E712 (object column of True/False)
+    flagged = out_of_domain_windows(pred)
     if "still_unsure" in pred:
         flagged = flagged | pred["still_unsure"].to_numpy(bool)
     return flagged
@@ -225,7 +231,7 @@ def window_table(model, items: list[dict], gate: dict | None = None) -> pd.DataF
         still_flags = flagged_windows(still)
         n_still_flagged = int(still_flags.sum())
         # of those, out of domain (the domain check's false alarms; the rest are marked still_unsure)
-        n_still_out = int(still["in_domain"].map(lambda v: v is False or v == False).sum())  # noqa: E712
+        n_still_out = int(out_of_domain_windows(still).sum())
         # standing windows answered with one of the five modes (neither 'still' nor flagged)
         n_still_moded = int(np.sum(~still_flags & (still["mode"].astype(str).to_numpy() != "still")))
         # moving by speed but not walking (the walking rule's third class): how they were answered

@@ -36,10 +36,6 @@ import pandas as pd
 
 from experiments.scripts.tyrex_steps_joint import (
     HELDOUT_SEEDS,
-    MAX_MOTION_LOSS,
-    MAX_PERSON_LOSS,
-    RUNNING,
-    RUNNING_FLOOR,
     SELECTION_SEEDS,
     STEP_MOTIONS,
     _cached,
@@ -49,6 +45,7 @@ from experiments.scripts.tyrex_steps_joint import (
     per_motion,
     step_times,
 )
+from experiments.scripts.tyrex_steps_joint import lopo as joint_lopo
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED, _load, _score
 
 OFF = "off"
@@ -129,35 +126,9 @@ def choose(grid: dict[str, pd.DataFrame], allowed: set[str], people=None) -> str
 
 
 def lopo(grid: dict[str, pd.DataFrame], allowed: set[str], adfsm: pd.DataFrame | None = None) -> tuple[str, dict[str, bool], list]:
-    """Per person left out: the allowed setting chosen on the other two, its held-out figures, and B1-B3."""
-    off = grid[OFF]
-    cols = ["left out", "chosen", "training score", "held-out score", "held-out, off", *SCORED, "F1 Texting", "F1 Phoning"]
-    out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    held_rows, chosen, b2 = [], [], True
-    for held in PEOPLE:
-        train = [p for p in PEOPLE if p != held]
-        best = choose(grid, allowed, train)
-        chosen.append(best)
-        te, te0 = grid[best][grid[best]["person"] == held], off[off["person"] == held]
-        held_rows.append(te)
-        per, per0 = per_motion(te), per_motion(te0)
-        b2 &= _score(te) >= _score(te0) - MAX_PERSON_LOSS - 1e-12
-        tr = grid[best][grid[best]["person"].isin(train)]
-        cells = [held, best, f"{_score(tr):.4f}", f"{_score(te):.4f}", f"{_score(te0):.4f}"]
-        cells += [f"{per[m]:.3f} ({per0[m]:.3f})" for m in SCORED]
-        cells += [f"{f1(te, m):.3f} ({f1(te0, m):.3f})" for m in STEP_MOTIONS]
-        out.append("| " + " | ".join(cells) + " |")
-    pooled = pd.concat(held_rows)
-    pm, pm0 = per_motion(pooled), per_motion(off)
-    b1 = _score(pooled) > _score(off) + 1e-12
-    b3 = bool(((pm - pm0) >= -MAX_MOTION_LOSS - 1e-12).all()) and all(pm[m] >= RUNNING_FLOOR for m in RUNNING)
-    if adfsm is not None:
-        b3 &= bool((pm >= per_motion(adfsm) - 1e-12).all())
-    cells = ["pooled held out", "", "", f"{_score(pooled):.4f}", f"{_score(off):.4f}"]
-    cells += [f"{pm[m]:.3f} ({pm0[m]:.3f})" for m in SCORED]
-    cells += [f"{f1(pooled, m):.3f} ({f1(off, m):.3f})" for m in STEP_MOTIONS]
-    out.append("| " + " | ".join(cells) + " |")
-    return "\n".join(out), {"B1": b1, "B2": b2, "B3": b3}, chosen
+    """Per person left out: the allowed setting chosen on the other two, its held-out figures, and B1-B3
+    (:func:`experiments.scripts.tyrex_steps_joint.lopo` with this grid's off setting, choice and names)."""
+    return joint_lopo(grid, allowed, adfsm, off_key=OFF, chooser=choose, label=str, rule="B", off_label="off")
 
 
 def insample(grid: dict[str, pd.DataFrame], rates: dict[str, dict[str, float]], allowed: set[str]) -> str:

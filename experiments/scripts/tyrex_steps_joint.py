@@ -159,22 +159,36 @@ def choose(grid: dict[tuple, pd.DataFrame], allowed: set, people=None) -> tuple:
     return max((k for k in order if k in allowed), key=s)
 
 
-def lopo(grid: dict[tuple, pd.DataFrame], allowed: set, adfsm: pd.DataFrame | None = None) -> tuple[str, dict[str, bool], list]:
-    """Per person left out: the allowed setting chosen on the other two, its held-out score per motion, and J1-J3."""
-    off = grid[OFF]
-    cols = ["left out", "chosen", "training score", "held-out score", "held-out, all-off", *SCORED, "F1 Texting", "F1 Phoning"]
+def lopo(
+    grid: dict,
+    allowed: set,
+    adfsm: pd.DataFrame | None = None,
+    *,
+    off_key=OFF,
+    chooser=None,
+    label=name,
+    rule: str = "J",
+    off_label: str = "all-off",
+) -> tuple[str, dict[str, bool], list]:
+    """Per person left out: the allowed setting chosen on the other two, its held-out score per motion, and J1-J3.
+
+    Another study's grid (``tyrex_steps_bouts``) passes its own off setting ``off_key``, its ``chooser`` (default
+    :func:`choose`), the ``label`` of a setting in the table, the ``rule`` letter of its checks and ``off_label``."""
+    chooser = choose if chooser is None else chooser
+    off = grid[off_key]
+    cols = ["left out", "chosen", "training score", "held-out score", f"held-out, {off_label}", *SCORED, "F1 Texting", "F1 Phoning"]
     out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     held_rows, chosen, j2 = [], [], True
     for held in PEOPLE:
         train = [p for p in PEOPLE if p != held]
-        best = choose(grid, allowed, train)
+        best = chooser(grid, allowed, train)
         chosen.append(best)
         te, te0 = grid[best][grid[best]["person"] == held], off[off["person"] == held]
         held_rows.append(te)
         per, per0 = per_motion(te), per_motion(te0)
         j2 &= _score(te) >= _score(te0) - MAX_PERSON_LOSS - 1e-12
         tr = grid[best][grid[best]["person"].isin(train)]
-        cells = [held, name(best), f"{_score(tr):.4f}", f"{_score(te):.4f}", f"{_score(te0):.4f}"]
+        cells = [held, label(best), f"{_score(tr):.4f}", f"{_score(te):.4f}", f"{_score(te0):.4f}"]
         cells += [f"{per[m]:.3f} ({per0[m]:.3f})" for m in SCORED]
         cells += [f"{f1(te, m):.3f} ({f1(te0, m):.3f})" for m in STEP_MOTIONS]
         out.append("| " + " | ".join(cells) + " |")
@@ -188,7 +202,7 @@ def lopo(grid: dict[tuple, pd.DataFrame], allowed: set, adfsm: pd.DataFrame | No
     cells += [f"{pm[m]:.3f} ({pm0[m]:.3f})" for m in SCORED]
     cells += [f"{f1(pooled, m):.3f} ({f1(off, m):.3f})" for m in STEP_MOTIONS]
     out.append("| " + " | ".join(cells) + " |")
-    return "\n".join(out), {"J1": j1, "J2": j2, "J3": j3}, chosen
+    return "\n".join(out), {f"{rule}1": j1, f"{rule}2": j2, f"{rule}3": j3}, chosen
 
 
 def insample(grid: dict[tuple, pd.DataFrame], rates: dict[tuple, dict[str, float]], allowed: set) -> str:

@@ -173,9 +173,11 @@ def _nearest_window(runs: list[dict], x: float) -> tuple[float, float]:
     return best[1], best[2]
 
 
-def analyse(items: list[dict]) -> tuple[pd.DataFrame, pd.DataFrame]:
+def analyse(items: list[dict], base: dict | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Per reference step (``steps``) and per adaptive extra step (``extras``) of every recording in ``items``
-    (dicts of :func:`experiments.scripts.tyrex_steps.tyrex_walks` whose reference counts steps)."""
+    (dicts of :func:`experiments.scripts.tyrex_steps.tyrex_walks` whose reference counts steps); adaptive with the
+    keywords ``base`` (its defaults if None), the cascade on top of them."""
+    base = dict(base or {})
     from experiments.scripts.tyrex_steps_joint import step_times
     from experiments.scripts.tyrex_steps_misses import SLOW_MS, body_state
 
@@ -184,12 +186,12 @@ def analyse(items: list[dict]) -> tuple[pd.DataFrame, pd.DataFrame]:
     for it, tf in zip(items, adfsm, strict=True):
         ref = np.asarray(it["ref"]["t_s"], dtype=float)
         chance = chance_hits(tf, ref, (it["ref"]["t_first_s"], it["ref"]["t_last_s"]))
-        base = [_run(r) for r in it["recs"]]
-        ta = _joined(base, "steps", it)
-        conf = _joined(base, "confidence", it)
+        runs = [_run(r, **base) for r in it["recs"]]
+        ta = _joined(runs, "steps", it)
+        conf = _joined(runs, "confidence", it)
         hit_a, matched_a = match_flags(ta, ref)
         hit_f, _ = match_flags(tf, ref)
-        kw: dict = {}
+        kw: dict = dict(base)
         found = {}
         for name, sw in CASCADE.items():
             kw = {**kw, **sw}
@@ -201,7 +203,7 @@ def analyse(items: list[dict]) -> tuple[pd.DataFrame, pd.DataFrame]:
             return bool(speed[int(np.clip(np.searchsorted(t_b, x), 0, len(t_b) - 1))] < SLOW_MS)
 
         for i, x in enumerate(ref):
-            period, periodicity = _nearest_window(base, x)
+            period, periodicity = _nearest_window(runs, x)
             cause = ""
             if not hit_a[i]:
                 cause = "no candidate"
@@ -225,7 +227,7 @@ def analyse(items: list[dict]) -> tuple[pd.DataFrame, pd.DataFrame]:
             )
         for x, c in zip(ta[~matched_a], conf[~matched_a], strict=True):
             d = float(np.min(np.abs(ref - x))) if len(ref) else np.inf
-            period, periodicity = _nearest_window(base, x)
+            period, periodicity = _nearest_window(runs, x)
             xrows.append(
                 {
                     "recording": it["name"],
@@ -267,12 +269,13 @@ def chance_hits(t: np.ndarray, ref: np.ndarray, span: tuple[float, float], seed:
 TIGHT_S = 0.15
 
 
-def f1_table(items: list[dict]) -> str:
-    """Per person: per-step F1 of adaptive and AD-FSM at the usual window (:data:`COVER_S`) and the tight one
-    (:data:`TIGHT_S`), each beside the F1 of the same steps shifted at random (:func:`chance_hits`)."""
+def f1_table(items: list[dict], base: dict | None = None) -> str:
+    """Per person: per-step F1 of adaptive (keywords ``base`` over its defaults) and AD-FSM at the usual window
+    (:data:`COVER_S`) and the tight one (:data:`TIGHT_S`), each beside the F1 of the same steps shifted at random
+    (:func:`chance_hits`)."""
     from experiments.scripts.tyrex_steps_joint import step_times
 
-    runs = {"adaptive": step_times(items), "AD-FSM": step_times(items, "adfsm")}
+    runs = {"adaptive": step_times(items, **(base or {})), "AD-FSM": step_times(items, "adfsm")}
     cols = ["person", "detector", "detected / reference"]
     cols += [f"F1 within {tol:g} s (shifted at random)" for tol in (COVER_S, TIGHT_S)]
     out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
@@ -489,12 +492,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--plot", default=None, help="folder for the three figures")
     ap.add_argument("--example", default="Guillaume_Nexus5_NoDist_Texting", help="recording of the example figure")
     ap.add_argument("--span", default="44,64", help="its stretch, s on the motion-capture clock: START,END")
+    ap.add_argument("--min-rms", type=float, default=None, help="adaptive's noise floor min_rms_ms2 (default: its default)")
     a = ap.parse_args(argv)
+    if a.min_rms is not None and a.min_rms < 0:
+        print(f"error: --min-rms must be >= 0, got {a.min_rms}", file=sys.stderr)
+        return 2
     items = list(tyrex_walks(a.data, (a.motion,)))
     if not items:
         print(f"error: no tyrex {a.motion} recording under {a.data}; give --data the folder holding tyrex-attitude", file=sys.stderr)
         return 2
-    steps, extras = analyse(items)
+    base = None if a.min_rms is None else {"min_rms_ms2": a.min_rms}
+    steps, extras = analyse(items, base)
     print(f"## {a.motion}: who hits each reference step (hit = matched one-to-one within {COVER_S} s)\n")
     print(who_table(steps))
     print("\n## adaptive's misses by the rule that removed them (cells: missed (of them hit by AD-FSM))\n")
@@ -504,7 +512,7 @@ def main(argv: list[str] | None = None) -> int:
     print("\n## by adaptive's nearest cadence window (cells: reference hit / missed / adaptive extras inside walking)\n")
     print(window_table(steps, extras))
     print("\n## per-step F1 against chance (the same steps shifted at random)\n")
-    print(f1_table(items))
+    print(f1_table(items, base))
     print("\n## adaptive's extras\n")
     print(extras_table(extras))
     if a.plot:

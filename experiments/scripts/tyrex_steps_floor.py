@@ -21,6 +21,7 @@ to ``gaitml``).
 
     python -m experiments.scripts.tyrex_steps_floor --data ../shared/data --cache /tmp/floor      # ~2 min, seconds cached
     python -m experiments.scripts.tyrex_steps_floor --data ../shared/data --cache /tmp/floor --check F0.1   # N4-N6 alone
+    python -m experiments.scripts.tyrex_steps_floor --data ../shared/data --cache /tmp/floor --round 2     # round 2
 """
 
 from __future__ import annotations
@@ -49,9 +50,15 @@ from experiments.scripts.tyrex_steps_joint import (
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED, _load, _score
 
 OFF = "off"
-#: the grid fixed before measuring: today's floor (0.2 m/s^2) and 0.15 / 0.1 (three / two times the noisiest phone
-#: accelerometer's 0.05 m/s^2 RMS in the gait band); everything else at the defaults
-GRID: dict[str, dict] = {OFF: {}, "F0.15": {"min_rms_ms2": 0.15}, "F0.1": {"min_rms_ms2": 0.1}}
+#: the grids fixed before measuring (report, texstep section). Round 1: the floor itself at today's 0.2 m/s^2 and 0.15 /
+#: 0.1 (three / two times the noisiest phone accelerometer's 0.05 m/s^2 RMS in the gait band). Round 2: the floor
+#: scaled with the square of the step frequency below 1.2 steps/s, down to 0.15 / 0.1 (``min_rms_slow_ms2``,
+#: :func:`gaitml.steps.adaptive.slow_step_noise_floor`). Everything else at the defaults
+ROUNDS: dict[int, dict[str, dict]] = {
+    1: {OFF: {}, "F0.15": {"min_rms_ms2": 0.15}, "F0.1": {"min_rms_ms2": 0.1}},
+    2: {OFF: {}, "S0.15": {"min_rms_slow_ms2": 0.15}, "S0.1": {"min_rms_slow_ms2": 0.1}},
+}
+GRID: dict[str, dict] = {k: v for grid in ROUNDS.values() for k, v in grid.items()}
 #: N3: the most a walking motion's pooled held-out count accuracy may fall below today's
 MAX_WALK_LOSS = 0.002
 WALKING = tuple(m for m in SCORED if m not in RUNNING)
@@ -111,7 +118,7 @@ def insample(grid: dict[str, pd.DataFrame], rates: dict[str, dict[str, float]], 
     """Every setting on all three people, with its non-gait rates on the selection seeds."""
     cols = ["setting", "admissible", "gestures /min (confident)", "desk /min (confident)", "score", *SCORED, "F1 Texting", "F1 Phoning"]
     out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    for k in GRID:
+    for k in grid:
         per, r = per_motion(grid[k]), rates[k]
         cells = [k, "yes" if k in allowed else "no"]
         cells += [f"{r[kind]:.3f} ({r[kind + '_confident']:.3f})" for kind in KINDS]
@@ -171,6 +178,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--data", default="../shared/data")
     ap.add_argument("--cache", default=None, help="folder for the per-setting detector runs and simulated recordings (pickles)")
     ap.add_argument("--check", default=None, help=f"only N4-N6 for one setting, one of {', '.join(k for k in GRID if k != OFF)}")
+    ap.add_argument("--round", type=int, choices=tuple(ROUNDS), default=1, help="the grid of round 1 or 2 (report)")
     a = ap.parse_args(argv)
     if a.check is not None and (a.check not in GRID or a.check == OFF):
         print(f"error: --check must be one of {', '.join(k for k in GRID if k != OFF)}, got {a.check!r}", file=sys.stderr)
@@ -185,11 +193,12 @@ def main(argv: list[str] | None = None) -> int:
         print("\nChecks: " + ", ".join(f"{c} {'pass' if v else 'FAIL'}" for c, v in checks.items()))
         return 0
     ng = nongait_recordings(SELECTION_SEEDS, cache)
-    rates = {k: _cached(cache, f"nongait_sel_{k}", lambda k=k: nongait_rates(ng, SELECTION_SEEDS, **GRID[k])) for k in GRID}
+    keys = list(ROUNDS[a.round])
+    rates = {k: _cached(cache, f"nongait_sel_{k}", lambda k=k: nongait_rates(ng, SELECTION_SEEDS, **GRID[k])) for k in keys}
     allowed = admissible_set(rates)
     items = _load(a.data)
     grid = {}
-    for k in GRID:
+    for k in keys:
         grid[k] = frame(items, _cached(cache, f"tyrex_{k}", lambda k=k: step_times(items, **GRID[k])))
         r = rates[k]
         print(
@@ -201,7 +210,7 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"Admissible: no more raw and confident steps/min than today on the simulated non-gait seeds 0-39 (gestures "
         f"{r0['gestures']:.3f} ({r0['gestures_confident']:.3f}), desk {r0['desk']:.3f} ({r0['desk_confident']:.3f})): "
-        f"{', '.join(k for k in GRID if k in allowed)}.\n"
+        f"{', '.join(k for k in keys if k in allowed)}.\n"
     )
     print("Leave-one-person-out, admissible settings only (cells: held out with the chosen setting (today)):\n")
     table, checks, _ = lopo(grid, allowed, adfsm)

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import pandas as pd
 
-from experiments.scripts.tyrex_steps_floor import GRID, OFF, admissible_set, choose, lopo
+from experiments.scripts.tyrex_steps_floor import GRID, OFF, ROUNDS, admissible_set, choose, lopo
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED
 
 
-def test_the_grid_is_the_one_fixed_before_measuring():
-    assert GRID == {OFF: {}, "F0.15": {"min_rms_ms2": 0.15}, "F0.1": {"min_rms_ms2": 0.1}}
+def test_the_grids_are_the_ones_fixed_before_measuring():
+    assert ROUNDS[1] == {OFF: {}, "F0.15": {"min_rms_ms2": 0.15}, "F0.1": {"min_rms_ms2": 0.1}}
+    assert ROUNDS[2] == {OFF: {}, "S0.15": {"min_rms_slow_ms2": 0.15}, "S0.1": {"min_rms_slow_ms2": 0.1}}
+    assert len(GRID) == 5  # today once, two settings per round
 
 
 def _rates(g, d, gc=0.1, dc=0.5):

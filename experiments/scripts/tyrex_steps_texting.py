@@ -493,15 +493,28 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--example", default="Guillaume_Nexus5_NoDist_Texting", help="recording of the example figure")
     ap.add_argument("--span", default="44,64", help="its stretch, s on the motion-capture clock: START,END")
     ap.add_argument("--min-rms", type=float, default=None, help="adaptive's noise floor min_rms_ms2 (default: its default)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="another adaptive keyword (a number), repeatable")
     a = ap.parse_args(argv)
-    if a.min_rms is not None and a.min_rms < 0:
-        print(f"error: --min-rms must be >= 0, got {a.min_rms}", file=sys.stderr)
+    try:
+        extra = {k.strip(): float(v) for k, v in (item.split("=", 1) for item in a.set)}
+        lo, hi = (float(v) for v in a.span.split(","))
+    except ValueError:
+        print(f"error: --set takes KEY=NUMBER (an adaptive keyword) and --span START,END; got {a.set!r}, {a.span!r}", file=sys.stderr)
         return 2
+    base = {**({} if a.min_rms is None else {"min_rms_ms2": a.min_rms}), **extra} or None
+    if base:
+        from gaitml.errors import InputError
+        from gaitml.steps import get_detector
+
+        try:
+            get_detector("adaptive", **base)._validate_params()
+        except (InputError, TypeError) as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
     items = list(tyrex_walks(a.data, (a.motion,)))
     if not items:
         print(f"error: no tyrex {a.motion} recording under {a.data}; give --data the folder holding tyrex-attitude", file=sys.stderr)
         return 2
-    base = None if a.min_rms is None else {"min_rms_ms2": a.min_rms}
     steps, extras = analyse(items, base)
     print(f"## {a.motion}: who hits each reference step (hit = matched one-to-one within {COVER_S} s)\n")
     print(who_table(steps))
@@ -516,7 +529,6 @@ def main(argv: list[str] | None = None) -> int:
     print("\n## adaptive's extras\n")
     print(extras_table(extras))
     if a.plot:
-        lo, hi = (float(v) for v in a.span.split(","))
         for p in plots(items, steps, extras, Path(a.plot), a.example, (lo, hi)):
             print(f"wrote {p}", file=sys.stderr)
     return 0

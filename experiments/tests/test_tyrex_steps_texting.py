@@ -51,3 +51,15 @@ def test_step_rms_reads_the_quieter_side():
     y = np.concatenate([np.full(200, 0.1), np.full(200, 1.0)]) * np.tile([1.0, -1.0], 200)
     assert abs(step_rms([(0.0, fs, y)], 2.0, 1.0) - 0.1) < 1e-9
     assert np.isnan(step_rms([(0.0, fs, y)], 0.5, 1.0))
+
+
+def test_bad_keywords_are_refused_before_any_data_is_read(tmp_path, capsys):
+    from experiments.scripts.tyrex_steps_texting import main
+
+    assert main(["--data", str(tmp_path), "--set", "no_such_keyword=1"]) == 2
+    assert "no_such_keyword" in capsys.readouterr().err
+    assert main(["--data", str(tmp_path), "--min-rms", "-1"]) == 2
+    assert main(["--data", str(tmp_path), "--set", "min_rms_ms2"]) == 2
+    # a valid keyword with no data: the data error, one line
+    assert main(["--data", str(tmp_path), "--set", "min_rms_ms2=0.15"]) == 2
+    assert "tyrex-attitude" in capsys.readouterr().err

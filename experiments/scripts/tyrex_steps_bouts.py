@@ -157,10 +157,13 @@ def per_person(runs: dict[str, pd.DataFrame]) -> str:
     return "\n".join(out)
 
 
-def slow_walkers(key: str, cache: Path | None) -> dict[str, list[float]]:
-    """Adaptive's count accuracy per position on the simulated slow walkers' held-out seeds at setting ``key``."""
+def slow_walkers(key: str, cache: Path | None, params: dict | None = None) -> dict[str, list[float]]:
+    """Adaptive's count accuracy per position on the simulated slow walkers' held-out seeds at setting ``key``
+    (``params``: its keywords when ``key`` is not in :data:`GRID`; the cache is keyed by ``key``)."""
     from experiments.scripts.slow_walks import POSITIONS, count_accuracy, slow_recording
     from gaitml.steps import get_detector
+
+    kw = GRID[key] if params is None else params
 
     def make():
         out = {}
@@ -168,15 +171,18 @@ def slow_walkers(key: str, cache: Path | None) -> dict[str, list[float]]:
             acc = []
             for s in HELDOUT_SEEDS:
                 rec = slow_recording(s, position)
-                acc.append(count_accuracy(rec.reference["n_steps_true"], len(get_detector("adaptive", **GRID[key]).detect(rec).steps_)))
+                acc.append(count_accuracy(rec.reference["n_steps_true"], len(get_detector("adaptive", **kw).detect(rec).steps_)))
             out[position] = acc
         return out
 
     return _cached(cache, f"slow_{key}", make)
 
 
-def no_gyroscope(data: str | Path, key: str) -> dict[str, float]:
-    """Oxford and IFSM (no gyroscope): files with a true count, mean count accuracy off and at ``key``, files changed."""
+def no_gyroscope(data: str | Path, key: str, params: dict | None = None, off_params: dict | None = None) -> dict[str, float]:
+    """Oxford and IFSM (no gyroscope): files with a true count, mean count accuracy off and at ``key``, files changed
+    (``params`` / ``off_params``: the two runs' keywords when not :data:`GRID`'s)."""
+    kw1 = GRID[key] if params is None else params
+    kw0 = GRID[OFF] if off_params is None else off_params
     from experiments.scripts.slow_walks import count_accuracy
     from gaitml.io.ifsm import read_ifsm_xlsx
     from gaitml.io.oxford import list_oxford_folders, read_oxford_folder
@@ -192,8 +198,8 @@ def no_gyroscope(data: str | Path, key: str) -> dict[str, float]:
     for r in recs:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            t0 = get_detector("adaptive", **GRID[OFF]).detect(r).steps_["t_peak_s"].to_numpy()
-            t1 = get_detector("adaptive", **GRID[key]).detect(r).steps_["t_peak_s"].to_numpy()
+            t0 = get_detector("adaptive", **kw0).detect(r).steps_["t_peak_s"].to_numpy()
+            t1 = get_detector("adaptive", **kw1).detect(r).steps_["t_peak_s"].to_numpy()
         changed += int(not np.array_equal(t0, t1))
         true = r.reference.get("n_steps_true") if r.reference else None
         if true is not None:

@@ -84,7 +84,11 @@ amplitude it uses is a noise floor. Five stages:
    the local step period on either side, where the motion is periodic
    (periodicity >= ``min_periodicity``) and above the sensor noise floor
    (RMS of the band-passed signal over one step period before the step and
-   over one after it, both >= ``min_rms_ms2``).
+   over one after it, both >= ``min_rms_ms2``). Opt-in (``min_rms_slow_ms2`` below
+   ``min_rms_ms2``): where the local step period is longer than ``1 / slow_step_hz``
+   the floor scales with the square of the step frequency (the same vertical
+   excursion gives ``(2 pi f)^2`` times less acceleration at a slower step), down to
+   ``min_rms_slow_ms2`` (:func:`slow_step_noise_floor`).
 
 Each step gets a ``confidence`` in [0, 1]: the periodicity at the step times
 the regularity of its timing (1 - |interval - T| / T, the mean interval to
@@ -203,6 +207,7 @@ __all__ = [
     "adaptive_steps",
     "episode_steps_after_check",
     "fold_steps",
+    "slow_step_noise_floor",
     "window_autocorrelation",
     "swing_correlation",
     "gyro_stride_or_step",
@@ -268,6 +273,11 @@ GYRO_SWING_MIN_BOUT_STEPS = 0
 MIN_PERIODICITY = 0.3
 #: sensor noise floor (m/s^2 RMS of the band-passed magnitude): phone accelerometers ~0.01-0.05, walking > 0.5
 MIN_RMS_MS2 = 0.2
+#: the lowest the noise floor may scale to at steps slower than SLOW_STEP_HZ (m/s^2; opt-in, off at MIN_RMS_MS2): for
+#: a given vertical excursion the trunk's vertical acceleration is (2 pi f)^2 times half of it (Orendurff et al., J.
+#: Rehabil. Res. Dev. 41, 2004, as SLOW_STEP_MAX_RMS_MS2), so below SLOW_STEP_HZ the floor is MIN_RMS_MS2 x
+#: (f / SLOW_STEP_HZ)^2, but not below this. Measured on tyrex (experiments/reports/tyrex-steps.md, texstep section)
+MIN_RMS_SLOW_MS2 = MIN_RMS_MS2
 #: a step is the highest peak of the folded signal within this fraction of the step period either side
 MIN_DISTANCE_RATIO = 0.6
 #: a shorter lag whose autocorrelation peak reaches this fraction of the best is the fundamental period
@@ -831,6 +841,18 @@ def _bout_numbers(pk: np.ndarray, period: np.ndarray) -> np.ndarray:
     return np.concatenate([[0], np.cumsum(gap)]).astype(np.int64)
 
 
+def slow_step_noise_floor(period_s: np.ndarray, min_rms_ms2: float, min_rms_slow_ms2: float, slow_step_hz: float) -> np.ndarray:
+    """Stage 4's noise floor (m/s^2) at local step periods ``period_s`` (s): ``min_rms_ms2`` at steps of
+    ``slow_step_hz`` or faster; slower, ``min_rms_ms2 x (f / slow_step_hz)^2`` (the same vertical excursion gives
+    ``(2 pi f)^2`` times less acceleration), not below ``min_rms_slow_ms2``. With ``min_rms_slow_ms2 >= min_rms_ms2``
+    it is ``min_rms_ms2`` everywhere."""
+    T = np.asarray(period_s, dtype=float)
+    if min_rms_slow_ms2 >= min_rms_ms2:
+        return np.full(T.shape, float(min_rms_ms2))
+    scale = np.minimum(1.0, 1.0 / np.maximum(slow_step_hz * T, 1e-12) ** 2)
+    return np.maximum(float(min_rms_slow_ms2), float(min_rms_ms2) * scale)
+
+
 def _step_noise_floor(cs: np.ndarray, pk: np.ndarray, k, n: int) -> np.ndarray:
     """The noise floor of stage 4 at each peak: the RMS of the band-passed signal over ``k`` samples (one step
     period, a scalar or one per peak) before the peak and over ``k`` after it, the smaller of the two. ``cs`` is the
@@ -1040,6 +1062,7 @@ def adaptive_steps(
     slow_step_max_half_correlation: float = SLOW_STEP_MAX_HALF_CORRELATION,
     min_periodicity: float = MIN_PERIODICITY,
     min_rms_ms2: float = MIN_RMS_MS2,
+    min_rms_slow_ms2: float = MIN_RMS_SLOW_MS2,
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
     fold: bool = True,
     edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
@@ -1164,7 +1187,8 @@ def adaptive_steps(
     # walk from lending its energy to a phantom step one period later)
     cs = np.concatenate([[0.0], np.cumsum(y * y)])
     rms = _step_noise_floor(cs, pk, np.maximum(np.rint(T).astype(np.int64), 1), n)
-    keep = dominant & (s[pk] > 0) & (R >= min_periodicity) & (rms >= min_rms_ms2)
+    floor_ms2 = slow_step_noise_floor(T / fs, min_rms_ms2, min_rms_slow_ms2, slow_step_hz)
+    keep = dominant & (s[pk] > 0) & (R >= min_periodicity) & (rms >= floor_ms2)
     pk, T, R, inferred, by_swing = pk[keep], T[keep], R[keep], inferred[keep], by_swing[keep]
     amp = s[pk]
     # stage 5a: one octave per walking bout, from the swing pooled over the bout (bout_octave)
@@ -1381,6 +1405,11 @@ class AdaptiveStepDetector(BaseStepDetector):
         Noise floor (m/s^2): RMS of the band-passed magnitude over one step
         period before a step and over one after it (both must reach it); phone accelerometer noise is about
         0.01-0.05 m/s^2, walking above 0.5.
+    min_rms_slow_ms2 : float, default 0.2 (= ``min_rms_ms2``: off)
+        Below it (opt-in), where the local step period is longer than
+        ``1 / slow_step_hz`` the noise floor is ``min_rms_ms2 x (f / slow_step_hz)^2``
+        at step frequency ``f``, but not below this (:func:`slow_step_noise_floor`):
+        a slow step of the same vertical excursion carries less acceleration.
     min_distance_ratio : float, default 0.6
         A step is the highest peak of the folded signal within this fraction
         of the local step period on either side.
@@ -1564,6 +1593,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         "min_distance_ratio": [POSITIVE],
         "min_bout_steps": [POSITIVE_INTEGER],
         "min_rms_ms2": [NON_NEGATIVE],
+        "min_rms_slow_ms2": [NON_NEGATIVE],
         "edge_confidence_ratio": [Interval(0, 1, closed="both")],
         "min_confidence": [NON_NEGATIVE],
         "fold": ["boolean"],
@@ -1608,6 +1638,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         slow_step_max_half_correlation: float = SLOW_STEP_MAX_HALF_CORRELATION,
         min_periodicity: float = MIN_PERIODICITY,
         min_rms_ms2: float = MIN_RMS_MS2,
+        min_rms_slow_ms2: float = MIN_RMS_SLOW_MS2,
         min_distance_ratio: float = MIN_DISTANCE_RATIO,
         fold: bool = True,
         edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
@@ -1645,6 +1676,7 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.slow_step_max_half_correlation = slow_step_max_half_correlation
         self.min_periodicity = min_periodicity
         self.min_rms_ms2 = min_rms_ms2
+        self.min_rms_slow_ms2 = min_rms_slow_ms2
         self.min_distance_ratio = min_distance_ratio
         self.fold = fold
         self.edge_confidence_ratio = edge_confidence_ratio

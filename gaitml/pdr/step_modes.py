@@ -91,8 +91,9 @@ NONFORWARD_MODES = ("side_left", "side_right", "backward")
 #: "Sideways and backward steps on tyrex".
 SHORT_RUN_WINDOWS = 1.0
 #: :func:`gaitml.pdr.run_pdr`'s default ``short_run_windows`` (``gaitml pdr --short-runs``; the value lives in
-#: :data:`gaitml.consts.SHORT_RUN_DEFAULT`): 0, the rule off (opt-in: with :data:`SHORT_RUN_WINDOWS` it did not
-#: pass its adoption rule, see the report section above).
+#: :data:`gaitml.consts.SHORT_RUN_DEFAULT`): 0, the rule off. Opt-in: with :data:`SHORT_RUN_WINDOWS` it failed
+#: one of the three parts of its adoption rule, fixed before measuring (``experiments/reports/tyrex-pdr.md``,
+#: section "Sideways and backward steps on tyrex", where the figures are).
 SHORT_RUN_DEFAULT = _SHORT_RUN_DEFAULT
 
 

@@ -253,6 +253,9 @@ def long_steps(
     (:func:`_sum_accounts`): a bout over a chunk edge is one bout, rejected when any chunk left out
     any of its steps.
 
+    ``short_run_windows``: the short-run rule of :func:`gaitml.pdr.run_pdr` (None: its default, 0: off), applied to
+    the nearest-window modes of the whole step sequence as on a whole recording.
+
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`). ``hde``: a configured
     :class:`~gaitml.pdr.hde.HeuristicDriftElimination` for ``heading='hde'`` (as :func:`gaitml.pdr.run_pdr`'s;
@@ -808,6 +811,7 @@ def long_pdr(
     run_min_cadence_hz: float | None = None,
     hde=None,
     gyro_bias_start=None,
+    short_run_windows: float | None = None,
     **read_kwargs,
 ):
     """Dead-reckon a long recording chunk by chunk: :func:`gaitml.pdr.run_pdr` in bounded memory.
@@ -854,11 +858,13 @@ def long_pdr(
         _heading_source,
         _out_of_domain_steps,
         _resolve_step_length,
+        _short_runs,
         _step_reasons,
         assemble_result,
         calibration_detector_check,
         heading_check_record,
         modes_from_labels,
+        short_run_setting,
     )
     from gaitml.pdr.step_length import step_length_features
     from gaitml.pdr.step_modes import modes_from_windows, next_step_times
@@ -878,6 +884,7 @@ def long_pdr(
         gyro_bias_start=gyro_bias_start,
     )
     modes, mode_boundaries, notes = check_long_pdr(path, source, model=model, modes=modes, mode_boundaries=mode_boundaries)
+    short_w = short_run_setting(short_run_windows)
     slm, sl_source = _resolve_step_length(step_length)
     if slm is None:
         raise InputError(
@@ -991,12 +998,13 @@ def long_pdr(
     n = len(steps)
 
     # ---- modes per step (as run_pdr)
-    step_in_domain = model_modes = step_reasons = None
+    step_in_domain = model_modes = step_reasons = short_run_steps = None
     if modes == "true":
         step_modes = np.concatenate(label_parts).astype(str)
     elif modes == "model":
         t_look = 0.5 * (t_step + next_step_times(t_step)) if mode_boundaries == "middle" and n > 1 else t_step
         step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
+        step_modes, short_run_steps = _short_runs(step_modes, t_step, model, short_w, notes)
         step_in_domain, step_modes, model_modes = _out_of_domain_steps(model, windows, t_look, step_modes)
         step_reasons = _step_reasons(windows, t_look, n)
     else:
@@ -1032,6 +1040,7 @@ def long_pdr(
             "heading": heading,
             "modes": modes,
             "mode_boundaries": mode_boundaries if modes == "model" else None,
+            "short_run_steps": short_run_steps,
             "update": update,
             "step_length": sl_source,
             "initial_heading_rad": float(initial_heading_rad),

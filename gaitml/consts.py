@@ -20,6 +20,12 @@ LABEL_COL = "label"
 #: Paper 003's own detector is ``single-peak``, one option away.
 DEFAULT_STEP_DETECTOR = "adaptive"
 
+#: ``gaitml pdr --short-runs`` / :func:`gaitml.pdr.run_pdr`'s ``short_run_windows`` when not given: the short-run
+#: rule's length in model windows (:func:`gaitml.pdr.step_modes.forward_short_runs`; 0: the rule off). Kept here, not
+#: in :mod:`gaitml.pdr.step_modes`, so that building the command-line parser imports no algorithm; the choice and its
+#: figures: :data:`gaitml.pdr.step_modes.SHORT_RUN_DEFAULT`.
+SHORT_RUN_DEFAULT = 0.0
+
 #: Columns of a step-event table (DESIGN sec. 2).
 STEP_COLUMNS = ("start", "peak", "end", "t_start_s", "t_peak_s", "t_end_s", "period_s")
 

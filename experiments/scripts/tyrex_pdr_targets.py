@@ -1,6 +1,6 @@
 """Every PDR target of issue 27 in one table: ``gaitml pdr`` at its defaults, uncalibrated and with the step length calibrated on the other tyrex people.
 
-``python -m experiments.scripts.tyrex_pdr_targets [--data ../shared/data] [--model models/demo] [--cache FILE] [--json-dir DIR] [--csv FILE] [--out FILE] [--no-gyrocal]``
+``python -m experiments.scripts.tyrex_pdr_targets [--data ../shared/data] [--model models/demo] [--cache FILE] [--json-dir DIR] [--csv FILE] [--out FILE] [--no-gyrocal] [--fold-models DIR] [--short-runs W]``
 from the repository root. Nothing new is built here: the per-recording runs are
 :func:`experiments.scripts.tyrex_steplen.prepare`'s (``gaitml pdr``'s defaults: the default step
 detector, the guarded HDE heading, gyroscope bias ``auto``; forward-only and ``--model``), the step
@@ -324,6 +324,14 @@ def main(argv: list[str] | None = None) -> int:
         help="tyrex_modes' --model-cache of the shipped recipe (DIR/models/<name>-a-<Person>-<hash>): each person's runs take the "
         "model trained without them, so the model modes are held out too (use another --cache and --json-dir)",
     )
+    p.add_argument(
+        "--short-runs",
+        type=float,
+        default=None,
+        metavar="WINDOWS",
+        help="gaitml pdr --short-runs WINDOWS in every run (run_pdr's short_run_windows; default: gaitml pdr's own); use "
+        "another --cache and --json-dir",
+    )
     p.add_argument("--cache", default="/tmp/pdrtargets/preps.pkl", help="pickle of the per-recording runs (tyrex_steplen's format)")
     p.add_argument("--json-dir", default="/tmp/pdrtargets", help="where each fold's step-length JSON is written")
     p.add_argument("--csv", metavar="FILE", help="write the long targets table (every configuration, subset, motion, target)")
@@ -345,12 +353,14 @@ def main(argv: list[str] | None = None) -> int:
     if args.fold_models:
         model_arg = fold_model_paths(Path(args.fold_models), sorted({it["subject"] for it in items}))
         model = {person: load_model(path) for person, path in model_arg.items()}
-    preps = load_or_prepare(items, model, args.cache, t0)
+    short = {} if args.short_runs is None else {"short_run_windows": args.short_runs}
+    short_argv = [] if args.short_runs is None else ["--short-runs", f"{args.short_runs:g}"]
+    preps = load_or_prepare(items, model, args.cache, t0, options_of=(lambda it: dict(short)) if short else None)
     table, fitted, checks = run_all(items, preps, model)
     json_dir = Path(args.json_dir)
     json_dir.mkdir(parents=True, exist_ok=True)
     root = Path(args.data) / "tyrex-attitude"
-    cli = check_cli(items, preps, fitted, root, json_dir, model_arg)
+    cli = check_cli(items, preps, fitted, root, json_dir, model_arg, extra_argv=(lambda it: list(short_argv)) if short else None)
     configs = dict(CONFIGS)
     lines = []
     if args.gyrocal:
@@ -360,14 +370,14 @@ def main(argv: list[str] | None = None) -> int:
         if missing:
             raise SystemExit(f"error: no usable still gyroscope log for {missing}; pass --no-gyrocal.")
         cache_gc = str(Path(args.cache).with_name(Path(args.cache).stem + "-gyrocal.pkl"))
-        preps_gc = load_or_prepare(items, model, cache_gc, t0, options_of=lambda it: {"gyro_bias_start": logs[it["phone"]][1]})
+        preps_gc = load_or_prepare(items, model, cache_gc, t0, options_of=lambda it: {"gyro_bias_start": logs[it["phone"]][1], **short})
         table_gc, fitted_gc, checks_gc = run_all(items, preps_gc, model)
         kept = table_gc[table_gc["variant"].isin(["fwd/default", "model/default", "fwd/cal", "model/cal"])]
         table = pd.concat([table, kept.assign(variant=kept["variant"] + GYROCAL)], ignore_index=True)
         checks += checks_gc
 
         def log_argv(it):
-            return ["--gyro-bias-from", str(root / CALIBRATION_GLOBS[it["phone"]].split("/")[0] / logs[it["phone"]][0])]
+            return ["--gyro-bias-from", str(root / CALIBRATION_GLOBS[it["phone"]].split("/")[0] / logs[it["phone"]][0]), *short_argv]
 
         cli_gc = check_cli(items, preps_gc, fitted_gc, root, json_dir, model_arg, extra_argv=log_argv)
         cli += [(f"{c[0]} gyrocal", *c[1:]) for c in cli_gc]

@@ -35,7 +35,7 @@ from gaitml.commands._util import (
     rate_check_summary,
 )
 from gaitml.commands.predict import add_run_cadence_option, run_cadence_arg
-from gaitml.consts import DEFAULT_STEP_DETECTOR
+from gaitml.consts import DEFAULT_STEP_DETECTOR, SHORT_RUN_DEFAULT
 from gaitml.errors import InputError
 
 #: The command's one-line description in ``gaitml --help``.
@@ -83,6 +83,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--step-length", metavar="JSON", help="calibrated step length model (StepLengthModel.save)")
     add_run_cadence_option(p)
     p.add_argument(
+        "--short-runs",
+        type=_short_runs_arg,
+        default=None,
+        metavar="WINDOWS",
+        help="with --model: a run of side or backward steps between forward steps holding fewer steps than this many model "
+        "windows (at the walker's median step interval; paper 003 sec. 3.4 at the step level) moves forward; 0 keeps "
+        f"every run (default {SHORT_RUN_DEFAULT:g})",
+    )
+    p.add_argument(
         "--gyro-bias",
         **choices("pdr", "--gyro-bias", gyro_bias_modes),
         default=None,
@@ -129,6 +138,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="with --truth-align start-heading: the heading is taken to the first truth point this far along the truth (default 5 m)",
     )
     add_input_options(p)
+
+
+def _short_runs_arg(text: str) -> float:
+    """``--short-runs``: a finite number of model windows >= 0 (argparse reports a bad one in one line)."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = float("nan")
+    if not (np.isfinite(v) and v >= 0):
+        raise argparse.ArgumentTypeError(f"must be a number of model windows >= 0 (0: off), got {text!r}")
+    return v
 
 
 def check_output_path(path: str, flag: str) -> Path:
@@ -359,6 +379,7 @@ def run(args) -> int:
         **gb_args,
         run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
         hde=_hde(args, h0, notes),
+        short_run_windows=getattr(args, "short_runs", None),
     )
     notes += list(res.info["notes"])
     scored = _score(args, rec, res, truth_obj) if truth_obj is not None else None
@@ -457,6 +478,7 @@ def _run_long(args, model, step_length, notes: list[str]) -> int:
         initial_heading_rad=0.0 if h0 is None else h0,
         count_also=also,
         run_min_cadence_hz=run_cadence_arg(getattr(args, "run_cadence", None)),
+        short_run_windows=getattr(args, "short_runs", None),
         progress=True,
         **gb_args,
         hde=_hde(args, 0.0 if h0 is None else h0, notes),

@@ -35,6 +35,8 @@ from gaitml.pdr.heading import BaseHeadingSource, GyroHeading
 from gaitml.pdr.step_length import StepLengthModel, step_length_features
 from gaitml.pdr.step_modes import (
     MODE_ASSIGNMENTS,
+    SHORT_RUN_DEFAULT,
+    forward_short_runs,
     modes_from_step_model,
     modes_from_windows,
     next_step_times,
@@ -98,7 +100,8 @@ class PdrResult:
         in domain and a model without a domain record, as ``gaitml predict --json``'s windows) and the object
         has ``out_of_domain_steps`` and ``side_direction_unsure_steps`` (side steps moved
         forward because the model cannot tell their direction; None for a model without a
-        domain record), and ``foot_mounted_steps`` (steps whose window rests between fast swings as a
+        domain record), ``short_run_steps`` (side or backward steps moved forward by the short-run rule,
+        ``run_pdr(short_run_windows=)``; None for a step-window model), and ``foot_mounted_steps`` (steps whose window rests between fast swings as a
         foot-mounted sensor does, :mod:`gaitml.models._placement`) when that rule ran (a model with a domain
         record and no foot in its training positions); without a model they are absent. ``gait_check``: the step detector's
         gait-evidence account (steps left out in bouts without gait evidence), when it ran. ``rate_check``: the step
@@ -141,6 +144,7 @@ class PdrResult:
         if self.info.get("modes") == "model":
             out["out_of_domain_steps"] = self.info.get("out_of_domain_steps")
             out["side_direction_unsure_steps"] = self.info.get("side_direction_unsure_steps")
+            out["short_run_steps"] = self.info.get("short_run_steps")
             if "foot_mounted_steps" in self.info:
                 out["foot_mounted_steps"] = self.info["foot_mounted_steps"]
         if self.info.get("gyro_bias") is not None:
@@ -329,6 +333,7 @@ def run_pdr(
     gyro_bias="auto",
     gyro_bias_start=None,
     run_min_cadence_hz: float | None = None,
+    short_run_windows: float | None = None,
 ) -> PdrResult:
     """Dead-reckon a recording into a 2-D trajectory.
 
@@ -407,6 +412,7 @@ def run_pdr(
     update = update or ("forward" if modes == "forward" else "multi")
     if update not in ("multi", "forward"):
         raise InputError(f"`update` must be 'multi' or 'forward', got {update!r}.")
+    short_w = short_run_setting(short_run_windows)
     recording.require_gyr("PDR heading")
     fs = recording.sampling_rate_hz
     notes: list[str] = []
@@ -459,6 +465,7 @@ def run_pdr(
             step_modes = modes_from_windows(windows, t_look) if n else np.zeros(0, dtype=str)
             if mode_boundaries == "refine" and n > 1:
                 step_modes = refine_mode_boundaries(model, recording, t_step, step_modes)
+            step_modes, short_run_steps = _short_runs(step_modes, t_step, model, short_w, notes)
             step_in_domain, step_modes, model_modes = _out_of_domain_steps(model, windows, t_look, step_modes)
             step_reasons = _step_reasons(windows, t_look, n)
         else:  # the step-window model's own per-step flags: out-of-domain steps move forward, as for windows
@@ -469,6 +476,8 @@ def run_pdr(
     else:
         step_modes = np.full(n, "walk", dtype=object)
     step_modes = np.asarray(step_modes).astype(str)
+    if modes != "model" or mode_boundaries == "per-step":
+        short_run_steps = None
     if modes != "model":
         step_in_domain = model_modes = None
     if modes != "model":
@@ -528,9 +537,35 @@ def run_pdr(
             "gait_check": gait,
             "rate_check": rate,
             "step_length_detector": calibration_detector_check(slm, det_name),
+            "short_run_steps": short_run_steps,
             "notes": notes,
         },
     )
+
+
+def short_run_setting(short_run_windows) -> float:
+    """``run_pdr``'s ``short_run_windows`` checked: None gives :data:`gaitml.pdr.step_modes.SHORT_RUN_DEFAULT`; anything but
+    a finite number >= 0 is refused (:class:`~gaitml.errors.InputError`)."""
+    w = SHORT_RUN_DEFAULT if short_run_windows is None else short_run_windows
+    try:
+        w = float(w)
+    except (TypeError, ValueError):
+        w = float("nan")
+    if isinstance(short_run_windows, bool) or not (np.isfinite(w) and w >= 0):
+        raise InputError(f"short_run_windows must be a number of model windows >= 0 (0: off), got {short_run_windows!r}.")
+    return w
+
+
+def _short_runs(step_modes, t_step, model, w: float, notes: list[str]) -> tuple[np.ndarray, int]:
+    """:func:`gaitml.pdr.step_modes.forward_short_runs` with the checked setting ``w`` (:func:`short_run_setting`) and the
+    model's window; a note when it moved steps. Returns the new modes and how many steps moved."""
+    out, moved = forward_short_runs(step_modes, t_step, model.length_s, w)
+    if moved:
+        notes.append(
+            f"{moved} side or backward steps in runs shorter than {w:g} model window(s) between forward steps moved forward "
+            "(paper 003 sec. 3.4 at the step level; --short-runs 0 keeps them)"
+        )
+    return out, moved
 
 
 def heading_check_record(source) -> dict | None:

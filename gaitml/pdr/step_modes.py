@@ -39,6 +39,16 @@ window already does better than the refinement. The measured per-step mode accur
 and end-point errors of the three assignments, seed by seed, with the commands that
 reproduce them, are in ``experiments/reports/pdr-step-modes.md``.
 
+3. **Short non-forward runs** (:func:`forward_short_runs`, :func:`gaitml.pdr.run_pdr`'s
+   ``short_run_windows``). A run of side or backward steps between two forward runs (walk or run on both
+   sides) means two mode switches; under the paper's assumption (at most one switch within one model
+   window, sec. 3.4) they are at least one window apart, so the run holds at least the steps the walker
+   makes in one window. A run with fewer steps than that (its step count times the recording's median
+   step interval shorter than ``short_run_windows`` model windows) is read as the forward mode of the
+   step before it. The interval is the walker's median, not the run's own span, because a run at a stop
+   spans the standing between its steps. Measured on tyrex, where nobody steps sideways or backward, and on
+   the simulator's routes: ``experiments/reports/tyrex-pdr.md``, section "Sideways and backward steps on tyrex".
+
 A model trained on step windows (``window.by = "steps"``, :mod:`gaitml.features.step_windows`)
 needs none of this: :func:`modes_from_step_model` classifies each PDR step on its own
 samples, one prediction per step.
@@ -49,6 +59,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from gaitml.consts import SHORT_RUN_DEFAULT as _SHORT_RUN_DEFAULT
 from gaitml.errors import InputError
 from gaitml.recording import Recording
 
@@ -60,7 +71,11 @@ __all__ = [
     "refine_mode_boundaries",
     "mode_runs",
     "next_step_times",
+    "forward_short_runs",
     "MODE_ASSIGNMENTS",
+    "NONFORWARD_MODES",
+    "SHORT_RUN_DEFAULT",
+    "SHORT_RUN_WINDOWS",
 ]
 
 #: Ways to turn window predictions into per-step modes (``run_pdr(mode_boundaries=...)``):
@@ -68,6 +83,18 @@ __all__ = [
 #: between the step time and the next one), ``refine`` (:func:`refine_mode_boundaries`
 #: after ``nearest``), ``auto`` (``refine`` when the step times are peaks, else ``nearest``).
 MODE_ASSIGNMENTS = ("auto", "refine", "nearest", "middle")
+#: Modes that move the walker off the facing direction (paper 003 eq. 11's side steps and backward walking).
+NONFORWARD_MODES = ("side_left", "side_right", "backward")
+#: The short-run rule (:func:`forward_short_runs`): a side or backward run between forward steps must hold at
+#: least the steps of this many model windows (paper 003 sec. 3.4: at most one mode switch within one window),
+#: else its steps take the forward mode before it. Figures: ``experiments/reports/tyrex-pdr.md``, section
+#: "Sideways and backward steps on tyrex".
+SHORT_RUN_WINDOWS = 1.0
+#: :func:`gaitml.pdr.run_pdr`'s default ``short_run_windows`` (``gaitml pdr --short-runs``; the value lives in
+#: :data:`gaitml.consts.SHORT_RUN_DEFAULT`): 0, the rule off. Opt-in: with :data:`SHORT_RUN_WINDOWS` it failed
+#: one of the three parts of its adoption rule, fixed before measuring (``experiments/reports/tyrex-pdr.md``,
+#: section "Sideways and backward steps on tyrex", where the figures are).
+SHORT_RUN_DEFAULT = _SHORT_RUN_DEFAULT
 
 
 def modes_from_windows(windows: pd.DataFrame, step_t_s) -> np.ndarray:
@@ -135,6 +162,46 @@ def mode_runs(modes) -> list[tuple[int, int, str]]:
     first = np.flatnonzero(np.r_[True, m[1:] != m[:-1]])
     stop = np.r_[first[1:], len(m)]
     return [(int(a), int(b), str(m[a])) for a, b in zip(first, stop, strict=True)]
+
+
+def forward_short_runs(modes, step_t_s, window_s: float, min_windows: float = SHORT_RUN_WINDOWS) -> tuple[np.ndarray, int]:
+    """Read side and backward runs too short to be a bout as the forward mode around them (module docstring, item 3).
+
+    Parameters
+    ----------
+    modes : (m,) per-step modes.
+    step_t_s : (m,) increasing step times (s); their median interval is the walker's step interval.
+    window_s : the model's window length (s), paper 003's 1.5 s.
+    min_windows : a run of :data:`NONFORWARD_MODES` steps whose previous and next steps are ``walk`` or ``run``
+        is kept when its step count times the median step interval is at least ``min_windows * window_s``;
+        0 keeps every run.
+
+    Returns
+    -------
+    (modes, n_changed) : the new per-step modes (str) and how many steps changed.
+    """
+    m = np.asarray(modes).astype(str).reshape(-1).astype(object)
+    t = np.asarray(step_t_s, dtype=float).reshape(-1)
+    if len(t) != len(m):
+        raise InputError(f"{len(t)} step times but {len(m)} modes; give one mode per step.")
+    for name, v in (("window_s", window_s), ("min_windows", min_windows)):
+        if not (np.isfinite(v) and v >= 0):
+            raise InputError(f"{name} must be a finite number >= 0, got {v}.")
+    if min_windows == 0 or len(t) < 3:
+        return m.astype(str), 0
+    interval = float(np.median(np.diff(t)))
+    if not (np.isfinite(interval) and interval > 0):
+        return m.astype(str), 0
+    forward = ("walk", "run")
+    out = m.copy()
+    changed = 0
+    for a, b, mode in mode_runs(m):
+        if mode not in NONFORWARD_MODES or a == 0 or b == len(m) or m[a - 1] not in forward or m[b] not in forward:
+            continue
+        if (b - a) * interval < min_windows * window_s:
+            out[a:b] = m[a - 1]
+            changed += b - a
+    return out.astype(str), changed
 
 
 def pair_margin(estimator, X: np.ndarray, a: str, b: str) -> np.ndarray:

@@ -63,11 +63,13 @@ def test_long_pdr_with_a_model_equals_whole_file(walk_file):
     from tests.conftest import ROOT
 
     model = load_model(ROOT / "models" / "demo")
-    kw = {"model": model, "modes": "model", "mode_boundaries": "nearest", "detector": "single-peak"}
-    whole = run_pdr(read_recording(walk_file), **kw)
-    chunked = long_pdr(walk_file, **kw, chunk_s=30.0, margin_s=5.0, progress=False)
-    _compare(whole, chunked)
-    assert list(chunked.steps["in_domain"]) == list(whole.steps["in_domain"])
+    for short in (0.0, 1.0):  # the short-run rule off and on reads the whole step sequence in both
+        kw = {"model": model, "modes": "model", "mode_boundaries": "nearest", "detector": "single-peak", "short_run_windows": short}
+        whole = run_pdr(read_recording(walk_file), **kw)
+        chunked = long_pdr(walk_file, **kw, chunk_s=30.0, margin_s=5.0, progress=False)
+        _compare(whole, chunked)
+        assert list(chunked.steps["in_domain"]) == list(whole.steps["in_domain"])
+        assert chunked.info["short_run_steps"] == whole.info["short_run_steps"]
 
 
 def test_attitude_continued_from_a_carried_state_is_the_whole_integration():

@@ -329,6 +329,7 @@ def train_recipe(
     rate_sources="all",
     tempo=(),
     tempo_labels=("run",),
+    tempo_domain=True,
 ):
     """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model.
 
@@ -343,7 +344,8 @@ def train_recipe(
     ``flip_simulated``: the simulated recordings in those positions flipped too (every mode, sharing their time).
     ``tempo``: every real training recording labelled one of ``tempo_labels`` also trains replayed at each tempo factor
     (:func:`gaitml.pipeline.augment.tempo_copies`, ``data.augment.tempo``), appended after the real recordings before
-    the turns and flips (which then apply to the copies too), as gaitml train does; the copies enter the domain record.
+    the turns and flips (which then apply to the copies too), as gaitml train does; the copies enter the domain record
+    (``tempo_domain = False``, lab: they train the classifier only, like the other copies).
     """
     from gaitml.consts import MOTION_MODES
     from gaitml.features import feature_names
@@ -363,7 +365,10 @@ def train_recipe(
     if tempo and weight:
         from gaitml.pipeline.augment import tempo_copies
 
-        real = real + tempo_copies(real, tempo, tempo_labels)
+        extra = tempo_copies(real, tempo, tempo_labels)
+        if not tempo_domain:
+            extra = [c.replace(meta={k: v for k, v in c.meta.items() if k != "augment_in_domain"}, check_units=False) for c in extra]
+        real = real + extra
     if (augment or flips) and weight:
         from gaitml.pipeline.augment import POCKET_POSITIONS, SWING_POSITIONS, augmented_set
 
@@ -649,6 +654,12 @@ def main(argv=None) -> int:
         "also train at, replayed faster or slower ('' = none; default: the config's)",
     )
     ap.add_argument(
+        "--tempo-domain",
+        choices=("on", "off"),
+        default="on",
+        help="lab: off keeps the tempo copies out of the domain record (they train the classifier only)",
+    )
+    ap.add_argument(
         "--score-rates",
         default=None,
         help="comma-separated rates (Hz) the left-out people's recordings (and the held-out simulator) are scored at, "
@@ -802,6 +813,8 @@ def main(argv=None) -> int:
             )
             if tempo:  # only when set: the cache key of the fold models without tempo copies stays as it was
                 kw.update(tempo=tempo, tempo_labels=tempo_labels)
+                if a.tempo_domain == "off":
+                    kw["tempo_domain"] = False
             with tempfile.TemporaryDirectory() as tmp:
                 mdir = Path(tmp) / "m"
                 if a.cache is not None:
@@ -878,7 +891,10 @@ def main(argv=None) -> int:
             else ""
         )
         if tempo:
-            aug += f", the real {'/'.join(tempo_labels)} recordings also at tempo {'/'.join(f'{f:g}' for f in tempo)} (data.augment.tempo)"
+            aug += (
+                f", the real {'/'.join(tempo_labels)} recordings also at tempo {'/'.join(f'{f:g}' for f in tempo)} (data.augment.tempo"
+                + (", not in the domain record)" if a.tempo_domain == "off" else ")")
+            )
         if rates:
             which = "every training recording" if a.rate_sources == "all" else "every real training recording (not the simulated)"
             aug += f", {which} also at {'/'.join(f'{r:g}' for r in rates)} Hz (data.augment.rates)"

@@ -327,6 +327,9 @@ def train_recipe(
     flip_simulated=False,
     rates=(),
     rate_sources="all",
+    tempo=(),
+    tempo_labels=("run",),
+    tempo_domain=True,
 ):
     """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model.
 
@@ -339,6 +342,10 @@ def train_recipe(
     counted with the real windows' weight; ``share_time``: the original and its copies share the recording's time;
     ``flips``: pocket flips (180 deg turns about the named phone axes) of the recordings in ``flip_positions``;
     ``flip_simulated``: the simulated recordings in those positions flipped too (every mode, sharing their time).
+    ``tempo``: every real training recording labelled one of ``tempo_labels`` also trains replayed at each tempo factor
+    (:func:`gaitml.pipeline.augment.tempo_copies`, ``data.augment.tempo``), appended after the real recordings before
+    the turns and flips (which then apply to the copies too), as gaitml train does; the copies enter the domain record
+    (``tempo_domain = False``, lab: they train the classifier only, like the other copies).
     """
     from gaitml.consts import MOTION_MODES
     from gaitml.features import feature_names
@@ -355,6 +362,13 @@ def train_recipe(
         recs, _ = augmented_set(recs, 0, seed=cfg.seed, share_time=True, flips=tuple(flips), flip_positions=fpos)
         groups = [f"sim-{r.meta['subject']}" for r in recs]
     real = [it["recording"] for it in real_items]
+    if tempo and weight:
+        from gaitml.pipeline.augment import tempo_copies
+
+        extra = tempo_copies(real, tempo, tempo_labels)
+        if not tempo_domain:
+            extra = [c.replace(meta={k: v for k, v in c.meta.items() if k != "augment_in_domain"}, check_units=False) for c in extra]
+        real = real + extra
     if (augment or flips) and weight:
         from gaitml.pipeline.augment import POCKET_POSITIONS, SWING_POSITIONS, augmented_set
 
@@ -548,7 +562,7 @@ def simulated_part(cfg):
     """The simulated part of ``cfg``: a shipped folder config (``data.add_simulated``, e.g. ``experiments/demo.toml``)
     becomes its ``[data.simulated]`` subjects alone, so that the recipes train exactly the shipped settings;
     a simulated config is returned as it is."""
-    from gaitml.pipeline.augment import POCKET_POSITIONS, SWING_POSITIONS
+    from gaitml.pipeline.augment import POCKET_POSITIONS, SWING_POSITIONS, TEMPO_LABELS
 
     if cfg["data"]["source"] == "simulated":
         return cfg
@@ -569,6 +583,8 @@ def simulated_part(cfg):
             "data.augment.positions": list(SWING_POSITIONS),
             "data.augment.flips": [],
             "data.augment.flip_positions": list(POCKET_POSITIONS),
+            "data.augment.tempo": [],
+            "data.augment.tempo_labels": list(TEMPO_LABELS),
         }
     )
 
@@ -632,6 +648,18 @@ def main(argv=None) -> int:
         "taken down and back up ('' = none; default: the config's)",
     )
     ap.add_argument(
+        "--tempo",
+        default=None,
+        help="override data.augment.tempo: comma-separated tempo factors the real running recordings (data.augment.tempo_labels) "
+        "also train at, replayed faster or slower ('' = none; default: the config's)",
+    )
+    ap.add_argument(
+        "--tempo-domain",
+        choices=("on", "off"),
+        default="on",
+        help="lab: off keeps the tempo copies out of the domain record (they train the classifier only)",
+    )
+    ap.add_argument(
         "--score-rates",
         default=None,
         help="comma-separated rates (Hz) the left-out people's recordings (and the held-out simulator) are scored at, "
@@ -692,6 +720,10 @@ def main(argv=None) -> int:
     flips, flip_positions = flips_of(cfg_full)
     if a.flips is not None:
         flips = [f for f in a.flips.split(",") if f]
+    tempo = [float(f) for f in cfg_full["data"]["augment"]["tempo"]] if cfg_full["data"]["source"] == "folder" else []
+    if a.tempo is not None:
+        tempo = [float(f) for f in a.tempo.split(",") if f]
+    tempo_labels = list(cfg_full["data"]["augment"]["tempo_labels"])
     rates = [float(r) for r in cfg_full["data"]["augment"]["rates"]]
     if a.rates is not None:
         rates = [float(r) for r in a.rates.split(",") if r]
@@ -779,6 +811,10 @@ def main(argv=None) -> int:
                 rates=rates,
                 rate_sources=a.rate_sources,
             )
+            if tempo:  # only when set: the cache key of the fold models without tempo copies stays as it was
+                kw.update(tempo=tempo, tempo_labels=tempo_labels)
+                if a.tempo_domain == "off":
+                    kw["tempo_domain"] = False
             with tempfile.TemporaryDirectory() as tmp:
                 mdir = Path(tmp) / "m"
                 if a.cache is not None:
@@ -854,6 +890,11 @@ def main(argv=None) -> int:
             if flips
             else ""
         )
+        if tempo:
+            aug += (
+                f", the real {'/'.join(tempo_labels)} recordings also at tempo {'/'.join(f'{f:g}' for f in tempo)} (data.augment.tempo"
+                + (", not in the domain record)" if a.tempo_domain == "off" else ")")
+            )
         if rates:
             which = "every training recording" if a.rate_sources == "all" else "every real training recording (not the simulated)"
             aug += f", {which} also at {'/'.join(f'{r:g}' for r in rates)} Hz (data.augment.rates)"

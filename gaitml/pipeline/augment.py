@@ -44,7 +44,38 @@ model's, through exactly that resampling. A rate copy is an augmented copy like 
 (meta ``augmented``; its ``resampled_from_hz`` is the low rate): it trains the classifier, not
 the domain record, and cross-validation does not score it.
 
+A runner runs at their own tempo. Across recreational runners the preferred step frequency
+spreads far more than one runner's does over a run (21 experienced recreational runners outdoors:
+165 +- 8 steps/min at a comfortable 3.0 m/s, rising only 3 steps/min at a 15 % higher speed, Eur. J.
+Sport Sci. 2019; Heiderscheit et al. 2011 ran 45 recreational runners at their preferred rate and
+at +-5 % and +-10 % of it), and the phone on a
+faster runner's thigh turns faster. :func:`tempo_copies` adds, for each real recording holding a
+label of ``labels`` (``run``), the recording replayed at each tempo factor ``s``: the motion
+``x(t)`` becomes ``x(s t)``, so the time axis is compressed by ``s`` (the copy is ``1/s`` as long,
+at the same sampling rate), the angular rate is multiplied by ``s``, the linear acceleration by
+``s**2``, the attitude path is the same path gone through faster, and gravity is unchanged. The
+accelerometer's reading (gravity-up convention of the package: ``acc = a_lin + g_up_b``, ``g_up_b``
+the phone-frame up vector times g) becomes ``s**2 (acc - g_up_b) + g_up_b``. ``g_up_b`` is taken
+per sample from the package's attitude filter (:class:`gaitml.pdr.AttitudeEstimator`: the
+gyroscope integrated, tilt corrected towards the low-passed gravity), which follows the thigh's
+turns within a stride where a low-pass of the accelerometer cannot. Time-warped and
+magnitude-scaled copies of wearable data as training augmentation: Um et al. 2017. A tempo copy
+is meta ``augmented`` like the others (cross-validation does not score it) but, unlike them, it
+is a motion a runner can make in a grip the walkers used, so it enters the domain record
+(meta ``augment_in_domain``; :func:`without_copies` with ``keep_in_domain``): a faster runner
+is then neither read by a model that never saw their tempo nor flagged for it.
+
 This is ours: the papers train on the grips their walkers used, at one rate.
+
+References
+----------
+Preferred and heart-rate-optimal step frequency of 21 experienced recreational runners outdoors
+(Vrije Universiteit Amsterdam), Eur. J. Sport Sci., 2019, doi:10.1080/17461391.2019.1626911.
+B. C. Heiderscheit, E. S. Chumanov, M. P. Michalski, C. M. Wille, M. B. Ryan, "Effects of step rate
+manipulation on joint mechanics during running", Med. Sci. Sports Exerc. 43(2):296-302, 2011.
+T. T. Um, F. M. J. Pfister, D. Pichler, S. Endo, M. Lang, S. Hirche, U. Fietzek, D. Kulic, "Data
+augmentation of wearable sensor data for Parkinson's disease monitoring using convolutional
+neural networks", ICMI 2017 (time-warping and magnitude-warping augmentation).
 """
 
 from __future__ import annotations
@@ -61,7 +92,12 @@ __all__ = [
     "SWING_AXIS_HIGHPASS_HZ",
     "SWING_POSITIONS",
     "SHARE_BLOCK_S",
+    "TEMPO_LABELS",
+    "TEMPO_LIMITS",
     "augment_recordings",
+    "phone_up_gravity",
+    "tempo_copies",
+    "tempo_recording",
     "rate_copies",
     "augmented_set",
     "without_copies",
@@ -138,7 +174,10 @@ def rotate_recording(rec, R: np.ndarray, note: str):
     Phone-frame references (orientation truth) would no longer hold and are dropped.
     """
     R = np.asarray(R, dtype=float)
-    meta = {**rec.meta, "augmented": note, "id": f"{rec.meta.get('id', rec.meta.get('session', 'recording'))} [{note}]"}
+    prev = rec.meta.get("augmented")  # a tempo copy turned: both notes
+    full = f"{note}, {prev}" if prev else note
+    meta = {**rec.meta, "augmented": full, "id": f"{rec.meta.get('id', rec.meta.get('session', 'recording'))} [{note}]"}
+    meta.pop("augment_in_domain", None)  # a turned grip is no grip the walkers used (fit_training_domain)
     return rec.replace(
         acc=rec.acc @ R.T,
         gyr=None if rec.gyr is None else rec.gyr @ R.T,
@@ -336,6 +375,7 @@ def rate_copies(recs: Sequence, rates: Iterable[float]) -> list:
                 "resampled_from_hz": r,
                 "id": f"{rec.meta.get('id', rec.meta.get('session', 'recording'))} [{note}]",
             }
+            meta.pop("augment_in_domain", None)  # the domain record holds the model's rate only
             # the grid back up may end a sample short of the original's; keep the original's labels sample for sample
             labels = None if rec.labels is None else np.asarray(rec.labels, dtype=object)[:n]
             out.append(
@@ -351,11 +391,16 @@ def rate_copies(recs: Sequence, rates: Iterable[float]) -> list:
     return out
 
 
-def without_copies(recs: Sequence, groups: Sequence) -> tuple[list, list]:
-    """The recordings as they were before :func:`augmented_set`: copies dropped, shared originals given back their full labels."""
+def without_copies(recs: Sequence, groups: Sequence, *, keep_in_domain: bool = False) -> tuple[list, list]:
+    """The recordings as they were before :func:`augmented_set`: copies dropped, shared originals given back their full labels.
+
+    ``keep_in_domain``: the copies marked ``augment_in_domain`` (the tempo copies of
+    :func:`tempo_copies`, not turned, flipped or at another rate) are kept: what the domain record
+    is fitted on. Cross-validation scores the recordings without them.
+    """
     out, out_groups = [], []
     for r, g in zip(recs, groups, strict=True):
-        if r.meta.get("augmented"):
+        if r.meta.get("augmented") and not (keep_in_domain and r.meta.get("augment_in_domain")):
             continue
         full = r.meta.get("augment_full_labels")
         if full is not None:
@@ -364,3 +409,129 @@ def without_copies(recs: Sequence, groups: Sequence) -> tuple[list, list]:
         out.append(r)
         out_groups.append(g)
     return out, out_groups
+
+
+#: the per-sample labels whose recordings get tempo copies by default: running (the tyrex RunningHand and
+#: RunningPocket recordings carry ``run`` where the runner moves, ``still`` elsewhere)
+TEMPO_LABELS = ("run",)
+#: the tempo factors accepted (exclusive bounds): within a factor of 2 either way, far beyond the spread of
+#: recreational runners' step frequency (165 +- 8 steps/min, Eur. J. Sport Sci. 2019) and short of a tempo at
+#: which the recording's content (up to 0.45 x its rate) would be mostly filtered away
+TEMPO_LIMITS = (0.5, 2.0)
+
+
+def phone_up_gravity(rec) -> np.ndarray:
+    """Gravity as the accelerometer reads it at rest, in the phone frame, per sample: (n, 3) m/s^2 along the phone's up.
+
+    From the package's attitude filter (:class:`gaitml.pdr.AttitudeEstimator` at its defaults: the
+    gyroscope integrated, gyroscope bias from still stretches tracked online, tilt pulled towards the
+    low-passed gravity at 0.5 1/s), ``R_k^T (0, 0, g)`` with ``R_k`` the phone-to-navigation attitude of
+    sample ``k``. It follows turns within a stride (a thigh in a pocket turns by tens of degrees each
+    stride) that a low-pass of the accelerometer would average away. Needs the gyroscope.
+    """
+    from gaitml.consts import GRAVITY_MS2
+    from gaitml.pdr.attitude import AttitudeEstimator
+
+    if rec.gyr is None:
+        raise InputError(f"{rec.name}: the phone's gravity along its turns needs the gyroscope; this recording has none.")
+    est = AttitudeEstimator().estimate(rec)
+    return est.rotation_.inv().apply(np.array([0.0, 0.0, GRAVITY_MS2]))
+
+
+def _check_tempo(factors) -> list[float]:
+    out = []
+    for f in factors:
+        if isinstance(f, bool) or not isinstance(f, int | float) or not TEMPO_LIMITS[0] < float(f) < TEMPO_LIMITS[1]:
+            raise InputError(
+                f"a tempo factor is a number between {TEMPO_LIMITS[0]:g} and {TEMPO_LIMITS[1]:g} (exclusive), got {f!r}; "
+                "list factors such as 0.87, 1.15."
+            )
+        if float(f) == 1.0:
+            raise InputError("a tempo factor of 1 is the recording itself; list factors other than 1.")
+        out.append(float(f))
+    if len(set(out)) != len(out):
+        raise InputError(f"tempo factors list a factor twice ({out}); list each at most once.")
+    return out
+
+
+def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None):
+    """``rec`` replayed at tempo ``factor``: the motion ``x(t)`` as ``x(factor t)``, at ``rec``'s own sampling rate.
+
+    Parameters
+    ----------
+    rec : Recording with a gyroscope (or ``gravity_up_b`` given).
+    factor : the tempo ``s`` (> 1 faster, < 1 slower).
+    gravity_up_b : (n, 3) gravity in the phone frame as the accelerometer reads it at rest (m/s^2), per sample
+        of ``rec``; default :func:`phone_up_gravity`.
+
+    Returns
+    -------
+    Recording of ``floor((n - 1) / s) + 1`` samples: sample ``k`` is the original's motion at
+    ``t = s k / fs``, with angular rate ``s gyr`` and specific force ``s**2 (acc - g_up_b) + g_up_b``
+    (linear interpolation between the original samples; for ``s > 1`` the original is first
+    low-passed at ``0.45 fs / s`` (4th-order Butterworth, zero phase), so that nothing above
+    0.45 x the rate reaches the copy, as :func:`gaitml.models.resample_recording` does when it
+    down-samples). Labels follow the time axis (sample and hold). Meta ``augmented`` (``"tempo
+    1.15x"``), ``augment_tempo`` and ``augment_in_domain``; references (truth on the original's
+    time axis) are dropped.
+    """
+    from gaitml.signal import lowpass
+
+    s = _check_tempo([factor])[0]
+    fs = float(rec.sampling_rate_hz)
+    acc = np.asarray(rec.acc, dtype=float)
+    g_b = phone_up_gravity(rec) if gravity_up_b is None else np.asarray(gravity_up_b, dtype=float)
+    if g_b.shape != acc.shape:
+        raise InputError(f"`gravity_up_b` must have the accelerometer's shape {acc.shape}, got {g_b.shape}; give one vector per sample.")
+    acc_s = s**2 * (acc - g_b) + g_b
+    gyr_s = None if rec.gyr is None else s * np.asarray(rec.gyr, dtype=float)
+    n = rec.n_samples
+    if s > 1.0 and n > 15:  # the copy's content is the original's times s: keep it below 0.45 fs
+        acc_s = lowpass(acc_s, 0.45 * fs / s, fs)
+        gyr_s = None if gyr_s is None else lowpass(gyr_s, 0.45 * fs / s, fs)
+    n_new = int(np.floor((n - 1) / s + 1e-9)) + 1
+    pos = s * np.arange(n_new)  # the copy's samples on the original's sample axis
+    i0 = np.minimum(np.floor(pos + 1e-9).astype(np.int64), n - 1)
+    i1 = np.minimum(i0 + 1, n - 1)
+    w = (pos - i0)[:, None]
+
+    def warp(x):
+        return (1.0 - w) * x[i0] + w * x[i1]
+
+    note = f"tempo {s:g}x"
+    prev = rec.meta.get("augmented")
+    meta = {
+        **rec.meta,
+        "augmented": f"{prev}, {note}" if prev else note,
+        "augment_tempo": s,
+        "augment_in_domain": True,
+        "id": f"{rec.meta.get('id', rec.meta.get('session', 'recording'))} [{note}]",
+    }
+    labels = None if rec.labels is None else np.asarray(rec.labels, dtype=object)[i0]
+    return rec.replace(
+        acc=warp(acc_s),
+        gyr=None if gyr_s is None else warp(gyr_s),
+        labels=labels,
+        meta=meta,
+        reference={},
+        check_units=False,
+    )
+
+
+def tempo_copies(recs: Sequence, factors: Iterable[float], labels: Iterable[str] = TEMPO_LABELS) -> list:
+    """Tempo copies (:func:`tempo_recording`) of the recordings in ``recs`` whose per-sample labels hold one of ``labels``.
+
+    One copy per such recording and factor, recording by recording, factor by factor; the phone's
+    gravity is estimated once per recording (:func:`phone_up_gravity`). Recordings without a
+    gyroscope get none (their gravity along the turns is unknown): the caller reports it.
+    Returns the copies only.
+    """
+    factors = _check_tempo(list(factors))
+    want = set(labels)
+    out = []
+    for rec in recs:
+        if rec.gyr is None or rec.labels is None or not want.intersection(np.unique(np.asarray(rec.labels, dtype=object).astype(str))):
+            continue
+        g_b = phone_up_gravity(rec)
+        out.extend(tempo_recording(rec, s, g_b) for s in factors)
+    return out

@@ -59,6 +59,12 @@ Keys (defaults in brackets) of ``task = "classification"``::
                                      # and simulated, also trains as a copy taken down to each rate and back up
                                      # (the resampling of predict); the model's domain then reaches down to the
                                      # lowest (any source; gaitml.pipeline.augment.rate_copies)
+    tempo = []                       # tempo factors (e.g. [0.87, 1.15]): every real recording with a label of
+                                     # tempo_labels also trains replayed at each tempo (time x 1/s, angular rate
+                                     # x s, linear acceleration x s^2, gravity kept; gaitml.pipeline.augment.
+                                     # tempo_copies); the copies enter the domain record too, are turned and
+                                     # flipped like their recording and get rate copies ("folder")
+    tempo_labels = ["run"]           # the per-sample labels whose recordings get tempo copies
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -132,9 +138,10 @@ from typing import Any
 
 from gaitml.consts import MOTION_MODES
 from gaitml.errors import ConfigError, GaitmlError, InputError
-from gaitml.pipeline.augment import FLIP_AXES
+from gaitml.pipeline.augment import FLIP_AXES, TEMPO_LIMITS
 from gaitml.pipeline.augment import POCKET_POSITIONS as POCKET_POSITIONS_DEFAULT
 from gaitml.pipeline.augment import SWING_POSITIONS as SWING_POSITIONS_DEFAULT
+from gaitml.pipeline.augment import TEMPO_LABELS as TEMPO_LABELS_DEFAULT
 
 __all__ = ["ExperimentConfig", "load_config", "parse_config", "sweep_grid", "SOURCES", "TASKS", "STEP_DATA_SETS", "STEP_HOLDOUTS"]
 
@@ -345,6 +352,19 @@ def _augment_rates(v):
     return None
 
 
+def _augment_tempo(v):
+    bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)]
+    if bad:
+        return f"must list tempo factors (numbers); {bad[0]!r} is not one"
+    lo, hi = TEMPO_LIMITS
+    bad = [x for x in v if not lo < x < hi or x == 1]
+    if bad:
+        return f"has {bad[0]!r}, not a tempo factor: list factors between {lo:g} and {hi:g} other than 1, e.g. [0.87, 1.15]"
+    if len({float(x) for x in v}) != len(v):
+        return "lists a factor twice"
+    return None
+
+
 def _min2(v):
     return None if v >= 2 else "must be >= 2"
 
@@ -392,6 +412,9 @@ SCHEMA: dict[str, Any] = {
             "flip_positions": _Leaf((list,), list(POCKET_POSITIONS_DEFAULT), item_type=str),
             # sampling rates the recordings also train at, through predict's own resampling (any source)
             "rates": _Leaf((list,), [], check=_augment_rates),
+            # running replayed faster and slower (time compressed, rates and accelerations scaled)
+            "tempo": _Leaf((list,), [], check=_augment_tempo),
+            "tempo_labels": _Leaf((list,), list(TEMPO_LABELS_DEFAULT), item_type=str, check=_no_repeats),
         },
         # a folder source plus the simulated subjects of [data.simulated]
         "add_simulated": _Leaf((bool,), False),
@@ -546,6 +569,8 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "augment", "flips"): [],
     ("data", "augment", "flip_positions"): list(POCKET_POSITIONS_DEFAULT),
     ("data", "augment", "rates"): [],
+    ("data", "augment", "tempo"): [],
+    ("data", "augment", "tempo_labels"): list(TEMPO_LABELS_DEFAULT),
     ("train", "domain_acc_range_ms2"): 0.0,
 }
 
@@ -761,6 +786,8 @@ def parse_config(
             ("data.augment.positions", list(d["augment"]["positions"]) != list(SWING_POSITIONS_DEFAULT)),
             ("data.augment.flips", bool(d["augment"]["flips"])),
             ("data.augment.flip_positions", list(d["augment"]["flip_positions"]) != list(POCKET_POSITIONS_DEFAULT)),
+            ("data.augment.tempo", bool(d["augment"]["tempo"])),
+            ("data.augment.tempo_labels", list(d["augment"]["tempo_labels"]) != list(TEMPO_LABELS_DEFAULT)),
         ):
             if on:
                 raise ConfigError(f"{key} applies to data.source = 'folder' (a real data set); remove it or read a folder.")
@@ -780,6 +807,13 @@ def parse_config(
             ):
                 if on:
                     raise ConfigError(f"{key} is set but data.augment.swing_turns = 0 (no copies): set swing_turns > 0 or remove {key}.")
+        if check_unused and not aug["tempo"] and list(aug["tempo_labels"]) != list(TEMPO_LABELS_DEFAULT):
+            raise ConfigError(
+                "data.augment.tempo_labels is set but data.augment.tempo is empty (no tempo copy): list factors or remove it."
+            )
+        if aug["tempo"] and not aug["tempo_labels"]:
+            raise ConfigError("data.augment.tempo_labels is empty: name the labels whose recordings get tempo copies, e.g. ['run'].")
+        aug["tempo"] = [float(x) for x in aug["tempo"]]
         if check_unused and not aug["flips"] and list(aug["flip_positions"]) != list(POCKET_POSITIONS_DEFAULT):
             raise ConfigError("data.augment.flip_positions is set but data.augment.flips is empty (no flip): name the axes or remove it.")
         copies = aug["swing_turns"] > 0 or bool(aug["flips"])

@@ -224,6 +224,9 @@ def _load_recordings(cfg: ExperimentConfig):
     if any(abs(r - fs) > 1e-6 for r in rates):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
     aug = d["augment"]
+    if aug["tempo"]:
+        out, note = _with_tempo_copies(out, list(aug["tempo"]), list(aug["tempo_labels"]))
+        notes.append(note)
     if aug["swing_turns"] > 0 or aug["flips"]:
         from gaitml.pipeline.augment import augmented_set
 
@@ -276,6 +279,38 @@ def _load_recordings(cfg: ExperimentConfig):
         out += sim
         notes += [f"added to the folder: {n}" for n in sim_notes]
     return _with_rate_copies(cfg, out, notes)
+
+
+def _with_tempo_copies(recs: list, factors: list[float], labels: list[str]):
+    """``recs`` plus the tempo copies of those holding a label of ``labels`` (:func:`gaitml.pipeline.augment.tempo_copies`), and a note.
+
+    The copies come after every recording, so that the turns' and flips' random draws of the
+    recordings themselves are those of a config without tempo copies.
+    """
+    from gaitml.pipeline.augment import tempo_copies
+
+    def holds(r):
+        return r.labels is not None and bool(set(labels).intersection(np.unique(np.asarray(r.labels, dtype=object).astype(str))))
+
+    chosen = [r for r in recs if holds(r)]
+    with_gyr = [r for r in chosen if r.gyr is not None]
+    if not with_gyr:
+        present = sorted({str(x) for r in recs if r.labels is not None for x in np.unique(np.asarray(r.labels, dtype=object).astype(str))})
+        raise ConfigError(
+            f"data.augment.tempo_labels = {labels} matches no recording with a gyroscope (tempo copies need it for the phone's "
+            f"gravity along its turns); labels present: {', '.join(present)}. Fix the labels or set data.augment.tempo = []."
+        )
+    try:
+        extra = tempo_copies(with_gyr, factors, labels)
+    except InputError as exc:
+        raise ConfigError(f"data.augment.tempo: {exc}") from exc
+    skipped = len(chosen) - len(with_gyr)
+    note = (
+        f"augmented: {len(extra)} tempo copies of the {len(with_gyr)} recording(s) labelled {'/'.join(labels)}, replayed at "
+        f"{', '.join(f'{f:g}x' for f in factors)} (time / s, angular rate x s, linear acceleration x s^2; in the domain record)"
+        + (f"; {skipped} without a gyroscope got none" if skipped else "")
+    )
+    return [*recs, *extra], note
 
 
 def _with_rate_copies(cfg: ExperimentConfig, recs: list, notes: list[str]):
@@ -537,20 +572,30 @@ def has_copies(data: PreparedData) -> bool:
     return any(r.meta.get("augmented") or r.meta.get("augment_full_labels") is not None for r in data.recordings)
 
 
-def dataset_without_copies(cfg: ExperimentConfig, data: PreparedData, *, need_raw: bool | None = None, need_features: bool | None = None):
+def dataset_without_copies(
+    cfg: ExperimentConfig,
+    data: PreparedData,
+    *,
+    need_raw: bool | None = None,
+    need_features: bool | None = None,
+    keep_in_domain: bool = False,
+):
     """The window data set of ``data``'s recordings as they were (:func:`gaitml.pipeline.augment.without_copies`).
 
-    Copies dropped, originals with all their labelled windows: what cross-validation scores
-    and the domain record is fitted on. Cached on ``data`` per window and feature setting.
+    Copies dropped, originals with all their labelled windows: what cross-validation scores.
+    ``keep_in_domain``: the tempo copies kept too (meta ``augment_in_domain``), what the domain
+    record is fitted on. Cached on ``data`` per window and feature setting.
     """
     from gaitml.pipeline.augment import without_copies
 
     key = json.dumps(
-        [cfg["windows"], cfg["features"]["set"], cfg["features"]["frame"], need_raw, need_features], sort_keys=True, default=str
+        [cfg["windows"], cfg["features"]["set"], cfg["features"]["frame"], need_raw, need_features, keep_in_domain],
+        sort_keys=True,
+        default=str,
     )
     cache = data.__dict__.setdefault("_plain_datasets", {})
     if key not in cache:
-        recs, groups = without_copies(data.recordings, data.groups)
+        recs, groups = without_copies(data.recordings, data.groups, keep_in_domain=keep_in_domain)
         plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
         cache.clear()
         cache[key] = build_dataset(cfg, plain, need_raw=need_raw, need_features=need_features, use_cache=False)
@@ -725,7 +770,10 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     windows): it holds the grips the walkers really used (a copy turned about the swing axis
     points gravity where no walker held the phone, and other carrying positions, a bag, would
     pass the gravity test there), and its held-out quantile thresholds are not pulled towards
-    the augmented position.
+    the augmented position. The tempo copies of ``data.augment.tempo`` are the exception (meta
+    ``augment_in_domain``): a run replayed faster or slower is a motion in a grip the runners
+    used, and the record keeps them, so that a runner faster than the training people is not
+    flagged for their tempo; their own turned, flipped and rate copies stay out.
 
     The record also holds the lowest sampling rate the model was trained at
     (:func:`training_min_rate`, over every training recording, rate copies included): a recording
@@ -764,9 +812,16 @@ def _fit_domain_of(cfg: ExperimentConfig, data: PreparedData, ds, model):
     from gaitml.pipeline.augment import without_copies
 
     if has_copies(data):
-        recs, groups = without_copies(data.recordings, data.groups)
+        # the tempo copies (augment_in_domain) stay: a runner at another tempo is in the domain (gaitml.pipeline.augment)
+        keep = any(r.meta.get("augment_in_domain") for r in data.recordings)
+        recs, groups = without_copies(data.recordings, data.groups, keep_in_domain=keep)
         plain = PreparedData(recs, groups, data.notes, keep_labels=data.keep_labels)
-        return _fit_domain_of(cfg, plain, dataset_without_copies(cfg, data), model)
+        return _fit_domain_on(cfg, plain, dataset_without_copies(cfg, data, keep_in_domain=keep), model)
+    return _fit_domain_on(cfg, data, ds, model)
+
+
+def _fit_domain_on(cfg: ExperimentConfig, data: PreparedData, ds, model):
+    """The domain record fitted on every window of ``ds`` (the windows of ``data``'s recordings)."""
     from gaitml.features import feature_names, features_from_arrays, resolve_subset
     from gaitml.features.step_windows import extract_step_features
     from gaitml.models.domain import DYNAMICS_NAMES, fit_domain, orientation_dynamics, span_gravity, window_gravity
@@ -840,6 +895,8 @@ def window_sources(data: PreparedData, ds) -> list[dict]:
         meta = recs[int(idx)].meta
         turned = meta.get("augmented") and ("turned" in meta["augmented"] or "flipped" in meta["augmented"])
         kind = "simulated" if meta.get("source") == "gaitml.simulate" else ("real, turned" if turned else "real")
+        if meta.get("augment_tempo"):
+            kind += f", tempo {float(meta['augment_tempo']):g}x"
         if meta.get("augment_rate_hz"):
             kind += f", at {float(meta['augment_rate_hz']):g} Hz"
         where = str(meta.get("motion") or meta.get("position") or "unknown")

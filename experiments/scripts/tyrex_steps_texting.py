@@ -488,7 +488,7 @@ def main(argv: list[str] | None = None) -> int:
 
     ap = argparse.ArgumentParser(prog="python -m experiments.scripts.tyrex_steps_texting", description=__doc__.splitlines()[0])
     ap.add_argument("--data", default="../shared/data")
-    ap.add_argument("--motion", default="Texting", choices=("Texting", "Phoning"))
+    ap.add_argument("--motion", default="Texting", choices=("Texting", "Phoning", "FrontPocket", "BackPocket", "Swinging"))
     ap.add_argument("--plot", default=None, help="folder for the three figures")
     ap.add_argument("--example", default="Guillaume_Nexus5_NoDist_Texting", help="recording of the example figure")
     ap.add_argument("--span", default="44,64", help="its stretch, s on the motion-capture clock: START,END")

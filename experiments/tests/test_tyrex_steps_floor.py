@@ -4,14 +4,17 @@ from __future__ import annotations
 
 import pandas as pd
 
-from experiments.scripts.tyrex_steps_floor import GRID, OFF, ROUNDS, admissible_set, choose, lopo
+from experiments.scripts.tyrex_steps_floor import GRID, GYRO_ONLY, OFF, ROUNDS, admissible_set, choose, lopo
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED
 
 
 def test_the_grids_are_the_ones_fixed_before_measuring():
     assert ROUNDS[1] == {OFF: {}, "F0.15": {"min_rms_ms2": 0.15}, "F0.1": {"min_rms_ms2": 0.1}}
     assert ROUNDS[2] == {OFF: {}, "S0.15": {"min_rms_slow_ms2": 0.15}, "S0.1": {"min_rms_slow_ms2": 0.1}}
-    assert len(GRID) == 5  # today once, two settings per round
+    assert ROUNDS[3] == {OFF: {}, "P0.2": {"rhythm_min_periodicity": 0.2}, "P0.15": {"rhythm_min_periodicity": 0.15}}
+    assert len(GRID) == 7  # today once, two settings per round
+    # round 3's relief needs a gyroscope: its Oxford / IFSM check also needs no file changed (P6)
+    assert GYRO_ONLY == {"P0.2", "P0.15"}
 
 
 def _rates(g, d, gc=0.1, dc=0.5):

@@ -756,14 +756,7 @@ def stride_rhythm(recording: Recording, windows: pd.DataFrame, pad_s: float = ST
             axis = np.linalg.eigh(np.einsum("klc,kld->kcd", five, five))[1][:, :, -1]
             proj[sel] = np.einsum("klc,kc->kl", five, axis)
     rms = np.sqrt(np.mean(proj**2, axis=1))
-    period, corr, half = ad.swing_stride(proj, fs / q)
-    ok = (rms >= ad.GYRO_MIN_RMS_RADS) & np.isfinite(period)
-    ok &= np.nan_to_num(corr, nan=-1.0) >= ad.MIN_PERIODICITY
-    ok &= np.nan_to_num(half, nan=1.0) <= -ad.GYRO_SWING_HALF_CORRELATION
-    step = period / 2.0
-    with np.errstate(invalid="ignore"):
-        ok &= (step >= (fs / q) / ad.MAX_STEP_HZ) & (step <= (fs / q) / ad.MIN_STEP_HZ)
-    return ok
+    return ad.swing_rhythm(proj, rms, fs / q)[0]
 
 
 def still_unsure(recording: Recording, windows: pd.DataFrame, still) -> np.ndarray:

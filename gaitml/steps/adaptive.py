@@ -88,7 +88,12 @@ amplitude it uses is a noise floor. Five stages:
    ``min_rms_ms2``): where the local step period is longer than ``1 / slow_step_hz``
    the floor scales with the square of the step frequency (the same vertical
    excursion gives ``(2 pi f)^2`` times less acceleration at a slower step), down to
-   ``min_rms_slow_ms2`` (:func:`slow_step_noise_floor`).
+   ``min_rms_slow_ms2`` (:func:`slow_step_noise_floor`). Opt-in, with a gyroscope
+   (``rhythm_min_periodicity`` above 0 and below ``min_periodicity``): a peak the periodicity
+   floor alone removes is kept where its periodicity reaches
+   ``rhythm_min_periodicity`` and the phone turns with a stride rhythm whose step
+   matches the window's (:func:`rhythm_windows`): a calm hand-held walk's |acc|
+   repeats weakly while the body that carries the phone still turns once per stride.
 
 Each step gets a ``confidence`` in [0, 1]: the periodicity at the step times
 the regularity of its timing (1 - |interval - T| / T, the mean interval to
@@ -213,6 +218,8 @@ __all__ = [
     "gyro_stride_or_step",
     "gyro_swing_cadence",
     "swing_stride",
+    "swing_rhythm",
+    "rhythm_windows",
     "bout_octave",
     "octave_counts",
 ]
@@ -278,6 +285,19 @@ MIN_RMS_MS2 = 0.2
 #: Rehabil. Res. Dev. 41, 2004, as SLOW_STEP_MAX_RMS_MS2), so below SLOW_STEP_HZ the floor is MIN_RMS_MS2 x
 #: (f / SLOW_STEP_HZ)^2, but not below this. Measured on tyrex (experiments/reports/tyrex-steps.md, texstep section)
 MIN_RMS_SLOW_MS2 = MIN_RMS_MS2
+#: stage 4's gyroscope relief of the periodicity floor (opt-in, with a gyroscope; 0: off, as at min_periodicity or above): a
+#: peak that only the periodicity floor removes (|acc|'s periodicity below ``min_periodicity``) is kept when its
+#: periodicity reaches this and the phone turns with a stride rhythm there whose step matches the window's
+#: (:func:`swing_rhythm`, :data:`RHYTHM_STEP_TOLERANCE`). A calm hand-held walk's trunk barely bounces, so |acc| repeats
+#: weakly, while the body that carries the phone still turns once per stride and reverses between the steps (Perry &
+#: Burnfield, Gait Analysis, 2nd ed. 2010, ch. 10): a second sensor confirms the gait the weak |acc| rhythm suggests.
+#: Unlike stage 2c the swing sets neither the step period nor the periodicity. Measured on tyrex
+#: (experiments/reports/tyrex-steps.md, "perio" section)
+RHYTHM_MIN_PERIODICITY = 0.0
+#: the periodicity-floor relief: the swing's step (half its stride period) must lie within this fraction of the cadence
+#: window's |acc| step period, so a window read at half a step (a push-off peak) or at a stride finds no relief.
+#: OCTAVE_MATCH_TOLERANCE's 0.8-1.25 "match" band of the tyrex window diagnosis (experiments/reports/tyrex-steps.md)
+RHYTHM_STEP_TOLERANCE = 0.25
 #: a step is the highest peak of the folded signal within this fraction of the step period either side
 MIN_DISTANCE_RATIO = 0.6
 #: a shorter lag whose autocorrelation peak reaches this fraction of the best is the fundamental period
@@ -677,6 +697,84 @@ def swing_stride(proj: np.ndarray, sampling_rate_hz: float, *, min_step_hz: floa
     return period, corr, np.where(ok, half, np.nan)
 
 
+def swing_rhythm(
+    proj: np.ndarray,
+    rms: np.ndarray,
+    sampling_rate_hz: float,
+    *,
+    min_step_hz: float = MIN_STEP_HZ,
+    max_step_hz: float = MAX_STEP_HZ,
+    min_rms_rads: float = GYRO_MIN_RMS_RADS,
+    min_correlation: float = MIN_PERIODICITY,
+    half_correlation: float = GYRO_SWING_HALF_CORRELATION,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per window of the swing projection (:func:`swing_projection`, ``proj`` and its ``rms``): does the phone turn
+    with a stride rhythm? Returns ``(rhythm, period)``, ``period`` the swing's stride period in samples
+    (:func:`swing_stride`, NaN where none).
+
+    The body that carries the phone rotates once per stride and reverses between the left and the right step (Perry &
+    Burnfield, *Gait Analysis*, 2nd ed. 2010, ch. 10); a standing body's sway has no stride period and reverses at no
+    half-stride. A rhythm: the swing's RMS reaches ``min_rms_rads``, its stride period ``P`` correlates at least
+    ``min_correlation``, the swing is in anti-phase at ``P / 2`` (correlation at most ``-half_correlation``) and
+    ``P / 2`` is a step of the human range. The test of :func:`gaitml.models.stride_rhythm` (predict's
+    ``still_unsure`` mark), which calls this; the periodicity floor's relief in :func:`adaptive_steps` reads it on the
+    cadence windows.
+    """
+    fs = float(sampling_rate_hz)
+    rms = np.asarray(rms, dtype=float)
+    period, corr, half = swing_stride(proj, fs, min_step_hz=min_step_hz, max_step_hz=max_step_hz)
+    ok = (rms >= min_rms_rads) & np.isfinite(period)
+    ok &= np.nan_to_num(corr, nan=-1.0) >= min_correlation
+    ok &= np.nan_to_num(half, nan=1.0) <= -half_correlation
+    step = period / 2.0
+    with np.errstate(invalid="ignore"):
+        ok &= (step >= fs / max_step_hz) & (step <= fs / min_step_hz)
+    return ok, period
+
+
+def rhythm_windows(
+    cadence: dict[str, np.ndarray],
+    projection: tuple[np.ndarray, np.ndarray],
+    sampling_rate_hz: float,
+    *,
+    min_step_hz: float = MIN_STEP_HZ,
+    max_step_hz: float = MAX_STEP_HZ,
+    min_rms_rads: float = GYRO_MIN_RMS_RADS,
+    min_periodicity: float = MIN_PERIODICITY,
+    step_tolerance: float = RHYTHM_STEP_TOLERANCE,
+) -> np.ndarray:
+    """The cadence windows where the periodicity floor's relief may keep a peak (:data:`RHYTHM_MIN_PERIODICITY`).
+
+    A window qualifies when its |acc| periodicity is below ``min_periodicity`` (the floor removes its peaks), the
+    phone turns there with a stride rhythm (:func:`swing_rhythm` on the window's swing ``projection``, with |acc|'s
+    floor ``min_periodicity`` as the swing's correlation floor, as :func:`gaitml.models.stride_rhythm`) and the
+    swing's step, half its stride period, lies within ``step_tolerance`` of the window's step period. ``cadence``:
+    :func:`local_cadence`'s windows (``period_s``, ``periodicity``) at ``sampling_rate_hz``, the rate of
+    ``projection``.
+    """
+    fs = float(sampling_rate_hz)
+    T = np.asarray(cadence["period_s"], dtype=float) * fs
+    weak = np.asarray(cadence["periodicity"], dtype=float) < min_periodicity
+    out = np.zeros(len(T), dtype=bool)
+    idx = np.flatnonzero(weak)
+    if len(idx) == 0:
+        return out
+    proj, rms = projection
+    ok, P = swing_rhythm(
+        proj[idx],
+        rms[idx],
+        fs,
+        min_step_hz=min_step_hz,
+        max_step_hz=max_step_hz,
+        min_rms_rads=min_rms_rads,
+        min_correlation=min_periodicity,
+    )
+    with np.errstate(invalid="ignore"):
+        ok &= np.abs(P / 2.0 - T[idx]) <= step_tolerance * T[idx]
+    out[idx] = ok
+    return out
+
+
 def gyro_swing_cadence(
     cadence: dict[str, np.ndarray],
     projection: tuple[np.ndarray, np.ndarray],
@@ -1063,6 +1161,8 @@ def adaptive_steps(
     min_periodicity: float = MIN_PERIODICITY,
     min_rms_ms2: float = MIN_RMS_MS2,
     min_rms_slow_ms2: float = MIN_RMS_SLOW_MS2,
+    rhythm_min_periodicity: float = RHYTHM_MIN_PERIODICITY,
+    rhythm_step_tolerance: float = RHYTHM_STEP_TOLERANCE,
     min_distance_ratio: float = MIN_DISTANCE_RATIO,
     fold: bool = True,
     edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
@@ -1188,7 +1288,29 @@ def adaptive_steps(
     cs = np.concatenate([[0.0], np.cumsum(y * y)])
     rms = _step_noise_floor(cs, pk, np.maximum(np.rint(T).astype(np.int64), 1), n)
     floor_ms2 = slow_step_noise_floor(T / fs, min_rms_ms2, min_rms_slow_ms2, slow_step_hz)
-    keep = dominant & (s[pk] > 0) & (R >= min_periodicity) & (rms >= floor_ms2)
+    periodic = R >= min_periodicity
+    relieved = np.zeros(len(pk), dtype=bool)
+    weak = np.zeros(len(pk), dtype=bool)
+    if gyr_rads is not None and 0 < rhythm_min_periodicity < min_periodicity and len(pk):
+        # the periodicity floor's relief: a weakly periodic peak where the phone turns with a stride rhythm whose step
+        # matches the window's (rhythm_windows); the swing sets neither the period nor the periodicity
+        nw = len(cad["period_s"])
+        rhythm = rhythm_windows(
+            cad,
+            (swing[0][:nw], swing[1][:nw]),
+            fs / q,
+            min_step_hz=min_step_hz,
+            max_step_hz=max_step_hz,
+            min_rms_rads=gyro_min_rms_rads,
+            min_periodicity=min_periodicity,
+            step_tolerance=rhythm_step_tolerance,
+        )
+        weak = ~periodic & (R >= rhythm_min_periodicity)
+        relieved = weak & (np.interp(pk, centres, rhythm.astype(float)) > 0.5)
+    keep = dominant & (s[pk] > 0) & (periodic | relieved) & (rms >= floor_ms2)
+    # the relief's account: the peaks only the periodicity floor removed above rhythm_min_periodicity, and those it kept
+    candidate = dominant & (s[pk] > 0) & weak & (rms >= floor_ms2)
+    n_weak, n_relieved = int(candidate.sum()), int((candidate & relieved).sum())
     pk, T, R, inferred, by_swing = pk[keep], T[keep], R[keep], inferred[keep], by_swing[keep]
     amp = s[pk]
     # stage 5a: one octave per walking bout, from the swing pooled over the bout (bout_octave)
@@ -1345,6 +1467,8 @@ def adaptive_steps(
         "cadence": cad,
         "octave": octave,
         "octave_bouts": octave_bouts,
+        "rhythm_peaks": n_relieved,
+        "rhythm_candidates": n_weak,
         "today": account["today"],
         "stage5b": account["stage5b"],
     }
@@ -1410,6 +1534,16 @@ class AdaptiveStepDetector(BaseStepDetector):
         ``1 / slow_step_hz`` the noise floor is ``min_rms_ms2 x (f / slow_step_hz)^2``
         at step frequency ``f``, but not below this (:func:`slow_step_noise_floor`):
         a slow step of the same vertical excursion carries less acceleration.
+    rhythm_min_periodicity : float, default 0.0 (off)
+        Above 0 and below ``min_periodicity`` (opt-in, with a gyroscope), the periodicity
+        floor's relief: a peak that only the periodicity floor removes is kept
+        where its periodicity reaches this and the phone turns with a stride
+        rhythm whose step matches the window's (:func:`rhythm_windows`).
+        Without a gyroscope (or with ``use_gyroscope=False``) it cannot run: one
+        warning says so and the steps are those of the default.
+    rhythm_step_tolerance : float, default 0.25
+        The relief's match: the swing's step (half its stride period) within
+        this fraction of the window's step period.
     min_distance_ratio : float, default 0.6
         A step is the highest peak of the folded signal within this fraction
         of the local step period on either side.
@@ -1607,6 +1741,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         "gyro_phase_correlation": [Interval(0, 1, closed="both")],
         "gyro_swing_half_correlation": [Interval(0, 1, closed="both")],
         "gyro_swing_min_periodicity": [Interval(0, 1, closed="both")],
+        "rhythm_min_periodicity": [Interval(0, 1, closed="both")],
+        "rhythm_step_tolerance": [Interval(0, 1, closed="both")],
         "gyro_swing_acc_correlation": [Interval(-1, 1, closed="both")],
         "gyro_swing_min_bout_steps": [NON_NEGATIVE_INTEGER],
         "octave_swing_min_correlation": [Interval(0, 1, closed="both")],
@@ -1639,6 +1775,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         min_periodicity: float = MIN_PERIODICITY,
         min_rms_ms2: float = MIN_RMS_MS2,
         min_rms_slow_ms2: float = MIN_RMS_SLOW_MS2,
+        rhythm_min_periodicity: float = RHYTHM_MIN_PERIODICITY,
+        rhythm_step_tolerance: float = RHYTHM_STEP_TOLERANCE,
         min_distance_ratio: float = MIN_DISTANCE_RATIO,
         fold: bool = True,
         edge_confidence_ratio: float = EDGE_CONFIDENCE_RATIO,
@@ -1677,6 +1815,8 @@ class AdaptiveStepDetector(BaseStepDetector):
         self.min_periodicity = min_periodicity
         self.min_rms_ms2 = min_rms_ms2
         self.min_rms_slow_ms2 = min_rms_slow_ms2
+        self.rhythm_min_periodicity = rhythm_min_periodicity
+        self.rhythm_step_tolerance = rhythm_step_tolerance
         self.min_distance_ratio = min_distance_ratio
         self.fold = fold
         self.edge_confidence_ratio = edge_confidence_ratio
@@ -1747,6 +1887,16 @@ class AdaptiveStepDetector(BaseStepDetector):
                 UserWarning,
                 stacklevel=2,
             )
+        rhythm_requested = 0 < float(self.rhythm_min_periodicity) < float(self.min_periodicity)
+        if rhythm_requested and gyr is None:
+            # the periodicity floor's relief reads the gyroscope: without one it cannot run (the default's steps)
+            why = "use_gyroscope is False" if rec.has_gyr else "the recording has no gyroscope"
+            warnings.warn(
+                f"adaptive: the periodicity floor's gyroscope relief (rhythm_min_periodicity={self.rhythm_min_periodicity}) did not run: "
+                f"{why}; steps are detected without it.",
+                UserWarning,
+                stacklevel=2,
+            )
         before = params.pop("episode_before_gait_check")
         episode_requested = float(self.episode_gap_ratio) > 0 and float(self.max_bout_interval_cv) > 0
         # stage 5b reads the gait check's verdict, which needs the gyroscope (round 3; rounds 1-2 ran it before the check)
@@ -1807,6 +1957,12 @@ class AdaptiveStepDetector(BaseStepDetector):
             self.steps_.attrs["episode"] = {"ran": True, "added": int(join.sum()), "withheld": int((~join).sum())}
         # stage 5a's per-bout octave decisions (all 0 where it is off or there is no gyroscope)
         self.steps_.attrs["octave"] = dict(r["octave"])
+        # the periodicity floor's relief: whether it ran and how many peaks it kept past stage 4 (before stage 5)
+        self.steps_.attrs["rhythm"] = {
+            "ran": rhythm_requested and gyr is not None,
+            "candidates": int(r["rhythm_candidates"]),
+            "peaks": int(r["rhythm_peaks"]),
+        }
         self.octave_bouts_ = pd.DataFrame(r["octave_bouts"])
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(

@@ -40,9 +40,9 @@ def rhythm_projections(monkeypatch) -> list:
     seen: list = []
     real = adaptive.swing_stride
 
-    def spy(proj, rate):
+    def spy(proj, rate, **kw):
         seen.append(proj.copy())
-        return real(proj, rate)
+        return real(proj, rate, **kw)
 
     monkeypatch.setattr(adaptive, "swing_stride", spy)
     return seen

@@ -330,6 +330,7 @@ def train_recipe(
     tempo=(),
     tempo_labels=("run",),
     tempo_domain=True,
+    tempo_positions=(),
 ):
     """Train recipe ``recipe`` on the simulated recordings and the real training people; return the loaded model.
 
@@ -345,7 +346,8 @@ def train_recipe(
     ``tempo``: every real training recording labelled one of ``tempo_labels`` also trains replayed at each tempo factor
     (:func:`gaitml.pipeline.augment.tempo_copies`, ``data.augment.tempo``), appended after the real recordings before
     the turns and flips (which then apply to the copies too), as gaitml train does; the copies enter the domain record
-    (``tempo_domain = False``, lab: they train the classifier only, like the other copies).
+    unless ``tempo_domain = False`` (``data.augment.tempo_in_domain``: they train the classifier only, like the other
+    copies); ``tempo_positions`` (``data.augment.tempo_positions``): only the recordings carried there (empty: any).
     """
     from gaitml.consts import MOTION_MODES
     from gaitml.features import feature_names
@@ -365,9 +367,7 @@ def train_recipe(
     if tempo and weight:
         from gaitml.pipeline.augment import tempo_copies
 
-        extra = tempo_copies(real, tempo, tempo_labels)
-        if not tempo_domain:
-            extra = [c.replace(meta={k: v for k, v in c.meta.items() if k != "augment_in_domain"}, check_units=False) for c in extra]
+        extra = tempo_copies(real, tempo, tempo_labels, positions=list(tempo_positions) or None, in_domain=tempo_domain)
         real = real + extra
     if (augment or flips) and weight:
         from gaitml.pipeline.augment import POCKET_POSITIONS, SWING_POSITIONS, augmented_set
@@ -585,6 +585,8 @@ def simulated_part(cfg):
             "data.augment.flip_positions": list(POCKET_POSITIONS),
             "data.augment.tempo": [],
             "data.augment.tempo_labels": list(TEMPO_LABELS),
+            "data.augment.tempo_positions": [],
+            "data.augment.tempo_in_domain": True,
         }
     )
 
@@ -656,8 +658,15 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--tempo-domain",
         choices=("on", "off"),
-        default="on",
-        help="lab: off keeps the tempo copies out of the domain record (they train the classifier only)",
+        default=None,
+        help="override data.augment.tempo_in_domain: off keeps the tempo copies out of the domain record (they train the "
+        "classifier only; default: the config's)",
+    )
+    ap.add_argument(
+        "--tempo-positions",
+        default=None,
+        help="override data.augment.tempo_positions: comma-separated carrying positions (meta position, e.g. pocket) whose "
+        "running recordings get the tempo copies ('' = every position; default: the config's)",
     )
     ap.add_argument(
         "--score-rates",
@@ -724,6 +733,21 @@ def main(argv=None) -> int:
     if a.tempo is not None:
         tempo = [float(f) for f in a.tempo.split(",") if f]
     tempo_labels = list(cfg_full["data"]["augment"]["tempo_labels"])
+    tempo_positions = list(cfg_full["data"]["augment"]["tempo_positions"])
+    if a.tempo_positions is not None:
+        tempo_positions = [p for p in a.tempo_positions.split(",") if p]
+    tempo_domain = bool(cfg_full["data"]["augment"]["tempo_in_domain"])
+    if a.tempo_domain is not None:
+        tempo_domain = a.tempo_domain == "on"
+    if tempo and tempo_positions:
+        from gaitml.io.tyrex import TYREX_MODES, TYREX_POSITIONS
+
+        known = sorted({TYREX_POSITIONS[m] for m, mode in TYREX_MODES.items() if mode in tempo_labels})
+        unknown = [p for p in tempo_positions if p not in known]
+        if unknown:
+            raise SystemExit(
+                f"--tempo-positions has {unknown}, no {'/'.join(tempo_labels)} recording's position; positions: {', '.join(known)}."
+            )
     rates = [float(r) for r in cfg_full["data"]["augment"]["rates"]]
     if a.rates is not None:
         rates = [float(r) for r in a.rates.split(",") if r]
@@ -813,8 +837,10 @@ def main(argv=None) -> int:
             )
             if tempo:  # only when set: the cache key of the fold models without tempo copies stays as it was
                 kw.update(tempo=tempo, tempo_labels=tempo_labels)
-                if a.tempo_domain == "off":
+                if not tempo_domain:
                     kw["tempo_domain"] = False
+                if tempo_positions:  # likewise: round 1's caches (every position) keep their key
+                    kw["tempo_positions"] = tempo_positions
             with tempfile.TemporaryDirectory() as tmp:
                 mdir = Path(tmp) / "m"
                 if a.cache is not None:
@@ -892,8 +918,10 @@ def main(argv=None) -> int:
         )
         if tempo:
             aug += (
-                f", the real {'/'.join(tempo_labels)} recordings also at tempo {'/'.join(f'{f:g}' for f in tempo)} (data.augment.tempo"
-                + (", not in the domain record)" if a.tempo_domain == "off" else ")")
+                f", the real {'/'.join(tempo_labels)} recordings"
+                + (f" in {'/'.join(tempo_positions)}" if tempo_positions else "")
+                + f" also at tempo {'/'.join(f'{f:g}' for f in tempo)} (data.augment.tempo"
+                + (", not in the domain record)" if not tempo_domain else ")")
             )
         if rates:
             which = "every training recording" if a.rate_sources == "all" else "every real training recording (not the simulated)"

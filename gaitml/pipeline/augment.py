@@ -61,9 +61,14 @@ gyroscope integrated, tilt corrected towards the low-passed gravity), which foll
 turns within a stride where a low-pass of the accelerometer cannot. Time-warped and
 magnitude-scaled copies of wearable data as training augmentation: Um et al. 2017. A tempo copy
 is meta ``augmented`` like the others (cross-validation does not score it) but, unlike them, it
-is a motion a runner can make in a grip the walkers used, so it enters the domain record
+is a motion a runner can make in a grip the walkers used, so by default it enters the domain record
 (meta ``augment_in_domain``; :func:`without_copies` with ``keep_in_domain``): a faster runner
-is then neither read by a model that never saw their tempo nor flagged for it.
+is then neither read by a model that never saw their tempo nor flagged for it. With
+``in_domain=False`` the copies train the classifier only, like the other copies. ``positions``
+limits the copies to recordings carried in the named positions (meta ``position``, e.g. tyrex's
+``pocket``). Both are measured in experiments/reports/default-model.md ("Tempo copies of real
+running, round 2"). In the hand, a slowed run lands on brisk walking with a swinging hand, and
+copies in the domain record take its held-out thresholds with them; a run in a pocket does neither.
 
 This is ours: the papers train on the grips their walkers used, at one rate.
 
@@ -454,7 +459,7 @@ def _check_tempo(factors) -> list[float]:
     return out
 
 
-def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None):
+def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None, *, in_domain: bool = True):
     """``rec`` replayed at tempo ``factor``: the motion ``x(t)`` as ``x(factor t)``, at ``rec``'s own sampling rate.
 
     Parameters
@@ -463,6 +468,8 @@ def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None):
     factor : the tempo ``s`` (> 1 faster, < 1 slower).
     gravity_up_b : (n, 3) gravity in the phone frame as the accelerometer reads it at rest (m/s^2), per sample
         of ``rec``; default :func:`phone_up_gravity`.
+    in_domain : mark the copy ``augment_in_domain`` (the domain record keeps it); False: it trains the
+        classifier only, like the turned, flipped and rate copies.
 
     Returns
     -------
@@ -472,8 +479,8 @@ def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None):
     low-passed at ``0.45 fs / s`` (4th-order Butterworth, zero phase), so that nothing above
     0.45 x the rate reaches the copy, as :func:`gaitml.models.resample_recording` does when it
     down-samples). Labels follow the time axis (sample and hold). Meta ``augmented`` (``"tempo
-    1.15x"``), ``augment_tempo`` and ``augment_in_domain``; references (truth on the original's
-    time axis) are dropped.
+    1.15x"``), ``augment_tempo`` and, with ``in_domain``, ``augment_in_domain``; references (truth on
+    the original's time axis) are dropped.
     """
     from gaitml.signal import lowpass
 
@@ -501,12 +508,13 @@ def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None):
     note = f"tempo {s:g}x"
     prev = rec.meta.get("augmented")
     meta = {
-        **rec.meta,
+        **{k: v for k, v in rec.meta.items() if k != "augment_in_domain"},
         "augmented": f"{prev}, {note}" if prev else note,
         "augment_tempo": s,
-        "augment_in_domain": True,
         "id": f"{rec.meta.get('id', rec.meta.get('session', 'recording'))} [{note}]",
     }
+    if in_domain:
+        meta["augment_in_domain"] = True
     labels = None if rec.labels is None else np.asarray(rec.labels, dtype=object)[i0]
     return rec.replace(
         acc=warp(acc_s),
@@ -518,20 +526,31 @@ def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None):
     )
 
 
-def tempo_copies(recs: Sequence, factors: Iterable[float], labels: Iterable[str] = TEMPO_LABELS) -> list:
+def tempo_copies(
+    recs: Sequence,
+    factors: Iterable[float],
+    labels: Iterable[str] = TEMPO_LABELS,
+    *,
+    positions: Iterable[str] | None = None,
+    in_domain: bool = True,
+) -> list:
     """Tempo copies (:func:`tempo_recording`) of the recordings in ``recs`` whose per-sample labels hold one of ``labels``.
 
     One copy per such recording and factor, recording by recording, factor by factor; the phone's
     gravity is estimated once per recording (:func:`phone_up_gravity`). Recordings without a
     gyroscope get none (their gravity along the turns is unknown): the caller reports it.
-    Returns the copies only.
+    ``positions``: only recordings whose meta ``position`` is one of them (None: any position).
+    ``in_domain``: passed to :func:`tempo_recording`. Returns the copies only.
     """
     factors = _check_tempo(list(factors))
     want = set(labels)
+    where = None if positions is None else {str(p) for p in positions}
     out = []
     for rec in recs:
         if rec.gyr is None or rec.labels is None or not want.intersection(np.unique(np.asarray(rec.labels, dtype=object).astype(str))):
             continue
+        if where is not None and str(rec.meta.get("position", "")) not in where:
+            continue
         g_b = phone_up_gravity(rec)
-        out.extend(tempo_recording(rec, s, g_b) for s in factors)
+        out.extend(tempo_recording(rec, s, g_b, in_domain=in_domain) for s in factors)
     return out

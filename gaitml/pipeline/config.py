@@ -65,6 +65,10 @@ Keys (defaults in brackets) of ``task = "classification"``::
                                      # tempo_copies); the copies enter the domain record too, are turned and
                                      # flipped like their recording and get rate copies ("folder")
     tempo_labels = ["run"]           # the per-sample labels whose recordings get tempo copies
+    tempo_positions = []             # meta "position" values whose recordings get tempo copies (e.g. ["pocket"]);
+                                     # [] = every position
+    tempo_in_domain = true           # false: the tempo copies train the classifier only and stay out of the
+                                     # domain record, like the other copies
     [data.simulated]
     subjects = 8
     sessions = 1                     # recordings per subject (later sessions vary a little: another day)
@@ -415,6 +419,8 @@ SCHEMA: dict[str, Any] = {
             # running replayed faster and slower (time compressed, rates and accelerations scaled)
             "tempo": _Leaf((list,), [], check=_augment_tempo),
             "tempo_labels": _Leaf((list,), list(TEMPO_LABELS_DEFAULT), item_type=str, check=_no_repeats),
+            "tempo_positions": _Leaf((list,), [], item_type=str, check=_no_repeats),
+            "tempo_in_domain": _Leaf((bool,), True),
         },
         # a folder source plus the simulated subjects of [data.simulated]
         "add_simulated": _Leaf((bool,), False),
@@ -571,6 +577,8 @@ _WRITTEN_WHEN_SET: dict[tuple[str, ...], Any] = {
     ("data", "augment", "rates"): [],
     ("data", "augment", "tempo"): [],
     ("data", "augment", "tempo_labels"): list(TEMPO_LABELS_DEFAULT),
+    ("data", "augment", "tempo_positions"): [],
+    ("data", "augment", "tempo_in_domain"): True,
     ("train", "domain_acc_range_ms2"): 0.0,
 }
 
@@ -788,6 +796,8 @@ def parse_config(
             ("data.augment.flip_positions", list(d["augment"]["flip_positions"]) != list(POCKET_POSITIONS_DEFAULT)),
             ("data.augment.tempo", bool(d["augment"]["tempo"])),
             ("data.augment.tempo_labels", list(d["augment"]["tempo_labels"]) != list(TEMPO_LABELS_DEFAULT)),
+            ("data.augment.tempo_positions", bool(d["augment"]["tempo_positions"])),
+            ("data.augment.tempo_in_domain", not d["augment"]["tempo_in_domain"]),
         ):
             if on:
                 raise ConfigError(f"{key} applies to data.source = 'folder' (a real data set); remove it or read a folder.")
@@ -807,10 +817,14 @@ def parse_config(
             ):
                 if on:
                     raise ConfigError(f"{key} is set but data.augment.swing_turns = 0 (no copies): set swing_turns > 0 or remove {key}.")
-        if check_unused and not aug["tempo"] and list(aug["tempo_labels"]) != list(TEMPO_LABELS_DEFAULT):
-            raise ConfigError(
-                "data.augment.tempo_labels is set but data.augment.tempo is empty (no tempo copy): list factors or remove it."
-            )
+        if check_unused and not aug["tempo"]:
+            for key, on in (
+                ("data.augment.tempo_labels", list(aug["tempo_labels"]) != list(TEMPO_LABELS_DEFAULT)),
+                ("data.augment.tempo_positions", bool(aug["tempo_positions"])),
+                ("data.augment.tempo_in_domain", not aug["tempo_in_domain"]),
+            ):
+                if on:
+                    raise ConfigError(f"{key} is set but data.augment.tempo is empty (no tempo copy): list factors or remove {key}.")
         if aug["tempo"] and not aug["tempo_labels"]:
             raise ConfigError("data.augment.tempo_labels is empty: name the labels whose recordings get tempo copies, e.g. ['run'].")
         aug["tempo"] = [float(x) for x in aug["tempo"]]

@@ -225,7 +225,9 @@ def _load_recordings(cfg: ExperimentConfig):
         notes.append(f"resampled from {rates} Hz to {fs:g} Hz (low-pass at {0.45 * fs:g} Hz when down-sampling, then linear interpolation)")
     aug = d["augment"]
     if aug["tempo"]:
-        out, note = _with_tempo_copies(out, list(aug["tempo"]), list(aug["tempo_labels"]))
+        out, note = _with_tempo_copies(
+            out, list(aug["tempo"]), list(aug["tempo_labels"]), list(aug["tempo_positions"]), bool(aug["tempo_in_domain"])
+        )
         notes.append(note)
     if aug["swing_turns"] > 0 or aug["flips"]:
         from gaitml.pipeline.augment import augmented_set
@@ -281,11 +283,15 @@ def _load_recordings(cfg: ExperimentConfig):
     return _with_rate_copies(cfg, out, notes)
 
 
-def _with_tempo_copies(recs: list, factors: list[float], labels: list[str]):
+def _with_tempo_copies(recs: list, factors: list[float], labels: list[str], positions: list[str] | None = None, in_domain: bool = True):
     """``recs`` plus the tempo copies of those holding a label of ``labels`` (:func:`gaitml.pipeline.augment.tempo_copies`), and a note.
 
-    The copies come after every recording, so that the turns' and flips' random draws of the
-    recordings themselves are those of a config without tempo copies.
+    ``positions`` (``data.augment.tempo_positions``; empty or None: every position): only the
+    recordings carried in those positions (meta ``position``); a listed position that no labelled
+    recording with a gyroscope is carried in is refused. ``in_domain``
+    (``data.augment.tempo_in_domain``): the copies enter the domain record. The copies come after
+    every recording, so that the turns' and flips' random draws of the recordings themselves are
+    those of a config without tempo copies.
     """
     from gaitml.pipeline.augment import tempo_copies
 
@@ -300,14 +306,27 @@ def _with_tempo_copies(recs: list, factors: list[float], labels: list[str]):
             f"data.augment.tempo_labels = {labels} matches no recording with a gyroscope (tempo copies need it for the phone's "
             f"gravity along its turns); labels present: {', '.join(present)}. Fix the labels or set data.augment.tempo = []."
         )
+    where = ""
+    if positions:
+        present = sorted({str(r.meta.get("position", "")) for r in with_gyr})
+        unmatched = [p for p in positions if p not in present]
+        if unmatched:
+            raise ConfigError(
+                f"data.augment.tempo_positions has {unmatched}, which matches no recording labelled {'/'.join(labels)} with a "
+                f"gyroscope; their positions: {', '.join(present)}. Fix the list or remove data.augment.tempo_positions."
+            )
+        chosen = [r for r in chosen if str(r.meta.get("position", "")) in positions]
+        with_gyr = [r for r in with_gyr if str(r.meta.get("position", "")) in positions]
+        where = f" in {'/'.join(positions)}"
     try:
-        extra = tempo_copies(with_gyr, factors, labels)
+        extra = tempo_copies(with_gyr, factors, labels, positions=positions or None, in_domain=in_domain)
     except InputError as exc:
         raise ConfigError(f"data.augment.tempo: {exc}") from exc
     skipped = len(chosen) - len(with_gyr)
     note = (
-        f"augmented: {len(extra)} tempo copies of the {len(with_gyr)} recording(s) labelled {'/'.join(labels)}, replayed at "
-        f"{', '.join(f'{f:g}x' for f in factors)} (time / s, angular rate x s, linear acceleration x s^2; in the domain record)"
+        f"augmented: {len(extra)} tempo copies of the {len(with_gyr)} recording(s) labelled {'/'.join(labels)}{where}, replayed at "
+        f"{', '.join(f'{f:g}x' for f in factors)} (time / s, angular rate x s, linear acceleration x s^2; "
+        + ("in the domain record)" if in_domain else "the classifier only, not in the domain record)")
         + (f"; {skipped} without a gyroscope got none" if skipped else "")
     )
     return [*recs, *extra], note
@@ -771,9 +790,10 @@ def fit_training_domain(cfg: ExperimentConfig, data: PreparedData, ds, model):
     points gravity where no walker held the phone, and other carrying positions, a bag, would
     pass the gravity test there), and its held-out quantile thresholds are not pulled towards
     the augmented position. The tempo copies of ``data.augment.tempo`` are the exception (meta
-    ``augment_in_domain``): a run replayed faster or slower is a motion in a grip the runners
-    used, and the record keeps them, so that a runner faster than the training people is not
-    flagged for their tempo; their own turned, flipped and rate copies stay out.
+    ``augment_in_domain``) unless ``data.augment.tempo_in_domain = false``: a run replayed faster
+    or slower is a motion in a grip the runners used, and the record keeps them, so that a runner
+    faster than the training people is not flagged for their tempo; their own turned, flipped and
+    rate copies stay out.
 
     The record also holds the lowest sampling rate the model was trained at
     (:func:`training_min_rate`, over every training recording, rate copies included): a recording

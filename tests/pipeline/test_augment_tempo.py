@@ -203,3 +203,71 @@ def test_the_domain_record_holds_the_tempo_copies_but_not_their_flips(tmp_path):
     data2 = prepare_data(cfg2, use_cache=False)
     assert sum("flipped about y, tempo" in r.meta.get("augmented", "") for r in data2.recordings) == 4
     assert_same_domain(domain(cfg2, data2), d1)
+
+
+def test_tempo_copies_by_position_and_out_of_the_domain_record():
+    rec, _ = _run_recording(n_s=12.0)
+    hand = rec.replace(meta={**rec.meta, "position": "hand", "id": "hand"})
+    out = tempo_copies([hand, rec], [0.87, 1.15], positions=["pocket"], in_domain=False)
+    assert [c.meta["id"] for c in out] == ["syn [tempo 0.87x]", "syn [tempo 1.15x]"]  # the pocket recording only
+    assert all("augment_in_domain" not in c.meta and c.meta["augmented"].startswith("tempo") for c in out)
+    assert len(tempo_copies([hand, rec], [1.15])) == 2  # positions None: any position
+    assert tempo_copies([hand], [1.15], positions=["pocket"]) == []
+    # out of the record: what the domain is fitted on is the recordings alone, as without copies
+    kept, _ = without_copies([rec, *out], [0, 1, 2], keep_in_domain=True)
+    assert kept == [rec]
+    # the same samples either way: only the mark differs
+    inside = tempo_copies([rec], [1.15])[0]
+    np.testing.assert_array_equal(inside.acc, out[1].acc)
+    assert inside.meta["augment_in_domain"] is True
+
+
+def test_tempo_positions_and_in_domain_are_validated(tmp_path):
+    root = _csv_folder(tmp_path)  # swinging-hand and front-pocket recordings, each with a run stretch
+    with pytest.raises(ConfigError, match="tempo_positions is set but data.augment.tempo is empty"):
+        _csv_config(root, tempo_positions=["front-pocket"])
+    with pytest.raises(ConfigError, match="tempo_in_domain is set but data.augment.tempo is empty"):
+        _csv_config(root, tempo_in_domain=False)
+    with pytest.raises(ConfigError, match="data.augment.tempo_positions = .* lists an item twice"):
+        _csv_config(root, tempo=[1.15], tempo_positions=["front-pocket", "front-pocket"])
+    with pytest.raises(ConfigError, match="data.augment.tempo_positions applies to data.source = 'folder'"):
+        parse_config({"name": "x", "data": {"source": "simulated", "augment": {"tempo_positions": ["pocket"]}}})
+    with pytest.raises(
+        ConfigError, match=r"tempo_positions has \['pocket'\], which matches no recording labelled run.*front-pocket, swinging-hand"
+    ):
+        prepare_data(_csv_config(root, tempo=[1.15], tempo_positions=["pocket"]), use_cache=False)
+    # defaults are not written: a config without the keys resolves as before
+    aug = _csv_config(root, tempo=[1.15]).resolved()["data"]["augment"]
+    assert "tempo_positions" not in aug and "tempo_in_domain" not in aug
+    cfg = _csv_config(root, tempo=[0.87, 1.15], tempo_positions=["front-pocket"], tempo_in_domain=False)
+    aug = cfg.resolved()["data"]["augment"]
+    assert aug["tempo_positions"] == ["front-pocket"] and aug["tempo_in_domain"] is False
+    data = prepare_data(cfg, use_cache=False)
+    tempo = [r for r in data.recordings if r.meta.get("augment_tempo")]
+    assert len(tempo) == 4 and {r.meta["position"] for r in tempo} == {"front-pocket"}  # 2 people x 2 factors
+    assert not any(r.meta.get("augment_in_domain") for r in data.recordings)
+    assert any(
+        "4 tempo copies of the 2 recording(s) labelled run in front-pocket" in n and "not in the domain record" in n for n in data.notes
+    )
+
+
+def test_tempo_copies_out_of_the_domain_record_leave_it_as_without_them(tmp_path):
+    """With tempo_in_domain = false the record is the one fitted without any tempo copy; the classifier still trains on them."""
+    from gaitml.models import make_model
+    from gaitml.pipeline.runner import build_dataset, fit_training_domain
+
+    root = _csv_folder(tmp_path)
+
+    def fitted(cfg):
+        data = prepare_data(cfg, use_cache=False)
+        ds = build_dataset(cfg, data, use_cache=False)
+        model = make_model(cfg["model"]["kind"], cfg["model"]["params"], seed=cfg.seed).fit(ds.inputs("features"), ds.y)
+        return fit_training_domain(cfg, data, ds, model), len(ds)
+
+    d0, n0 = fitted(_csv_config(root))
+    d1, n1 = fitted(_csv_config(root, tempo=[0.87, 1.15], tempo_positions=["front-pocket"], tempo_in_domain=False))
+    assert n1 > n0  # the classifier's windows hold the copies
+    assert_same_domain(d1, d0)
+    assert np.isclose(d1.distance_threshold, d0.distance_threshold, rtol=1e-9)
+    d2, _ = fitted(_csv_config(root, tempo=[0.87, 1.15], tempo_positions=["front-pocket"]))  # in the record: it moves
+    assert any(not np.allclose(v, d0.to_arrays()[k]) for k, v in d2.to_arrays().items() if v.shape == d0.to_arrays()[k].shape)

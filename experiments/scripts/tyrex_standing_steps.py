@@ -22,7 +22,7 @@ the folder after any change to ``gaitml``). ``--plot DIR`` draws the recordings 
 steps and one AR recording: motion-capture speed and bounce with the stretches shaded, the phone's |acc| and rotation
 rate, and the detectors' steps.
 
-    python -m experiments.scripts.tyrex_standing_steps --data ../shared/data --cache /tmp/standsteps   # ~1 min
+    python -m experiments.scripts.tyrex_standing_steps --data ../shared/data --cache /tmp/standsteps   # ~30 s
     python -m experiments.scripts.tyrex_standing_steps --data ../shared/data --cache /tmp/standsteps --heldout --plot DIR
 """
 

@@ -865,6 +865,7 @@ def long_pdr(
         heading_check_record,
         modes_from_labels,
         short_run_setting,
+        short_run_unused,
     )
     from gaitml.pdr.step_length import step_length_features
     from gaitml.pdr.step_modes import modes_from_windows, next_step_times
@@ -1009,6 +1010,8 @@ def long_pdr(
         step_reasons = _step_reasons(windows, t_look, n)
     else:
         step_modes = np.full(n, "walk", dtype=object)
+    if modes != "model":
+        short_run_unused(short_w, modes, notes)
     step_modes = np.asarray(step_modes).astype(str)
     update = "forward" if modes == "forward" else "multi"
     offsets = mode_offsets_rad(step_modes, unknown="forward")

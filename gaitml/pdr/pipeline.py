@@ -478,6 +478,7 @@ def run_pdr(
     step_modes = np.asarray(step_modes).astype(str)
     if modes != "model" or mode_boundaries == "per-step":
         short_run_steps = None
+        short_run_unused(short_w, modes, notes)
     if modes != "model":
         step_in_domain = model_modes = None
     if modes != "model":
@@ -554,6 +555,15 @@ def short_run_setting(short_run_windows) -> float:
     if isinstance(short_run_windows, bool) or not (np.isfinite(w) and w >= 0):
         raise InputError(f"short_run_windows must be a number of model windows >= 0 (0: off), got {short_run_windows!r}.")
     return w
+
+
+def short_run_unused(w: float, modes: str, notes: list[str]) -> None:
+    """A note when the short-run rule was asked for (``w`` > 0) where it cannot act: it reads the per-step modes a
+    time-window model's windows give (``modes='model'``), not labels, forward-only steps or a step-window model's own
+    per-step modes."""
+    if w > 0:
+        why = "a step-window model gives each step its own mode" if modes == "model" else f"modes are {modes!r}, not a model's windows"
+        notes.append(f"short_run_windows={w:g} (--short-runs) has no effect: {why}; it applies to --model with a time-window model")
 
 
 def _short_runs(step_modes, t_step, model, w: float, notes: list[str]) -> tuple[np.ndarray, int]:

@@ -253,9 +253,6 @@ def long_steps(
     (:func:`_sum_accounts`): a bout over a chunk edge is one bout, rejected when any chunk left out
     any of its steps.
 
-    ``short_run_windows``: the short-run rule of :func:`gaitml.pdr.run_pdr` (None: its default, 0: off), applied to
-    the nearest-window modes of the whole step sequence as on a whole recording.
-
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`). ``hde``: a configured
     :class:`~gaitml.pdr.hde.HeuristicDriftElimination` for ``heading='hde'`` (as :func:`gaitml.pdr.run_pdr`'s;
@@ -841,6 +838,9 @@ def long_pdr(
     mode inside the chunk loop), step-window
     models and ``mode_boundaries='refine'`` (the refinement reads the samples around every
     mode change); ``'auto'`` becomes ``'nearest'`` with a note.
+
+    ``short_run_windows``: the short-run rule of :func:`gaitml.pdr.run_pdr` (None: its default, 0: off), applied to
+    the nearest-window modes of the whole step sequence as on a whole recording.
 
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`). ``hde``: a configured

@@ -385,6 +385,12 @@ def run_pdr(
         The model's run-cadence rule (:func:`gaitml.models._predict.run_cadence_rule`): a window read
         ``run`` at a walking step cadence takes the model's best other mode. None:
         :data:`gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`; 0: off.
+    short_run_windows : float, optional
+        With ``modes='model'`` and a time-window model, the short-run rule
+        (:func:`gaitml.pdr.step_modes.forward_short_runs`): a side or backward run between forward steps
+        holding fewer steps than this many model windows at the median step interval takes the forward mode
+        before it; ``info['short_run_steps']`` counts them. None: :data:`gaitml.pdr.step_modes.SHORT_RUN_DEFAULT`
+        (0, off); elsewhere it has no effect and a note says so.
 
     Returns
     -------

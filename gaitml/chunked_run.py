@@ -128,7 +128,19 @@ def _core_steps(
 
         first = bouts["first_peak"].to_numpy(np.int64) + ch.offset
         core.attrs["octave"] = octave_counts(bouts["octave"].to_numpy()[(first >= ch.core_start) & (first < ch.core_end)])
+    rhythm = getattr(det, "rhythm_peaks_", None)
+    if rhythm is not None and "rhythm" in core.attrs:
+        # adaptive's periodicity-floor relief: the peaks it judged in the core (each peak of the file once)
+        at = rhythm["peak"].to_numpy(np.int64) + ch.offset
+        inside = (at >= ch.core_start) & (at < ch.core_end)
+        relieved = rhythm["relieved"].to_numpy(bool)
+        core.attrs["rhythm"] = {**core.attrs["rhythm"], "candidates": int(inside.sum()), "peaks": int((inside & relieved).sum())}
     return core, account, det
+
+
+def _sum_rhythm(parts: list[dict]) -> dict:
+    """adaptive's periodicity-floor relief account of the whole file (``attrs['rhythm']``) from the chunks' core counts."""
+    return {"ran": any(bool(p["ran"]) for p in parts), **{k: int(sum(p[k] for p in parts)) for k in ("candidates", "peaks")}}
 
 
 def _sum_octave(parts: list[dict]) -> dict:
@@ -277,6 +289,7 @@ def long_steps(
     also_counts: list[int] = []
     accounts: list[dict] = []
     octaves: list[dict] = []
+    rhythms: list[dict] = []
     cadence_parts: list[pd.DataFrame] = []
     gait = None
     for ch in progress_chunks(
@@ -296,6 +309,8 @@ def long_steps(
         attrs = dict(table.attrs)
         if "octave" in attrs:
             octaves.append(attrs["octave"])
+        if "rhythm" in attrs:
+            rhythms.append(attrs["rhythm"])
         parts.append(_shift_steps(table, ch.offset, fs))
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(ch.recording).steps_, ch).sum()))
@@ -303,6 +318,8 @@ def long_steps(
     out.attrs.update(attrs)
     if octaves:
         out.attrs["octave"] = _sum_octave(octaves)
+    if rhythms:
+        out.attrs["rhythm"] = _sum_rhythm(rhythms)
     out.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_read_s}
     if gait:
         out.attrs["gait_check"] = _sum_accounts(accounts)
@@ -917,6 +934,7 @@ def long_pdr(
     also_counts: list[int] = []
     accounts: list[dict] = []
     octaves: list[dict] = []
+    rhythms: list[dict] = []
     attrs: dict = {}
     fs = None
     carry = None  # attitude of the sample before the next chunk's core
@@ -968,6 +986,8 @@ def long_pdr(
         attrs.update(table.attrs)
         if "octave" in table.attrs:
             octaves.append(table.attrs["octave"])
+        if "rhythm" in table.attrs:
+            rhythms.append(table.attrs["rhythm"])
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(rec).steps_, ch).sum()))
         start = table["start"].to_numpy(np.int64)
@@ -983,6 +1003,8 @@ def long_pdr(
     steps.attrs.update(attrs)
     if octaves:
         steps.attrs["octave"] = _sum_octave(octaves)
+    if rhythms:
+        steps.attrs["rhythm"] = _sum_rhythm(rhythms)
     event = steps.attrs.get("event", "t_peak_s")
     if event not in steps:
         event = "t_peak_s"

@@ -295,8 +295,9 @@ MIN_RMS_SLOW_MS2 = MIN_RMS_MS2
 #: (experiments/reports/tyrex-steps.md, "perio" section)
 RHYTHM_MIN_PERIODICITY = 0.0
 #: the periodicity-floor relief: the swing's step (half its stride period) must lie within this fraction of the cadence
-#: window's |acc| step period, so a window read at half a step (a push-off peak) or at a stride finds no relief.
-#: OCTAVE_MATCH_TOLERANCE's 0.8-1.25 "match" band of the tyrex window diagnosis (experiments/reports/tyrex-steps.md)
+#: window's |acc| step period (a ratio of 0.75-1.25), so a window read at half a step (a push-off peak) or at a stride
+#: finds no relief. The value of OCTAVE_MATCH_TOLERANCE, the "match" of the tyrex window diagnosis
+#: (experiments/reports/tyrex-steps.md), which stage 5a reads on a log scale (0.8-1.25)
 RHYTHM_STEP_TOLERANCE = 0.25
 #: a step is the highest peak of the folded signal within this fraction of the step period either side
 MIN_DISTANCE_RATIO = 0.6

@@ -128,7 +128,19 @@ def _core_steps(
 
         first = bouts["first_peak"].to_numpy(np.int64) + ch.offset
         core.attrs["octave"] = octave_counts(bouts["octave"].to_numpy()[(first >= ch.core_start) & (first < ch.core_end)])
+    rhythm = getattr(det, "rhythm_peaks_", None)
+    if rhythm is not None and "rhythm" in core.attrs:
+        # adaptive's periodicity-floor relief: the peaks it judged in the core (each peak of the file once)
+        at = rhythm["peak"].to_numpy(np.int64) + ch.offset
+        inside = (at >= ch.core_start) & (at < ch.core_end)
+        relieved = rhythm["relieved"].to_numpy(bool)
+        core.attrs["rhythm"] = {**core.attrs["rhythm"], "candidates": int(inside.sum()), "peaks": int((inside & relieved).sum())}
     return core, account, det
+
+
+def _sum_rhythm(parts: list[dict]) -> dict:
+    """adaptive's periodicity-floor relief account of the whole file (``attrs['rhythm']``) from the chunks' core counts."""
+    return {"ran": any(bool(p["ran"]) for p in parts), **{k: int(sum(p[k] for p in parts)) for k in ("candidates", "peaks")}}
 
 
 def _sum_octave(parts: list[dict]) -> dict:
@@ -253,9 +265,6 @@ def long_steps(
     (:func:`_sum_accounts`): a bout over a chunk edge is one bout, rejected when any chunk left out
     any of its steps.
 
-    ``short_run_windows``: the short-run rule of :func:`gaitml.pdr.run_pdr` (None: its default, 0: off), applied to
-    the nearest-window modes of the whole step sequence as on a whole recording.
-
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`). ``hde``: a configured
     :class:`~gaitml.pdr.hde.HeuristicDriftElimination` for ``heading='hde'`` (as :func:`gaitml.pdr.run_pdr`'s;
@@ -280,6 +289,7 @@ def long_steps(
     also_counts: list[int] = []
     accounts: list[dict] = []
     octaves: list[dict] = []
+    rhythms: list[dict] = []
     cadence_parts: list[pd.DataFrame] = []
     gait = None
     for ch in progress_chunks(
@@ -299,6 +309,8 @@ def long_steps(
         attrs = dict(table.attrs)
         if "octave" in attrs:
             octaves.append(attrs["octave"])
+        if "rhythm" in attrs:
+            rhythms.append(attrs["rhythm"])
         parts.append(_shift_steps(table, ch.offset, fs))
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(ch.recording).steps_, ch).sum()))
@@ -306,6 +318,8 @@ def long_steps(
     out.attrs.update(attrs)
     if octaves:
         out.attrs["octave"] = _sum_octave(octaves)
+    if rhythms:
+        out.attrs["rhythm"] = _sum_rhythm(rhythms)
     out.attrs["chunked"] = {"chunk_s": chunk_s, "margin_s": margin_read_s}
     if gait:
         out.attrs["gait_check"] = _sum_accounts(accounts)
@@ -842,6 +856,9 @@ def long_pdr(
     models and ``mode_boundaries='refine'`` (the refinement reads the samples around every
     mode change); ``'auto'`` becomes ``'nearest'`` with a note.
 
+    ``short_run_windows``: the short-run rule of :func:`gaitml.pdr.run_pdr` (None: its default, 0: off), applied to
+    the nearest-window modes of the whole step sequence as on a whole recording.
+
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
     :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`). ``hde``: a configured
     :class:`~gaitml.pdr.hde.HeuristicDriftElimination` for ``heading='hde'`` (as :func:`gaitml.pdr.run_pdr`'s;
@@ -865,6 +882,7 @@ def long_pdr(
         heading_check_record,
         modes_from_labels,
         short_run_setting,
+        short_run_unused,
     )
     from gaitml.pdr.step_length import step_length_features
     from gaitml.pdr.step_modes import modes_from_windows, next_step_times
@@ -916,6 +934,7 @@ def long_pdr(
     also_counts: list[int] = []
     accounts: list[dict] = []
     octaves: list[dict] = []
+    rhythms: list[dict] = []
     attrs: dict = {}
     fs = None
     carry = None  # attitude of the sample before the next chunk's core
@@ -967,6 +986,8 @@ def long_pdr(
         attrs.update(table.attrs)
         if "octave" in table.attrs:
             octaves.append(table.attrs["octave"])
+        if "rhythm" in table.attrs:
+            rhythms.append(table.attrs["rhythm"])
         if count_also is not None:
             also_counts.append(int(_in_core(get_detector(count_also).detect(rec).steps_, ch).sum()))
         start = table["start"].to_numpy(np.int64)
@@ -982,6 +1003,8 @@ def long_pdr(
     steps.attrs.update(attrs)
     if octaves:
         steps.attrs["octave"] = _sum_octave(octaves)
+    if rhythms:
+        steps.attrs["rhythm"] = _sum_rhythm(rhythms)
     event = steps.attrs.get("event", "t_peak_s")
     if event not in steps:
         event = "t_peak_s"
@@ -1009,6 +1032,8 @@ def long_pdr(
         step_reasons = _step_reasons(windows, t_look, n)
     else:
         step_modes = np.full(n, "walk", dtype=object)
+    if modes != "model":
+        short_run_unused(short_w, modes, notes)
     step_modes = np.asarray(step_modes).astype(str)
     update = "forward" if modes == "forward" else "multi"
     offsets = mode_offsets_rad(step_modes, unknown="forward")

@@ -27,6 +27,7 @@ to be read against). Nothing is fitted: no held-out split applies.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -66,8 +67,17 @@ def main(argv=None) -> int:
     ap.add_argument("--factors", default="0.87,1.15,0.8,1.25")
     ap.add_argument("--csv", type=Path, default=None)
     a = ap.parse_args(argv)
+    if not (a.data / "tyrex-attitude").is_dir():
+        print(f"error: no tyrex-attitude folder under {a.data}; pass --data pointing at the shared data folder", file=sys.stderr)
+        return 2
     motions = a.motions.split(",")
-    factors = [float(f) for f in a.factors.split(",") if f]
+    try:
+        factors = [float(f) for f in a.factors.split(",") if f]
+    except ValueError:
+        factors = []
+    if not factors or not all(0 < s for s in factors):
+        print(f"error: --factors must list positive tempo factors, e.g. 0.87,1.15; got {a.factors!r}", file=sys.stderr)
+        return 2
     items = [it for it in load_tyrex_labelled(a.data, 50.0) if it["motion"] in motions]
     rows = []
     pooled: dict = {}

@@ -385,6 +385,12 @@ def run_pdr(
         The model's run-cadence rule (:func:`gaitml.models._predict.run_cadence_rule`): a window read
         ``run`` at a walking step cadence takes the model's best other mode. None:
         :data:`gaitml.models._predict.RUN_CADENCE_DEFAULT_HZ`; 0: off.
+    short_run_windows : float, optional
+        With ``modes='model'`` and a time-window model, the short-run rule
+        (:func:`gaitml.pdr.step_modes.forward_short_runs`): a side or backward run between forward steps
+        holding fewer steps than this many model windows at the median step interval takes the forward mode
+        before it; ``info['short_run_steps']`` counts them. None: :data:`gaitml.pdr.step_modes.SHORT_RUN_DEFAULT`
+        (0, off); elsewhere it has no effect and a note says so.
 
     Returns
     -------
@@ -478,6 +484,7 @@ def run_pdr(
     step_modes = np.asarray(step_modes).astype(str)
     if modes != "model" or mode_boundaries == "per-step":
         short_run_steps = None
+        short_run_unused(short_w, modes, notes)
     if modes != "model":
         step_in_domain = model_modes = None
     if modes != "model":
@@ -554,6 +561,15 @@ def short_run_setting(short_run_windows) -> float:
     if isinstance(short_run_windows, bool) or not (np.isfinite(w) and w >= 0):
         raise InputError(f"short_run_windows must be a number of model windows >= 0 (0: off), got {short_run_windows!r}.")
     return w
+
+
+def short_run_unused(w: float, modes: str, notes: list[str]) -> None:
+    """A note when the short-run rule was asked for (``w`` > 0) where it cannot act: it reads the per-step modes a
+    time-window model's windows give (``modes='model'``), not labels, forward-only steps or a step-window model's own
+    per-step modes."""
+    if w > 0:
+        why = "a step-window model gives each step its own mode" if modes == "model" else f"modes are {modes!r}, not a model's windows"
+        notes.append(f"short_run_windows={w:g} (--short-runs) has no effect: {why}; it applies to --model with a time-window model")
 
 
 def _short_runs(step_modes, t_step, model, w: float, notes: list[str]) -> tuple[np.ndarray, int]:

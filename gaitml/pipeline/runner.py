@@ -258,12 +258,16 @@ def _load_recordings(cfg: ExperimentConfig):
             out, extra = augmented_set(out, turns, positions, seed=cfg.seed, share_time=share, flips=flips, flip_positions=flip_positions)
         except InputError as exc:
             raise ConfigError(f"data.augment.share_time: {exc}") from exc
-        n_turned = sum(1 for r in extra if "swing axis" in r.meta["augmented"] and "flipped" not in r.meta["augmented"])
+        turned = [r for r in extra if "swing axis" in r.meta["augmented"] and "flipped" not in r.meta["augmented"]]
+        n_turned = len(turned)
         parts = []
         if turns > 0:
+            # a tempo copy in a swing position is turned too: counted apart from the real recordings
+            n_tempo = sum(1 for r in turned if r.meta.get("augment_tempo")) // turns
+            of_tempo = f" and their {n_tempo} tempo copies" if n_tempo else ""
             parts.append(
-                f"{n_turned} copies of the {n_turned // turns} real recording(s) in {positions}, the phone turned about its swing axis "
-                f"({turns} angles per recording over the full turn)"
+                f"{n_turned} copies of the {n_turned // turns - n_tempo} real recording(s){of_tempo} in {positions}, the phone turned about "
+                f"its swing axis ({turns} angles per recording over the full turn)"
             )
         if flips:
             parts.append(f"{len(extra) - n_turned} copies flipped 180 deg about the phone's {'/'.join(flips)} axis in {flip_positions}")

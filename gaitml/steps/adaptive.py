@@ -295,8 +295,9 @@ MIN_RMS_SLOW_MS2 = MIN_RMS_MS2
 #: (experiments/reports/tyrex-steps.md, "perio" section)
 RHYTHM_MIN_PERIODICITY = 0.0
 #: the periodicity-floor relief: the swing's step (half its stride period) must lie within this fraction of the cadence
-#: window's |acc| step period, so a window read at half a step (a push-off peak) or at a stride finds no relief.
-#: OCTAVE_MATCH_TOLERANCE's 0.8-1.25 "match" band of the tyrex window diagnosis (experiments/reports/tyrex-steps.md)
+#: window's |acc| step period (a ratio of 0.75-1.25), so a window read at half a step (a push-off peak) or at a stride
+#: finds no relief. The value of OCTAVE_MATCH_TOLERANCE, the "match" of the tyrex window diagnosis
+#: (experiments/reports/tyrex-steps.md), which stage 5a reads on a log scale (0.8-1.25)
 RHYTHM_STEP_TOLERANCE = 0.25
 #: a step is the highest peak of the folded signal within this fraction of the step period either side
 MIN_DISTANCE_RATIO = 0.6
@@ -1311,6 +1312,7 @@ def adaptive_steps(
     # the relief's account: the peaks only the periodicity floor removed above rhythm_min_periodicity, and those it kept
     candidate = dominant & (s[pk] > 0) & weak & (rms >= floor_ms2)
     n_weak, n_relieved = int(candidate.sum()), int((candidate & relieved).sum())
+    rhythm_peaks = {"peak": pk[candidate], "relieved": relieved[candidate]}
     pk, T, R, inferred, by_swing = pk[keep], T[keep], R[keep], inferred[keep], by_swing[keep]
     amp = s[pk]
     # stage 5a: one octave per walking bout, from the swing pooled over the bout (bout_octave)
@@ -1469,6 +1471,7 @@ def adaptive_steps(
         "octave_bouts": octave_bouts,
         "rhythm_peaks": n_relieved,
         "rhythm_candidates": n_weak,
+        "rhythm_peak_table": rhythm_peaks,
         "today": account["today"],
         "stage5b": account["stage5b"],
     }
@@ -1697,6 +1700,12 @@ class AdaptiveStepDetector(BaseStepDetector):
         bout's first peak) and ``octave`` (2 half-steps, 1 steps, 0
         undecided; :func:`bout_octave`); empty where the stage is off.
         ``steps_.attrs['octave']`` counts them (:func:`octave_counts`).
+    rhythm_peaks_ : DataFrame
+        The periodicity floor's relief (``rhythm_min_periodicity``): per stage-4
+        peak only the periodicity floor removed above that periodicity, its
+        ``peak`` (sample) and whether the relief kept it (``relieved``); empty
+        where the relief is off. ``steps_.attrs['rhythm']`` counts them
+        (chunked runs count the peaks of each chunk's core, :mod:`gaitml.chunked_run`).
 
     Notes
     -----
@@ -1964,6 +1973,7 @@ class AdaptiveStepDetector(BaseStepDetector):
             "peaks": int(r["rhythm_peaks"]),
         }
         self.octave_bouts_ = pd.DataFrame(r["octave_bouts"])
+        self.rhythm_peaks_ = pd.DataFrame(r["rhythm_peak_table"])
         cad = r["cadence"]
         self.cadence_: pd.DataFrame = pd.DataFrame(
             {

@@ -109,3 +109,37 @@ def test_cli_refuses_a_bad_short_runs_value(capsys):
     assert main(["pdr", "nowhere.csv", "--short-runs", "-1"]) == 2
     err = capsys.readouterr().err
     assert "--short-runs" in err and err.count("\n") == 1
+
+
+def test_a_short_run_setting_that_cannot_act_says_so(monkeypatch, tmp_path):
+    """``short_run_windows`` > 0 where there are no window modes to read (modes 'forward' or 'true', a step-window
+    model) changes nothing, and a note says so rather than leaving the setting silently unused."""
+    import gaitml.pdr.pipeline as pp
+    from gaitml.chunked_run import long_pdr
+    from gaitml.io import write_gaitml_csv
+    from gaitml.pdr import run_pdr
+
+    rec = synth_walk([("walk", 20, 0.0)], period_s=0.5)
+    kw = {"detector": "single-peak", "gyro_bias": "off"}
+    for modes in ("forward", "true"):
+        off = run_pdr(rec, modes=modes, **kw)
+        on = run_pdr(rec, modes=modes, short_run_windows=1, **kw)
+        assert on.info["short_run_steps"] is None and (on.steps["mode"] == off.steps["mode"]).all()
+        assert not any("short_run_windows" in n for n in off.info["notes"])
+        assert sum("short_run_windows" in n and "no effect" in n for n in on.info["notes"]) == 1
+    # a step-window model gives each step its own mode: nothing for the rule to read
+    model = SimpleNamespace(length_s=1.5, window_by="steps", domain=None, labels=["walk", "backward"])
+
+    def per_step(model, recording, steps, **k):
+        n = len(steps)
+        return np.array(["walk"] * n, dtype=object), "per-step modes", [None] * n, [""] * n
+
+    monkeypatch.setattr(pp, "modes_from_step_model", per_step)
+    on = run_pdr(rec, model=model, modes="model", short_run_windows=1, **kw)
+    assert on.info["short_run_steps"] is None
+    assert sum("short_run_windows" in n and "no effect" in n for n in on.info["notes"]) == 1
+    # the chunked road says the same
+    p = tmp_path / "walk.csv"
+    write_gaitml_csv(rec, p)
+    chunked = long_pdr(p, modes="forward", short_run_windows=1, chunk_s=30.0, margin_s=5.0, progress=False, **kw)
+    assert sum("short_run_windows" in n and "no effect" in n for n in chunked.info["notes"]) == 1

@@ -271,3 +271,13 @@ def test_tempo_copies_out_of_the_domain_record_leave_it_as_without_them(tmp_path
     assert np.isclose(d1.distance_threshold, d0.distance_threshold, rtol=1e-9)
     d2, _ = fitted(_csv_config(root, tempo=[0.87, 1.15], tempo_positions=["front-pocket"]))  # in the record: it moves
     assert any(not np.allclose(v, d0.to_arrays()[k]) for k, v in d2.to_arrays().items() if v.shape == d0.to_arrays()[k].shape)
+
+
+def test_the_training_note_counts_the_real_recordings_turned_apart_from_their_tempo_copies(tmp_path):
+    """The swing-turn note names how many recordings were turned: the real ones, and the tempo copies among them."""
+    root = _csv_folder(tmp_path)  # 2 real swinging-hand recordings, each with a run stretch
+    plain = prepare_data(_csv_config(root, swing_turns=3), use_cache=False)
+    assert any("6 copies of the 2 real recording(s) in ['swinging-hand']" in n for n in plain.notes)
+    data = prepare_data(_csv_config(root, swing_turns=3, tempo=[0.87, 1.15]), use_cache=False)
+    note = next(n for n in data.notes if "turned about its swing axis" in n)
+    assert "18 copies of the 2 real recording(s) and their 4 tempo copies in ['swinging-hand']" in note

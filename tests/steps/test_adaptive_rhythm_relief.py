@@ -131,3 +131,24 @@ def test_the_detector_reports_the_relief_and_checks_the_keywords():
         get_detector("adaptive", rhythm_min_periodicity=-0.1).detect(rec)
     with pytest.raises(InputError, match="rhythm_step_tolerance"):
         get_detector("adaptive", rhythm_step_tolerance=-0.1).detect(rec)
+
+
+def test_a_chunked_run_counts_the_relief_over_the_whole_file(tmp_path):
+    """``long_steps`` keeps the same steps as a whole-file run; ``attrs['rhythm']`` must count the relief's peaks of
+    the whole file (each chunk's core once), not those of the last chunk read."""
+    from gaitml.chunked_run import long_steps
+    from gaitml.io import write_gaitml_csv
+
+    mag, gyr, _ = _walk(0, seconds=240.0)
+    rec = Recording(acc=np.c_[np.zeros_like(mag), np.zeros_like(mag), mag], gyr=gyr, sampling_rate_hz=FS)
+    p = tmp_path / "walk.csv"
+    write_gaitml_csv(rec, p)
+    prm = {"rhythm_min_periodicity": 0.15}
+    whole = get_detector("adaptive", **prm).detect(rec).steps_
+    chunked = long_steps(p, detector="adaptive", detector_params=prm, chunk_s=60.0, margin_s=30.0, progress=False)
+    assert np.array_equal(chunked["peak"].to_numpy(), whole["peak"].to_numpy())
+    w, c = whole.attrs["rhythm"], chunked.attrs["rhythm"]
+    assert w["ran"] and c["ran"] and w["peaks"] > 10
+    # a peak near a chunk edge may be judged on a little less context than on the whole file: one per edge at most
+    n_edges = 3
+    assert abs(c["candidates"] - w["candidates"]) <= n_edges and abs(c["peaks"] - w["peaks"]) <= n_edges

@@ -266,9 +266,7 @@ def long_steps(
     any of its steps.
 
     ``chunk_s`` / ``margin_s``: the chunk core and margin lengths (default
-    :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`). ``hde``: a configured
-    :class:`~gaitml.pdr.hde.HeuristicDriftElimination` for ``heading='hde'`` (as :func:`gaitml.pdr.run_pdr`'s;
-    default ``HeuristicDriftElimination(reference_rad=initial_heading_rad)``, its structure guard on).
+    :data:`DEFAULT_CHUNK_S`, :data:`DEFAULT_MARGIN_S`).
     """
     from gaitml.errors import InputError
     from gaitml.steps import get_detector

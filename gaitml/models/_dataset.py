@@ -21,6 +21,9 @@ __all__ = ["WindowDataset", "build_window_dataset", "raw_windows", "raw_window_c
 
 #: Raw channels fed to the CNN: acc x, y, z and the gravity-free magnitude |acc| - g
 #: (the preprocessed magnitude of paper 003 sec. 2.1, without the N = 3 moving average).
+#: Anti-alias cut-off of :func:`resample_recording` when it down-samples, as a fraction of the new rate: 0.45 keeps
+#: the low-pass's transition band (4th-order Butterworth, zero phase) below the new Nyquist frequency (0.5).
+ANTI_ALIAS_FRACTION = 0.45
 RAW_ACC_CHANNELS = ("acc_x", "acc_y", "acc_z", "acc_mag")
 RAW_GYR_CHANNELS = ("gyr_x", "gyr_y", "gyr_z", "gyr_mag")
 
@@ -71,7 +74,7 @@ def raw_windows(
 def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recording:
     """Return ``recording`` at ``sampling_rate_hz`` (unchanged when the rate already matches).
 
-    Down-sampling first low-passes at 0.45 x the new rate (4th-order Butterworth,
+    Down-sampling first low-passes at :data:`ANTI_ALIAS_FRACTION` (0.45) x the new rate (4th-order Butterworth,
     zero phase) against aliasing; then every channel is linearly interpolated onto
     the new grid (labels: sample-and-hold), as :meth:`Recording.from_timestamps`
     does. ``meta['resampled_from_hz']`` records the rate the recording was made at: the lowest of
@@ -86,7 +89,7 @@ def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recordi
 
     acc, gyr = recording.acc, recording.gyr
     if sampling_rate_hz < fs0:
-        cut = 0.45 * sampling_rate_hz
+        cut = ANTI_ALIAS_FRACTION * sampling_rate_hz
         acc = lowpass(acc, cut, fs0)
         gyr = None if gyr is None else lowpass(gyr, cut, fs0)
     rec = Recording.from_timestamps(

@@ -482,6 +482,7 @@ def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None, 
     1.15x"``), ``augment_tempo`` and, with ``in_domain``, ``augment_in_domain``; references (truth on
     the original's time axis) are dropped.
     """
+    from gaitml.models._dataset import ANTI_ALIAS_FRACTION
     from gaitml.signal import lowpass
 
     s = _check_tempo([factor])[0]
@@ -494,8 +495,8 @@ def tempo_recording(rec, factor: float, gravity_up_b: np.ndarray | None = None, 
     gyr_s = None if rec.gyr is None else s * np.asarray(rec.gyr, dtype=float)
     n = rec.n_samples
     if s > 1.0 and n > 15:  # the copy's content is the original's times s: keep it below 0.45 fs
-        acc_s = lowpass(acc_s, 0.45 * fs / s, fs)
-        gyr_s = None if gyr_s is None else lowpass(gyr_s, 0.45 * fs / s, fs)
+        acc_s = lowpass(acc_s, ANTI_ALIAS_FRACTION * fs / s, fs)
+        gyr_s = None if gyr_s is None else lowpass(gyr_s, ANTI_ALIAS_FRACTION * fs / s, fs)
     n_new = int(np.floor((n - 1) / s + 1e-9)) + 1
     pos = s * np.arange(n_new)  # the copy's samples on the original's sample axis
     i0 = np.minimum(np.floor(pos + 1e-9).astype(np.int64), n - 1)

@@ -36,7 +36,9 @@ def _bounce(t: np.ndarray) -> np.ndarray:
     t = np.asarray(t, dtype=float)
     stop = 1.0 - np.exp(-(((t - 19.5) / 2.5) ** 6))
     h = 0.03 * (1.0 + 0.7 * np.sin(2 * np.pi * t / 11.0)) * stop
-    return np.column_stack([1.2 * t, 0.3 * np.sin(2 * np.pi * t / 19.0), 1.0 + h * np.sin(2 * np.pi * (1.8 * t + 3.0 * np.sin(2 * np.pi * t / 9.0)))])
+    return np.column_stack(
+        [1.2 * t, 0.3 * np.sin(2 * np.pi * t / 19.0), 1.0 + h * np.sin(2 * np.pi * (1.8 * t + 3.0 * np.sin(2 * np.pi * t / 9.0)))]
+    )
 
 
 def _log(path: Path, t: np.ndarray, x: np.ndarray) -> None:

@@ -43,7 +43,11 @@ the gaps as its own recording. Every gap found is listed in
 magnetometer) and ``truth`` (the motion-capture file, or ``''``).
 
 The motion-capture truth is read by :func:`read_tyrex_truth` (see
-:class:`TyrexTruth`).
+:class:`TyrexTruth`), on the phone's clock: ``timeAlignment.txt``'s dt, refined by
+default against the phone's own gyroscope (:func:`refine_tyrex_alignment`; the
+file's dt is 10-30 ms off on most recordings, experiments/reports/tyrex-alignment.md).
+The phone's clock is the recording's start, not its first sample: a recording's
+times are ``meta['t0_original_s'] + t_s`` (:meth:`TyrexTruth.recording_times`).
 
 References
 ----------

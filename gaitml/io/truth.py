@@ -276,16 +276,17 @@ def reference_trajectory_truth(rec) -> Truth | None:
     return truth_from_table(t, traj[["x_m", "y_m"]].to_numpy(float), source="reference trajectory")
 
 
-def tyrex_track(rec, truth_path=None) -> tuple[np.ndarray, np.ndarray, Path, float]:
-    """The motion capture of a tyrex recording (:func:`gaitml.io.tyrex.read_tyrex_truth`) on the recording's time base:
-    times (s), the phone's horizontal positions (m, room frame, NaN where the markers were lost), the recording's
-    folder and the clock alignment's dt (s)."""
+def tyrex_track(rec, truth_path=None) -> tuple[np.ndarray, np.ndarray, Path, str]:
+    """The motion capture of a tyrex recording (:func:`gaitml.io.tyrex.read_tyrex_truth`, its default alignment) on
+    the recording's time base: times (s), the phone's horizontal positions (m, room frame, NaN where the markers were
+    lost), the recording's folder and one line on the clock alignment (the file's dt, the refined one or why not:
+    :attr:`gaitml.io.tyrex.TyrexTruth.align_note`)."""
     from gaitml.io.tyrex import read_tyrex_truth
 
     folder = Path(str(rec.meta.get("source", "")))
     folder = folder if folder.is_dir() else folder.parent
     tt = read_tyrex_truth(folder, truth_path=truth_path)
-    return tt.t_s - float(rec.meta.get("t0_original_s", 0.0)), tt.pos_m[:, :2], folder, float(tt.dt_s)
+    return tt.t_s - float(rec.meta.get("t0_original_s", 0.0)), tt.pos_m[:, :2], folder, tt.align_note
 
 
 def tyrex_truth(rec, truth_path=None, *, smooth=None, smooth_note: str = "") -> Truth:
@@ -298,9 +299,9 @@ def tyrex_truth(rec, truth_path=None, *, smooth=None, smooth_note: str = "") -> 
     whole track, with ``smooth_note`` added to the notes; without it the frames where
     the markers were lost are left out.
     """
-    t, xy, folder, dt_s = tyrex_track(rec, truth_path)
+    t, xy, folder, align_note = tyrex_track(rec, truth_path)
     ok = np.isfinite(xy).all(axis=1)
-    notes = [f"tyrex motion capture of {folder.name} on the phone clock (timeAlignment dt {dt_s:+.3f} s)"]
+    notes = [f"tyrex motion capture of {folder.name} on the phone clock ({align_note})"]
     if smooth is not None:
         xy = smooth(t, xy)
         notes.append(
@@ -376,7 +377,7 @@ def dense_truth(rec, spec: str = "self") -> tuple[np.ndarray, np.ndarray, str]:
     """
     kind, path = truth_source(rec, spec)
     if kind == "tyrex":
-        t, xy, folder, _dt = tyrex_track(rec, path)
+        t, xy, folder, _note = tyrex_track(rec, path)
         return t, xy, f"tyrex:{folder.name}"
     tr = None
     if kind == "self":

@@ -43,7 +43,11 @@ the gaps as its own recording. Every gap found is listed in
 magnetometer) and ``truth`` (the motion-capture file, or ``''``).
 
 The motion-capture truth is read by :func:`read_tyrex_truth` (see
-:class:`TyrexTruth`).
+:class:`TyrexTruth`), on the phone's clock: ``timeAlignment.txt``'s dt, refined by
+default against the phone's own gyroscope (:func:`refine_tyrex_alignment`; the
+file's dt is 10-30 ms off on most recordings, experiments/reports/tyrex-alignment.md).
+The phone's clock is the recording's start, not its first sample: a recording's
+times are ``meta['t0_original_s'] + t_s`` (:meth:`TyrexTruth.recording_times`).
 
 References
 ----------
@@ -78,6 +82,10 @@ __all__ = [
     "parse_tyrex_name",
     "read_tyrex",
     "read_tyrex_truth",
+    "refine_tyrex_alignment",
+    "tyrex_phone_logs",
+    "alignment_note",
+    "TYREX_ALIGN_MODES",
     "tyrex_truth_path",
     "is_tyrex_truth_file",
     "tyrex_sensor_gaps",
@@ -221,6 +229,38 @@ def tyrex_sensor_gaps(t_s: np.ndarray, sensor: str, *, limit_s: float | None = N
     ]
 
 
+def tyrex_phone_logs(folder: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The raw logs of a tyrex recording folder on the phone's clock (s since the recording's start), in SI units and
+    Android's sign convention, unmerged and unresampled: ``t_acc, acc, t_gyr, gyr`` (what
+    :func:`refine_tyrex_alignment` takes)."""
+    d = require_file(folder)
+    platform = _platform(d)
+    if platform is None:
+        raise InputError(f"{d} is not a tyrex recording folder: it needs the accelerometer and gyroscope logs (see gaitml.io.tyrex).")
+    t_acc, acc, t_gyr, gyr, _boot = _phone_logs(d, platform)
+    return t_acc, acc, t_gyr, gyr
+
+
+def _phone_logs(d: Path, platform: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
+    """The raw accelerometer and gyroscope logs of a recording folder on the phone's clock, in SI units and
+    Android's sign convention: ``t_acc, acc, t_gyr, gyr, boot_s`` (``boot_s`` NaN on Android)."""
+    t_acc, acc = _read_log(_first(d, _ACC_FILES), f"the accelerometer log of {d.name}")
+    t_gyr, gyr = _read_log(_first(d, _GYR_FILES[platform]), f"the gyroscope log of {d.name}")
+    boot_s = float("nan")
+    if platform == "ios":
+        boot = _ini_value(d / "description.txt", "BootTime")
+        try:
+            boot_s = float(boot) if boot is not None else float("nan")
+        except ValueError:
+            boot_s = float("nan")
+        if not np.isfinite(boot_s):
+            raise InputError(f"{d.name}/description.txt has no numeric BootTime; the iOS times cannot be put on the recording's clock.")
+        t_acc = t_acc - boot_s
+        t_gyr = t_gyr - boot_s
+        acc = acc * IOS_ACC_SCALE
+    return t_acc, acc, t_gyr, gyr, boot_s
+
+
 def read_tyrex(
     path: str | os.PathLike,
     *,
@@ -267,25 +307,12 @@ def read_tyrex(
             f"{d} is not a tyrex recording folder: it needs accelerometer.txt(.gz) with gyroscope-calibrated.txt(.gz) "
             "and record.properties (Android), or with gyroscope.txt(.gz) and description.txt (iOS)."
         )
-    acc_path = _first(d, _ACC_FILES)
-    gyr_path = _first(d, _GYR_FILES[platform])
-    t_acc, acc = _read_log(acc_path, f"the accelerometer log of {d.name}")
-    t_gyr, gyr = _read_log(gyr_path, f"the gyroscope log of {d.name}")
+    t_acc, acc, t_gyr, gyr, boot_s = _phone_logs(d, platform)
     m: dict[str, Any] = {"source": str(d), "format": "tyrex", "id": d.name, "session": d.name, "subject": d.name, "platform": platform}
     parsed = parse_tyrex_name(d.name)
     if parsed is not None:
         m.update(parsed, subject=parsed["person"], device=parsed["phone"])
     if platform == "ios":
-        boot = _ini_value(d / "description.txt", "BootTime")
-        try:
-            boot_s = float(boot) if boot is not None else float("nan")
-        except ValueError:
-            boot_s = float("nan")
-        if not np.isfinite(boot_s):
-            raise InputError(f"{d.name}/description.txt has no numeric BootTime; the iOS times cannot be put on the recording's clock.")
-        t_acc = t_acc - boot_s
-        t_gyr = t_gyr - boot_s
-        acc = acc * IOS_ACC_SCALE
         m["converted"] = ["acc from g, sign reversed (iOS convention)", "time minus BootTime"]
         m["boot_time_s"] = boot_s
     else:
@@ -387,11 +414,20 @@ class TyrexTruth:
     residual_mm : ndarray, shape (n,)
         QTM's marker residual.
     dt_s : float
-        ``timeAlignment.txt``: motion-capture time = phone time + dt.
+        The clock offset applied: motion-capture time = phone time + dt. With
+        ``align='file'`` it is ``timeAlignment.txt``'s; with ``align='refine'`` the
+        file's corrected by the residual lag :func:`refine_tyrex_alignment` found
+        (the file's where none was accepted).
     frame_rate_hz : float
         Motion-capture rate (60 Hz).
     source : str
         The CSV read.
+    dt_file_s : float
+        ``timeAlignment.txt``'s dt (s), whatever ``align`` was.
+    align : dict
+        How dt was chosen: ``mode`` (``'file'`` | ``'refine'``), and with ``'refine'``
+        the fields of :func:`refine_tyrex_alignment` (``accepted``, ``signal``,
+        ``shift_s``, the correlations, ``reason``).
     """
 
     t_s: np.ndarray
@@ -401,6 +437,13 @@ class TyrexTruth:
     dt_s: float
     frame_rate_hz: float
     source: str
+    dt_file_s: float = float("nan")
+    align: dict = dataclasses.field(default_factory=dict)
+
+    @property
+    def align_note(self) -> str:
+        """One line on the clock alignment, for notes and tables."""
+        return alignment_note(self.dt_file_s if np.isfinite(self.dt_file_s) else self.dt_s, self.dt_s, self.align)
 
     @property
     def valid(self) -> np.ndarray:
@@ -460,7 +503,49 @@ def _orthonormal(r: np.ndarray) -> np.ndarray:
     return u @ vt
 
 
-def read_tyrex_truth(folder: str | os.PathLike, *, truth_path: str | os.PathLike | None = None) -> TyrexTruth:
+#: Ways :func:`read_tyrex_truth` puts the motion capture on the phone's clock: ``'refine'`` (``timeAlignment.txt``'s
+#: dt corrected by the residual lag of the angular-rate magnitudes, :func:`refine_tyrex_alignment`) and ``'file'``
+#: (``timeAlignment.txt``'s dt as it is, the behaviour before the refinement).
+TYREX_ALIGN_MODES = ("refine", "file")
+#: Half-width (s) of the lag searched around the file's dt. The residual lags measured on the data set reach 0.62 s
+#: (every Nexus 5 recording, 0.1-0.6 s: experiments/reports/tyrex-alignment.md); 1.5 s covers more than twice that
+#: while staying far inside the file's own search (the source slid |acc| over +-5 s).
+ALIGN_SEARCH_S = 1.5
+#: Rate (Hz) of the common grid both magnitudes are interpolated to before correlating: one grid step (10 ms) is
+#: finer than a capture frame (16.7 ms); the peak is refined between grid steps by a parabola.
+ALIGN_GRID_HZ = 100.0
+#: Low-pass cut-off (Hz, 4th-order Butterworth run forwards and backwards, so without a delay) applied to both
+#: magnitudes: the capture's rates and accelerations are finite differences of 60 Hz frames, noisy above a few Hz,
+#: while walking and running put their power below 8 Hz.
+ALIGN_LOWPASS_HZ = 8.0
+#: A lag is accepted only where the correlation at its peak reaches this (Pearson, on the common samples). The
+#: magnitudes of one rigid body's motion measured twice correlate 0.94-0.99 at the right lag on this data set;
+#: 0.8 leaves room for a noisier capture and refuses stretches without motion (noise against noise).
+ALIGN_MIN_CORR = 0.8
+#: ... and only where it beats every other local maximum of the correlation in the search window by this much: gait
+#: is periodic, so the neighbouring strides give secondary peaks one stride apart; a peak that is not clearly the
+#: highest is not trusted.
+ALIGN_MIN_MARGIN = 0.05
+#: Fewest seconds of samples where both signals are known for a lag to be measured.
+ALIGN_MIN_OVERLAP_S = 10.0
+#: Half-width (s) of the search for the lag of the first and last third of a recording (the clock-rate drift check),
+#: around the whole recording's lag: a third holds a few strides only, so a narrower window keeps it off the
+#: neighbouring strides.
+ALIGN_THIRDS_SEARCH_S = 0.25
+#: Samples of a grid point's neighbourhood (s) that must be known (no lost capture frame, no sensor gap) for it to
+#: count: the finite differences and the filter spread a gap's edge this far.
+ALIGN_EDGE_S = 0.1
+_GRAVITY_UP = np.array([0.0, 0.0, GRAVITY_MS2])
+_ALIGN_CACHE: dict[tuple, dict[str, Any]] = {}
+
+
+def read_tyrex_truth(
+    folder: str | os.PathLike,
+    *,
+    truth_path: str | os.PathLike | None = None,
+    align: str = "refine",
+    recording: Recording | list[Recording] | None = None,
+) -> TyrexTruth:
     """Read the motion capture of a tyrex recording, on the phone's clock.
 
     Parameters
@@ -469,19 +554,34 @@ def read_tyrex_truth(folder: str | os.PathLike, *, truth_path: str | os.PathLike
         ``timeAlignment.txt`` gives dt (motion-capture time = phone time + dt).
     truth_path : the Qualisys CSV; default ``../../qualisys/<name>.csv.gz``
         (case-insensitive, see :func:`tyrex_truth_path`).
+    align : ``'refine'`` (default) or ``'file'``
+        ``'file'``: ``timeAlignment.txt``'s dt as it is. ``'refine'``: that dt
+        corrected by the residual lag between the phone's |gyroscope| and the
+        capture's |angular rate| (:func:`refine_tyrex_alignment`; without a
+        gyroscope |acc| against the capture's specific force), accepted only where
+        the correlation peak is clear, else the file's dt kept and said so in
+        ``TyrexTruth.align``. The file's dt is wrong by 0.1-0.6 s on every Nexus 5
+        recording (experiments/reports/tyrex-alignment.md).
+    recording : the phone's signals to align on (a :func:`read_tyrex` recording or
+        its segments); default: the folder's own logs, read raw (the result is
+        cached per folder and capture file).
 
     Returns
     -------
     TyrexTruth
         Positions in m (room frame, z up) and rotation matrices, NaN where the
-        markers were lost (empty cells in the CSV).
+        markers were lost (empty cells in the CSV); ``dt_s`` applied, ``dt_file_s``
+        and ``align`` say how.
 
     Raises
     ------
     InputError
         No motion capture for the folder (the ``_old`` take has none), no or a
-        non-numeric ``timeAlignment.txt``, a CSV without the documented columns.
+        non-numeric ``timeAlignment.txt``, a CSV without the documented columns, an
+        unknown ``align``.
     """
+    if align not in TYREX_ALIGN_MODES:
+        raise InputError(f"align={align!r} is not a tyrex alignment; use one of {', '.join(repr(a) for a in TYREX_ALIGN_MODES)}.")
     d = require_file(folder)
     tp = Path(truth_path) if truth_path is not None else tyrex_truth_path(d)
     if tp is None or not tp.is_file():
@@ -513,7 +613,7 @@ def read_tyrex_truth(folder: str | os.PathLike, *, truth_path: str | os.PathLike
     if m:
         rate = float(m.group(1))
     resid = pd.to_numeric(df["residual_mm"], errors="coerce").to_numpy(dtype=float) if "residual_mm" in df else np.full(len(df), np.nan)
-    return TyrexTruth(
+    truth = TyrexTruth(
         t_s=t_mocap - dt_s,
         pos_m=vals[:, 1:4] / 1000.0,
         rot=np.transpose(vals[:, 4:13].reshape(-1, 3, 3), (0, 2, 1)),
@@ -521,7 +621,254 @@ def read_tyrex_truth(folder: str | os.PathLike, *, truth_path: str | os.PathLike
         dt_s=dt_s,
         frame_rate_hz=rate,
         source=str(tp),
+        dt_file_s=dt_s,
+        align={"mode": "file"},
     )
+    if align == "file":
+        return truth
+    if recording is None:
+        key = (str(d.resolve()), str(tp.resolve()), tp.stat().st_mtime_ns, ta.stat().st_mtime_ns, dt_s)
+        info = _ALIGN_CACHE.get(key)
+        if info is None:
+            platform = _platform(d)
+            if platform is None:
+                raise InputError(
+                    f"{d} holds no phone logs to refine the alignment on; pass recording=..., or align='file' to use timeAlignment.txt as it is."
+                )
+            t_acc, acc, t_gyr, gyr, _boot = _phone_logs(d, platform)
+            info = refine_tyrex_alignment(truth, t_acc, acc, t_gyr, gyr)
+            _ALIGN_CACHE[key] = info
+    else:
+        t_acc, acc, t_gyr, gyr = _recording_signals(recording)
+        info = refine_tyrex_alignment(truth, t_acc, acc, t_gyr, gyr)
+    info = {"mode": "refine", **info}
+    shift = float(info["shift_s"]) if info["accepted"] else 0.0
+    return dataclasses.replace(truth, t_s=truth.t_s + shift, dt_s=dt_s - shift, align=info)
+
+
+def alignment_note(dt_file_s: float, dt_s: float, align: dict) -> str:
+    """One line on how a capture was put on the phone's clock (the file's dt, the refined one, why)."""
+    if align.get("mode", "file") == "file":
+        return f"timeAlignment dt {dt_file_s:+.3f} s (align='file', not refined)"
+    if align.get("accepted"):
+        return (
+            f"dt {dt_s:+.3f} s: timeAlignment {dt_file_s:+.3f} s refined by {dt_file_s - dt_s:+.3f} s "
+            f"(|{align['signal']}| correlation {align['corr_file']:.2f} at the file's dt, {align['corr_peak']:.2f} refined)"
+        )
+    return f"timeAlignment dt {dt_file_s:+.3f} s kept: not refined ({align.get('reason', 'no clear correlation peak')})"
+
+
+def _recording_signals(recording) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """A recording's (or its segments') signals on the phone's clock; a gap between segments left as a gap."""
+    recs = list(recording) if isinstance(recording, list | tuple) else [recording]
+    t = [float(r.meta.get("t0_original_s", 0.0)) + np.asarray(r.t_s, dtype=float) for r in recs]
+    acc = [np.asarray(r.acc, dtype=float) for r in recs]
+    has_gyr = all(r.gyr is not None for r in recs)
+    t_all = np.concatenate(t)
+    acc_all = np.concatenate(acc)
+    gyr_all = np.concatenate([np.asarray(r.gyr, dtype=float) for r in recs]) if has_gyr else None
+    return t_all, acc_all, (t_all if has_gyr else None), gyr_all
+
+
+def _on_grid(grid: np.ndarray, t: np.ndarray, x: np.ndarray, max_step_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """``x(t)`` linearly interpolated at ``grid``, and where that is known: inside ``t`` and between two samples at
+    most ``max_step_s`` apart."""
+    t = np.asarray(t, dtype=float)
+    y = np.interp(grid, t, x) if len(t) else np.zeros_like(grid)
+    if len(t) < 2:
+        return y, np.zeros(len(grid), dtype=bool)
+    i = np.clip(np.searchsorted(t, grid, side="right") - 1, 0, len(t) - 2)
+    ok = (grid >= t[0]) & (grid <= t[-1]) & ((t[i + 1] - t[i]) <= max_step_s)
+    return y, ok
+
+
+def _lowpass(x: np.ndarray, fs: float) -> np.ndarray:
+    from scipy.signal import butter, filtfilt
+
+    b, a = butter(4, ALIGN_LOWPASS_HZ / (fs / 2))
+    return filtfilt(b, a, x) if len(x) > 27 else x
+
+
+def _erode(ok: np.ndarray, n: int) -> np.ndarray:
+    """``ok`` with every run of False widened by ``n`` samples on each side."""
+    if n <= 0 or ok.all():
+        return ok
+    bad = (~ok).astype(float)
+    return np.convolve(bad, np.ones(2 * n + 1), mode="same") == 0
+
+
+def lag_correlation(a: np.ndarray, ok_a: np.ndarray, b: np.ndarray, ok_b: np.ndarray, lags: np.ndarray, min_n: int) -> np.ndarray:
+    """Pearson correlation of ``a[i]`` with ``b[i + k]`` for each lag ``k`` (samples) over the ``i`` where both are
+    known (``ok_a``, ``ok_b``); NaN where fewer than ``min_n`` samples are common or a side does not vary."""
+    n = len(a)
+    out = np.full(len(lags), np.nan)
+    for j, k in enumerate(np.asarray(lags, dtype=int)):
+        if abs(k) >= n:
+            continue
+        if k >= 0:
+            x, y, m = a[: n - k], b[k:], ok_a[: n - k] & ok_b[k:]
+        else:
+            x, y, m = a[-k:], b[: n + k], ok_a[-k:] & ok_b[: n + k]
+        if m.sum() < min_n:
+            continue
+        x = x[m] - x[m].mean()
+        y = y[m] - y[m].mean()
+        den = np.sqrt(float(x @ x) * float(y @ y))
+        if den > 1e-12 * len(x):
+            out[j] = float(x @ y) / den
+    return out
+
+
+def _peak(lags: np.ndarray, c: np.ndarray) -> tuple[float, float, float]:
+    """The best lag (samples, refined between samples by a parabola through the peak and its neighbours), its
+    correlation, and the highest other local maximum (NaN if none)."""
+    j = int(np.nanargmax(c))
+    frac = 0.0
+    if 0 < j < len(c) - 1 and np.isfinite(c[j - 1]) and np.isfinite(c[j + 1]):
+        den = c[j - 1] - 2 * c[j] + c[j + 1]
+        if den < 0:
+            frac = float(np.clip(0.5 * (c[j - 1] - c[j + 1]) / den, -0.5, 0.5))
+    inner = np.arange(1, len(c) - 1)
+    cc = np.where(np.isfinite(c), c, -np.inf)
+    local = inner[(cc[inner] >= cc[inner - 1]) & (cc[inner] >= cc[inner + 1])]
+    # the peak's own shoulders are not another maximum: only maxima separated from it by a dip count
+    others = [k for k in local if k != j and np.min(cc[min(k, j) : max(k, j) + 1]) < cc[k] - 1e-9]
+    second = float(max(cc[k] for k in others)) if others else float("nan")
+    return float(lags[j] + frac), float(c[j]), second
+
+
+def refine_tyrex_alignment(
+    truth: TyrexTruth,
+    t_acc: np.ndarray,
+    acc: np.ndarray,
+    t_gyr: np.ndarray | None,
+    gyr: np.ndarray | None,
+    *,
+    signal: str = "auto",
+    window_s: tuple[float, float] | None = None,
+    search_s: float = ALIGN_SEARCH_S,
+    centre_s: float = 0.0,
+) -> dict[str, Any]:
+    """The residual lag of a motion capture put on the phone's clock, from frame-invariant magnitudes.
+
+    The phone and the capture's rigid body are one object, so the magnitude of the
+    angular rate the gyroscope measures equals that of the capture's attitude
+    (:func:`body_rates`), and the magnitude of the accelerometer's specific force
+    equals ``|d2p/dt2 + g|`` of the capture's position, whatever the (unknown)
+    mount rotation. Both magnitudes are interpolated on a common grid
+    (:data:`ALIGN_GRID_HZ`), low-passed without delay (:data:`ALIGN_LOWPASS_HZ`),
+    and correlated (Pearson, over the samples where both are known: lost capture
+    frames and sensor gaps are left out, :data:`ALIGN_EDGE_S` around them) at every
+    shift of the capture within ``centre_s`` +- ``search_s`` (default
+    :data:`ALIGN_SEARCH_S`) of the time base ``truth.t_s`` already has. This is the
+    source's own method (it slid |acc| against the capture's second derivative,
+    data README "Time alignment") run again on the gyroscope, whose magnitude
+    needs no differentiation of positions, around the source's result.
+
+    Parameters
+    ----------
+    truth : the capture on the phone's clock to check (``align='file'``).
+    t_acc, acc : phone-clock times (s) and the accelerometer (m/s^2, any axes).
+    t_gyr, gyr : the gyroscope (rad/s), or None.
+    signal : ``'auto'`` (the gyroscope, |acc| without one), ``'gyro'`` or ``'acc'``.
+    window_s : only the phone times in ``[start, end)`` (e.g. a third of the recording).
+    search_s, centre_s : the shifts searched (s).
+
+    Returns
+    -------
+    dict
+        ``accepted`` (bool), ``signal`` (``'gyro'`` | ``'acc'`` | None), ``shift_s``
+        (to add to ``truth.t_s``; the capture's dt becomes ``dt - shift_s``; NaN
+        where nothing was measured), ``corr_file`` (correlation at ``shift 0``, the
+        time base given), ``corr_peak``, ``corr_second`` (the best other local
+        maximum), ``overlap_s``, ``reason`` (why not accepted, else ``''``). Accepted
+        where ``corr_peak >= ALIGN_MIN_CORR`` and it beats ``corr_second`` by
+        :data:`ALIGN_MIN_MARGIN`.
+    """
+    if signal not in ("auto", "gyro", "acc"):
+        raise InputError(f"signal={signal!r} is not an alignment signal; use 'auto', 'gyro' or 'acc'.")
+    use = "gyro" if (signal == "gyro" or (signal == "auto" and gyr is not None and t_gyr is not None and len(t_gyr) > 1)) else "acc"
+    out: dict[str, Any] = {
+        "accepted": False,
+        "signal": use,
+        "shift_s": float("nan"),
+        "corr_file": float("nan"),
+        "corr_peak": float("nan"),
+        "corr_second": float("nan"),
+        "overlap_s": 0.0,
+        "search_s": float(search_s),
+        "reason": "",
+    }
+    if use == "gyro" and (gyr is None or t_gyr is None):
+        out["reason"] = "no gyroscope"
+        return out
+    fs = ALIGN_GRID_HZ
+    ok_frames = truth.valid
+    if ok_frames.sum() < 3:
+        out["reason"] = "the capture has fewer than 3 tracked frames"
+        return out
+    t_phone = np.asarray(t_gyr if use == "gyro" else t_acc, dtype=float)
+    x_phone = np.linalg.norm(np.asarray(gyr if use == "gyro" else acc, dtype=float), axis=1)
+    t_cap = truth.t_s
+    lo = max(t_phone[0], t_cap[ok_frames][0] - centre_s - search_s)
+    hi = min(t_phone[-1], t_cap[ok_frames][-1] - centre_s + search_s)
+    if window_s is not None:
+        lo, hi = max(lo, window_s[0]), min(hi, window_s[1])
+    if hi - lo < ALIGN_MIN_OVERLAP_S:
+        out["reason"] = f"the phone and the capture overlap for {max(hi - lo, 0.0):.1f} s (< {ALIGN_MIN_OVERLAP_S:g} s)"
+        return out
+    max_lag = int(np.ceil((abs(centre_s) + search_s) * fs))
+    # the capture's grid reaches max_lag beyond the phone's so that every shift sees the same phone samples
+    grid = lo + np.arange(int(np.floor((hi - lo) * fs)) + 1) / fs
+    grid_c = lo - max_lag / fs + np.arange(len(grid) + 2 * max_lag) / fs
+    frame_gap = 1.5 / truth.frame_rate_hz
+    step_max = max(frame_gap, 0.05)
+    a, ok_a = _on_grid(grid, t_phone, x_phone, step_max)
+    a = _lowpass(a, fs)
+    if use == "gyro":
+        t_mid, omega = body_rates(truth)
+        b, ok_b = _on_grid(grid_c, t_mid, np.linalg.norm(omega, axis=1), frame_gap * 2)
+    else:
+        tk = t_cap[ok_frames]
+        pos = np.column_stack([np.interp(grid_c, tk, truth.pos_m[ok_frames, j]) for j in range(3)])
+        _, ok_b = _on_grid(grid_c, tk, np.zeros(len(tk)), frame_gap * 2)
+        pos = np.column_stack([_lowpass(pos[:, j], fs) for j in range(3)])
+        f = np.gradient(np.gradient(pos, 1 / fs, axis=0), 1 / fs, axis=0) + _GRAVITY_UP
+        b = np.linalg.norm(f, axis=1)
+    b = _lowpass(b, fs)
+    edge = int(round(ALIGN_EDGE_S * fs))
+    ok_a, ok_b = _erode(ok_a, edge), _erode(ok_b, edge)
+    # pad the phone side to the capture grid: a[i] is the phone at grid_c[i]
+    pad = np.zeros(max_lag)
+    a_full = np.concatenate([pad, a, pad])
+    ok_a_full = np.concatenate([pad.astype(bool), ok_a, pad.astype(bool)])
+    centre = int(round(centre_s * fs))
+    lags = centre + np.arange(-int(round(search_s * fs)), int(round(search_s * fs)) + 1)
+    min_n = int(ALIGN_MIN_OVERLAP_S * fs)
+    n_common = int((ok_a & ok_b[max_lag : max_lag + len(grid)]).sum())
+    out["overlap_s"] = n_common / fs
+    c = lag_correlation(a_full, ok_a_full, b, ok_b, lags, min_n)
+    c0 = lag_correlation(a_full, ok_a_full, b, ok_b, np.array([0]), min_n)[0]
+    out["corr_file"] = float(c0)
+    if not np.isfinite(c).any():
+        out["reason"] = (
+            f"fewer than {ALIGN_MIN_OVERLAP_S:g} s where both signals are known, or no motion"
+            if n_common >= min_n
+            else f"{n_common / fs:.1f} s where both signals are known (< {ALIGN_MIN_OVERLAP_S:g} s)"
+        )
+        return out
+    k, cpk, second = _peak(lags, c)
+    # the phone at grid t equals the capture at t + k / fs: the capture's events come k / fs late, its times move earlier
+    out.update(shift_s=-k / fs, corr_peak=cpk, corr_second=second)
+    if cpk < ALIGN_MIN_CORR:
+        out["reason"] = f"the correlation peak {cpk:.2f} is below {ALIGN_MIN_CORR:g} (too little motion, or the signals disagree)"
+    elif np.isfinite(second) and cpk - second < ALIGN_MIN_MARGIN:
+        out["reason"] = f"the peak {cpk:.2f} is not clear: another lag reaches {second:.2f} (margin < {ALIGN_MIN_MARGIN:g})"
+    elif abs(k - lags[0]) < 1 or abs(k - lags[-1]) < 1:
+        out["reason"] = f"the peak lies at the edge of the +-{search_s:g} s search"
+    else:
+        out["accepted"] = True
+    return out
 
 
 def _kabsch(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -81,6 +81,8 @@ def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recordi
     ``recording``'s rate and the rates it was itself resampled from
     (:func:`gaitml.recording.recorded_rate_hz`), so a recording brought up twice (20 -> 50 -> 100 Hz)
     still reads as made at 20 Hz in the rate checks of a model and of a step detector.
+    The recording's own clock is kept: ``meta['t0_original_s']`` (the first sample's time on it, which a truth on that
+    clock, e.g. a tyrex motion capture, is aligned by) is the input's, not reset to 0.
     """
     fs0 = recording.sampling_rate_hz
     if abs(fs0 - sampling_rate_hz) <= 1e-9 * fs0:
@@ -92,8 +94,10 @@ def resample_recording(recording: Recording, sampling_rate_hz: float) -> Recordi
         cut = ANTI_ALIAS_FRACTION * sampling_rate_hz
         acc = lowpass(acc, cut, fs0)
         gyr = None if gyr is None else lowpass(gyr, cut, fs0)
+    # times on the recording's own clock, so that from_timestamps records the same t0_original_s
+    t0 = float(recording.meta.get("t0_original_s", 0.0))
     rec = Recording.from_timestamps(
-        recording.t_s,
+        t0 + recording.t_s,
         acc,
         gyr=gyr,
         labels=recording.labels,

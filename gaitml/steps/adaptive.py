@@ -721,7 +721,32 @@ def swing_rhythm(
     ``still_unsure`` mark), which calls this; the periodicity floor's relief in :func:`adaptive_steps` reads it on the
     cadence windows.
     """
-    fs = float(sampling_rate_hz)
+    ok, period, _ = _rhythm_test(
+        proj,
+        rms,
+        float(sampling_rate_hz),
+        min_step_hz=min_step_hz,
+        max_step_hz=max_step_hz,
+        min_rms_rads=min_rms_rads,
+        min_correlation=min_correlation,
+        half_correlation=half_correlation,
+    )
+    return ok, period
+
+
+def _rhythm_test(
+    proj: np.ndarray,
+    rms: np.ndarray,
+    fs: float,
+    *,
+    min_step_hz: float,
+    max_step_hz: float,
+    min_rms_rads: float,
+    min_correlation: float,
+    half_correlation: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`swing_rhythm`'s test, also giving the swing's correlation at its stride period: ``(rhythm, period,
+    corr)``. Stage 2c (:func:`gyro_swing_cadence`) takes the correlation as the window's periodicity."""
     rms = np.asarray(rms, dtype=float)
     period, corr, half = swing_stride(proj, fs, min_step_hz=min_step_hz, max_step_hz=max_step_hz)
     ok = (rms >= min_rms_rads) & np.isfinite(period)
@@ -730,7 +755,7 @@ def swing_rhythm(
     step = period / 2.0
     with np.errstate(invalid="ignore"):
         ok &= (step >= fs / max_step_hz) & (step <= fs / min_step_hz)
-    return ok, period
+    return ok, period, corr
 
 
 def rhythm_windows(
@@ -829,9 +854,16 @@ def gyro_swing_cadence(
         weak = (periodicity < min_periodicity) & (rms[:n_win] >= min_rms_rads)
         if weak.any():
             idx = np.flatnonzero(weak)
-            P, corr, half = swing_stride(proj[idx], fs, min_step_hz=min_step_hz, max_step_hz=max_step_hz)
-            ok = np.isfinite(P) & (np.nan_to_num(corr) >= swing_min_periodicity) & (np.nan_to_num(half, nan=1.0) <= -swing_half_correlation)
-            ok &= (P / 2.0 >= fs / max_step_hz) & (P / 2.0 <= fs / min_step_hz)
+            ok, P, corr = _rhythm_test(
+                proj[idx],
+                rms[idx],
+                fs,
+                min_step_hz=min_step_hz,
+                max_step_hz=max_step_hz,
+                min_rms_rads=min_rms_rads,
+                min_correlation=swing_min_periodicity,
+                half_correlation=swing_half_correlation,
+            )
             if acc_windows is not None:
                 w = acc_windows[idx] - acc_windows[idx].mean(axis=1, keepdims=True)
                 acc_step = np.nan_to_num(projection_correlation(w, np.where(np.isfinite(P), P / 2.0, 2.0)[:, None])[:, 0], nan=-1.0)

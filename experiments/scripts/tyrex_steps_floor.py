@@ -36,12 +36,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from experiments.scripts.tyrex_steps_bouts import KINDS, no_gyroscope, nongait_rates, slow_walkers
+from experiments.scripts.tyrex_steps_bouts import KINDS, admissible_set, no_gyroscope, nongait_rates, slow_walkers
 from experiments.scripts.tyrex_steps_joint import (
     HELDOUT_SEEDS,
-    MAX_PERSON_LOSS,
     RUNNING,
-    RUNNING_FLOOR,
     SELECTION_SEEDS,
     STEP_MOTIONS,
     _cached,
@@ -51,6 +49,7 @@ from experiments.scripts.tyrex_steps_joint import (
     per_motion,
     step_times,
 )
+from experiments.scripts.tyrex_steps_joint import lopo as joint_lopo
 from experiments.scripts.tyrex_steps_lopo import PEOPLE, SCORED, _load, _score
 
 OFF = "off"
@@ -74,13 +73,6 @@ MAX_WALK_LOSS = 0.002
 WALKING = tuple(m for m in SCORED if m not in RUNNING)
 
 
-def admissible_set(rates: dict[str, dict[str, float]]) -> set[str]:
-    """Settings with no more raw and no more confident non-gait steps/min than today (today is always in)."""
-    ref = rates[OFF]
-    keys = [*KINDS, *(f"{k}_confident" for k in KINDS)]
-    return {k for k, r in rates.items() if all(r[c] <= ref[c] + 1e-9 for c in keys)}
-
-
 def choose(grid: dict[str, pd.DataFrame], allowed: set[str], people=None) -> str:
     """The allowed setting with the best score on ``people`` (all if None); today wins ties, then grid order."""
 
@@ -93,35 +85,20 @@ def choose(grid: dict[str, pd.DataFrame], allowed: set[str], people=None) -> str
 
 def lopo(grid: dict[str, pd.DataFrame], allowed: set[str], adfsm: pd.DataFrame | None = None) -> tuple[str, dict[str, bool], list[str]]:
     """Per person left out: the allowed setting chosen on the other two, its held-out figures (cells: chosen
-    (today)), and N1-N3."""
-    off = grid[OFF]
-    cols = ["left out", "chosen", "training score", "held-out score", "held-out, today", *SCORED, "F1 Texting", "F1 Phoning"]
-    out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    rows, chosen, n2 = [], [], True
-    for held in PEOPLE:
-        train = [p for p in PEOPLE if p != held]
-        best = choose(grid, allowed, train)
-        chosen.append(best)
-        te, te0 = grid[best][grid[best]["person"] == held], off[off["person"] == held]
-        rows.append(te)
-        n2 &= _score(te) >= _score(te0) - MAX_PERSON_LOSS - 1e-12
-        per, per0 = per_motion(te), per_motion(te0)
-        tr = grid[best][grid[best]["person"].isin(train)]
-        cells = [held, best, f"{_score(tr):.4f}", f"{_score(te):.4f}", f"{_score(te0):.4f}"]
-        cells += [f"{per[m]:.3f} ({per0[m]:.3f})" for m in SCORED]
-        cells += [f"{f1(te, m):.3f} ({f1(te0, m):.3f})" for m in STEP_MOTIONS]
-        out.append("| " + " | ".join(cells) + " |")
-    pooled = pd.concat(rows)
-    pm, pm0 = per_motion(pooled), per_motion(off)
-    n1 = _score(pooled) > _score(off) + 1e-12
-    n3 = all(pm[m] >= pm0[m] - MAX_WALK_LOSS - 1e-12 for m in WALKING) and all(pm[m] >= RUNNING_FLOOR for m in RUNNING)
-    if adfsm is not None:
-        n3 &= bool((pm >= per_motion(adfsm) - 1e-12).all())
-    cells = ["pooled held out", "", "", f"{_score(pooled):.4f}", f"{_score(off):.4f}"]
-    cells += [f"{pm[m]:.3f} ({pm0[m]:.3f})" for m in SCORED]
-    cells += [f"{f1(pooled, m):.3f} ({f1(off, m):.3f})" for m in STEP_MOTIONS]
-    out.append("| " + " | ".join(cells) + " |")
-    return "\n".join(out), {"N1": n1, "N2": n2, "N3": n3}, chosen
+    (today)), and N1-N3 (:func:`experiments.scripts.tyrex_steps_joint.lopo` with this grid's choice, names and N3:
+    no walking motion more than ``MAX_WALK_LOSS`` below today, running at its floor)."""
+    return joint_lopo(
+        grid,
+        allowed,
+        adfsm,
+        off_key=OFF,
+        chooser=choose,
+        label=str,
+        rule="N",
+        off_label="today",
+        max_loss=MAX_WALK_LOSS,
+        loss_motions=WALKING,
+    )
 
 
 def insample(grid: dict[str, pd.DataFrame], rates: dict[str, dict[str, float]], allowed: set[str]) -> str:

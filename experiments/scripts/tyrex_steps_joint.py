@@ -169,11 +169,15 @@ def lopo(
     label=name,
     rule: str = "J",
     off_label: str = "all-off",
+    max_loss: float = MAX_MOTION_LOSS,
+    loss_motions: tuple[str, ...] | None = None,
 ) -> tuple[str, dict[str, bool], list]:
     """Per person left out: the allowed setting chosen on the other two, its held-out score per motion, and J1-J3.
 
-    Another study's grid (``tyrex_steps_bouts``) passes its own off setting ``off_key``, its ``chooser`` (default
-    :func:`choose`), the ``label`` of a setting in the table, the ``rule`` letter of its checks and ``off_label``."""
+    Another study's grid (``tyrex_steps_bouts``, ``tyrex_steps_floor``) passes its own off setting ``off_key``, its
+    ``chooser`` (default :func:`choose`), the ``label`` of a setting in the table, the ``rule`` letter of its checks,
+    ``off_label``, and the third check's bound: no motion of ``loss_motions`` (default every motion scored in the table) falls more
+    than ``max_loss`` below off, and running stays at ``RUNNING_FLOOR``."""
     chooser = choose if chooser is None else chooser
     off = grid[off_key]
     cols = ["left out", "chosen", "training score", "held-out score", f"held-out, {off_label}", *SCORED, "F1 Texting", "F1 Phoning"]
@@ -195,7 +199,8 @@ def lopo(
     pooled = pd.concat(held_rows)
     pm, pm0 = per_motion(pooled), per_motion(off)
     j1 = _score(pooled) > _score(off) + 1e-12
-    j3 = bool(((pm - pm0) >= -MAX_MOTION_LOSS - 1e-12).all()) and all(pm[m] >= RUNNING_FLOOR for m in RUNNING)
+    drop = pm - pm0 if loss_motions is None else pm[list(loss_motions)] - pm0[list(loss_motions)]
+    j3 = bool((drop >= -max_loss - 1e-12).all()) and all(pm[m] >= RUNNING_FLOOR for m in RUNNING)
     if adfsm is not None:
         j3 &= bool((pm >= per_motion(adfsm) - 1e-12).all())
     cells = ["pooled held out", "", "", f"{_score(pooled):.4f}", f"{_score(off):.4f}"]

@@ -29,7 +29,6 @@ rate, and the detectors' steps.
 from __future__ import annotations
 
 import argparse
-import pickle
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -39,6 +38,7 @@ import pandas as pd
 
 from experiments.scripts.tyrex_ar_moving import BOUNCE_MIN_CM, FORWARD_AXIS, LEVER_ARM_M, md, mocap_signals
 from experiments.scripts.tyrex_steps import CONFIDENCE_SHOWN, DETECTORS, truth_clock_s, tyrex_walks
+from experiments.scripts.tyrex_steps_joint import _cached
 
 #: standing: the lever-corrected body speed (m/s, 0.5 Hz body track) below this (report, standsteps section, rule 1)
 MAX_SPEED_MS = 0.10
@@ -177,17 +177,6 @@ def detector_steps(walk: dict, detector: str = "adaptive", **kw) -> dict[str, np
         v.append(confident_steps(st)[0] if len(st) else np.zeros(0, dtype=bool))
     cat = (lambda x: np.concatenate(x)) if t else (lambda x: np.zeros(0))
     return {"t": cat(t), "confidence": cat(c), "confident": cat(v).astype(bool)}
-
-
-def _cached(cache: Path | None, key: str, make):
-    path = cache / f"{key}.pkl" if cache is not None else None
-    if path is not None and path.exists():
-        return pickle.loads(path.read_bytes())
-    value = make()
-    if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(pickle.dumps(value))
-    return value
 
 
 def _key(name: str) -> str:

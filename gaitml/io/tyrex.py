@@ -507,9 +507,10 @@ def _orthonormal(r: np.ndarray) -> np.ndarray:
 #: dt corrected by the residual lag of the angular-rate magnitudes, :func:`refine_tyrex_alignment`) and ``'file'``
 #: (``timeAlignment.txt``'s dt as it is, the behaviour before the refinement).
 TYREX_ALIGN_MODES = ("refine", "file")
-#: Half-width (s) of the lag searched around the file's dt. The residual lags measured on the data set reach 0.62 s
-#: (every Nexus 5 recording, 0.1-0.6 s: experiments/reports/tyrex-alignment.md); 1.5 s covers more than twice that
-#: while staying far inside the file's own search (the source slid |acc| over +-5 s).
+#: Half-width (s) of the lag searched around the file's dt: wide against the residual lags the data set shows (tens of
+#: ms; experiments/reports/tyrex-alignment.md), and against a clock error of a recording's late first sample (the
+#: Nexus 5 logs start up to about 0.6 s in), while staying inside the file's own search (the source slid |acc| over
+#: +-5 s).
 ALIGN_SEARCH_S = 1.5
 #: Rate (Hz) of the common grid both magnitudes are interpolated to before correlating: one grid step (10 ms) is
 #: finer than a capture frame (16.7 ms); the peak is refined between grid steps by a parabola.
@@ -560,8 +561,8 @@ def read_tyrex_truth(
         capture's |angular rate| (:func:`refine_tyrex_alignment`; without a
         gyroscope |acc| against the capture's specific force), accepted only where
         the correlation peak is clear, else the file's dt kept and said so in
-        ``TyrexTruth.align``. The file's dt is wrong by 0.1-0.6 s on every Nexus 5
-        recording (experiments/reports/tyrex-alignment.md).
+        ``TyrexTruth.align``. How far the file's dt is off, per recording:
+        experiments/reports/tyrex-alignment.md.
     recording : the phone's signals to align on (a :func:`read_tyrex` recording or
         its segments); default: the folder's own logs, read raw (the result is
         cached per folder and capture file).
